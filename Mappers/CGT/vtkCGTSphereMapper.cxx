@@ -1,0 +1,259 @@
+#include "vtkCGTSphereMapper.h"
+
+#include "EmbreeSphereAccelerator.h"
+#include "Frame.h"
+#include "RenderStatistics.h"
+#include "SphereRenderer.h"
+#include "SphereSet.h"
+#include "vtkRayMapperFrameDrawer.h"
+#include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperStatistics.h"
+
+#include "vtkActor.h"
+#include "vtkDataArray.h"
+#include "vtkMath.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+vtkStandardNewMacro(vtkCGTSphereMapper);
+
+struct vtkCGTSphereMapper::Internals
+{
+  raymappers::SphereSet Spheres;
+  raymappers::EmbreeSphereAccelerator Accelerator;
+  raymappers::Frame Frame;
+  vtkRayMapperFrameDrawer Drawer;
+  vtkNew<vtkRayMapperStatistics> Statistics;
+  std::int64_t Builds = 0;
+
+  // What the sphere set was built from: rebuild only when one of these changes.
+  vtkMTimeType BuiltInputTime = 0;
+  vtkMTimeType BuiltColorTime = 0;
+  double BuiltRadius = 0, BuiltScale = 0;
+  std::string BuiltRadiusArray;
+  bool HasBuilt = false;
+};
+
+vtkCGTSphereMapper::vtkCGTSphereMapper()
+  : Impl(new Internals)
+{
+}
+
+vtkCGTSphereMapper::~vtkCGTSphereMapper()
+{
+  this->SetRadiusArrayName(nullptr);
+}
+
+vtkRayMapperStatistics* vtkCGTSphereMapper::GetStatistics()
+{
+  return Impl->Statistics;
+}
+
+void vtkCGTSphereMapper::ReleaseGraphicsResources(vtkWindow* win)
+{
+  Impl->Drawer.ReleaseGraphicsResources(win);
+  this->Superclass::ReleaseGraphicsResources(win);
+}
+
+namespace
+{
+// The radius array the mapper should use, or nullptr (with the reason in `why`).
+vtkDataArray* FindRadiusArray(vtkPolyData* input, const char* name, std::string& why)
+{
+  if (!name || !*name)
+  {
+    return nullptr;
+  }
+  vtkDataArray* array = input->GetPointData()->GetArray(name);
+  if (!array)
+  {
+    why = std::string("radius array '") + name + "' is not a point array of the input";
+    return nullptr;
+  }
+  if (array->GetNumberOfComponents() != 1)
+  {
+    why = std::string("radius array '") + name + "' has " +
+      std::to_string(array->GetNumberOfComponents()) + " components, 1 expected";
+    return nullptr;
+  }
+  return array;
+}
+}
+
+void vtkCGTSphereMapper::ComputeBounds()
+{
+  this->Superclass::ComputeBounds();
+  vtkPolyData* input = this->GetInput();
+  if (!input || input->GetNumberOfPoints() == 0 || !vtkMath::AreBoundsInitialized(this->Bounds))
+  {
+    return;
+  }
+  std::string why;
+  double rmax = this->Radius;
+  if (vtkDataArray* radii = FindRadiusArray(input, this->RadiusArrayName, why))
+  {
+    double range[2];
+    radii->GetFiniteRange(range, 0);
+    rmax = range[1];
+  }
+  rmax *= this->RadiusScale;
+  if (rmax > 0 && std::isfinite(rmax))
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      this->Bounds[2 * i] -= rmax;
+      this->Bounds[2 * i + 1] += rmax;
+    }
+  }
+}
+
+void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
+{
+  raymappers::RenderStatistics stats;
+  vtkPolyData* input = this->GetInput();
+  if (!input || input->GetNumberOfPoints() == 0)
+  {
+    vtkWarningMacro(<< "The input has no points: no sphere to draw.");
+    Impl->Statistics->Set(stats);
+    return;
+  }
+
+  // 1. Update: the sphere set and its BVH depend on the points, the radius settings and
+  //    the colours; a camera or light change reuses them.
+  this->MapScalars(input, 1.0);
+  vtkMTimeType colorTime = this->Colors ? this->Colors->GetMTime() : 0;
+  colorTime = std::max(colorTime, actor->GetProperty()->GetMTime());
+  const std::string radiusArray = this->RadiusArrayName ? this->RadiusArrayName : "";
+  const bool geometryChanged = !Impl->HasBuilt ||
+    Impl->BuiltInputTime != input->GetMTime() || Impl->BuiltRadius != this->Radius ||
+    Impl->BuiltScale != this->RadiusScale || Impl->BuiltRadiusArray != radiusArray;
+  if (geometryChanged || Impl->BuiltColorTime != colorTime)
+  {
+    raymappers::ScopedPhase phase(stats, "build");
+    std::string why;
+    vtkDataArray* radii = FindRadiusArray(input, this->RadiusArrayName, why);
+    if (!why.empty())
+    {
+      vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
+    }
+    int cellFlag = 0;
+    vtkUnsignedCharArray* colors = this->MapScalars(input, 1.0, cellFlag);
+    if (colors && cellFlag != 0)
+    {
+      vtkWarningMacro(<< "Sphere glyphs are colored by point data; the selected cell (or field) "
+                         "data is ignored and the actor color is used.");
+      colors = nullptr;
+    }
+    const double* ac = actor->GetProperty()->GetDiffuseColor();
+    const std::uint32_t actorColor = raymappers::packRGBA8(
+      static_cast<unsigned>(std::lround(std::clamp(ac[0], 0.0, 1.0) * 255)),
+      static_cast<unsigned>(std::lround(std::clamp(ac[1], 0.0, 1.0) * 255)),
+      static_cast<unsigned>(std::lround(std::clamp(ac[2], 0.0, 1.0) * 255)), 255);
+
+    vtkPoints* points = input->GetPoints();
+    double bounds[6];
+    input->GetBounds(bounds);
+    raymappers::Vec3d origin(0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
+      0.5 * (bounds[4] + bounds[5]));
+    if (!raymappers::isFinite(origin))
+    {
+      origin = raymappers::Vec3d();
+    }
+    const double scale = this->RadiusScale;
+    const double constantRadius = this->Radius * scale;
+    const unsigned char* rgba = colors ? colors->GetPointer(0) : nullptr;
+    const int nc = colors ? colors->GetNumberOfComponents() : 0;
+    raymappers::buildSphereSet(
+      static_cast<std::size_t>(input->GetNumberOfPoints()), origin,
+      [&](std::size_t i) {
+        double p[3];
+        points->GetPoint(static_cast<vtkIdType>(i), p);
+        return raymappers::Vec3d(p[0], p[1], p[2]);
+      },
+      [&](std::size_t i) {
+        return radii ? radii->GetComponent(static_cast<vtkIdType>(i), 0) * scale : constantRadius;
+      },
+      [&](std::size_t i) -> std::uint32_t {
+        if (!rgba)
+        {
+          return actorColor;
+        }
+        const unsigned char* c = rgba + nc * i;
+        return nc >= 3 ? raymappers::packRGBA8(c[0], c[1], c[2], 255)
+                       : raymappers::packRGBA8(c[0], c[0], c[0], 255);
+      },
+      Impl->Spheres);
+    if (Impl->Spheres.skippedNonFinite > 0)
+    {
+      vtkWarningMacro(<< Impl->Spheres.skippedNonFinite
+                      << " points have NaN or infinite coordinates and are not drawn.");
+    }
+    if (Impl->Spheres.skippedBadRadius > 0)
+    {
+      vtkWarningMacro(<< Impl->Spheres.skippedBadRadius
+                      << " spheres have a zero, negative or non-finite radius and are not drawn.");
+    }
+    if (geometryChanged)
+    {
+      Impl->Accelerator.build(Impl->Spheres, raymappers::EmbreeSphereAccelerator::Quality::Medium);
+      ++Impl->Builds;
+      stats.addCounter("bvh_builds_this_render", 1);
+    }
+    Impl->BuiltInputTime = input->GetMTime();
+    Impl->BuiltColorTime = colorTime;
+    Impl->BuiltRadius = this->Radius;
+    Impl->BuiltScale = this->RadiusScale;
+    Impl->BuiltRadiusArray = radiusArray;
+    Impl->HasBuilt = true;
+  }
+  stats.declareCounter("bvh_builds_this_render");
+  stats.addCounter("bvh_builds", Impl->Builds);
+  stats.addCounter("spheres", static_cast<std::int64_t>(Impl->Spheres.size()));
+
+  // 2. Gather the camera, lights and material.
+  raymappers::SphereShading shading;
+  const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(actor);
+  std::copy(model.modelToWorld, model.modelToWorld + 16, shading.modelToWorld);
+  std::copy(model.normalToWorld, model.normalToWorld + 9, shading.normalToWorld);
+  const raymappers::RayCamera camera =
+    vtkRayMapperRenderHelpers::GatherCamera(ren, model, Impl->Spheres.origin);
+  vtkProperty* property = actor->GetProperty();
+  if (property->GetLighting())
+  {
+    shading.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
+  }
+  shading.material.ambient = property->GetAmbient();
+  shading.material.diffuse = property->GetDiffuse();
+  shading.material.specular = property->GetSpecular();
+  shading.material.specularPower = property->GetSpecularPower();
+  const double* sc = property->GetSpecularColor();
+  shading.material.specularColor = { sc[0], sc[1], sc[2] };
+
+  // 3. Trace, 4. show.
+  raymappers::renderSpheres(
+    Impl->Spheres, Impl->Accelerator, camera, shading, this->TileSize, Impl->Frame, stats);
+  {
+    raymappers::ScopedPhase phase(stats, "draw");
+    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth);
+  }
+  Impl->Statistics->Set(stats);
+}
+
+void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "RadiusArrayName: " << (this->RadiusArrayName ? this->RadiusArrayName : "(none)")
+     << "\n";
+  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "TileSize: " << this->TileSize << "\n";
+}

@@ -1,0 +1,36 @@
+// The image a kernel produces: premultiplied RGBA and window depth per pixel, row 0 at the
+// bottom (OpenGL order). An empty pixel is (0,0,0,0) with depth 1 (the far plane).
+#ifndef RayMappers_Frame_h
+#define RayMappers_Frame_h
+
+#include <cstddef>
+#include <vector>
+
+namespace raymappers
+{
+
+struct Frame
+{
+  int width = 0;
+  int height = 0;
+  std::vector<float> rgba;  // 4 floats per pixel, premultiplied by alpha
+  std::vector<float> depth; // window depth in [0, 1]
+
+  void resize(int w, int h)
+  {
+    width = w;
+    height = h;
+    const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    rgba.assign(4 * n, 0.f);
+    depth.assign(n, 1.f);
+  }
+  std::size_t index(int i, int j) const
+  {
+    return static_cast<std::size_t>(j) * static_cast<std::size_t>(width) +
+      static_cast<std::size_t>(i);
+  }
+};
+
+} // namespace raymappers
+
+#endif

@@ -1,0 +1,85 @@
+// Primary rays and depth values for a pixel grid, from a projective world-to-clip matrix.
+//
+// The matrix M maps homogeneous model coordinates to OpenGL clip coordinates
+// (x_c, y_c, z_c, w_c); normalized device coordinates are x_c/w_c etc. in [-1, 1] and the
+// window depth is d = (z_c/w_c + 1)/2 in [0, 1] (OpenGL's default depth range). The same
+// code serves perspective and parallel projections: a pixel's ray joins the unprojections
+// of its centre on the near (z_ndc = -1) and far (z_ndc = +1) planes.
+//
+// Precision: coordinates handed to the float kernels are relative to `Origin` (usually the
+// centre of the data), so data far from the world origin keeps its float precision.
+#ifndef RayMappers_RayCamera_h
+#define RayMappers_RayCamera_h
+
+#include "Vec3.h"
+
+#include <array>
+
+namespace raymappers
+{
+
+/// A ray in origin-relative coordinates: x(t) = org + t dir, t in [tnear, tfar], |dir| = 1.
+struct Ray
+{
+  Vec3f org;
+  Vec3f dir;
+  float tnear = 0.f;
+  float tfar = 0.f;
+};
+
+/// Along one ray, clip z and w are affine in t: z(t) = z0 + t zd, w(t) = w0 + t wd.
+/// That gives the window depth of any t and its inverse in closed form.
+struct RayDepthMap
+{
+  double z0 = 0, zd = 0, w0 = 1, wd = 0;
+  /// Window depth d(t) = ((z0 + t zd)/(w0 + t wd) + 1)/2.
+  double depthOf(double t) const;
+  /// Inverse of depthOf: t such that d(t) = d.
+  double distanceOf(double depth) const;
+};
+
+class RayCamera
+{
+public:
+  /// `modelToClip`: row-major 4x4 (column vectors, p_clip = M p). `width` x `height` is the
+  /// pixel grid the rays are made for (a renderer's viewport, or one tile of a tiled
+  /// render: the matrix then already holds the tile's window shift). `origin`: the point
+  /// subtracted from model coordinates before they become float.
+  RayCamera(const std::array<double, 16>& modelToClip, int width, int height,
+    const Vec3d& origin);
+
+  int width() const { return Width; }
+  int height() const { return Height; }
+  const Vec3d& origin() const { return Origin; }
+  bool isParallel() const { return Parallel; }
+
+  /// The ray through the point (px, py) of the pixel grid; pixel (i, j) has its centre at
+  /// (i + 0.5, j + 0.5), row 0 at the bottom (OpenGL convention).
+  Ray primaryRay(double px, double py) const;
+  Ray pixelRay(int i, int j) const { return primaryRay(i + 0.5, j + 0.5); }
+
+  /// Depth mapping along a ray of this camera (as returned by primaryRay).
+  RayDepthMap depthMap(const Ray& ray) const;
+  RayDepthMap pixelDepthMap(int i, int j) const { return depthMap(pixelRay(i, j)); }
+
+  /// Window depth of a model-space point (not origin-relative), or > 1 / < 0 outside.
+  double depthOfPoint(const Vec3d& modelPoint) const;
+
+  /// Model-space (not origin-relative) point of normalized device coordinates.
+  Vec3d unproject(double xn, double yn, double zn) const;
+
+private:
+  std::array<double, 16> M;    // origin-relative model -> clip
+  std::array<double, 16> Minv; // clip -> origin-relative model
+  int Width, Height;
+  Vec3d Origin;
+  bool Parallel;
+};
+
+/// Inverse of a row-major 4x4 matrix (Gauss-Jordan with partial pivoting); returns false
+/// when it is singular.
+bool invert4x4(const std::array<double, 16>& m, std::array<double, 16>& inv);
+
+} // namespace raymappers
+
+#endif

@@ -1,0 +1,42 @@
+// Draws a kernel's Frame (premultiplied RGBA + window depth) into the current OpenGL
+// framebuffer over the renderer's (tiled) viewport with one full-screen quad.
+//
+// Opaque mode: pixels with alpha > 0 are written with their depth (gl_FragDepth) under the
+// normal depth test, so the frame hides and is hidden by ordinary geometry.
+// Blend mode: the frame is composited over what is drawn, premultiplied
+// (src + (1 - src.a) dst), without writing depth; a volume kernel has already stopped its
+// rays at the opaque depth (see vtkRayMapperRenderHelpers::ReadOpaqueDepth).
+#ifndef vtkRayMapperFrameDrawer_h
+#define vtkRayMapperFrameDrawer_h
+
+#include "Frame.h"
+
+#include <memory>
+
+class vtkRenderer;
+class vtkWindow;
+
+class vtkRayMapperFrameDrawer
+{
+public:
+  enum class Mode
+  {
+    OpaqueWithDepth,
+    BlendPremultiplied
+  };
+
+  vtkRayMapperFrameDrawer();
+  ~vtkRayMapperFrameDrawer();
+  vtkRayMapperFrameDrawer(const vtkRayMapperFrameDrawer&) = delete;
+  vtkRayMapperFrameDrawer& operator=(const vtkRayMapperFrameDrawer&) = delete;
+
+  /// The frame must have the size of the renderer's tiled viewport.
+  void Draw(vtkRenderer* ren, const raymappers::Frame& frame, Mode mode);
+  void ReleaseGraphicsResources(vtkWindow* win);
+
+private:
+  struct GL;
+  std::unique_ptr<GL> Impl;
+};
+
+#endif

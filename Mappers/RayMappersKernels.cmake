@@ -1,0 +1,19 @@
+# The kernels of every method: plain C++17 with std, Embree and TBB only (no VTK header),
+# built as one static library that the VTK module links privately and the kernel unit
+# tests link directly. They live beside their vtk* adapters, one folder per method.
+add_library(RayMappersKernels STATIC
+  ${CMAKE_CURRENT_LIST_DIR}/Common/RayCamera.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/Common/RenderStatistics.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/Common/TransferFunctionTable.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/Common/Lighting.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/CGT/EmbreeSphereAccelerator.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/CGT/SphereRenderer.cxx)
+target_include_directories(RayMappersKernels PUBLIC
+  ${CMAKE_CURRENT_LIST_DIR}/Common
+  ${CMAKE_CURRENT_LIST_DIR}/CGT)
+target_link_libraries(RayMappersKernels PUBLIC embree TBB::tbb)
+target_compile_options(RayMappersKernels PRIVATE ${RAYMAPPERS_WARNINGS})
+if (RAYMAPPERS_NATIVE)
+  target_compile_options(RayMappersKernels PRIVATE -march=native)
+endif ()
+set_target_properties(RayMappersKernels PROPERTIES POSITION_INDEPENDENT_CODE ON)

@@ -1,0 +1,531 @@
+#include "vtkRayTracedSpheresRepresentation.h"
+
+#include "vtkActor.h"
+#include "vtkCGTSphereMapper.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataArray.h"
+#include "vtkDataObject.h"
+#include "vtkDataSet.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPVRenderView.h"
+#include "vtkPVView.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkProperty.h"
+#include "vtkRenderer.h"
+#include "vtkScalarsToColors.h"
+#include "vtkUnsignedCharArray.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+vtkStandardNewMacro(vtkRayTracedSpheresRepresentation);
+
+namespace
+{
+// A point that a ghost array marks as a copy of a point owned elsewhere, or as hidden,
+// is not drawn (in parallel its owner draws it).
+constexpr unsigned char SkippedGhostPoint =
+  vtkDataSetAttributes::DUPLICATEPOINT | vtkDataSetAttributes::HIDDENPOINT;
+
+bool HasSkippedGhostPoints(vtkDataSet* ds)
+{
+  vtkUnsignedCharArray* ghosts = ds->GetPointGhostArray();
+  if (!ghosts)
+  {
+    return false;
+  }
+  const vtkIdType n = ghosts->GetNumberOfValues();
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    if (ghosts->GetValue(i) & SkippedGhostPoint)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+}
+
+//----------------------------------------------------------------------------
+vtkRayTracedSpheresRepresentation::vtkRayTracedSpheresRepresentation()
+{
+  this->Mapper = vtkSmartPointer<vtkCGTSphereMapper>::New();
+  this->Actor = vtkSmartPointer<vtkActor>::New();
+  this->Actor->SetMapper(this->Mapper);
+  // Until a color array is chosen, the spheres have the solid color: do not let the
+  // mapper pick the active scalars of the data on its own.
+  this->Mapper->SetScalarVisibility(0);
+  this->Mapper->SetColorMode(VTK_COLOR_MODE_MAP_SCALARS);
+  this->UpdateRadiusParameters();
+}
+
+//----------------------------------------------------------------------------
+vtkRayTracedSpheresRepresentation::~vtkRayTracedSpheresRepresentation() = default;
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "UseRadiusArray: " << this->UseRadiusArray << "\n";
+  os << indent << "RadiusArrayName: " << this->RadiusArrayName << "\n";
+  os << indent << "ProcessedData: " << this->ProcessedData.Get() << "\n";
+}
+
+//----------------------------------------------------------------------------
+vtkCGTSphereMapper* vtkRayTracedSpheresRepresentation::GetMapper()
+{
+  return this->Mapper;
+}
+
+//----------------------------------------------------------------------------
+vtkActor* vtkRayTracedSpheresRepresentation::GetActor()
+{
+  return this->Actor;
+}
+
+//----------------------------------------------------------------------------
+bool vtkRayTracedSpheresRepresentation::AddToView(vtkView* view)
+{
+  vtkPVRenderView* rview = vtkPVRenderView::SafeDownCast(view);
+  if (rview)
+  {
+    rview->GetRenderer()->AddActor(this->Actor);
+    rview->RegisterPropForHardwareSelection(this, this->Actor);
+    return this->Superclass::AddToView(view);
+  }
+  return false;
+}
+
+//----------------------------------------------------------------------------
+bool vtkRayTracedSpheresRepresentation::RemoveFromView(vtkView* view)
+{
+  vtkPVRenderView* rview = vtkPVRenderView::SafeDownCast(view);
+  if (rview)
+  {
+    rview->GetRenderer()->RemoveActor(this->Actor);
+    rview->UnRegisterPropForHardwareSelection(this, this->Actor);
+    return this->Superclass::RemoveFromView(view);
+  }
+  return false;
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetVisibility(bool val)
+{
+  this->Actor->SetVisibility(val ? 1 : 0);
+  this->Superclass::SetVisibility(val);
+}
+
+//----------------------------------------------------------------------------
+vtkDataObject* vtkRayTracedSpheresRepresentation::GetRenderedDataObject(int port)
+{
+  if (this->ProcessedData)
+  {
+    return this->ProcessedData;
+  }
+  return this->Superclass::GetRenderedDataObject(port);
+}
+
+//----------------------------------------------------------------------------
+int vtkRayTracedSpheresRepresentation::FillInputPortInformation(
+  int vtkNotUsed(port), vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
+  // Representations have no input on the client (client-server) and on the render
+  // server (client-render-server): the input must be optional.
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+//----------------------------------------------------------------------------
+vtkSmartPointer<vtkPolyData> vtkRayTracedSpheresRepresentation::GatherPoints(
+  vtkDataObject* input)
+{
+  auto output = vtkSmartPointer<vtkPolyData>::New();
+
+  std::vector<vtkDataSet*> leaves;
+  for (vtkDataSet* ds : vtkCompositeDataSet::GetDataSets<vtkDataSet>(input))
+  {
+    if (ds && ds->GetNumberOfPoints() > 0)
+    {
+      leaves.push_back(ds);
+    }
+  }
+  if (leaves.empty())
+  {
+    output->SetPoints(vtkSmartPointer<vtkPoints>::New());
+    return output;
+  }
+
+  // Fast path: one point set without ghost points to drop: share its points and arrays.
+  if (leaves.size() == 1)
+  {
+    vtkPointSet* ps = vtkPointSet::SafeDownCast(leaves[0]);
+    if (ps && ps->GetPoints() && !HasSkippedGhostPoints(ps))
+    {
+      output->SetPoints(ps->GetPoints());
+      output->GetPointData()->ShallowCopy(ps->GetPointData());
+      return output;
+    }
+  }
+
+  // General path: copy the points of every leaf, and the point arrays all leaves share.
+  vtkDataSetAttributes::FieldList fieldList;
+  vtkIdType total = 0;
+  int pointsType = -1;
+  for (vtkDataSet* ds : leaves)
+  {
+    fieldList.IntersectFieldList(ds->GetPointData());
+    total += ds->GetNumberOfPoints();
+    vtkPointSet* ps = vtkPointSet::SafeDownCast(ds);
+    const int type = (ps && ps->GetPoints()) ? ps->GetPoints()->GetDataType() : VTK_DOUBLE;
+    pointsType = (pointsType == -1 || pointsType == type) ? type : VTK_DOUBLE;
+  }
+
+  vtkNew<vtkPoints> points;
+  points->SetDataType(pointsType);
+  points->SetNumberOfPoints(total);
+  vtkPointData* outPD = output->GetPointData();
+  outPD->CopyAllocate(fieldList, total);
+
+  vtkIdType next = 0;
+  for (int leaf = 0; leaf < static_cast<int>(leaves.size()); ++leaf)
+  {
+    vtkDataSet* ds = leaves[leaf];
+    const vtkIdType n = ds->GetNumberOfPoints();
+    vtkPointData* inPD = ds->GetPointData();
+    vtkPointSet* ps = vtkPointSet::SafeDownCast(ds);
+    if (!HasSkippedGhostPoints(ds))
+    {
+      if (ps && ps->GetPoints())
+      {
+        points->InsertPoints(next, n, 0, ps->GetPoints());
+      }
+      else
+      {
+        double x[3];
+        for (vtkIdType i = 0; i < n; ++i)
+        {
+          ds->GetPoint(i, x);
+          points->SetPoint(next + i, x);
+        }
+      }
+      outPD->CopyData(fieldList, inPD, leaf, next, n, 0);
+      next += n;
+    }
+    else
+    {
+      vtkUnsignedCharArray* ghosts = ds->GetPointGhostArray();
+      double x[3];
+      for (vtkIdType i = 0; i < n; ++i)
+      {
+        if (ghosts->GetValue(i) & SkippedGhostPoint)
+        {
+          continue;
+        }
+        ds->GetPoint(i, x);
+        points->SetPoint(next, x);
+        outPD->CopyData(fieldList, inPD, leaf, i, next);
+        ++next;
+      }
+    }
+  }
+  if (next < total)
+  {
+    points->SetNumberOfPoints(next);
+  }
+  // The ghost array of the inputs says nothing about the gathered points.
+  outPD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  output->SetPoints(points);
+  return output;
+}
+
+//----------------------------------------------------------------------------
+int vtkRayTracedSpheresRepresentation::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  this->ProcessedData = nullptr;
+  if (inputVector[0]->GetNumberOfInformationObjects() == 1)
+  {
+    if (vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0))
+    {
+      this->ProcessedData = vtkRayTracedSpheresRepresentation::GatherPoints(input);
+    }
+  }
+  if (!this->ProcessedData)
+  {
+    // No input here (client, or render server): an empty polydata, of the same type
+    // as what the data server delivers.
+    this->ProcessedData = vtkSmartPointer<vtkPolyData>::New();
+  }
+  return this->Superclass::RequestData(request, inputVector, outputVector);
+}
+
+//----------------------------------------------------------------------------
+double vtkRayTracedSpheresRepresentation::GetLargestRadius(vtkPolyData* data) const
+{
+  double base = this->Radius;
+  if (this->UseRadiusArray && !this->RadiusArrayName.empty() && data)
+  {
+    vtkDataArray* array = data->GetPointData()->GetArray(this->RadiusArrayName.c_str());
+    if (array && array->GetNumberOfComponents() == 1 && array->GetNumberOfTuples() > 0)
+    {
+      double range[2];
+      array->GetFiniteRange(range, 0);
+      base = (range[0] <= range[1]) ? std::max(std::fabs(range[0]), std::fabs(range[1])) : 0.0;
+    }
+  }
+  const double r = std::fabs(base * this->RadiusScale);
+  return std::isfinite(r) ? r : 0.0;
+}
+
+//----------------------------------------------------------------------------
+int vtkRayTracedSpheresRepresentation::ProcessViewRequest(
+  vtkInformationRequestKey* request_type, vtkInformation* inInfo, vtkInformation* outInfo)
+{
+  // The superclass returns 0 when the representation is hidden: nothing to do then.
+  if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo))
+  {
+    return 0;
+  }
+
+  if (request_type == vtkPVView::REQUEST_UPDATE())
+  {
+    double bounds[6];
+    vtkMath::UninitializeBounds(bounds);
+    if (this->ProcessedData)
+    {
+      vtkPVView::SetPiece(inInfo, this, this->ProcessedData);
+      if (this->ProcessedData->GetNumberOfPoints() > 0)
+      {
+        this->ProcessedData->GetBounds(bounds);
+        // The spheres stick out of the points' box by up to one radius.
+        const double r = this->GetLargestRadius(this->ProcessedData);
+        for (int i = 0; i < 3; ++i)
+        {
+          bounds[2 * i] -= r;
+          bounds[2 * i + 1] += r;
+        }
+      }
+    }
+    vtkNew<vtkMatrix4x4> matrix;
+    this->Actor->GetMatrix(matrix);
+    vtkPVRenderView::SetGeometryBounds(inInfo, this, bounds, matrix);
+  }
+  else if (request_type == vtkPVView::REQUEST_RENDER())
+  {
+    vtkPolyData* delivered =
+      vtkPolyData::SafeDownCast(vtkPVView::GetDeliveredPiece(inInfo, this));
+    if (delivered)
+    {
+      this->Mapper->SetInputData(delivered);
+    }
+    else
+    {
+      // Nothing delivered to this process (e.g. the client when rendering remotely).
+      vtkNew<vtkPolyData> empty;
+      this->Mapper->SetInputData(empty);
+    }
+    this->UpdateColoringParameters();
+  }
+  return 1;
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::UpdateColoringParameters()
+{
+  const char* colorArrayName = nullptr;
+  int fieldAssociation = vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  vtkInformation* info = this->GetInputArrayInformation(0);
+  if (info && info->Has(vtkDataObject::FIELD_NAME()))
+  {
+    colorArrayName = info->Get(vtkDataObject::FIELD_NAME());
+    if (info->Has(vtkDataObject::FIELD_ASSOCIATION()))
+    {
+      fieldAssociation = info->Get(vtkDataObject::FIELD_ASSOCIATION());
+    }
+  }
+
+  // Only point arrays can color points: anything else shows the solid color.
+  if (colorArrayName && colorArrayName[0] &&
+    fieldAssociation == vtkDataObject::FIELD_ASSOCIATION_POINTS)
+  {
+    this->Mapper->SetScalarVisibility(1);
+    this->Mapper->SetScalarMode(VTK_SCALAR_MODE_USE_POINT_FIELD_DATA);
+    this->Mapper->SelectColorArray(colorArrayName);
+    this->Mapper->SetUseLookupTableScalarRange(1);
+  }
+  else
+  {
+    this->Mapper->SetScalarVisibility(0);
+    this->Mapper->SelectColorArray(static_cast<const char*>(nullptr));
+  }
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetLookupTable(vtkScalarsToColors* lut)
+{
+  this->Mapper->SetLookupTable(lut);
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetMapScalars(int val)
+{
+  if (val != 0 && val != 1)
+  {
+    vtkWarningMacro(<< "Invalid MapScalars value " << val << ", using 1.");
+    val = 1;
+  }
+  this->Mapper->SetColorMode(val ? VTK_COLOR_MODE_MAP_SCALARS : VTK_COLOR_MODE_DIRECT_SCALARS);
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::UpdateRadiusParameters()
+{
+  this->Mapper->SetRadius(this->Radius);
+  this->Mapper->SetRadiusScale(this->RadiusScale);
+  const bool useArray = this->UseRadiusArray && !this->RadiusArrayName.empty();
+  this->Mapper->SetRadiusArrayName(useArray ? this->RadiusArrayName.c_str() : nullptr);
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetRadius(double radius)
+{
+  if (this->Radius != radius)
+  {
+    this->Radius = radius;
+    this->UpdateRadiusParameters();
+    this->Modified();
+  }
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetUseRadiusArray(bool use)
+{
+  if (this->UseRadiusArray != use)
+  {
+    this->UseRadiusArray = use;
+    this->UpdateRadiusParameters();
+    this->Modified();
+  }
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SelectRadiusArray(
+  int, int, int, int, const char* name)
+{
+  const std::string newName = name ? name : "";
+  if (this->RadiusArrayName != newName)
+  {
+    this->RadiusArrayName = newName;
+    this->UpdateRadiusParameters();
+    this->Modified();
+  }
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetRadiusScale(double scale)
+{
+  if (this->RadiusScale != scale)
+  {
+    this->RadiusScale = scale;
+    this->UpdateRadiusParameters();
+    this->Modified();
+  }
+}
+
+//----------------------------------------------------------------------------
+// Forwarded to the actor.
+void vtkRayTracedSpheresRepresentation::SetOrientation(double x, double y, double z)
+{
+  this->Actor->SetOrientation(x, y, z);
+}
+
+void vtkRayTracedSpheresRepresentation::SetOrigin(double x, double y, double z)
+{
+  this->Actor->SetOrigin(x, y, z);
+}
+
+void vtkRayTracedSpheresRepresentation::SetPickable(int val)
+{
+  this->Actor->SetPickable(val);
+}
+
+void vtkRayTracedSpheresRepresentation::SetPosition(double x, double y, double z)
+{
+  this->Actor->SetPosition(x, y, z);
+}
+
+void vtkRayTracedSpheresRepresentation::SetScale(double x, double y, double z)
+{
+  this->Actor->SetScale(x, y, z);
+}
+
+void vtkRayTracedSpheresRepresentation::SetUserTransform(const double matrix[16])
+{
+  vtkNew<vtkMatrix4x4> m;
+  m->DeepCopy(matrix);
+  if (m->IsIdentity())
+  {
+    this->Actor->SetUserMatrix(nullptr);
+  }
+  else
+  {
+    this->Actor->SetUserMatrix(m);
+  }
+}
+
+//----------------------------------------------------------------------------
+// Forwarded to the actor's property.
+void vtkRayTracedSpheresRepresentation::SetAmbient(double val)
+{
+  this->Actor->GetProperty()->SetAmbient(val);
+}
+
+void vtkRayTracedSpheresRepresentation::SetDiffuse(double val)
+{
+  this->Actor->GetProperty()->SetDiffuse(val);
+}
+
+void vtkRayTracedSpheresRepresentation::SetSpecular(double val)
+{
+  this->Actor->GetProperty()->SetSpecular(val);
+}
+
+void vtkRayTracedSpheresRepresentation::SetSpecularPower(double val)
+{
+  this->Actor->GetProperty()->SetSpecularPower(val);
+}
+
+void vtkRayTracedSpheresRepresentation::SetAmbientColor(double r, double g, double b)
+{
+  this->Actor->GetProperty()->SetAmbientColor(r, g, b);
+}
+
+void vtkRayTracedSpheresRepresentation::SetDiffuseColor(double r, double g, double b)
+{
+  this->Actor->GetProperty()->SetDiffuseColor(r, g, b);
+}
+
+void vtkRayTracedSpheresRepresentation::SetSpecularColor(double r, double g, double b)
+{
+  this->Actor->GetProperty()->SetSpecularColor(r, g, b);
+}
+
+void vtkRayTracedSpheresRepresentation::SetOpacity(double val)
+{
+  this->Actor->GetProperty()->SetOpacity(val);
+}

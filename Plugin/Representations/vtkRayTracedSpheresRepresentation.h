@@ -1,0 +1,193 @@
+/**
+ * @class   vtkRayTracedSpheresRepresentation
+ * @brief   ParaView representation "Ray-Traced Spheres": every point of the data as a sphere.
+ *
+ * Renders each point of its input with vtkCGTSphereMapper (an exact, lit, CPU ray-traced
+ * sphere). The input may be any vtkDataSet (polygonal data, unstructured and structured
+ * grids, point clouds ...) or a composite dataset of them, e.g. a multiblock from an
+ * Exodus reader: all the points of all the leaves become spheres, not only the points on
+ * the surface (unlike the "Surface" or "Points" representations, which show the outer
+ * surface of a volumetric grid). Cells are ignored.
+ *
+ * RequestData() gathers the points and the point data of the input into one vtkPolyData
+ * (points only, no cells; the point arrays common to all the leaves; points flagged as
+ * duplicate or hidden ghosts are dropped), which is what the view delivers to the
+ * rendering processes and what GetRenderedDataObject() reports.
+ *
+ * Coloring follows ParaView's usual rules (ColorArrayName + LookupTable + MapScalars, or
+ * the solid DiffuseColor when no point array is selected; cell arrays cannot color
+ * points, the solid color is used then). Lighting comes from the actor's vtkProperty
+ * (Ambient, Diffuse, Specular, SpecularPower, SpecularColor, Opacity).
+ *
+ * The sphere radius is RadiusScale * (UseRadiusArray ? the value of the selected
+ * 1-component point array : Radius).
+ *
+ * This representation is not meant to be created on its own: the server-manager XML of
+ * the plugin adds it as a sub-representation "Ray-Traced Spheres" of ParaView's
+ * GeometryRepresentation, UnstructuredGridRepresentation and StructuredGridRepresentation.
+ */
+
+#ifndef vtkRayTracedSpheresRepresentation_h
+#define vtkRayTracedSpheresRepresentation_h
+
+#include "RayMappersRepresentationsModule.h" // for export macro
+#include "vtkPVDataRepresentation.h"
+#include "vtkSmartPointer.h" // for vtkSmartPointer
+
+#include <string> // for std::string
+
+class vtkActor;
+class vtkCGTSphereMapper;
+class vtkPolyData;
+class vtkScalarsToColors;
+
+class RAYMAPPERSREPRESENTATIONS_EXPORT vtkRayTracedSpheresRepresentation
+  : public vtkPVDataRepresentation
+{
+public:
+  static vtkRayTracedSpheresRepresentation* New();
+  vtkTypeMacro(vtkRayTracedSpheresRepresentation, vtkPVDataRepresentation);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Data delivery and rendering passes of the view (see vtkPVDataRepresentation).
+   * REQUEST_UPDATE hands the cached point polydata and its bounds to the view;
+   * REQUEST_RENDER gives the delivered piece to the mapper.
+   */
+  int ProcessViewRequest(vtkInformationRequestKey* request_type, vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+
+  /**
+   * Shows or hides the spheres.
+   */
+  void SetVisibility(bool val) override;
+
+  /**
+   * The point polydata that is rendered (after RequestData), else the input.
+   */
+  vtkDataObject* GetRenderedDataObject(int port) override;
+
+  //***************************************************************************
+  // Coloring.
+
+  /**
+   * Lookup table used to map the color array to colors.
+   */
+  void SetLookupTable(vtkScalarsToColors* lut);
+
+  /**
+   * 1: map scalars through the lookup table; 0: use unsigned char / [0,1] float arrays
+   * with up to 4 components directly as colors.
+   */
+  void SetMapScalars(int val);
+
+  //***************************************************************************
+  // Sphere size.
+
+  ///@{
+  /**
+   * Radius of every sphere when no radius array is used. Default 1.
+   */
+  void SetRadius(double radius);
+  double GetRadius() const { return this->Radius; }
+  ///@}
+
+  ///@{
+  /**
+   * Use the point array chosen with SelectRadiusArray() as the radius of each sphere.
+   * Default off.
+   */
+  void SetUseRadiusArray(bool use);
+  bool GetUseRadiusArray() const { return this->UseRadiusArray; }
+  ///@}
+
+  /**
+   * Chooses the point array (1 component) giving each sphere's radius. The first four
+   * arguments (index, port, connection, field association) are ignored; they are there
+   * for the signature of ParaView's array-selection properties.
+   */
+  void SelectRadiusArray(int, int, int, int, const char* name);
+  const char* GetRadiusArrayName() const { return this->RadiusArrayName.c_str(); }
+
+  ///@{
+  /**
+   * Factor applied to every radius (constant or from the array). Default 1.
+   */
+  void SetRadiusScale(double scale);
+  double GetRadiusScale() const { return this->RadiusScale; }
+  ///@}
+
+  //***************************************************************************
+  // Forwarded to the actor.
+  virtual void SetOrientation(double, double, double);
+  virtual void SetOrigin(double, double, double);
+  virtual void SetPickable(int val);
+  virtual void SetPosition(double, double, double);
+  virtual void SetScale(double, double, double);
+  virtual void SetUserTransform(const double matrix[16]);
+
+  //***************************************************************************
+  // Forwarded to the actor's vtkProperty.
+  virtual void SetAmbient(double);
+  virtual void SetDiffuse(double);
+  virtual void SetSpecular(double);
+  virtual void SetSpecularPower(double val);
+  virtual void SetAmbientColor(double r, double g, double b);
+  virtual void SetDiffuseColor(double r, double g, double b);
+  virtual void SetSpecularColor(double r, double g, double b);
+  virtual void SetOpacity(double val);
+
+  ///@{
+  /**
+   * The mapper and the actor, for tests and for C++ users.
+   */
+  vtkCGTSphereMapper* GetMapper();
+  vtkActor* GetActor();
+  ///@}
+
+protected:
+  vtkRayTracedSpheresRepresentation();
+  ~vtkRayTracedSpheresRepresentation() override;
+
+  bool AddToView(vtkView* view) override;
+  bool RemoveFromView(vtkView* view) override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  /**
+   * Gathers all the points (and the common point arrays) of a dataset or of the leaves
+   * of a composite dataset into one vtkPolyData without cells.
+   */
+  static vtkSmartPointer<vtkPolyData> GatherPoints(vtkDataObject* input);
+
+  /**
+   * Pushes the color array selection (SetInputArrayToProcess(0, ...)) to the mapper.
+   */
+  void UpdateColoringParameters();
+
+  /**
+   * Pushes Radius, RadiusScale and the radius array to the mapper.
+   */
+  void UpdateRadiusParameters();
+
+  /**
+   * Largest sphere radius, to grow the bounds given to the view (0 if unknown).
+   */
+  double GetLargestRadius(vtkPolyData* data) const;
+
+  vtkSmartPointer<vtkActor> Actor;
+  vtkSmartPointer<vtkCGTSphereMapper> Mapper;
+  vtkSmartPointer<vtkPolyData> ProcessedData;
+
+  double Radius = 1.0;
+  double RadiusScale = 1.0;
+  bool UseRadiusArray = false;
+  std::string RadiusArrayName;
+
+private:
+  vtkRayTracedSpheresRepresentation(const vtkRayTracedSpheresRepresentation&) = delete;
+  void operator=(const vtkRayTracedSpheresRepresentation&) = delete;
+};
+
+#endif
