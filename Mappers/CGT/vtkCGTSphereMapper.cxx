@@ -41,6 +41,7 @@ struct vtkCGTSphereMapper::Internals
   double BuiltRadius = 0, BuiltScale = 0;
   std::string BuiltRadiusArray;
   bool HasBuilt = false;
+  vtkMTimeType WarnedEmptyInputTime = 0;
 };
 
 vtkCGTSphereMapper::vtkCGTSphereMapper()
@@ -87,12 +88,45 @@ vtkDataArray* FindRadiusArray(vtkPolyData* input, const char* name, std::string&
   }
   return array;
 }
+
+// Centre of the bounds of the finite points: the origin of the kernel's float coordinates.
+raymappers::Vec3d FiniteCenter(vtkPoints* points)
+{
+  double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+  double hi[3] = { VTK_DOUBLE_MIN, VTK_DOUBLE_MIN, VTK_DOUBLE_MIN };
+  bool any = false;
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    points->GetPoint(i, p);
+    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))
+    {
+      any = true;
+      for (int c = 0; c < 3; ++c)
+      {
+        lo[c] = std::min(lo[c], p[c]);
+        hi[c] = std::max(hi[c], p[c]);
+      }
+    }
+  }
+  return any ? raymappers::Vec3d(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]))
+             : raymappers::Vec3d();
+}
 }
 
 void vtkCGTSphereMapper::ComputeBounds()
 {
   this->Superclass::ComputeBounds();
   vtkPolyData* input = this->GetInput();
+  if (input && input->GetNumberOfPoints() == 0 &&
+    Impl->WarnedEmptyInputTime != input->GetMTime())
+  {
+    // The renderer culls a prop with empty bounds before it renders: warn here, once per
+    // input change.
+    Impl->WarnedEmptyInputTime = input->GetMTime();
+    Impl->Statistics->Set(raymappers::RenderStatistics());
+    vtkWarningMacro(<< "The input has no points: no sphere to draw.");
+  }
   if (!input || input->GetNumberOfPoints() == 0 || !vtkMath::AreBoundsInitialized(this->Bounds))
   {
     return;
@@ -122,7 +156,6 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   vtkPolyData* input = this->GetInput();
   if (!input || input->GetNumberOfPoints() == 0)
   {
-    vtkWarningMacro(<< "The input has no points: no sphere to draw.");
     Impl->Statistics->Set(stats);
     return;
   }
@@ -160,14 +193,7 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
       static_cast<unsigned>(std::lround(std::clamp(ac[2], 0.0, 1.0) * 255)), 255);
 
     vtkPoints* points = input->GetPoints();
-    double bounds[6];
-    input->GetBounds(bounds);
-    raymappers::Vec3d origin(0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
-      0.5 * (bounds[4] + bounds[5]));
-    if (!raymappers::isFinite(origin))
-    {
-      origin = raymappers::Vec3d();
-    }
+    const raymappers::Vec3d origin = FiniteCenter(points);
     const double scale = this->RadiusScale;
     const double constantRadius = this->Radius * scale;
     const unsigned char* rgba = colors ? colors->GetPointer(0) : nullptr;

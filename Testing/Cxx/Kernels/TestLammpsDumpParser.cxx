@@ -1,0 +1,672 @@
+// Unit tests of raymappers::lammps::DumpParser (Filters/LAMMPS), the plain C++ kernel of
+// vtkLAMMPSDumpReader. Each test writes a small dump by hand into a temporary folder, so the
+// expected values follow from the text of the test.
+#include "LammpsDumpParser.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#ifdef _WIN32
+#include <process.h>
+#define RM_GETPID _getpid
+#else
+#include <unistd.h>
+#define RM_GETPID getpid
+#endif
+
+namespace fs = std::filesystem;
+using raymappers::lammps::BuildTimeTable;
+using raymappers::lammps::DumpBox;
+using raymappers::lammps::DumpFrame;
+using raymappers::lammps::DumpParser;
+using raymappers::lammps::PositionSource;
+using raymappers::lammps::TimeTable;
+
+namespace
+{
+
+// A per-test temporary folder, removed at the end.
+class LammpsDump : public ::testing::Test
+{
+protected:
+  void SetUp() override
+  {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    this->Dir = fs::temp_directory_path() /
+      ("raymappers_lammps_" + std::to_string(RM_GETPID()) + "_" + info->name());
+    fs::remove_all(this->Dir);
+    fs::create_directories(this->Dir);
+  }
+  void TearDown() override
+  {
+    std::error_code ec;
+    fs::remove_all(this->Dir, ec);
+  }
+  std::string Write(const std::string& name, const std::string& text)
+  {
+    const fs::path path = this->Dir / name;
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    return path.string();
+  }
+  fs::path Dir;
+};
+
+const std::vector<double>* Column(const DumpFrame& frame, const std::string& name)
+{
+  for (const auto& column : frame.Columns)
+  {
+    if (column.Name == name)
+    {
+      return &column.Values;
+    }
+  }
+  return nullptr;
+}
+
+bool Contains(const std::string& text, const std::string& part)
+{
+  return text.find(part) != std::string::npos;
+}
+
+// Two snapshots of an orthogonal periodic box, atoms written out of id order.
+const char* const TwoFrames = "ITEM: TIMESTEP\n"
+                              "0\n"
+                              "ITEM: NUMBER OF ATOMS\n"
+                              "3\n"
+                              "ITEM: BOX BOUNDS pp pp ff\n"
+                              "0.0 10.0\n"
+                              "-5.0 5.0\n"
+                              "1.0 3.0\n"
+                              "ITEM: ATOMS id type x y z vx q\n"
+                              "3 2 3.0 0.5 1.5 -0.3 1.0\n"
+                              "1 1 1.0 -4.0 2.0 0.1 -1.0\n"
+                              "2 1 2.0 4.5 2.5 0.2 0.5\n"
+                              "ITEM: TIMESTEP\n"
+                              "100\n"
+                              "ITEM: NUMBER OF ATOMS\n"
+                              "2\n"
+                              "ITEM: BOX BOUNDS pp pp ff\n"
+                              "0.0 10.0\n"
+                              "-5.0 5.0\n"
+                              "1.0 3.0\n"
+                              "ITEM: ATOMS id type x y z vx q\n"
+                              "2 1 2.5 4.0 2.5 0.25 0.5\n"
+                              "1 1 1.5 -3.5 2.0 0.15 -1.0\n";
+
+} // namespace
+
+TEST_F(LammpsDump, OrthogonalBoxAndColumns)
+{
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("ortho.dump", TwoFrames))) << parser.GetError();
+  EXPECT_TRUE(parser.GetWarnings().empty());
+  ASSERT_EQ(parser.GetNumberOfFrames(), 2u);
+  const auto& info = parser.GetFrameInfo(0);
+  EXPECT_EQ(info.Timestep, 0);
+  EXPECT_EQ(info.NumberOfAtoms, 3);
+  EXPECT_FALSE(info.HasTime);
+  ASSERT_TRUE(info.Box.Present);
+  EXPECT_EQ(info.Box.Kind, DumpBox::Shape::Orthogonal);
+  EXPECT_TRUE(info.Box.IsPeriodic(0));
+  EXPECT_TRUE(info.Box.IsPeriodic(1));
+  EXPECT_FALSE(info.Box.IsPeriodic(2));
+  EXPECT_EQ(info.Box.Boundary[2], "ff");
+  double bounds[6];
+  info.Box.GetBounds(bounds);
+  const double expected[6] = { 0.0, 10.0, -5.0, 5.0, 1.0, 3.0 };
+  for (int k = 0; k < 6; ++k)
+  {
+    EXPECT_DOUBLE_EQ(bounds[k], expected[k]) << k;
+  }
+  EXPECT_EQ(info.ColumnNames.size(), 7u);
+
+  DumpFrame frame;
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  ASSERT_EQ(frame.NumberOfAtoms, 3u);
+  EXPECT_EQ(frame.Positions, PositionSource::Wrapped);
+  ASSERT_TRUE(frame.HasIds);
+  ASSERT_TRUE(frame.HasTypes);
+  // Sorted by id: 1, 2, 3.
+  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 1, 2, 3 }));
+  EXPECT_EQ(frame.Types, (std::vector<std::int32_t>{ 1, 1, 2 }));
+  EXPECT_EQ(frame.Points, (std::vector<double>{ 1.0, -4.0, 2.0, 2.0, 4.5, 2.5, 3.0, 0.5, 1.5 }));
+  // Every column but positions, id and type is an array, in file order.
+  ASSERT_EQ(frame.Columns.size(), 2u);
+  EXPECT_EQ(frame.Columns[0].Name, "vx");
+  EXPECT_EQ(frame.Columns[1].Name, "q");
+  EXPECT_EQ(frame.Columns[0].Values, (std::vector<double>{ 0.1, 0.2, -0.3 }));
+  EXPECT_EQ(frame.Columns[1].Values, (std::vector<double>{ -1.0, 0.5, 1.0 }));
+  EXPECT_TRUE(frame.TextColumns.empty());
+}
+
+TEST_F(LammpsDump, TwoFramesAndTimeTable)
+{
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("two.dump", TwoFrames))) << parser.GetError();
+  ASSERT_EQ(parser.GetNumberOfFrames(), 2u);
+  EXPECT_EQ(parser.GetFrameInfo(1).Timestep, 100);
+  EXPECT_EQ(parser.GetFrameInfo(1).NumberOfAtoms, 2);
+  EXPECT_EQ(parser.GetFrameInfo(1).HeaderLine, 13u);
+  EXPECT_EQ(parser.GetFrameInfo(1).AtomsLine, 22u);
+
+  DumpFrame frame;
+  ASSERT_TRUE(parser.ReadFrame(1, frame)) << parser.GetError();
+  EXPECT_EQ(frame.Info.Timestep, 100);
+  ASSERT_EQ(frame.NumberOfAtoms, 2u);
+  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 1, 2 }));
+  EXPECT_EQ(frame.Points, (std::vector<double>{ 1.5, -3.5, 2.0, 2.5, 4.0, 2.5 }));
+  ASSERT_NE(Column(frame, "vx"), nullptr);
+  EXPECT_EQ(*Column(frame, "vx"), (std::vector<double>{ 0.15, 0.25 }));
+  // Reading the first snapshot again after the second one gives the same as before.
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.NumberOfAtoms, 3u);
+  EXPECT_FALSE(parser.ReadFrame(2, frame));
+  EXPECT_TRUE(Contains(parser.GetError(), "snapshot 3"));
+
+  const TimeTable table = BuildTimeTable(parser.GetFrames());
+  EXPECT_EQ(table.Times, (std::vector<double>{ 0.0, 100.0 }));
+  EXPECT_EQ(table.FrameForTime(-5.0), 0u);
+  EXPECT_EQ(table.FrameForTime(0.0), 0u);
+  EXPECT_EQ(table.FrameForTime(99.5), 0u);
+  EXPECT_EQ(table.FrameForTime(100.0), 1u);
+  EXPECT_EQ(table.FrameForTime(1e9), 1u);
+  EXPECT_EQ(table.FrameForTime(std::nan("")), 0u);
+}
+
+TEST_F(LammpsDump, RepeatedTimestepsUseTheLaterSnapshot)
+{
+  // A run restarted from timestep 100 and appended: timesteps 0 100 200 100 200 300.
+  std::string text;
+  for (int step : { 0, 100, 200, 100, 200, 300 })
+  {
+    text += "ITEM: TIMESTEP\n" + std::to_string(step) +
+      "\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
+      "ITEM: ATOMS id x y z\n1 0.5 0.5 0.5\n";
+  }
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("restart.dump", text))) << parser.GetError();
+  ASSERT_EQ(parser.GetNumberOfFrames(), 6u);
+  const TimeTable table = BuildTimeTable(parser.GetFrames());
+  EXPECT_EQ(table.Times, (std::vector<double>{ 0, 100, 200, 300 }));
+  EXPECT_EQ(table.Frames, (std::vector<std::size_t>{ 0, 3, 4, 5 }));
+  EXPECT_EQ(table.FrameForTime(150.0), 3u);
+}
+
+TEST_F(LammpsDump, ScaledCoordinatesOfDumpAtom)
+{
+  // "dump ... atom" writes id type xs ys zs (scaled to the box), and image flags with
+  // dump_modify image yes.
+  const std::string text = "ITEM: TIMESTEP\n"
+                           "50\n"
+                           "ITEM: NUMBER OF ATOMS\n"
+                           "2\n"
+                           "ITEM: BOX BOUNDS pp pp pp\n"
+                           "-2.0 2.0\n"
+                           "10.0 20.0\n"
+                           "0.0 1.0\n"
+                           "ITEM: ATOMS id type xs ys zs ix iy iz\n"
+                           "2 1 0.5 0.5 0.5 0 -1 2\n"
+                           "1 1 0.0 1.0 0.25 1 0 0\n";
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("atom.dump", text))) << parser.GetError();
+  DumpFrame frame;
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.Positions, PositionSource::Scaled);
+  EXPECT_EQ(frame.PositionColumns[0], "xs");
+  ASSERT_EQ(frame.NumberOfAtoms, 2u);
+  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 1, 2 }));
+  const double expected[6] = { -2.0, 20.0, 0.25, 0.0, 15.0, 0.5 };
+  for (int k = 0; k < 6; ++k)
+  {
+    EXPECT_NEAR(frame.Points[k], expected[k], 1e-12) << k;
+  }
+  ASSERT_NE(Column(frame, "iy"), nullptr);
+  EXPECT_EQ(*Column(frame, "iy"), (std::vector<double>{ 0.0, -1.0 }));
+}
+
+TEST_F(LammpsDump, PositionPreferenceKeepsOtherTriplesAsArrays)
+{
+  const std::string text = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\n"
+                           "ITEM: BOX BOUNDS pp pp pp\n0 2\n0 2\n0 2\n"
+                           "ITEM: ATOMS id xu yu zu x y z\n"
+                           "7 3.5 0.5 -1.0 1.5 0.5 1.0\n";
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("pref.dump", text))) << parser.GetError();
+  DumpFrame frame;
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.Positions, PositionSource::Wrapped);
+  EXPECT_EQ(frame.Points, (std::vector<double>{ 1.5, 0.5, 1.0 }));
+  ASSERT_NE(Column(frame, "xu"), nullptr);
+  EXPECT_EQ(*Column(frame, "xu"), (std::vector<double>{ 3.5 }));
+  EXPECT_EQ(Column(frame, "x"), nullptr);
+  EXPECT_FALSE(frame.HasTypes);
+
+  // Only unwrapped: they give the positions.
+  const std::string unwrapped = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\n"
+                                "ITEM: BOX BOUNDS pp pp pp\n0 2\n0 2\n0 2\n"
+                                "ITEM: ATOMS id type xu yu zu\n7 1 3.5 0.5 -1.0\n";
+  ASSERT_TRUE(parser.Open(this->Write("unwrapped.dump", unwrapped))) << parser.GetError();
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.Positions, PositionSource::Unwrapped);
+  EXPECT_EQ(frame.Points, (std::vector<double>{ 3.5, 0.5, -1.0 }));
+}
+
+TEST_F(LammpsDump, TriclinicBox)
+{
+  // Restricted triclinic cell: xlo=0 xhi=10, ylo=0 yhi=8, zlo=0 zhi=6, xy=2 xz=-1 yz=3.
+  // LAMMPS writes the bounding box: xlo_bound = xlo + min(0,xy,xz,xy+xz) = -1,
+  // xhi_bound = xhi + max(0,xy,xz,xy+xz) = 12, ylo_bound = 0, yhi_bound = 8 + 3 = 11.
+  const std::string text = "ITEM: TIMESTEP\n"
+                           "0\n"
+                           "ITEM: NUMBER OF ATOMS\n"
+                           "2\n"
+                           "ITEM: BOX BOUNDS xy xz yz pp pp pp\n"
+                           "-1.0 12.0 2.0\n"
+                           "0.0 11.0 -1.0\n"
+                           "0.0 6.0 3.0\n"
+                           "ITEM: ATOMS id type xs ys zs\n"
+                           "1 1 0.5 0.5 0.5\n"
+                           "2 1 1.0 1.0 1.0\n";
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("tri.dump", text))) << parser.GetError();
+  const DumpBox& box = parser.GetFrameInfo(0).Box;
+  EXPECT_EQ(box.Kind, DumpBox::Shape::Triclinic);
+  EXPECT_DOUBLE_EQ(box.Tilt[0], 2.0);
+  EXPECT_DOUBLE_EQ(box.Tilt[1], -1.0);
+  EXPECT_DOUBLE_EQ(box.Tilt[2], 3.0);
+  const double origin[3] = { 0.0, 0.0, 0.0 };
+  const double a[3] = { 10.0, 0.0, 0.0 };
+  const double b[3] = { 2.0, 8.0, 0.0 };
+  const double c[3] = { -1.0, 3.0, 6.0 };
+  for (int k = 0; k < 3; ++k)
+  {
+    EXPECT_DOUBLE_EQ(box.Origin[k], origin[k]) << k;
+    EXPECT_DOUBLE_EQ(box.A[k], a[k]) << k;
+    EXPECT_DOUBLE_EQ(box.B[k], b[k]) << k;
+    EXPECT_DOUBLE_EQ(box.C[k], c[k]) << k;
+  }
+  // The bounding box of the cell is what LAMMPS wrote.
+  double bounds[6];
+  box.GetBounds(bounds);
+  const double written[6] = { -1.0, 12.0, 0.0, 11.0, 0.0, 6.0 };
+  for (int k = 0; k < 6; ++k)
+  {
+    EXPECT_DOUBLE_EQ(bounds[k], written[k]) << k;
+  }
+  DumpFrame frame;
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  // r = origin + xs A + ys B + zs C.
+  const double expected[6] = { 5.5, 5.5, 3.0, 11.0, 11.0, 6.0 };
+  for (int k = 0; k < 6; ++k)
+  {
+    EXPECT_NEAR(frame.Points[k], expected[k], 1e-12) << k;
+  }
+}
+
+TEST_F(LammpsDump, GeneralTriclinicBoxTimeAndUnits)
+{
+  // dump_modify triclinic/general yes units yes time yes.
+  const std::string text = "ITEM: UNITS\n"
+                           "metal\n"
+                           "ITEM: TIME\n"
+                           "0.25\n"
+                           "ITEM: TIMESTEP\n"
+                           "250\n"
+                           "ITEM: NUMBER OF ATOMS\n"
+                           "1\n"
+                           "ITEM: BOX BOUNDS abc origin pp pp fs\n"
+                           "2.0 2.0 0.0 1.0\n"
+                           "-2.0 2.0 0.0 2.0\n"
+                           "0.0 0.0 4.0 3.0\n"
+                           "ITEM: ATOMS id type xs ys zs\n"
+                           "1 1 0.5 0.5 0.5\n"
+                           "ITEM: TIME\n"
+                           "0.5\n"
+                           "ITEM: TIMESTEP\n"
+                           "500\n"
+                           "ITEM: NUMBER OF ATOMS\n"
+                           "0\n"
+                           "ITEM: BOX BOUNDS abc origin pp pp fs\n"
+                           "2.0 2.0 0.0 1.0\n"
+                           "-2.0 2.0 0.0 2.0\n"
+                           "0.0 0.0 4.0 3.0\n"
+                           "ITEM: ATOMS id type xs ys zs q\n";
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("general.dump", text))) << parser.GetError();
+  ASSERT_EQ(parser.GetNumberOfFrames(), 2u);
+  const auto& info = parser.GetFrameInfo(0);
+  EXPECT_EQ(info.Units, "metal");
+  EXPECT_EQ(parser.GetFrameInfo(1).Units, "metal"); // written once, carried forward
+  EXPECT_TRUE(info.HasTime);
+  EXPECT_DOUBLE_EQ(info.Time, 0.25);
+  EXPECT_DOUBLE_EQ(parser.GetFrameInfo(1).Time, 0.5);
+  EXPECT_EQ(info.Box.Kind, DumpBox::Shape::GeneralTriclinic);
+  EXPECT_EQ(info.Box.Boundary[2], "fs");
+  DumpFrame frame;
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  // origin (1,2,3) + 0.5 (2,2,0) + 0.5 (-2,2,0) + 0.5 (0,0,4) = (1, 4, 5)
+  EXPECT_NEAR(frame.Points[0], 1.0, 1e-12);
+  EXPECT_NEAR(frame.Points[1], 4.0, 1e-12);
+  EXPECT_NEAR(frame.Points[2], 5.0, 1e-12);
+  // A snapshot with no atom is valid and keeps its arrays (empty).
+  ASSERT_TRUE(parser.ReadFrame(1, frame)) << parser.GetError();
+  EXPECT_EQ(frame.NumberOfAtoms, 0u);
+  EXPECT_TRUE(frame.Points.empty());
+  ASSERT_NE(Column(frame, "q"), nullptr);
+}
+
+TEST_F(LammpsDump, UnsortedIdsPermuteEveryColumn)
+{
+  const std::string text = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n5\n"
+                           "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
+                           "ITEM: ATOMS id type element x y z c_pe f_ave[2]\n"
+                           "40 2 O 0.4 0.04 0.004 -4 400\n"
+                           "10 1 H 0.1 0.01 0.001 -1 100\n"
+                           "50 2 O 0.5 0.05 0.005 -5 500\n"
+                           "30 1 H 0.3 0.03 0.003 -3 300\n"
+                           "20 2 O 0.2 0.02 0.002 -2 200\n";
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("unsorted.dump", text))) << parser.GetError();
+  DumpFrame frame;
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 10, 20, 30, 40, 50 }));
+  EXPECT_EQ(frame.Types, (std::vector<std::int32_t>{ 1, 2, 1, 2, 2 }));
+  for (std::size_t i = 0; i < 5; ++i)
+  {
+    const double k = 0.1 * double(i + 1);
+    EXPECT_NEAR(frame.Points[3 * i], k, 1e-12);
+    EXPECT_NEAR(frame.Points[3 * i + 1], k / 10, 1e-12);
+    EXPECT_NEAR(frame.Points[3 * i + 2], k / 100, 1e-12);
+  }
+  ASSERT_NE(Column(frame, "c_pe"), nullptr);
+  EXPECT_EQ(*Column(frame, "c_pe"), (std::vector<double>{ -1, -2, -3, -4, -5 }));
+  ASSERT_NE(Column(frame, "f_ave[2]"), nullptr);
+  EXPECT_EQ(*Column(frame, "f_ave[2]"), (std::vector<double>{ 100, 200, 300, 400, 500 }));
+  ASSERT_EQ(frame.TextColumns.size(), 1u);
+  EXPECT_EQ(frame.TextColumns[0].Name, "element");
+  EXPECT_EQ(frame.TextColumns[0].Values,
+    (std::vector<std::string>{ "H", "O", "H", "O", "O" }));
+}
+
+TEST_F(LammpsDump, MissingColumns)
+{
+  DumpParser parser;
+  DumpFrame frame;
+  // No coordinates at all: a clear error naming the columns.
+  const std::string noPositions = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\n"
+                                  "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
+                                  "ITEM: ATOMS id type vx vy vz\n1 1 0 0 0\n";
+  ASSERT_TRUE(parser.Open(this->Write("nopos.dump", noPositions))) << parser.GetError();
+  EXPECT_FALSE(parser.ReadFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.GetError(), "no atom coordinates")) << parser.GetError();
+  EXPECT_TRUE(Contains(parser.GetError(), "id type vx vy vz")) << parser.GetError();
+  EXPECT_EQ(frame.NumberOfAtoms, 0u);
+
+  // Part of a triple.
+  const std::string partial = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\n"
+                              "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
+                              "ITEM: ATOMS id x y\n1 0 0\n";
+  ASSERT_TRUE(parser.Open(this->Write("partial.dump", partial))) << parser.GetError();
+  EXPECT_FALSE(parser.ReadFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.GetError(), "only part of x y z")) << parser.GetError();
+
+  // Scaled coordinates without a box cannot be converted.
+  const std::string noBox = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\n"
+                            "ITEM: ATOMS id xs ys zs\n1 0.5 0.5 0.5\n";
+  ASSERT_TRUE(parser.Open(this->Write("nobox.dump", noBox))) << parser.GetError();
+  EXPECT_FALSE(parser.ReadFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.GetError(), "BOX BOUNDS")) << parser.GetError();
+
+  // No id and no type: file order is kept; no box is fine with unscaled coordinates.
+  const std::string noIds = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\n"
+                            "ITEM: ATOMS x y z\n2 0 0\n1 0 0\n";
+  ASSERT_TRUE(parser.Open(this->Write("noids.dump", noIds))) << parser.GetError();
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_FALSE(frame.HasIds);
+  EXPECT_FALSE(frame.HasTypes);
+  EXPECT_FALSE(frame.Info.Box.Present);
+  EXPECT_EQ(frame.Points, (std::vector<double>{ 2, 0, 0, 1, 0, 0 }));
+  EXPECT_TRUE(frame.Columns.empty());
+}
+
+TEST_F(LammpsDump, TruncatedFile)
+{
+  const std::string full = TwoFrames;
+  DumpParser parser;
+  DumpFrame frame;
+
+  // Cut inside the atom lines of the second snapshot: the first stays readable, with a
+  // warning about the second.
+  const std::string cut = full.substr(0, full.size() - 12);
+  ASSERT_TRUE(parser.Open(this->Write("cut.dump", cut))) << parser.GetError();
+  ASSERT_EQ(parser.GetNumberOfFrames(), 1u);
+  ASSERT_EQ(parser.GetWarnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "truncated")) << parser.GetWarnings()[0];
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "timestep 100")) << parser.GetWarnings()[0];
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.NumberOfAtoms, 3u);
+
+  // Cut exactly at a line end inside the second snapshot's atoms.
+  const std::string lineCut = full.substr(0, full.rfind("1 1 1.5"));
+  ASSERT_TRUE(parser.Open(this->Write("linecut.dump", lineCut))) << parser.GetError();
+  EXPECT_EQ(parser.GetNumberOfFrames(), 1u);
+  EXPECT_EQ(parser.GetWarnings().size(), 1u);
+
+  // Cut inside the second snapshot's header.
+  const std::string headerCut = full.substr(0, full.find("ITEM: BOX", full.find("100")));
+  ASSERT_TRUE(parser.Open(this->Write("headercut.dump", headerCut))) << parser.GetError();
+  EXPECT_EQ(parser.GetNumberOfFrames(), 1u);
+  EXPECT_EQ(parser.GetWarnings().size(), 1u);
+
+  // The last line lacks only its newline: nothing is lost.
+  const std::string noNewline = full.substr(0, full.size() - 1);
+  ASSERT_TRUE(parser.Open(this->Write("nonewline.dump", noNewline))) << parser.GetError();
+  EXPECT_EQ(parser.GetNumberOfFrames(), 2u);
+  EXPECT_TRUE(parser.GetWarnings().empty());
+  ASSERT_TRUE(parser.ReadFrame(1, frame)) << parser.GetError();
+  EXPECT_EQ(frame.Points[0], 1.5);
+
+  // Cut inside the only snapshot: an error, not an empty result.
+  const std::string firstCut = full.substr(0, full.find("2 1 2.0"));
+  EXPECT_FALSE(parser.Open(this->Write("firstcut.dump", firstCut)));
+  EXPECT_TRUE(Contains(parser.GetError(), "truncated")) << parser.GetError();
+  EXPECT_TRUE(Contains(parser.GetError(), "2 complete atom lines")) << parser.GetError();
+  EXPECT_EQ(parser.GetNumberOfFrames(), 0u);
+}
+
+TEST_F(LammpsDump, EveryPrefixOfAFileIsHandled)
+{
+  // A file cut at any byte: Open either fails with a message or gives only frames that
+  // read cleanly or fail with a message. Never a crash (run under ASan/UBSan too).
+  const std::string full = TwoFrames;
+  DumpParser parser;
+  DumpFrame frame;
+  for (std::size_t size = 0; size <= full.size(); ++size)
+  {
+    const std::string path = this->Write("prefix.dump", full.substr(0, size));
+    if (!parser.Open(path))
+    {
+      EXPECT_FALSE(parser.GetError().empty()) << size;
+      continue;
+    }
+    for (std::size_t i = 0; i < parser.GetNumberOfFrames(); ++i)
+    {
+      EXPECT_TRUE(parser.ReadFrame(i, frame)) << size << ": " << parser.GetError();
+    }
+  }
+}
+
+TEST_F(LammpsDump, CorruptedBytesNeverCrash)
+{
+  const std::string full = TwoFrames;
+  std::mt19937 random(12345);
+  std::uniform_int_distribution<std::size_t> position(0, full.size() - 1);
+  const char replacements[] = { ' ', '\n', 'x', '-', '.', 'e', '9', '\0', '\r', '+' };
+  std::uniform_int_distribution<int> replacement(0, int(sizeof(replacements)) - 1);
+  DumpParser parser;
+  DumpFrame frame;
+  for (int trial = 0; trial < 500; ++trial)
+  {
+    std::string text = full;
+    for (int k = 0; k < 3; ++k)
+    {
+      text[position(random)] = replacements[replacement(random)];
+    }
+    if (!parser.Open(this->Write("corrupt.dump", text)))
+    {
+      EXPECT_FALSE(parser.GetError().empty());
+      continue;
+    }
+    for (std::size_t i = 0; i < parser.GetNumberOfFrames(); ++i)
+    {
+      if (!parser.ReadFrame(i, frame))
+      {
+        EXPECT_FALSE(parser.GetError().empty());
+      }
+    }
+  }
+}
+
+TEST_F(LammpsDump, MalformedFilesGiveClearErrors)
+{
+  DumpParser parser;
+  DumpFrame frame;
+  const std::string header = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\n"
+                             "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n";
+
+  EXPECT_FALSE(parser.Open((this->Dir / "missing.dump").string()));
+  EXPECT_TRUE(Contains(parser.GetError(), "no such file")) << parser.GetError();
+
+  EXPECT_FALSE(parser.Open(this->Write("empty.dump", "")));
+  EXPECT_TRUE(Contains(parser.GetError(), "empty")) << parser.GetError();
+
+  EXPECT_FALSE(parser.Open(this->Dir.string()));
+  EXPECT_TRUE(Contains(parser.GetError(), "directory")) << parser.GetError();
+
+  EXPECT_FALSE(parser.Open(this->Write("data.lmp", "LAMMPS data file\n\n3 atoms\n")));
+  EXPECT_TRUE(Contains(parser.GetError(), "not a LAMMPS text dump")) << parser.GetError();
+
+  EXPECT_FALSE(parser.Open(this->Write("dump.gz", std::string("\x1f\x8b\x08\x00rest", 8))));
+  EXPECT_TRUE(Contains(parser.GetError(), "gzip")) << parser.GetError();
+
+  EXPECT_FALSE(parser.Open(this->Write("dump.bin", std::string("\x00\x00\x01\x00ITEM", 8))));
+  EXPECT_TRUE(Contains(parser.GetError(), "binary")) << parser.GetError();
+
+  EXPECT_FALSE(parser.Open(this->Write("step.dump", "ITEM: TIMESTEP\nabc\n")));
+  EXPECT_TRUE(Contains(parser.GetError(), "line 2")) << parser.GetError();
+  EXPECT_TRUE(Contains(parser.GetError(), "timestep")) << parser.GetError();
+
+  EXPECT_FALSE(parser.Open(
+    this->Write("count.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n-3\n")));
+  EXPECT_TRUE(Contains(parser.GetError(), "number of atoms")) << parser.GetError();
+
+  EXPECT_FALSE(parser.Open(this->Write("box.dump",
+    "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n0\nITEM: BOX BOUNDS pp pp pp\n0 1\n0\n0 1\n")));
+  EXPECT_TRUE(Contains(parser.GetError(), "line 7")) << parser.GetError();
+
+  EXPECT_FALSE(parser.Open(this->Write("order.dump", "ITEM: ATOMS id x y z\n1 0 0 0\n")));
+  EXPECT_TRUE(Contains(parser.GetError(), "before")) << parser.GetError();
+
+  EXPECT_FALSE(parser.Open(this->Write("unknown.dump", "ITEM: TIMESTEP\n0\nITEM: BONDS\n")));
+  EXPECT_TRUE(Contains(parser.GetError(), "unknown section")) << parser.GetError();
+
+  EXPECT_FALSE(parser.Open(this->Write("local.dump",
+    "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ENTRIES\n1\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 "
+    "1\nITEM: ENTRIES index c_1[1]\n1 2\n")));
+  EXPECT_TRUE(Contains(parser.GetError(), "dump local")) << parser.GetError();
+
+  // More atom lines than NUMBER OF ATOMS.
+  EXPECT_FALSE(parser.Open(
+    this->Write("extra.dump", header + "ITEM: ATOMS id x y z\n1 0 0 0\n2 0 0 0\n3 0 0 0\n")));
+  EXPECT_TRUE(Contains(parser.GetError(), "line 12")) << parser.GetError();
+
+  // Errors found when reading a snapshot name the line and the column.
+  ASSERT_TRUE(parser.Open(
+    this->Write("values.dump", header + "ITEM: ATOMS id type x y z\n1 1 0 0 0\n2 1 0 zero 0\n")))
+    << parser.GetError();
+  EXPECT_FALSE(parser.ReadFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.GetError(), "line 11, column 'y'")) << parser.GetError();
+  EXPECT_TRUE(Contains(parser.GetError(), "'zero'")) << parser.GetError();
+
+  ASSERT_TRUE(parser.Open(
+    this->Write("short.dump", header + "ITEM: ATOMS id type x y z\n1 1 0 0 0\n2 1 0 0\n")))
+    << parser.GetError();
+  EXPECT_FALSE(parser.ReadFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.GetError(), "expected 5 values")) << parser.GetError();
+
+  ASSERT_TRUE(parser.Open(
+    this->Write("ids.dump", header + "ITEM: ATOMS id type x y z\n1 1 0 0 0\n2.5 1 0 0 0\n")))
+    << parser.GetError();
+  EXPECT_FALSE(parser.ReadFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.GetError(), "column 'id'")) << parser.GetError();
+  EXPECT_TRUE(Contains(parser.GetError(), "integer")) << parser.GetError();
+}
+
+TEST_F(LammpsDump, SpecialValuesPassThrough)
+{
+  // NaN and infinities as printf writes them; '+' signs; CRLF line ends; 1e400 overflows.
+  const std::string text = "ITEM: TIMESTEP\r\n0\r\nITEM: NUMBER OF ATOMS\r\n3\r\n"
+                           "ITEM: BOX BOUNDS pp pp pp\r\n0 1\r\n0 1\r\n0 1\r\n"
+                           "ITEM: ATOMS id type x y z c_s\r\n"
+                           "1 1 nan 0 0 -nan\r\n"
+                           "2 1 inf -inf +0.5 1e400\r\n"
+                           "3 1 +1.5e-1 NaN 1e-400 -1e400\r\n";
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("special.dump", text))) << parser.GetError();
+  DumpFrame frame;
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_TRUE(std::isnan(frame.Points[0]));
+  EXPECT_TRUE(std::isinf(frame.Points[3]) && frame.Points[3] > 0);
+  EXPECT_TRUE(std::isinf(frame.Points[4]) && frame.Points[4] < 0);
+  EXPECT_DOUBLE_EQ(frame.Points[5], 0.5);
+  EXPECT_DOUBLE_EQ(frame.Points[6], 0.15);
+  EXPECT_TRUE(std::isnan(frame.Points[7]));
+  EXPECT_EQ(frame.Points[8], 0.0);
+  const std::vector<double>& s = *Column(frame, "c_s");
+  EXPECT_TRUE(std::isnan(s[0]));
+  EXPECT_TRUE(std::isinf(s[1]) && s[1] > 0);
+  EXPECT_TRUE(std::isinf(s[2]) && s[2] < 0);
+}
+
+TEST_F(LammpsDump, LegacyAtomsWithoutColumnNames)
+{
+  // Old LAMMPS "dump atom": "ITEM: ATOMS" without names, id type xs ys zs [ix iy iz].
+  const std::string text = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\n"
+                           "ITEM: BOX BOUNDS\n0 4\n0 4\n0 4\n"
+                           "ITEM: ATOMS\n1 1 0.25 0.5 0.75 0 0 1\n";
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("legacy.dump", text))) << parser.GetError();
+  EXPECT_EQ(parser.GetFrameInfo(0).ColumnNames.size(), 8u);
+  EXPECT_TRUE(parser.GetFrameInfo(0).Box.Boundary[0].empty());
+  DumpFrame frame;
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.Points, (std::vector<double>{ 1.0, 2.0, 3.0 }));
+  ASSERT_NE(Column(frame, "iz"), nullptr);
+}
+
+TEST_F(LammpsDump, StaleAfterAppendAndLooksLikeDump)
+{
+  const std::string path = this->Write("grow.dump", TwoFrames);
+  EXPECT_TRUE(DumpParser::LooksLikeDump(path));
+  EXPECT_FALSE(DumpParser::LooksLikeDump(this->Write("text.txt", "hello\n")));
+  EXPECT_FALSE(DumpParser::LooksLikeDump((this->Dir / "none").string()));
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(path)) << parser.GetError();
+  EXPECT_FALSE(parser.IsStale());
+  {
+    std::ofstream out(path, std::ios::app | std::ios::binary);
+    out << "ITEM: TIMESTEP\n200\nITEM: NUMBER OF ATOMS\n0\n"
+           "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\nITEM: ATOMS id x y z\n";
+  }
+  EXPECT_TRUE(parser.IsStale());
+  ASSERT_TRUE(parser.Open(path)) << parser.GetError();
+  EXPECT_EQ(parser.GetNumberOfFrames(), 3u);
+}

@@ -1,0 +1,72 @@
+// Statistics after each render, and "rebuild only on change": a camera, colour or light
+// change reuses the BVH; a radius or point change rebuilds it. Lighting off turns the
+// shading effect off.
+#include "RenderingTestHelpers.h"
+#include "vtkCGTSphereMapper.h"
+#include "vtkRayMapperStatistics.h"
+
+#include "vtkActor.h"
+#include "vtkLookupTable.h"
+#include "vtkProperty.h"
+
+int TestSpheresStatistics(int, char*[])
+{
+  auto lattice = rmtest::MakeLattice(4);
+  vtkNew<vtkCGTSphereMapper> mapper;
+  mapper->SetInputData(lattice);
+  mapper->SetRadiusArrayName("radius");
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  vtkNew<vtkRenderer> ren;
+  ren->AddActor(actor);
+  vtkNew<vtkRenderWindow> win;
+  win->SetSize(128, 96);
+  win->AddRenderer(ren);
+  ren->ResetCamera();
+  win->Render();
+
+  vtkRayMapperStatistics* s = mapper->GetStatistics();
+  std::printf("%s", s->GetSummary());
+  RM_CHECK(s->GetCounter("bvh_builds") == 1);
+  RM_CHECK(s->GetCounter("bvh_builds_this_render") == 1);
+  RM_CHECK(s->GetCounter("spheres") == 64);
+  RM_CHECK(s->GetCounter("rays") == 128 * 96);
+  RM_CHECK(s->GetCounter("hits") > 0 && s->GetCounter("hits") < 128 * 96);
+  RM_CHECK(s->GetEffect("shading"));
+  RM_CHECK(s->GetPhaseTime("trace") > 0);
+  RM_CHECK(s->GetNumberOfCounters() >= 5);
+
+  // Camera move: no rebuild.
+  ren->GetActiveCamera()->Azimuth(30);
+  ren->ResetCameraClippingRange();
+  win->Render();
+  RM_CHECK(s->GetCounter("bvh_builds") == 1);
+  RM_CHECK(s->GetCounter("bvh_builds_this_render") == 0);
+  RM_CHECK(s->GetPhaseTime("build") == 0);
+
+  // New lookup table: colours change, the BVH does not.
+  vtkNew<vtkLookupTable> lut;
+  lut->SetHueRange(0.1, 0.5);
+  lut->Build();
+  mapper->SetLookupTable(lut);
+  win->Render();
+  RM_CHECK(s->GetCounter("bvh_builds") == 1);
+
+  // Lighting off: no shading effect.
+  actor->GetProperty()->LightingOff();
+  win->Render();
+  RM_CHECK(!s->GetEffect("shading"));
+  RM_CHECK(!s->GetEffect("specular"));
+  RM_CHECK(s->GetCounter("bvh_builds") == 1);
+
+  // Radius scale and moved points rebuild.
+  mapper->SetRadiusScale(0.5);
+  win->Render();
+  RM_CHECK(s->GetCounter("bvh_builds") == 2);
+  lattice->GetPoints()->SetPoint(0, 0.1, 0.2, 0.3);
+  lattice->GetPoints()->Modified();
+  win->Render();
+  RM_CHECK(s->GetCounter("bvh_builds") == 3);
+  std::printf("%s", s->GetSummary());
+  return EXIT_SUCCESS;
+}

@@ -1,0 +1,250 @@
+"""pvpython test of the "Ray-Traced Spheres" representation of the RayMappers plugin.
+
+Usage (under Xvfb):
+  pvpython TestRayTracedSpheresRepresentation.py PLUGIN DATA BASELINE OUTPUT
+           [--threshold T] [--color-array NAME] [--radius-array NAME]
+           [--radius-scale S] [--size W H]
+
+  PLUGIN    path of RayMappers.so
+  DATA      a dataset: .pdb (PDBReader), .ex2/.exo/.e (ExodusIIReader), else OpenDataFile
+  BASELINE  baseline PNG to compare the final image with
+  OUTPUT    where the final screenshot is written (the difference images of a failed
+            comparison go next to it)
+
+What it checks, failing with a non-zero exit code otherwise:
+  1. the plugin adds "Ray-Traced Spheres" to the representation types of the data,
+     and the representation's properties exist;
+  2. the default Radius is 1% of the largest side of the data's bounding box;
+  3. every point of the data is rendered (all points of all blocks, not only the surface);
+  4. property changes are visible: larger spheres (the radius array) cover more pixels,
+     a hidden representation draws nothing;
+  5. the final image (colored by a point array, radii from a point array) matches the
+     baseline with ParaView's (VTK's) image comparison.
+"""
+import argparse
+import math
+import os
+import sys
+
+from paraview.simple import *  # noqa: F401,F403 (pvpython test)
+from vtkmodules.vtkIOImage import vtkPNGReader
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+REPRESENTATION = 'Ray-Traced Spheres'
+BACKGROUND = [0.1, 0.1, 0.15]
+
+failures = []
+
+
+def check(condition, message):
+    """Records a failed check (the test goes on to show all of them)."""
+    if condition:
+        print('ok    ' + message)
+    else:
+        print('FAIL  ' + message)
+        failures.append(message)
+
+
+def parse_args():
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('plugin')
+    parser.add_argument('data')
+    parser.add_argument('baseline')
+    parser.add_argument('output')
+    parser.add_argument('--threshold', type=float, default=0.15,
+                        help='image comparison threshold (vtkmodules.test.Testing)')
+    parser.add_argument('--color-array', default='residue',
+                        help='point array to color by')
+    parser.add_argument('--radius-array', default='atom_type',
+                        help='1-component point array giving the radii')
+    parser.add_argument('--radius-scale', type=float, default=0.15,
+                        help='Radius Scale used with the radius array')
+    parser.add_argument('--size', type=int, nargs=2, default=[400, 400])
+    return parser.parse_args()
+
+
+def open_data(path):
+    ext = os.path.splitext(path)[1].lower()
+    if ext == '.pdb':
+        return PDBReader(FileName=path)
+    if ext in ('.ex2', '.exo', '.e', '.exii'):
+        return ExodusIIReader(FileName=path)
+    return OpenDataFile(path)
+
+
+def coverage(png, background):
+    """Fraction of the pixels of a PNG that differ from the background color."""
+    return float(silhouette(png, background).mean())
+
+
+def silhouette(png, background):
+    """Mask of the pixels of a PNG that differ from the background color."""
+    reader = vtkPNGReader()
+    reader.SetFileName(png)
+    reader.Update()
+    pixels = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3].astype(int)
+    bg = [int(round(255 * c)) for c in background]
+    return (abs(pixels - bg) > 3).any(axis=1)
+
+
+def glyph_reference(source, view, radius_array, radius_scale, path, size):
+    """ParaView's own sphere glyphs (tessellated spheres, same radii and camera): the
+    reference for where the ray-traced spheres must be."""
+    glyphs = Glyph(Input=source, GlyphType='Sphere')
+    glyphs.GlyphMode = 'All Points'
+    glyphs.ScaleArray = ['POINTS', radius_array]
+    glyphs.ScaleFactor = 2.0 * radius_scale  # the glyph sphere's radius is 0.5
+    glyphs.GlyphType.ThetaResolution = 48
+    glyphs.GlyphType.PhiResolution = 48
+    glyph_rep = Show(glyphs, view)
+    ColorBy(glyph_rep, None)
+    Render(view)
+    SaveScreenshot(path, view, ImageResolution=size, TransparentBackground=0)
+    Hide(glyphs, view)
+    mask = silhouette(path, BACKGROUND)
+    Delete(glyphs)
+    return mask
+
+
+def screenshot(view, path, size):
+    Render(view)
+    SaveScreenshot(path, view, ImageResolution=size, TransparentBackground=0)
+    return coverage(path, BACKGROUND)
+
+
+def compare_with_baseline(output, baseline, threshold):
+    """VTK's image regression comparison (the one ParaView's Python tests use)."""
+    from vtkmodules.test import Testing
+    Testing.VTK_TEMP_DIR = os.path.dirname(os.path.abspath(output))
+    if not os.path.isfile(baseline):
+        print('FAIL  no baseline image %s; candidate written to %s' % (baseline, output))
+        return False
+    reader = vtkPNGReader()
+    reader.SetFileName(output)
+    reader.Update()
+    try:
+        Testing.compareImageWithSavedImage(reader, baseline, threshold)
+    except RuntimeError as error:
+        print('FAIL  image differs from %s: %s' % (baseline, str(error).strip()))
+        return False
+    print('ok    image matches %s (threshold %g)' % (baseline, threshold))
+    return True
+
+
+def main():
+    args = parse_args()
+    out_dir = os.path.dirname(os.path.abspath(args.output))
+    os.makedirs(out_dir, exist_ok=True)
+    stem = os.path.splitext(os.path.abspath(args.output))[0]
+
+    LoadPlugin(args.plugin, remote=False, ns=globals())
+
+    source = open_data(args.data)
+    source.UpdatePipeline()
+
+    view = CreateView('RenderView')
+    try:
+        return run_checks(args, source, view, stem)
+    finally:
+        # Deleting the view before the interpreter exits avoids pvpython 5.11's
+        # "X Error ... GLXBadContext" at exit (which turns the exit code into 1).
+        Delete(view)
+
+
+def run_checks(args, source, view, stem):
+    info = source.GetDataInformation()
+    n_points = info.GetNumberOfPoints()
+    bounds = info.GetBounds()
+    extent = max(bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4])
+    check(n_points > 0, 'the data has points (%d)' % n_points)
+
+    view.ViewSize = args.size
+    view.OrientationAxesVisibility = 0
+    if view.GetProperty('UseColorPaletteForBackground') is not None:
+        view.UseColorPaletteForBackground = 0
+    view.Background = BACKGROUND
+    SetActiveView(view)
+
+    rep = Show(source, view)
+    available = rep.Representation.Available
+    check(REPRESENTATION in available,
+          '"%s" is a representation type of %s' % (REPRESENTATION, rep.GetXMLName()))
+    if REPRESENTATION not in available:
+        return 1
+    rep.SetRepresentationType(REPRESENTATION)
+    check(rep.Representation == REPRESENTATION, 'the representation is set')
+
+    for name in ('Radius', 'UseRadiusArray', 'RadiusArray', 'RadiusScale',
+                 'ColorArrayName', 'LookupTable', 'MapScalars', 'DiffuseColor',
+                 'AmbientColor', 'Opacity', 'Ambient', 'Diffuse', 'Specular',
+                 'SpecularPower', 'SpecularColor'):
+        check(rep.GetProperty(name) is not None, 'property %s exists' % name)
+
+    check(math.isclose(rep.Radius, 0.01 * extent, rel_tol=1e-6),
+          'default Radius %g is 1%% of the extent %g' % (rep.Radius, extent))
+    check(rep.UseRadiusArray == 0 and rep.RadiusScale == 1.0,
+          'defaults UseRadiusArray=0, RadiusScale=1')
+
+    # Coloring by a point array through the lookup table.
+    ColorBy(rep, ('POINTS', args.color_array))
+    rep.RescaleTransferFunctionToDataRange(True, False)
+    lut = GetColorTransferFunction(args.color_array)
+    lut.ApplyPreset('Cool to Warm', True)
+    rep.SetScalarBarVisibility(view, False)
+    rep.Specular = 0.4
+    rep.SpecularPower = 40.0
+
+    # Constant radius: the default one. (The first Render of paraview.simple resets the
+    # camera: render once before placing it.)
+    Render(view)
+    view.ResetCamera(False)
+    view.GetActiveCamera().Dolly(1.4)
+    Render(view)
+
+    # Every point of the data is rendered, not only the surface.
+    rendered = rep.SMProxy.GetRepresentedDataInformation()
+    check(rendered.GetNumberOfPoints() == n_points,
+          'all %d points are rendered (%d)' % (n_points, rendered.GetNumberOfPoints()))
+
+    small = screenshot(view, stem + '-constant-radius.png', args.size)
+    check(small > 0.005, 'the spheres are drawn (%.1f%% of the pixels)' % (100 * small))
+
+    # Hidden: nothing is drawn.
+    Hide(source, view)
+    hidden = screenshot(view, stem + '-hidden.png', args.size)
+    check(hidden == 0.0, 'a hidden representation draws nothing (%.2f%%)' % (100 * hidden))
+    Show(source, view)
+    check(rep.Representation == REPRESENTATION, 'the representation survives Hide/Show')
+
+    # Radii from a point array: the change must be visible (more pixels covered).
+    rep.UseRadiusArray = 1
+    rep.RadiusArray = ['POINTS', args.radius_array]
+    rep.RadiusScale = args.radius_scale
+    large = screenshot(view, args.output, args.size)
+    check(large > small * 1.2,
+          'radius array x %g covers more pixels: %.1f%% > %.1f%%'
+          % (args.radius_scale, 100 * large, 100 * small))
+
+    # The spheres are where ParaView's sphere glyphs of the same radii are: the
+    # silhouettes agree (up to the glyphs' tessellation and antialiasing of edges).
+    ours = silhouette(args.output, BACKGROUND)
+    Hide(source, view)
+    theirs = glyph_reference(source, view, args.radius_array, args.radius_scale,
+                             stem + '-glyph-reference.png', args.size)
+    Show(source, view)
+    union = (ours | theirs).sum()
+    iou = (ours & theirs).sum() / union if union else 0.0
+    check(iou > 0.97, 'silhouette matches ParaView sphere glyphs (IoU %.4f)' % iou)
+
+    if not compare_with_baseline(args.output, args.baseline, args.threshold):
+        failures.append('baseline comparison')
+
+    if failures:
+        print('%d check(s) failed' % len(failures))
+        return 1
+    print('all checks passed')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
