@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string_view>
 #include <system_error>
+#include <unordered_map>
 
 namespace raymappers
 {
@@ -1052,13 +1053,10 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
     std::vector<Role> roles(columnCount, Role::Number);
     std::vector<int> slot(columnCount, -1); // index in Columns / TextColumns / position k
     std::vector<std::string> arrayNames(columnCount);
+    std::unordered_map<std::string, int> seenNames;
     for (std::size_t c = 0; c < columnCount; ++c)
     {
-      int seen = 0;
-      for (std::size_t d = 0; d < c; ++d)
-      {
-        seen += names[d] == names[c] ? 1 : 0;
-      }
+      const int seen = seenNames[names[c]]++;
       arrayNames[c] = seen ? names[c] + "_" + std::to_string(seen + 1) : names[c];
       if (seen)
       {

@@ -80,12 +80,6 @@ vtkDataArray* FindRadiusArray(vtkPolyData* input, const char* name, std::string&
     why = std::string("radius array '") + name + "' is not a point array of the input";
     return nullptr;
   }
-  if (array->GetNumberOfComponents() != 1)
-  {
-    why = std::string("radius array '") + name + "' has " +
-      std::to_string(array->GetNumberOfComponents()) + " components, 1 expected";
-    return nullptr;
-  }
   return array;
 }
 

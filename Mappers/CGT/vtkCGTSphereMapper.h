@@ -51,8 +51,9 @@ public:
 
   ///@{
   /**
-   * Name of a point array (1 component) giving each sphere's radius. nullptr (default)
-   * means the constant Radius for all.
+   * Name of a point array giving each sphere's radius (its first component, so the
+   * 3-component "radius" of vtkPDBReader works as is). nullptr (default) means the
+   * constant Radius for all.
    */
   vtkSetStringMacro(RadiusArrayName);
   vtkGetStringMacro(RadiusArrayName);

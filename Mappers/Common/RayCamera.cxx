@@ -108,6 +108,15 @@ RayCamera::RayCamera(
   }
   // A projection is parallel when w does not depend on the position.
   Parallel = M[12] == 0.0 && M[13] == 0.0 && M[14] == 0.0;
+  // x_ndc = 2 px / W - 1: the column of Minv for x, scaled by 2/W, per pixel step.
+  for (int r = 0; r < 4; ++r)
+  {
+    PixelDx[r] = Minv[4 * r] * 2.0 / Width;
+    PixelDy[r] = Minv[4 * r + 1] * 2.0 / Height;
+    const double corner = -Minv[4 * r] - Minv[4 * r + 1] + Minv[4 * r + 3];
+    NearBase[r] = corner - Minv[4 * r + 2];
+    FarBase[r] = corner + Minv[4 * r + 2];
+  }
 }
 
 Vec3d RayCamera::unproject(double xn, double yn, double zn) const
@@ -121,10 +130,15 @@ Vec3d RayCamera::unproject(double xn, double yn, double zn) const
 
 Ray RayCamera::primaryRay(double px, double py) const
 {
-  const double xn = 2.0 * px / Width - 1.0;
-  const double yn = 2.0 * py / Height - 1.0;
-  const Vec3d a = unproject(xn, yn, -1.0) - Origin;
-  const Vec3d b = unproject(xn, yn, 1.0) - Origin;
+  double n[4], f[4];
+  for (int r = 0; r < 4; ++r)
+  {
+    n[r] = NearBase[r] + px * PixelDx[r] + py * PixelDy[r];
+    f[r] = FarBase[r] + px * PixelDx[r] + py * PixelDy[r];
+  }
+  const double in = 1.0 / n[3], inf = 1.0 / f[3];
+  const Vec3d a(n[0] * in, n[1] * in, n[2] * in);
+  const Vec3d b(f[0] * inf, f[1] * inf, f[2] * inf);
   const Vec3d d = b - a;
   const double len = length(d);
   Ray ray;

@@ -71,6 +71,9 @@ public:
 private:
   std::array<double, 16> M;    // origin-relative model -> clip
   std::array<double, 16> Minv; // clip -> origin-relative model
+  // Homogeneous unprojection of the near (z_ndc = -1) and far (z_ndc = +1) planes is linear
+  // in the pixel position: P(px, py) = base + px * dx + py * dy (4-vectors, then / w).
+  std::array<double, 4> NearBase, FarBase, PixelDx, PixelDy;
   int Width, Height;
   Vec3d Origin;
   bool Parallel;

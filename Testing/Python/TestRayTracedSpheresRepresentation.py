@@ -97,7 +97,7 @@ def glyph_reference(source, view, radius_array, radius_scale, path, size):
     glyphs.GlyphType.ThetaResolution = 48
     glyphs.GlyphType.PhiResolution = 48
     glyph_rep = Show(glyphs, view)
-    ColorBy(glyph_rep, None)
+    glyph_rep.ColorArrayName = ['POINTS', '']
     Render(view)
     SaveScreenshot(path, view, ImageResolution=size, TransparentBackground=0)
     Hide(glyphs, view)

@@ -670,3 +670,29 @@ TEST_F(LammpsDump, StaleAfterAppendAndLooksLikeDump)
   ASSERT_TRUE(parser.Open(path)) << parser.GetError();
   EXPECT_EQ(parser.GetNumberOfFrames(), 3u);
 }
+
+TEST_F(LammpsDump, RepeatedColumnNamesAndTypeLabels)
+{
+  // A column listed twice keeps both arrays (the second gets "_2"); a type column holding
+  // type labels instead of numbers becomes a text column.
+  const std::string text = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\n"
+                           "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
+                           "ITEM: ATOMS id type x y z vx vx id\n"
+                           "2 Ow 0.2 0 0 1.0 2.0 20\n"
+                           "1 Hw 0.1 0 0 3.0 4.0 10\n";
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("repeat.dump", text))) << parser.GetError();
+  DumpFrame frame;
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 1, 2 }));
+  EXPECT_FALSE(frame.HasTypes);
+  ASSERT_EQ(frame.TextColumns.size(), 1u);
+  EXPECT_EQ(frame.TextColumns[0].Name, "type");
+  EXPECT_EQ(frame.TextColumns[0].Values, (std::vector<std::string>{ "Hw", "Ow" }));
+  ASSERT_NE(Column(frame, "vx"), nullptr);
+  ASSERT_NE(Column(frame, "vx_2"), nullptr);
+  ASSERT_NE(Column(frame, "id_2"), nullptr);
+  EXPECT_EQ(*Column(frame, "vx"), (std::vector<double>{ 3.0, 1.0 }));
+  EXPECT_EQ(*Column(frame, "vx_2"), (std::vector<double>{ 4.0, 2.0 }));
+  EXPECT_EQ(*Column(frame, "id_2"), (std::vector<double>{ 10.0, 20.0 }));
+}
