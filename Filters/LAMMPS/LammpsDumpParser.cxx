@@ -770,7 +770,9 @@ bool DumpParser::Open(const std::string& fileName)
       {
         throw ParseError{ Where(lineNumber) + ": expected an 'ITEM:' header, found " +
           Quote(text) +
-          (hasCount ? " (are there more atom lines than NUMBER OF ATOMS says?)" : "") };
+          (!inHeader && !this->Frames.empty()
+              ? " (are there more atom lines than NUMBER OF ATOMS says?)"
+              : "") };
       }
       const std::string_view item = Trim(text.substr(5));
       std::string_view value;
@@ -948,6 +950,14 @@ bool DumpParser::Open(const std::string& fileName)
   }
   catch (const ParseError& e)
   {
+    if (!this->Frames.empty())
+    {
+      // Damage after complete snapshots: keep those (the index of anything after the damage
+      // cannot be trusted) and say where the file stops being readable.
+      this->Warnings.push_back("'" + fileName + "': " + e.Message + "; the rest of the file (" +
+        "after snapshot " + std::to_string(this->Frames.size()) + ") is ignored");
+      return true;
+    }
     this->Frames.clear();
     return this->Fail("'" + fileName + "': " + e.Message);
   }

@@ -32,9 +32,10 @@
 // Columns "id" and "type" are integers; "element" and "typelabel" (and any other column
 // whose first value is not a number) are text; every other column is a double.
 //
-// Robustness: a malformed file gives a clear error naming the line and what was expected;
-// a truncated last snapshot (a simulation still writing or killed) is dropped with a
-// warning, keeping the complete ones. Values such as "nan" or "inf" are kept as they are.
+// Robustness: a malformed file gives a clear error naming the line and what was expected.
+// Damage after at least one complete snapshot (typically a truncated last snapshot of a
+// simulation still writing or killed) is a warning instead: the complete snapshots before it
+// stay readable. Values such as "nan" or "inf" are kept as they are.
 #ifndef RayMappers_LammpsDumpParser_h
 #define RayMappers_LammpsDumpParser_h
 
@@ -161,8 +162,8 @@ class DumpParser
 public:
   /// Indexes the snapshots of a file (headers only; atom lines are counted, not parsed).
   /// Returns false and sets GetError() if the file cannot be read or has no complete
-  /// snapshot. Warnings (e.g. a truncated last snapshot that was dropped) are in
-  /// GetWarnings().
+  /// snapshot. If the file is truncated or damaged after complete snapshots, those are kept
+  /// and GetWarnings() says what was dropped and where.
   bool Open(const std::string& fileName);
   void Close();
 

@@ -15,8 +15,10 @@
  *
  * Time: TIME_STEPS are the dump's timestep values, sorted; a request between two of them
  * reads the earlier one. If a timestep occurs twice (a restarted run appended to the file),
- * the later snapshot is used. If the file grows (a running simulation), the next
- * UpdateInformation sees the new snapshots; a truncated last snapshot is skipped with a warning.
+ * the later snapshot is used. If the file changed on disk (a running simulation appending
+ * snapshots), the next update after Modified() (in ParaView: File > Reload Files) indexes it
+ * again; otherwise the index is reused. A truncated last snapshot (or anything after damage in
+ * the file) is skipped with a warning that names the line.
  *
  * Not handled: compressed (.gz, .zst) and binary dumps (convert with gunzip / binary2txt), one
  * file per processor (dump.%), "dump local" and "dump grid" files. A series of one-snapshot

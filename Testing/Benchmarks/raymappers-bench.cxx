@@ -244,7 +244,7 @@ std::vector<Row> RunSpheres(const Options& opt)
       const double diag = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
         (b[5] - b[4]) * (b[5] - b[4]));
       cam->SetFocalPoint(c);
-      cam->SetPosition(c[0] + 0.55 * diag, c[1] + 0.4 * diag, c[2] + 1.3 * diag);
+      cam->SetPosition(c[0] + 0.8 * diag, c[1] + 0.55 * diag, c[2] + 1.8 * diag);
       cam->SetViewUp(0, 1, 0);
       cam->SetViewAngle(30);
     };

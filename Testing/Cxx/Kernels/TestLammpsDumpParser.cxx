@@ -583,10 +583,20 @@ TEST_F(LammpsDump, MalformedFilesGiveClearErrors)
     "1\nITEM: ENTRIES index c_1[1]\n1 2\n")));
   EXPECT_TRUE(Contains(parser.GetError(), "dump local")) << parser.GetError();
 
-  // More atom lines than NUMBER OF ATOMS.
-  EXPECT_FALSE(parser.Open(
-    this->Write("extra.dump", header + "ITEM: ATOMS id x y z\n1 0 0 0\n2 0 0 0\n3 0 0 0\n")));
-  EXPECT_TRUE(Contains(parser.GetError(), "line 12")) << parser.GetError();
+  // More atom lines than NUMBER OF ATOMS, after a complete snapshot: the snapshot is kept,
+  // a warning says where the file stops being readable.
+  ASSERT_TRUE(parser.Open(
+    this->Write("extra.dump", header + "ITEM: ATOMS id x y z\n1 0 0 0\n2 0 0 0\n3 0 0 0\n")))
+    << parser.GetError();
+  EXPECT_EQ(parser.GetNumberOfFrames(), 1u);
+  ASSERT_EQ(parser.GetWarnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "line 12")) << parser.GetWarnings()[0];
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "more atom lines")) << parser.GetWarnings()[0];
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "ignored")) << parser.GetWarnings()[0];
+
+  // The same damage before any complete snapshot is an error.
+  EXPECT_FALSE(parser.Open(this->Write("garbage.dump", "ITEM: TIMESTEP\n0\n1 0 0 0\n")));
+  EXPECT_TRUE(Contains(parser.GetError(), "line 3")) << parser.GetError();
 
   // Errors found when reading a snapshot name the line and the column.
   ASSERT_TRUE(parser.Open(

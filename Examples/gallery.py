@@ -1,0 +1,241 @@
+"""RayMappers demo gallery: renders the bundled data with the ray-traced sphere mapper.
+
+Run through ../run.sh demo, or by hand under Xvfb:
+    pvpython Examples/gallery.py --build build --out gallery
+
+Each view is saved as a PNG in the output folder; a table of what was rendered and how
+long it took is printed at the end (first frame with the build, and the median of the
+following frames of the same view).
+"""
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SOURCE = os.path.dirname(HERE)
+
+
+def parse_args():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--build", default=os.path.join(SOURCE, "build"), help="build folder")
+    p.add_argument("--out", default=os.path.join(SOURCE, "gallery"), help="output folder")
+    p.add_argument("--size", default="1024x768", help="image size WxH")
+    p.add_argument("--frames", type=int, default=3, help="frames timed after the first")
+    p.add_argument("--skip-generated", action="store_true",
+                   help="do not generate / render the 1M-atom LAMMPS melt")
+    return p.parse_args()
+
+
+args = parse_args()
+sys.path.insert(0, os.path.join(args.build, "lib", "python3", "dist-packages"))
+
+from vtkmodules import vtkRenderingOpenGL2  # noqa: E402,F401 (OpenGL factory overrides)
+from vtkmodules.vtkCommonCore import vtkLookupTable  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkPolyData  # noqa: E402
+from vtkmodules.vtkFiltersCore import vtkAppendFilter, vtkTubeFilter  # noqa: E402
+from vtkmodules.vtkFiltersModeling import vtkOutlineFilter  # noqa: E402
+from vtkmodules.vtkIOChemistry import vtkPDBReader  # noqa: E402
+from vtkmodules.vtkIOExodus import vtkExodusIIReader  # noqa: E402
+from vtkmodules.vtkIOImage import vtkPNGWriter  # noqa: E402
+from vtkmodules.vtkIOLegacy import vtkPolyDataReader  # noqa: E402
+from vtkmodules.vtkRenderingCore import (  # noqa: E402
+    vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow, vtkWindowToImageFilter)
+
+import raymappers  # noqa: E402
+
+WIDTH, HEIGHT = (int(v) for v in args.size.split("x"))
+DATA = os.path.join(SOURCE, "Data")
+
+
+def sphere_actor(points, radius_array=None, radius=1.0, scale=1.0, color_array=None,
+                 scalar_range=None, direct_colors=False, lut=None):
+    mapper = raymappers.vtkCGTSphereMapper()
+    mapper.SetInputData(points)
+    if radius_array:
+        mapper.SetRadiusArrayName(radius_array)
+    mapper.SetRadius(radius)
+    mapper.SetRadiusScale(scale)
+    if color_array:
+        mapper.SetScalarModeToUsePointFieldData()
+        mapper.SelectColorArray(color_array)
+        if direct_colors:
+            mapper.SetColorModeToDirectScalars()
+        if scalar_range:
+            mapper.SetScalarRange(*scalar_range)
+        if lut:
+            mapper.SetLookupTable(lut)
+    else:
+        mapper.ScalarVisibilityOff()
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetSpecular(0.35)
+    actor.GetProperty().SetSpecularPower(40)
+    actor.GetProperty().SetAmbient(0.08)
+    return actor, mapper
+
+
+def points_only(dataset):
+    """All points of a data set with their point data (cells dropped)."""
+    pd = vtkPolyData()
+    pd.SetPoints(dataset.GetPoints())
+    pd.GetPointData().ShallowCopy(dataset.GetPointData())
+    return pd
+
+
+def render_view(name, dataset, actors, mapper, camera):
+    ren = vtkRenderer()
+    ren.SetBackground(0.12, 0.13, 0.16)
+    ren.SetBackground2(0.32, 0.34, 0.43)
+    ren.GradientBackgroundOn()
+    for a in actors:
+        ren.AddActor(a)
+    win = vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetSize(WIDTH, HEIGHT)
+    win.AddRenderer(ren)
+    camera(ren)
+    ren.ResetCameraClippingRange()
+    t = time.perf_counter()
+    win.Render()
+    win.WaitForCompletion()
+    first = (time.perf_counter() - t) * 1000
+    build = mapper.GetStatistics().GetPhaseTime("build")
+    times = []
+    for _ in range(args.frames):
+        t = time.perf_counter()
+        win.Render()
+        win.WaitForCompletion()
+        times.append((time.perf_counter() - t) * 1000)
+    stats = mapper.GetStatistics()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(win)
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    png = os.path.join(args.out, name + ".png")
+    writer = vtkPNGWriter()
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.SetFileName(png)
+    writer.Write()
+    return dict(view=name, dataset=dataset, spheres=stats.GetCounter("spheres"),
+                build=build, first=first, frame=statistics.median(times) if times else first,
+                trace=stats.GetPhaseTime("trace"), png=os.path.relpath(png, os.getcwd()))
+
+
+def look(position, focal=None, up=(0, 1, 0), angle=30, parallel_scale=None, zoom=1.0):
+    def setup(ren):
+        cam = ren.GetActiveCamera()
+        ren.ResetCamera()
+        f = focal or cam.GetFocalPoint()
+        d = cam.GetDistance()
+        cam.SetFocalPoint(*f)
+        cam.SetPosition(*(f[i] + position[i] * d for i in range(3)))
+        cam.SetViewUp(*up)
+        cam.SetViewAngle(angle)
+        if parallel_scale:
+            cam.ParallelProjectionOn()
+            cam.SetParallelScale(parallel_scale)
+        cam.Zoom(zoom)
+    return setup
+
+
+def lysozyme_views():
+    reader = vtkPDBReader()
+    reader.SetFileName(os.path.join(DATA, "2LYZ.pdb"))
+    reader.Update()
+    protein = reader.GetOutput()
+    atoms = points_only(protein)
+    views = []
+    actor, mapper = sphere_actor(atoms, "radius", color_array="rgb_colors", direct_colors=True)
+    views.append(render_view("lysozyme-spacefill", "2LYZ.pdb", [actor], mapper,
+                             look((0.3, 0.25, 1.0))))
+    # Ball and stick: small ray-traced atoms with OpenGL tubes for the bonds, hiding each
+    # other through the depth buffer.
+    actor, mapper = sphere_actor(atoms, "radius", scale=0.28, color_array="rgb_colors",
+                                 direct_colors=True)
+    tubes = vtkTubeFilter()
+    tubes.SetInputData(protein)
+    tubes.SetRadius(0.14)
+    tubes.SetNumberOfSides(10)
+    bonds = vtkPolyDataMapper()
+    bonds.SetInputConnection(tubes.GetOutputPort())
+    bonds.ScalarVisibilityOff()
+    bond_actor = vtkActor()
+    bond_actor.SetMapper(bonds)
+    bond_actor.GetProperty().SetColor(0.8, 0.8, 0.8)
+    views.append(render_view("lysozyme-ball-and-stick", "2LYZ.pdb", [actor, bond_actor], mapper,
+                             look((0.3, 0.25, 1.0), zoom=1.6)))
+    lut = vtkLookupTable()
+    lut.SetHueRange(0.6, 0.0)
+    lut.Build()
+    actor, mapper = sphere_actor(atoms, "radius", color_array="residue", scalar_range=(0, 129),
+                                 lut=lut)
+    views.append(render_view("lysozyme-residues-parallel", "2LYZ.pdb", [actor], mapper,
+                             look((0, 0, 1), parallel_scale=24)))
+    return views
+
+
+def disk_view():
+    reader = vtkExodusIIReader()
+    reader.SetFileName(os.path.join(DATA, "disk_out_ref.ex2"))
+    reader.UpdateInformation()
+    reader.SetAllArrayStatus(vtkExodusIIReader.NODAL, 1)
+    reader.Update()
+    append = vtkAppendFilter()
+    append.SetInputData(reader.GetOutput().GetBlock(0).GetBlock(0))
+    append.Update()
+    grid = append.GetOutput()
+    points = points_only(grid)
+    actor, mapper = sphere_actor(points, radius=0.09, color_array="Temp",
+                                 scalar_range=grid.GetPointData().GetArray("Temp").GetRange())
+    outline = vtkOutlineFilter()
+    outline.SetInputData(grid)
+    om = vtkPolyDataMapper()
+    om.SetInputConnection(outline.GetOutputPort())
+    oa = vtkActor()
+    oa.SetMapper(om)
+    return [render_view("disk-out-ref-temperature", "disk_out_ref.ex2", [actor, oa], mapper,
+                        look((1.0, 0.6, 0.8), up=(0, 0, 1)))]
+
+
+def melt_view():
+    path = os.path.join(args.build, "data", "lammps_melt_1M.vtk")
+    if not os.path.exists(path):
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        print("generating the LAMMPS melt (1,000,188 atoms, about a minute) ...", flush=True)
+        subprocess.run(["bash", os.path.join(DATA, "Generators", "lammps_melt.sh"), path],
+                       check=True)
+    reader = vtkPolyDataReader()
+    reader.SetFileName(path)
+    reader.ReadAllScalarsOn()
+    reader.Update()
+    melt = reader.GetOutput()
+    lut = vtkLookupTable()
+    lut.SetNumberOfTableValues(2)
+    lut.SetTableValue(0, 0.85, 0.55, 0.2, 1)
+    lut.SetTableValue(1, 0.25, 0.55, 0.9, 1)
+    lut.Build()
+    actor, mapper = sphere_actor(melt, "radius", color_array="type", scalar_range=(1, 2),
+                                 lut=lut)
+    return [render_view("lammps-melt-1M", "lammps_melt_1M.vtk", [actor], mapper,
+                        look((0.9, 0.6, 1.1)))]
+
+
+def main():
+    os.makedirs(args.out, exist_ok=True)
+    rows = lysozyme_views() + disk_view()
+    if not args.skip_generated:
+        rows += melt_view()
+    print("\nRayMappers demo gallery: %dx%d, CPU ray-traced spheres (Embree accelerator)"
+          % (WIDTH, HEIGHT))
+    header = ("view", "dataset", "spheres", "build_ms", "first_ms", "frame_ms", "trace_ms", "png")
+    print("%-28s %-20s %9s %9s %9s %9s %9s  %s" % header)
+    for r in rows:
+        print("%-28s %-20s %9d %9.1f %9.1f %9.1f %9.1f  %s" % (
+            r["view"], r["dataset"], r["spheres"], r["build"], r["first"], r["frame"], r["trace"],
+            r["png"]))
+
+
+main()
