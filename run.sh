@@ -48,13 +48,14 @@ fi
 echo "== building"
 cmake --build "$build" -- -j"$(nproc)"
 
-# Every program that opens a render window runs inside one Xvfb server.
-headless() { xvfb-run -a -s "-screen 0 1920x1080x24" "$@"; }
+# Every program that opens a render window runs inside one Xvfb server. -noreset: an X
+# server resets when its last client disconnects, and a window opened during that reset
+# fails ("bad X server connection"); tests open and close many windows.
+headless() { xvfb-run -a -s "-screen 0 1920x1080x24 -noreset" "$@"; }
 
 case "$mode" in
   demo)
-    headless "$build/bin/raymappers-demo" --data "$here/Data" --generated "$build/data" \
-      --out "$here/gallery"
+    headless pvpython "$here/Examples/gallery.py" --build "$build" --out "$here/gallery"
     ;;
   test)
     cd "$build"

@@ -150,7 +150,7 @@ def lysozyme_views():
     views = []
     actor, mapper = sphere_actor(atoms, "radius", color_array="rgb_colors", direct_colors=True)
     views.append(render_view("lysozyme-spacefill", "2LYZ.pdb", [actor], mapper,
-                             look((0.3, 0.25, 1.0))))
+                             look((0.3, 0.25, 1.0), zoom=1.8)))
     # Ball and stick: small ray-traced atoms with OpenGL tubes for the bonds, hiding each
     # other through the depth buffer.
     actor, mapper = sphere_actor(atoms, "radius", scale=0.28, color_array="rgb_colors",
@@ -166,7 +166,7 @@ def lysozyme_views():
     bond_actor.SetMapper(bonds)
     bond_actor.GetProperty().SetColor(0.8, 0.8, 0.8)
     views.append(render_view("lysozyme-ball-and-stick", "2LYZ.pdb", [actor, bond_actor], mapper,
-                             look((0.3, 0.25, 1.0), zoom=1.6)))
+                             look((0.3, 0.25, 1.0), zoom=2.4)))
     lut = vtkLookupTable()
     lut.SetHueRange(0.6, 0.0)
     lut.Build()
@@ -188,7 +188,7 @@ def disk_view():
     append.Update()
     grid = append.GetOutput()
     points = points_only(grid)
-    actor, mapper = sphere_actor(points, radius=0.09, color_array="Temp",
+    actor, mapper = sphere_actor(points, radius=0.16, color_array="Temp",
                                  scalar_range=grid.GetPointData().GetArray("Temp").GetRange())
     outline = vtkOutlineFilter()
     outline.SetInputData(grid)
@@ -197,7 +197,7 @@ def disk_view():
     oa = vtkActor()
     oa.SetMapper(om)
     return [render_view("disk-out-ref-temperature", "disk_out_ref.ex2", [actor, oa], mapper,
-                        look((1.0, 0.6, 0.8), up=(0, 0, 1)))]
+                        look((1.0, 0.6, 0.8), up=(0, 0, 1), zoom=1.4))]
 
 
 def melt_view():
@@ -220,7 +220,7 @@ def melt_view():
     actor, mapper = sphere_actor(melt, "radius", color_array="type", scalar_range=(1, 2),
                                  lut=lut)
     return [render_view("lammps-melt-1M", "lammps_melt_1M.vtk", [actor], mapper,
-                        look((0.9, 0.6, 1.1)))]
+                        look((0.9, 0.6, 1.1), zoom=1.7))]
 
 
 def main():
