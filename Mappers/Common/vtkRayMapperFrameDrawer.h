@@ -10,13 +10,14 @@
 #define vtkRayMapperFrameDrawer_h
 
 #include "Frame.h"
+#include "RayMappersMappersModule.h" // for export macro
 
 #include <memory>
 
 class vtkRenderer;
 class vtkWindow;
 
-class vtkRayMapperFrameDrawer
+class RAYMAPPERSMAPPERS_EXPORT vtkRayMapperFrameDrawer
 {
 public:
   enum class Mode
