@@ -176,7 +176,8 @@ private:
       if (this->Buffer.size() >= MaxLineBytes)
       {
         throw ParseError{ "line " + std::to_string(this->Line + 1) + " is longer than " +
-          std::to_string(MaxLineBytes >> 20) + " MiB: this is not a LAMMPS text dump" };
+                          std::to_string(MaxLineBytes >> 20) +
+                          " MiB: this is not a LAMMPS text dump" };
       }
       this->Buffer.resize(this->Buffer.size() * 2);
     }
@@ -365,7 +366,7 @@ std::string JoinNames(const std::vector<std::string>& names)
 std::string DescribeFrame(std::size_t index, const DumpFrameInfo& info)
 {
   return "snapshot " + std::to_string(index + 1) + " (timestep " + std::to_string(info.Timestep) +
-    ", line " + std::to_string(info.HeaderLine) + ")";
+         ", line " + std::to_string(info.HeaderLine) + ")";
 }
 
 /// Explains why the start of a file does not look like a text dump, or "" if it does.
@@ -382,8 +383,9 @@ std::string SniffNotADump(const std::string& fileName, const std::string& head)
   }
   if (head.find('\0') != std::string::npos)
   {
-    return "'" + fileName + "' is a binary file, not a text dump (a binary dump written to "
-                            "*.bin is converted to text with LAMMPS's binary2txt tool)";
+    return "'" + fileName +
+           "' is a binary file, not a text dump (a binary dump written to "
+           "*.bin is converted to text with LAMMPS's binary2txt tool)";
   }
   std::string_view rest(head);
   while (!rest.empty())
@@ -397,8 +399,8 @@ std::string SniffNotADump(const std::string& fileName, const std::string& head)
         return std::string();
       }
       return "'" + fileName + "' is not a LAMMPS text dump: its first line " + Quote(line) +
-        " does not start with 'ITEM:' (a data file, an xyz dump, or a dump written with "
-        "dump_modify header no cannot be read)";
+             " does not start with 'ITEM:' (a data file, an xyz dump, or a dump written with "
+             "dump_modify header no cannot be read)";
     }
     if (nl == std::string_view::npos)
     {
@@ -449,9 +451,10 @@ void ParseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
   }
   if (!flags.empty() && flags.size() != 3)
   {
-    throw ParseError{ Where(headerLine) + ": expected 3 boundary flags (e.g. 'pp pp pp') after "
-                                          "'ITEM: BOX BOUNDS', found " +
-      Quote(flagsText) };
+    throw ParseError{ Where(headerLine) +
+                      ": expected 3 boundary flags (e.g. 'pp pp pp') after "
+                      "'ITEM: BOX BOUNDS', found " +
+                      Quote(flagsText) };
   }
   double v[3][4] = {};
   int counts[3] = { 0, 0, 0 };
@@ -461,7 +464,7 @@ void ParseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
     if (!reader.Next(line))
     {
       throw ParseError{ "the file ends inside the BOX BOUNDS section that starts at " +
-        Where(headerLine) };
+                        Where(headerLine) };
     }
     std::string_view rest = line;
     std::string_view token;
@@ -469,9 +472,10 @@ void ParseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
     {
       if (counts[axis] == 4 || !ParseDouble(token, v[axis][counts[axis]]))
       {
-        throw ParseError{ Where(reader.LineNumber()) + ": expected 2 to 4 numbers for a box "
-                                                       "bound, found " +
-          Quote(line) };
+        throw ParseError{ Where(reader.LineNumber()) +
+                          ": expected 2 to 4 numbers for a box "
+                          "bound, found " +
+                          Quote(line) };
       }
       ++counts[axis];
     }
@@ -485,7 +489,7 @@ void ParseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
     if (!ok)
     {
       throw ParseError{ Where(headerLine + 1 + axis) + ": expected " + std::to_string(expected) +
-        " numbers for this box bound, found " + std::to_string(counts[axis]) };
+                        " numbers for this box bound, found " + std::to_string(counts[axis]) };
     }
   }
   tilted = tilted || (!general && counts[0] == 3);
@@ -580,8 +584,9 @@ void DumpBox::GetBounds(double bounds[6]) const
   }
   for (int corner = 0; corner < 8; ++corner)
   {
-    const double s[3] = { double(corner & 1), double((corner >> 1) & 1),
-      double((corner >> 2) & 1) };
+    const double s[3] = {
+      double(corner & 1), double((corner >> 1) & 1), double((corner >> 2) & 1)
+    };
     double r[3];
     this->ScaledToCartesian(s, r);
     for (int k = 0; k < 3; ++k)
@@ -602,7 +607,8 @@ TimeTable BuildTimeTable(const std::vector<DumpFrameInfo>& frames)
 {
   std::vector<std::size_t> order(frames.size());
   std::iota(order.begin(), order.end(), std::size_t(0));
-  std::stable_sort(order.begin(), order.end(),
+  std::stable_sort(order.begin(),
+    order.end(),
     [&](std::size_t a, std::size_t b) { return frames[a].Timestep < frames[b].Timestep; });
   TimeTable table;
   for (std::size_t i : order)
@@ -674,7 +680,7 @@ bool DumpParser::LooksLikeDump(const std::string& fileName)
   }
   const std::string head = ReadHead(fileName, 4096);
   return !head.empty() && SniffNotADump(fileName, head).empty() &&
-    head.find("ITEM:") != std::string::npos;
+         head.find("ITEM:") != std::string::npos;
 }
 
 bool DumpParser::Open(const std::string& fileName)
@@ -721,7 +727,8 @@ bool DumpParser::Open(const std::string& fileName)
     std::string units;
     bool stop = false;
     // A snapshot that stops short (a running or killed simulation): keep what is complete.
-    auto truncated = [&](const std::string& message) {
+    auto truncated = [&](const std::string& message)
+    {
       if (this->Frames.empty())
       {
         throw ParseError{ message };
@@ -729,12 +736,13 @@ bool DumpParser::Open(const std::string& fileName)
       this->Warnings.push_back(message + "; this incomplete snapshot is ignored");
       stop = true;
     };
-    auto beginHeader = [&](std::uint64_t line) {
+    auto beginHeader = [&](std::uint64_t line)
+    {
       if (hasTimestep)
       {
         throw ParseError{ Where(line) + ": a new snapshot starts, but the one at " +
-          Where(pending.HeaderLine) + " (timestep " + std::to_string(pending.Timestep) +
-          ") has no 'ITEM: ATOMS' section" };
+                          Where(pending.HeaderLine) + " (timestep " +
+                          std::to_string(pending.Timestep) + ") has no 'ITEM: ATOMS' section" };
       }
       if (!inHeader)
       {
@@ -745,12 +753,13 @@ bool DumpParser::Open(const std::string& fileName)
       }
     };
     // Reads the one line under a header item; false if the file ends there.
-    auto valueLine = [&](std::string_view item, std::string_view& value) {
+    auto valueLine = [&](std::string_view item, std::string_view& value)
+    {
       std::string_view line;
       if (!reader.Next(line))
       {
-        truncated("the file ends after 'ITEM: " + std::string(item) + "' at " +
-          Where(reader.LineNumber()));
+        truncated(
+          "the file ends after 'ITEM: " + std::string(item) + "' at " + Where(reader.LineNumber()));
         return false;
       }
       value = Trim(line);
@@ -768,11 +777,10 @@ bool DumpParser::Open(const std::string& fileName)
       }
       if (!StartsWith(text, "ITEM:"))
       {
-        throw ParseError{ Where(lineNumber) + ": expected an 'ITEM:' header, found " +
-          Quote(text) +
-          (!inHeader && !this->Frames.empty()
-              ? " (are there more atom lines than NUMBER OF ATOMS says?)"
-              : "") };
+        throw ParseError{ Where(lineNumber) + ": expected an 'ITEM:' header, found " + Quote(text) +
+                          (!inHeader && !this->Frames.empty()
+                              ? " (are there more atom lines than NUMBER OF ATOMS says?)"
+                              : "") };
       }
       const std::string_view item = Trim(text.substr(5));
       std::string_view value;
@@ -796,7 +804,7 @@ bool DumpParser::Open(const std::string& fileName)
         if (!ParseDouble(value, pending.Time))
         {
           throw ParseError{ Where(lineNumber + 1) + ": expected the simulation time, found " +
-            Quote(value) };
+                            Quote(value) };
         }
         pending.HasTime = true;
       }
@@ -810,7 +818,7 @@ bool DumpParser::Open(const std::string& fileName)
         if (!ParseInt64(value, pending.Timestep))
         {
           throw ParseError{ Where(lineNumber + 1) + ": expected an integer timestep, found " +
-            Quote(value) };
+                            Quote(value) };
         }
         hasTimestep = true;
       }
@@ -828,7 +836,7 @@ bool DumpParser::Open(const std::string& fileName)
         if (!ParseInt64(value, pending.NumberOfAtoms) || pending.NumberOfAtoms < 0)
         {
           throw ParseError{ Where(lineNumber + 1) + ": expected a number of atoms >= 0, found " +
-            Quote(value) };
+                            Quote(value) };
         }
         hasCount = true;
       }
@@ -857,7 +865,7 @@ bool DumpParser::Open(const std::string& fileName)
         if (!hasTimestep || !hasCount)
         {
           throw ParseError{ Where(lineNumber) + ": 'ITEM: ATOMS' before " +
-            (hasTimestep ? "'ITEM: NUMBER OF ATOMS'" : "'ITEM: TIMESTEP'") };
+                            (hasTimestep ? "'ITEM: NUMBER OF ATOMS'" : "'ITEM: TIMESTEP'") };
         }
         for (std::string_view name : Tokens(item.substr(5)))
         {
@@ -877,8 +885,8 @@ bool DumpParser::Open(const std::string& fileName)
             if (!LegacyAtomColumns(Tokens(first).size(), pending.ColumnNames))
             {
               throw ParseError{ Where(lineNumber) + ": 'ITEM: ATOMS' has no column names, and " +
-                std::to_string(Tokens(first).size()) +
-                " values per line do not match the old 'dump atom' layout" };
+                                std::to_string(Tokens(first).size()) +
+                                " values per line do not match the old 'dump atom' layout" };
             }
           }
         }
@@ -911,8 +919,8 @@ bool DumpParser::Open(const std::string& fileName)
         if (!complete)
         {
           truncated(DescribeFrame(this->Frames.size(), pending) + " is truncated: it has " +
-            std::to_string(count) + " atoms, the file ends after " + std::to_string(found) +
-            " complete atom lines");
+                    std::to_string(count) + " atoms, the file ends after " + std::to_string(found) +
+                    " complete atom lines");
           break;
         }
         this->Frames.push_back(pending);
@@ -922,30 +930,35 @@ bool DumpParser::Open(const std::string& fileName)
       }
       else if (item == "NUMBER OF ENTRIES" || StartsWith(item, "ENTRIES"))
       {
-        throw ParseError{ Where(lineNumber) + ": " + Quote(text) +
+        throw ParseError{
+          Where(lineNumber) + ": " + Quote(text) +
           " belongs to a 'dump local' file (per-bond or per-pair values), not to a per-atom "
-          "dump" };
+          "dump"
+        };
       }
       else if (StartsWith(item, "DIMENSION") || StartsWith(item, "GRID"))
       {
         throw ParseError{ Where(lineNumber) + ": " + Quote(text) +
-          " belongs to a 'dump grid' file, not to a per-atom dump" };
+                          " belongs to a 'dump grid' file, not to a per-atom dump" };
       }
       else
       {
-        throw ParseError{ Where(lineNumber) + ": unknown section " + Quote(text) +
-          " (expected TIMESTEP, NUMBER OF ATOMS, BOX BOUNDS, ATOMS, TIME or UNITS)" };
+        throw ParseError{
+          Where(lineNumber) + ": unknown section " + Quote(text) +
+          " (expected TIMESTEP, NUMBER OF ATOMS, BOX BOUNDS, ATOMS, TIME or UNITS)"
+        };
       }
     }
     if (inHeader && !stop && (hasTimestep || hasCount))
     {
       truncated("the file ends in the header of the snapshot at " + Where(pending.HeaderLine) +
-        " (timestep " + std::to_string(pending.Timestep) + ")");
+                " (timestep " + std::to_string(pending.Timestep) + ")");
     }
     if (this->Frames.empty())
     {
-      throw ParseError{ "'" + fileName + "' contains no snapshot ('ITEM: TIMESTEP' ... "
-                                         "'ITEM: ATOMS')" };
+      throw ParseError{ "'" + fileName +
+                        "' contains no snapshot ('ITEM: TIMESTEP' ... "
+                        "'ITEM: ATOMS')" };
     }
   }
   catch (const ParseError& e)
@@ -955,7 +968,8 @@ bool DumpParser::Open(const std::string& fileName)
       // Damage after complete snapshots: keep those (the index of anything after the damage
       // cannot be trusted) and say where the file stops being readable.
       this->Warnings.push_back("'" + fileName + "': " + e.Message + "; the rest of the file (" +
-        "after snapshot " + std::to_string(this->Frames.size()) + ") is ignored");
+                               "after snapshot " + std::to_string(this->Frames.size()) +
+                               ") is ignored");
       return true;
     }
     this->Frames.clear();
@@ -993,7 +1007,7 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
   if (index >= this->Frames.size())
   {
     return this->Fail("snapshot " + std::to_string(index + 1) + " requested, the file has " +
-      std::to_string(this->Frames.size()));
+                      std::to_string(this->Frames.size()));
   }
   const DumpFrameInfo& info = this->Frames[index];
   frame.Info = info;
@@ -1002,7 +1016,8 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
   const std::string where = "'" + this->FileName + "', " + DescribeFrame(index, info);
   try
   {
-    auto find = [&](const char* name) -> std::ptrdiff_t {
+    auto find = [&](const char* name) -> std::ptrdiff_t
+    {
       const auto it = std::find(names.begin(), names.end(), name);
       return it == names.end() ? -1 : it - names.begin();
     };
@@ -1042,21 +1057,21 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
       }
       if (have > 0 && partial.empty())
       {
-        partial = std::string(" (it has only part of ") + family.Names[0] + " " +
-          family.Names[1] + " " + family.Names[2] + ")";
+        partial = std::string(" (it has only part of ") + family.Names[0] + " " + family.Names[1] +
+                  " " + family.Names[2] + ")";
       }
     }
     if (frame.Positions == PositionSource::None)
     {
       throw ParseError{ "no atom coordinates: the columns are '" + JoinNames(names) +
-        "', one of x y z, xu yu zu, xs ys zs or xsu ysu zsu is needed" + partial };
+                        "', one of x y z, xu yu zu, xs ys zs or xsu ysu zsu is needed" + partial };
     }
     const bool scaled = frame.Positions == PositionSource::Scaled ||
-      frame.Positions == PositionSource::ScaledUnwrapped;
+                        frame.Positions == PositionSource::ScaledUnwrapped;
     if (scaled && !info.Box.Present)
     {
       throw ParseError{ "scaled coordinates (" + frame.PositionColumns[0] +
-        " ...) need the box, and the snapshot has no 'ITEM: BOX BOUNDS'" };
+                        " ...) need the box, and the snapshot has no 'ITEM: BOX BOUNDS'" };
     }
 
     // Role of every column; repeated names get a suffix so arrays stay distinct.
@@ -1117,7 +1132,8 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
       if (!reader.Next(line))
       {
         throw ParseError{ "the file ends after " + std::to_string(a) + " of " +
-          std::to_string(count) + " atom lines (did it change since it was opened?)" };
+                          std::to_string(count) +
+                          " atom lines (did it change since it was opened?)" };
       }
       std::string_view rest = line;
       std::size_t found = 0;
@@ -1133,9 +1149,9 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
       if (found != columnCount)
       {
         throw ParseError{ Where(reader.LineNumber()) + ": expected " + std::to_string(columnCount) +
-          " values (" + JoinNames(names) + "), found " +
-          (found > columnCount ? "more" : std::to_string(found)) +
-          (found < columnCount && a + 1 == count ? " (file truncated?)" : "") };
+                          " values (" + JoinNames(names) + "), found " +
+                          (found > columnCount ? "more" : std::to_string(found)) +
+                          (found < columnCount && a + 1 == count ? " (file truncated?)" : "") };
       }
       if (a == 0)
       {
@@ -1181,7 +1197,7 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
           {
             std::int64_t type = 0;
             ok = ParseInt64(t, type) && type >= std::numeric_limits<std::int32_t>::min() &&
-              type <= std::numeric_limits<std::int32_t>::max();
+                 type <= std::numeric_limits<std::int32_t>::max();
             frame.Types[a] = static_cast<std::int32_t>(type);
             break;
           }
@@ -1197,9 +1213,10 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
         }
         if (!ok)
         {
-          throw ParseError{ Where(reader.LineNumber()) + ", column '" + names[c] + "': " +
-            Quote(t) + " is not " +
-            (roles[c] == Role::Id || roles[c] == Role::Type ? "an integer" : "a number") };
+          throw ParseError{
+            Where(reader.LineNumber()) + ", column '" + names[c] + "': " + Quote(t) + " is not " +
+            (roles[c] == Role::Id || roles[c] == Role::Type ? "an integer" : "a number")
+          };
         }
       }
     }
@@ -1225,8 +1242,9 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
     {
       for (std::size_t a = 0; a < count; ++a)
       {
-        const double s[3] = { frame.Points[3 * a], frame.Points[3 * a + 1],
-          frame.Points[3 * a + 2] };
+        const double s[3] = {
+          frame.Points[3 * a], frame.Points[3 * a + 1], frame.Points[3 * a + 2]
+        };
         info.Box.ScaledToCartesian(s, &frame.Points[3 * a]);
       }
     }
@@ -1237,9 +1255,11 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
     {
       std::vector<std::size_t> order(count);
       std::iota(order.begin(), order.end(), std::size_t(0));
-      std::stable_sort(order.begin(), order.end(),
+      std::stable_sort(order.begin(),
+        order.end(),
         [&](std::size_t i, std::size_t j) { return frame.Ids[i] < frame.Ids[j]; });
-      auto permute = [&](auto& values, std::size_t components) {
+      auto permute = [&](auto& values, std::size_t components)
+      {
         auto sorted = values;
         for (std::size_t i = 0; i < count; ++i)
         {
@@ -1275,7 +1295,7 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
   {
     frame.Clear();
     return this->Fail(where + ": out of memory for " + std::to_string(info.NumberOfAtoms) +
-      " atoms x " + std::to_string(columnCount) + " columns");
+                      " atoms x " + std::to_string(columnCount) + " columns");
   }
   catch (const std::exception& e)
   {

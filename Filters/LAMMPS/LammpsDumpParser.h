@@ -85,7 +85,7 @@ struct DumpFrameInfo
   std::int64_t Timestep = 0;
   bool HasTime = false; ///< the snapshot had "ITEM: TIME"
   double Time = 0.0;
-  std::string Units;    ///< "ITEM: UNITS" (written once; carried to later snapshots)
+  std::string Units; ///< "ITEM: UNITS" (written once; carried to later snapshots)
   std::int64_t NumberOfAtoms = 0;
   DumpBox Box;
   std::vector<std::string> ColumnNames;

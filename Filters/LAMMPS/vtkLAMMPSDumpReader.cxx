@@ -57,9 +57,8 @@ int vtkLAMMPSDumpReader::CanReadFile(const char* fileName)
 
 int vtkLAMMPSDumpReader::GetNumberOfSnapshots()
 {
-  return this->Internals->Indexed
-    ? static_cast<int>(this->Internals->Parser.GetNumberOfFrames())
-    : 0;
+  return this->Internals->Indexed ? static_cast<int>(this->Internals->Parser.GetNumberOfFrames())
+                                  : 0;
 }
 
 vtkIdType vtkLAMMPSDumpReader::GetSnapshotTimestep(int index)
@@ -72,8 +71,9 @@ vtkIdType vtkLAMMPSDumpReader::GetSnapshotTimestep(int index)
 }
 
 //------------------------------------------------------------------------------
-int vtkLAMMPSDumpReader::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+int vtkLAMMPSDumpReader::RequestInformation(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
@@ -87,7 +87,7 @@ int vtkLAMMPSDumpReader::RequestInformation(
   // Index again when the name changed or the file changed on disk (a running simulation
   // appending snapshots); otherwise the index from last time is still right.
   if (!internals.Indexed || internals.Parser.GetFileName() != this->FileName ||
-    internals.Parser.IsStale())
+      internals.Parser.IsStale())
   {
     internals.Indexed = false;
     internals.Times = raymappers::lammps::TimeTable();
@@ -104,8 +104,8 @@ int vtkLAMMPSDumpReader::RequestInformation(
     internals.Indexed = true;
   }
   const std::vector<double>& times = internals.Times.Times;
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(),
-    static_cast<int>(times.size()));
+  outInfo->Set(
+    vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(), static_cast<int>(times.size()));
   const double range[2] = { times.front(), times.back() };
   outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
   return 1;
@@ -114,8 +114,11 @@ int vtkLAMMPSDumpReader::RequestInformation(
 //------------------------------------------------------------------------------
 namespace
 {
-template <class ArrayT, class ValueT>
-void AddArray(vtkFieldData* data, const char* name, const ValueT* values, vtkIdType tuples,
+template<class ArrayT, class ValueT>
+void AddArray(vtkFieldData* data,
+  const char* name,
+  const ValueT* values,
+  vtkIdType tuples,
   int components = 1)
 {
   vtkNew<ArrayT> array;
@@ -127,8 +130,9 @@ void AddArray(vtkFieldData* data, const char* name, const ValueT* values, vtkIdT
 }
 }
 
-int vtkLAMMPSDumpReader::RequestData(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+int vtkLAMMPSDumpReader::RequestData(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   vtkPolyData* output = vtkPolyData::GetData(outInfo);
@@ -230,8 +234,9 @@ int vtkLAMMPSDumpReader::RequestData(
   {
     const raymappers::lammps::DumpBox& box = info.Box;
     AddArray<vtkDoubleArray>(fieldData, "BoxOrigin", box.Origin, 1, 3);
-    const double edges[9] = { box.A[0], box.A[1], box.A[2], box.B[0], box.B[1], box.B[2],
-      box.C[0], box.C[1], box.C[2] };
+    const double edges[9] = {
+      box.A[0], box.A[1], box.A[2], box.B[0], box.B[1], box.B[2], box.C[0], box.C[1], box.C[2]
+    };
     AddArray<vtkDoubleArray>(fieldData, "BoxEdges", edges, 3, 3);
     const int periodic[3] = { box.IsPeriodic(0), box.IsPeriodic(1), box.IsPeriodic(2) };
     AddArray<vtkIntArray>(fieldData, "BoxPeriodic", periodic, 1, 3);

@@ -1,6 +1,7 @@
 /**
  * @class   vtkLAMMPSDumpReader
- * @brief   Reads LAMMPS text dump files ("dump ... atom", "dump ... custom") as particles over time.
+ * @brief   Reads LAMMPS text dump files ("dump ... atom", "dump ... custom") as particles over
+ * time.
  *
  * Output: a vtkPolyData with one point and one vertex cell per atom, sorted by atom id when the
  * dump has an "id" column (so an atom keeps its index over time unless atoms are lost).
@@ -34,8 +35,8 @@ class RAYMAPPERSFILTERS_EXPORT vtkLAMMPSDumpReader : public vtkPolyDataAlgorithm
 {
 public:
   static vtkLAMMPSDumpReader* New();
-  vtkTypeMacro(vtkLAMMPSDumpReader, vtkPolyDataAlgorithm)
-  void PrintSelf(ostream& os, vtkIndent indent) override;
+  vtkTypeMacro(vtkLAMMPSDumpReader, vtkPolyDataAlgorithm) void PrintSelf(ostream& os,
+    vtkIndent indent) override;
 
   ///@{
   /// The dump file to read.
@@ -63,9 +64,11 @@ protected:
   vtkLAMMPSDumpReader();
   ~vtkLAMMPSDumpReader() override;
 
-  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+  int RequestInformation(vtkInformation* request,
+    vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
-  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+  int RequestData(vtkInformation* request,
+    vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
 
   char* FileName;

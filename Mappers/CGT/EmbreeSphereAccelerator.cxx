@@ -12,7 +12,7 @@ EmbreeSphereAccelerator::EmbreeSphereAccelerator()
   if (!Device)
   {
     throw std::runtime_error("Embree: rtcNewDevice failed (error " +
-      std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+                             std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
   }
 }
 
@@ -34,9 +34,10 @@ void EmbreeSphereAccelerator::build(const SphereSet& spheres, Quality quality)
   }
   Count = spheres.size();
   Scene = rtcNewScene(Device);
-  const RTCBuildQuality q = quality == Quality::Low
-    ? RTC_BUILD_QUALITY_LOW
-    : (quality == Quality::High ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
+  const RTCBuildQuality q =
+    quality == Quality::Low
+      ? RTC_BUILD_QUALITY_LOW
+      : (quality == Quality::High ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
   rtcSetSceneBuildQuality(Scene, q);
   rtcSetSceneFlags(Scene, RTC_SCENE_FLAG_NONE);
   if (Count > 0)

@@ -10,8 +10,11 @@
 namespace raymappers
 {
 
-double refineSphereHit(
-  const Vec3d& org, const Vec3d& dir, const Vec3d& center, double radius, double tGuess)
+double refineSphereHit(const Vec3d& org,
+  const Vec3d& dir,
+  const Vec3d& center,
+  double radius,
+  double tGuess)
 {
   // |f + t d|^2 = r^2 with f = o - c and |d| = 1. With b = f.d and the perpendicular part
   // l = f - b d, the roots are t = -b -+ sqrt(r^2 - |l|^2); this form avoids the
@@ -40,8 +43,12 @@ inline Vec3d mul3(const double* m, int stride, const Vec3d& v)
 }
 }
 
-void renderSpheres(const SphereSet& spheres, const EmbreeSphereAccelerator& accel,
-  const RayCamera& camera, const SphereShading& shading, int tileSize, Frame& frame,
+void renderSpheres(const SphereSet& spheres,
+  const EmbreeSphereAccelerator& accel,
+  const RayCamera& camera,
+  const SphereShading& shading,
+  int tileSize,
+  Frame& frame,
   RenderStatistics& stats)
 {
   const int width = camera.width();
@@ -62,92 +69,97 @@ void renderSpheres(const SphereSet& spheres, const EmbreeSphereAccelerator& acce
   std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, hits{ 0 };
   {
     ScopedPhase phase(stats, "trace");
-    forEachTile(width, height, tileSize, [&](const Tile& tile) {
-      std::int64_t tileRays = 0, tilePackets = 0, tileHits = 0;
-      alignas(64) RTCRayHit16 rh;
-      alignas(64) int valid[16];
-      Ray lane[16];
-      for (int by = tile.y0; by < tile.y1; by += 4)
+    forEachTile(width,
+      height,
+      tileSize,
+      [&](const Tile& tile)
       {
-        for (int bx = tile.x0; bx < tile.x1; bx += 4)
+        std::int64_t tileRays = 0, tilePackets = 0, tileHits = 0;
+        alignas(64) RTCRayHit16 rh;
+        alignas(64) int valid[16];
+        Ray lane[16];
+        for (int by = tile.y0; by < tile.y1; by += 4)
         {
-          int active = 0;
-          for (int k = 0; k < 16; ++k)
+          for (int bx = tile.x0; bx < tile.x1; bx += 4)
           {
-            const int i = bx + (k & 3);
-            const int j = by + (k >> 2);
-            const bool inside = i < tile.x1 && j < tile.y1;
-            valid[k] = inside ? -1 : 0;
-            if (!inside)
+            int active = 0;
+            for (int k = 0; k < 16; ++k)
             {
-              continue;
+              const int i = bx + (k & 3);
+              const int j = by + (k >> 2);
+              const bool inside = i < tile.x1 && j < tile.y1;
+              valid[k] = inside ? -1 : 0;
+              if (!inside)
+              {
+                continue;
+              }
+              ++active;
+              lane[k] = camera.pixelRay(i, j);
+              rh.ray.org_x[k] = lane[k].org.x;
+              rh.ray.org_y[k] = lane[k].org.y;
+              rh.ray.org_z[k] = lane[k].org.z;
+              rh.ray.dir_x[k] = lane[k].dir.x;
+              rh.ray.dir_y[k] = lane[k].dir.y;
+              rh.ray.dir_z[k] = lane[k].dir.z;
+              rh.ray.tnear[k] = lane[k].tnear;
+              rh.ray.tfar[k] = lane[k].tfar;
+              rh.ray.time[k] = 0.f;
+              rh.ray.mask[k] = 0xFFFFFFFFu;
+              rh.ray.id[k] = static_cast<unsigned>(k);
+              rh.ray.flags[k] = 0;
+              rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+              rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
             }
-            ++active;
-            lane[k] = camera.pixelRay(i, j);
-            rh.ray.org_x[k] = lane[k].org.x;
-            rh.ray.org_y[k] = lane[k].org.y;
-            rh.ray.org_z[k] = lane[k].org.z;
-            rh.ray.dir_x[k] = lane[k].dir.x;
-            rh.ray.dir_y[k] = lane[k].dir.y;
-            rh.ray.dir_z[k] = lane[k].dir.z;
-            rh.ray.tnear[k] = lane[k].tnear;
-            rh.ray.tfar[k] = lane[k].tfar;
-            rh.ray.time[k] = 0.f;
-            rh.ray.mask[k] = 0xFFFFFFFFu;
-            rh.ray.id[k] = static_cast<unsigned>(k);
-            rh.ray.flags[k] = 0;
-            rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
-          }
-          tileRays += active;
-          ++tilePackets;
-          accel.intersect16(valid, rh);
-          for (int k = 0; k < 16; ++k)
-          {
-            if (!valid[k] || rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID)
+            tileRays += active;
+            ++tilePackets;
+            accel.intersect16(valid, rh);
+            for (int k = 0; k < 16; ++k)
             {
-              continue;
+              if (!valid[k] || rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID)
+              {
+                continue;
+              }
+              ++tileHits;
+              const unsigned id = rh.hit.primID[k];
+              const Ray& ray = lane[k];
+              const Vec3d o(ray.org), d(ray.dir), c(spheres.centers[id]);
+              const double r = spheres.radii[id];
+              const double t = refineSphereHit(o, d, c, r, rh.ray.tfar[k]);
+              const Vec3d pRel = o + d * t;
+              Vec3d n = (pRel - c) * (1.0 / r);
+              if (dot(n, d) > 0)
+              {
+                n = -n; // the near plane cuts the sphere: we see its inside
+              }
+              const std::uint32_t packed = spheres.colors[id];
+              const Vec3d base((packed & 0xFF) / 255.0,
+                ((packed >> 8) & 0xFF) / 255.0,
+                ((packed >> 16) & 0xFF) / 255.0);
+              Vec3d color = base;
+              if (lit)
+              {
+                const Vec3d pm = pRel + spheres.origin;
+                const Vec3d pw = mul3(mw, 4, pm) + Vec3d(mw[3], mw[7], mw[11]);
+                const Vec3d nw = normalize(mul3(shading.normalToWorld, 3, n));
+                const Vec3d vw = normalize(-mul3(mw, 4, d));
+                color = shade(shading.lights, shading.material, base, pw, nw, vw);
+              }
+              const int i = bx + (k & 3);
+              const int j = by + (k >> 2);
+              const std::size_t idx = frame.index(i, j);
+              frame.rgba[4 * idx] = static_cast<float>(std::clamp(color.x, 0.0, 1.0));
+              frame.rgba[4 * idx + 1] = static_cast<float>(std::clamp(color.y, 0.0, 1.0));
+              frame.rgba[4 * idx + 2] = static_cast<float>(std::clamp(color.z, 0.0, 1.0));
+              frame.rgba[4 * idx + 3] = 1.f;
+              const double depth = camera.depthMap(ray).depthOf(t);
+              frame.depth[idx] = static_cast<float>(std::clamp(depth, 0.0, 1.0));
             }
-            ++tileHits;
-            const unsigned id = rh.hit.primID[k];
-            const Ray& ray = lane[k];
-            const Vec3d o(ray.org), d(ray.dir), c(spheres.centers[id]);
-            const double r = spheres.radii[id];
-            const double t = refineSphereHit(o, d, c, r, rh.ray.tfar[k]);
-            const Vec3d pRel = o + d * t;
-            Vec3d n = (pRel - c) * (1.0 / r);
-            if (dot(n, d) > 0)
-            {
-              n = -n; // the near plane cuts the sphere: we see its inside
-            }
-            const std::uint32_t packed = spheres.colors[id];
-            const Vec3d base((packed & 0xFF) / 255.0, ((packed >> 8) & 0xFF) / 255.0,
-              ((packed >> 16) & 0xFF) / 255.0);
-            Vec3d color = base;
-            if (lit)
-            {
-              const Vec3d pm = pRel + spheres.origin;
-              const Vec3d pw = mul3(mw, 4, pm) + Vec3d(mw[3], mw[7], mw[11]);
-              const Vec3d nw = normalize(mul3(shading.normalToWorld, 3, n));
-              const Vec3d vw = normalize(-mul3(mw, 4, d));
-              color = shade(shading.lights, shading.material, base, pw, nw, vw);
-            }
-            const int i = bx + (k & 3);
-            const int j = by + (k >> 2);
-            const std::size_t idx = frame.index(i, j);
-            frame.rgba[4 * idx] = static_cast<float>(std::clamp(color.x, 0.0, 1.0));
-            frame.rgba[4 * idx + 1] = static_cast<float>(std::clamp(color.y, 0.0, 1.0));
-            frame.rgba[4 * idx + 2] = static_cast<float>(std::clamp(color.z, 0.0, 1.0));
-            frame.rgba[4 * idx + 3] = 1.f;
-            const double depth = camera.depthMap(ray).depthOf(t);
-            frame.depth[idx] = static_cast<float>(std::clamp(depth, 0.0, 1.0));
           }
         }
-      }
-      rays += tileRays;
-      packets += tilePackets;
-      hits += tileHits;
-    });
+        rays += tileRays;
+        packets += tilePackets;
+        hits += tileHits;
+      });
   }
   stats.addCounter("rays", rays.load());
   stats.addCounter("packets", packets.load());

@@ -26,14 +26,21 @@ struct SphereShading
 
 /// Renders the spheres seen by `camera` into `frame` (resized to the camera's grid).
 /// Counters: rays, packets, hits. Effects: shading, specular.
-void renderSpheres(const SphereSet& spheres, const EmbreeSphereAccelerator& accel,
-  const RayCamera& camera, const SphereShading& shading, int tileSize, Frame& frame,
+void renderSpheres(const SphereSet& spheres,
+  const EmbreeSphereAccelerator& accel,
+  const RayCamera& camera,
+  const SphereShading& shading,
+  int tileSize,
+  Frame& frame,
   RenderStatistics& stats);
 
 /// Exact closest intersection of a ray (unit direction) with a sphere, in double:
 /// returns the root nearest to `tGuess` (the accelerator's float estimate), or tGuess
 /// itself when the ray only grazes the sphere in float arithmetic.
-double refineSphereHit(const Vec3d& org, const Vec3d& dir, const Vec3d& center, double radius,
+double refineSphereHit(const Vec3d& org,
+  const Vec3d& dir,
+  const Vec3d& center,
+  double radius,
   double tGuess);
 
 } // namespace raymappers

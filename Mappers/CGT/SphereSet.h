@@ -34,9 +34,13 @@ inline std::uint32_t packRGBA8(unsigned r, unsigned g, unsigned b, unsigned a)
 
 /// Builds `out` from n input points. point(i) -> Vec3d centre, radius(i) -> double,
 /// color(i) -> uint32 RGBA8.
-template <typename PointFn, typename RadiusFn, typename ColorFn>
-void buildSphereSet(std::size_t n, const Vec3d& origin, PointFn point, RadiusFn radius,
-  ColorFn color, SphereSet& out)
+template<typename PointFn, typename RadiusFn, typename ColorFn>
+void buildSphereSet(std::size_t n,
+  const Vec3d& origin,
+  PointFn point,
+  RadiusFn radius,
+  ColorFn color,
+  SphereSet& out)
 {
   out = SphereSet();
   out.origin = origin;

@@ -103,8 +103,9 @@ raymappers::Vec3d FiniteCenter(vtkPoints* points)
       }
     }
   }
-  return any ? raymappers::Vec3d(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]))
-             : raymappers::Vec3d();
+  return any
+           ? raymappers::Vec3d(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]))
+           : raymappers::Vec3d();
 }
 }
 
@@ -112,8 +113,7 @@ void vtkCGTSphereMapper::ComputeBounds()
 {
   this->Superclass::ComputeBounds();
   vtkPolyData* input = this->GetInput();
-  if (input && input->GetNumberOfPoints() == 0 &&
-    Impl->WarnedEmptyInputTime != input->GetMTime())
+  if (input && input->GetNumberOfPoints() == 0 && Impl->WarnedEmptyInputTime != input->GetMTime())
   {
     // The renderer culls a prop with empty bounds before it renders: warn here, once per
     // input change.
@@ -160,9 +160,10 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   vtkMTimeType colorTime = this->Colors ? this->Colors->GetMTime() : 0;
   colorTime = std::max(colorTime, actor->GetProperty()->GetMTime());
   const std::string radiusArray = this->RadiusArrayName ? this->RadiusArrayName : "";
-  const bool geometryChanged = !Impl->HasBuilt ||
-    Impl->BuiltInputTime != input->GetMTime() || Impl->BuiltRadius != this->Radius ||
-    Impl->BuiltScale != this->RadiusScale || Impl->BuiltRadiusArray != radiusArray;
+  const bool geometryChanged = !Impl->HasBuilt || Impl->BuiltInputTime != input->GetMTime() ||
+                               Impl->BuiltRadius != this->Radius ||
+                               Impl->BuiltScale != this->RadiusScale ||
+                               Impl->BuiltRadiusArray != radiusArray;
   if (geometryChanged || Impl->BuiltColorTime != colorTime)
   {
     raymappers::ScopedPhase phase(stats, "build");
@@ -181,10 +182,11 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
       colors = nullptr;
     }
     const double* ac = actor->GetProperty()->GetDiffuseColor();
-    const std::uint32_t actorColor = raymappers::packRGBA8(
-      static_cast<unsigned>(std::lround(std::clamp(ac[0], 0.0, 1.0) * 255)),
-      static_cast<unsigned>(std::lround(std::clamp(ac[1], 0.0, 1.0) * 255)),
-      static_cast<unsigned>(std::lround(std::clamp(ac[2], 0.0, 1.0) * 255)), 255);
+    const std::uint32_t actorColor =
+      raymappers::packRGBA8(static_cast<unsigned>(std::lround(std::clamp(ac[0], 0.0, 1.0) * 255)),
+        static_cast<unsigned>(std::lround(std::clamp(ac[1], 0.0, 1.0) * 255)),
+        static_cast<unsigned>(std::lround(std::clamp(ac[2], 0.0, 1.0) * 255)),
+        255);
 
     vtkPoints* points = input->GetPoints();
     const raymappers::Vec3d origin = FiniteCenter(points);
@@ -193,8 +195,10 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     const unsigned char* rgba = colors ? colors->GetPointer(0) : nullptr;
     const int nc = colors ? colors->GetNumberOfComponents() : 0;
     raymappers::buildSphereSet(
-      static_cast<std::size_t>(input->GetNumberOfPoints()), origin,
-      [&](std::size_t i) {
+      static_cast<std::size_t>(input->GetNumberOfPoints()),
+      origin,
+      [&](std::size_t i)
+      {
         double p[3];
         points->GetPoint(static_cast<vtkIdType>(i), p);
         return raymappers::Vec3d(p[0], p[1], p[2]);
@@ -202,7 +206,8 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
       [&](std::size_t i) {
         return radii ? radii->GetComponent(static_cast<vtkIdType>(i), 0) * scale : constantRadius;
       },
-      [&](std::size_t i) -> std::uint32_t {
+      [&](std::size_t i) -> std::uint32_t
+      {
         if (!rgba)
         {
           return actorColor;

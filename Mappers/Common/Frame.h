@@ -27,7 +27,7 @@ struct Frame
   std::size_t index(int i, int j) const
   {
     return static_cast<std::size_t>(j) * static_cast<std::size_t>(width) +
-      static_cast<std::size_t>(i);
+           static_cast<std::size_t>(i);
   }
 };
 

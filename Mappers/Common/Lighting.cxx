@@ -6,8 +6,12 @@
 namespace raymappers
 {
 
-Vec3d shade(const std::vector<Light>& lights, const Material& m, const Vec3d& surfaceColor,
-  const Vec3d& p, const Vec3d& n, const Vec3d& toEye)
+Vec3d shade(const std::vector<Light>& lights,
+  const Material& m,
+  const Vec3d& surfaceColor,
+  const Vec3d& p,
+  const Vec3d& n,
+  const Vec3d& toEye)
 {
   Vec3d result = surfaceColor * m.ambient;
   for (const Light& light : lights)

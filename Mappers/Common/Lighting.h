@@ -19,7 +19,7 @@ namespace raymappers
 
 struct Light
 {
-  Vec3d color{ 1, 1, 1 };    // diffuse colour times intensity
+  Vec3d color{ 1, 1, 1 };      // diffuse colour times intensity
   Vec3d direction{ 0, 0, -1 }; // unit vector the light travels along (directional lights)
   bool positional = false;
   Vec3d position;            // positional lights
@@ -38,8 +38,12 @@ struct Material
 
 /// Shaded colour (not clamped) of a surface point p (world) with unit normal n and unit
 /// direction toEye (minus the ray direction, which serves perspective and parallel views).
-Vec3d shade(const std::vector<Light>& lights, const Material& m, const Vec3d& surfaceColor,
-  const Vec3d& p, const Vec3d& n, const Vec3d& toEye);
+Vec3d shade(const std::vector<Light>& lights,
+  const Material& m,
+  const Vec3d& surfaceColor,
+  const Vec3d& p,
+  const Vec3d& n,
+  const Vec3d& toEye);
 
 } // namespace raymappers
 

@@ -89,8 +89,10 @@ double RayDepthMap::distanceOf(double depth) const
   return (z0 - n * w0) / (n * wd - zd);
 }
 
-RayCamera::RayCamera(
-  const std::array<double, 16>& modelToClip, int width, int height, const Vec3d& origin)
+RayCamera::RayCamera(const std::array<double, 16>& modelToClip,
+  int width,
+  int height,
+  const Vec3d& origin)
   : Width(width)
   , Height(height)
   , Origin(origin)
@@ -100,7 +102,7 @@ RayCamera::RayCamera(
   for (int r = 0; r < 4; ++r)
   {
     M[4 * r + 3] = modelToClip[4 * r] * origin.x + modelToClip[4 * r + 1] * origin.y +
-      modelToClip[4 * r + 2] * origin.z + modelToClip[4 * r + 3];
+                   modelToClip[4 * r + 2] * origin.z + modelToClip[4 * r + 3];
   }
   if (!invert4x4(M, Minv))
   {

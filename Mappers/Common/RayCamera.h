@@ -45,8 +45,7 @@ public:
   /// pixel grid the rays are made for (a renderer's viewport, or one tile of a tiled
   /// render: the matrix then already holds the tile's window shift). `origin`: the point
   /// subtracted from model coordinates before they become float.
-  RayCamera(const std::array<double, 16>& modelToClip, int width, int height,
-    const Vec3d& origin);
+  RayCamera(const std::array<double, 16>& modelToClip, int width, int height, const Vec3d& origin);
 
   int width() const { return Width; }
   int height() const { return Height; }

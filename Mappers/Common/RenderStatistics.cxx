@@ -7,7 +7,7 @@ namespace raymappers
 
 namespace
 {
-template <typename T>
+template<typename T>
 T* find(std::vector<std::pair<std::string, T>>& v, const std::string& name)
 {
   for (auto& e : v)
@@ -19,7 +19,7 @@ T* find(std::vector<std::pair<std::string, T>>& v, const std::string& name)
   }
   return nullptr;
 }
-template <typename T>
+template<typename T>
 const T* find(const std::vector<std::pair<std::string, T>>& v, const std::string& name)
 {
   for (const auto& e : v)

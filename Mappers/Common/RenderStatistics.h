@@ -27,9 +27,9 @@ public:
   /// Records whether an optional effect ran in this render.
   void setEffect(const std::string& name, bool ran);
 
-  double phase(const std::string& name) const;   // ms, 0 when absent
+  double phase(const std::string& name) const;         // ms, 0 when absent
   std::int64_t counter(const std::string& name) const; // 0 when absent
-  bool effect(const std::string& name) const;    // false when absent
+  bool effect(const std::string& name) const;          // false when absent
   double totalMs() const;
 
   const std::vector<std::pair<std::string, double>>& phases() const { return Phases; }

@@ -20,7 +20,7 @@ struct Tile
 
 /// Calls fn(const Tile&) for every tile of `tileSize` x `tileSize` pixels (the last row and
 /// column of tiles are clipped to the grid), in parallel.
-template <typename Fn>
+template<typename Fn>
 void forEachTile(int width, int height, int tileSize, Fn&& fn)
 {
   if (width <= 0 || height <= 0)
@@ -31,12 +31,15 @@ void forEachTile(int width, int height, int tileSize, Fn&& fn)
   const int nx = (width + tileSize - 1) / tileSize;
   const int ny = (height + tileSize - 1) / tileSize;
   tbb::parallel_for(tbb::blocked_range<int>(0, nx * ny, 1),
-    [&](const tbb::blocked_range<int>& range) {
+    [&](const tbb::blocked_range<int>& range)
+    {
       for (int t = range.begin(); t != range.end(); ++t)
       {
         const int tx = t % nx;
         const int ty = t / nx;
-        const Tile tile{ tx * tileSize, ty * tileSize, std::min(width, (tx + 1) * tileSize),
+        const Tile tile{ tx * tileSize,
+          ty * tileSize,
+          std::min(width, (tx + 1) * tileSize),
           std::min(height, (ty + 1) * tileSize) };
         fn(tile);
       }

@@ -7,7 +7,10 @@
 namespace raymappers
 {
 
-void TransferFunctionTable::assign(std::vector<float> rgba, double lo, double hi, double unitDistance)
+void TransferFunctionTable::assign(std::vector<float> rgba,
+  double lo,
+  double hi,
+  double unitDistance)
 {
   Samples = std::move(rgba);
   Samples.resize(Samples.size() / 4 * 4);
@@ -30,7 +33,9 @@ std::array<float, 4> TransferFunctionTable::lookup(double v) const
   const float f = n > 1 ? static_cast<float>(x - k) : 0.f;
   const float* a = &Samples[4 * k];
   const float* b = n > 1 ? a + 4 : a;
-  return { a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2]),
+  return { a[0] + f * (b[0] - a[0]),
+    a[1] + f * (b[1] - a[1]),
+    a[2] + f * (b[2] - a[2]),
     a[3] + f * (b[3] - a[3]) };
 }
 

@@ -8,7 +8,7 @@
 namespace raymappers
 {
 
-template <typename T>
+template<typename T>
 struct Vec3
 {
   T x = 0, y = 0, z = 0;
@@ -19,7 +19,7 @@ struct Vec3
     , z(c)
   {
   }
-  template <typename U>
+  template<typename U>
   explicit constexpr Vec3(const Vec3<U>& o)
     : x(static_cast<T>(o.x))
     , y(static_cast<T>(o.y))
@@ -45,28 +45,28 @@ struct Vec3
 using Vec3f = Vec3<float>;
 using Vec3d = Vec3<double>;
 
-template <typename T>
+template<typename T>
 inline T dot(const Vec3<T>& a, const Vec3<T>& b)
 {
   return a.x * b.x + a.y * b.y + a.z * b.z;
 }
-template <typename T>
+template<typename T>
 inline Vec3<T> cross(const Vec3<T>& a, const Vec3<T>& b)
 {
   return { a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x };
 }
-template <typename T>
+template<typename T>
 inline T length(const Vec3<T>& a)
 {
   return std::sqrt(dot(a, a));
 }
-template <typename T>
+template<typename T>
 inline Vec3<T> normalize(const Vec3<T>& a)
 {
   const T l = length(a);
   return l > T(0) ? a * (T(1) / l) : a;
 }
-template <typename T>
+template<typename T>
 inline bool isFinite(const Vec3<T>& a)
 {
   return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);

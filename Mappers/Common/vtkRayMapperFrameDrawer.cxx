@@ -59,8 +59,7 @@ void vtkRayMapperFrameDrawer::ReleaseGraphicsResources(vtkWindow* win)
   }
 }
 
-void vtkRayMapperFrameDrawer::Draw(
-  vtkRenderer* ren, const raymappers::Frame& frame, Mode mode)
+void vtkRayMapperFrameDrawer::Draw(vtkRenderer* ren, const raymappers::Frame& frame, Mode mode)
 {
   auto* renWin = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   if (!renWin || frame.width <= 0 || frame.height <= 0)
@@ -77,15 +76,16 @@ void vtkRayMapperFrameDrawer::Draw(
     tex->SetWrapS(vtkTextureObject::ClampToEdge);
     tex->SetWrapT(vtkTextureObject::ClampToEdge);
   }
-  Impl->Color->Create2DFromRaw(frame.width, frame.height, 4, VTK_FLOAT,
-    const_cast<float*>(frame.rgba.data()));
-  Impl->Depth->Create2DFromRaw(frame.width, frame.height, 1, VTK_FLOAT,
-    const_cast<float*>(frame.depth.data()));
+  Impl->Color->Create2DFromRaw(
+    frame.width, frame.height, 4, VTK_FLOAT, const_cast<float*>(frame.rgba.data()));
+  Impl->Depth->Create2DFromRaw(
+    frame.width, frame.height, 1, VTK_FLOAT, const_cast<float*>(frame.depth.data()));
 
   if (!Impl->Quad)
   {
     Impl->Quad.reset(new vtkOpenGLQuadHelper(renWin,
-      vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(), FrameFragmentShader,
+      vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(),
+      FrameFragmentShader,
       ""));
   }
   else

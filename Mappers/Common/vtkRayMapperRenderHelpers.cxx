@@ -53,8 +53,9 @@ ModelTransform GatherModelTransform(vtkProp3D* prop)
   return t;
 }
 
-raymappers::RayCamera GatherCamera(
-  vtkRenderer* ren, const ModelTransform& model, const raymappers::Vec3d& origin)
+raymappers::RayCamera GatherCamera(vtkRenderer* ren,
+  const ModelTransform& model,
+  const raymappers::Vec3d& origin)
 {
   int width = 0, height = 0, x0 = 0, y0 = 0;
   ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
@@ -117,7 +118,8 @@ std::vector<raymappers::Light> GatherLights(vtkRenderer* ren)
     double p[3], f[3];
     l->GetTransformedPosition(p);
     l->GetTransformedFocalPoint(f);
-    light.direction = raymappers::normalize(raymappers::Vec3d(f[0] - p[0], f[1] - p[1], f[2] - p[2]));
+    light.direction =
+      raymappers::normalize(raymappers::Vec3d(f[0] - p[0], f[1] - p[1], f[2] - p[2]));
     light.positional = l->GetPositional() != 0;
     light.position = { p[0], p[1], p[2] };
     light.coneAngleDeg = l->GetConeAngle();
@@ -141,8 +143,9 @@ bool ReadOpaqueDepth(vtkRenderer* ren, std::vector<float>& depth, int& width, in
   return win->GetZbufferData(x0, y0, x0 + width - 1, y0 + height - 1, depth.data()) != 0;
 }
 
-raymappers::TransferFunctionTable SampleVolumeProperty(
-  vtkVolumeProperty* property, int component, int n)
+raymappers::TransferFunctionTable SampleVolumeProperty(vtkVolumeProperty* property,
+  int component,
+  int n)
 {
   raymappers::TransferFunctionTable table;
   n = std::max(n, 2);
@@ -176,12 +179,15 @@ raymappers::TransferFunctionTable SampleVolumeProperty(
     }
     rgba[4 * i + 3] = static_cast<float>(a[i]);
   }
-  table.assign(std::move(rgba), range[0], range[1], property->GetScalarOpacityUnitDistance(component));
+  table.assign(
+    std::move(rgba), range[0], range[1], property->GetScalarOpacityUnitDistance(component));
   return table;
 }
 
-raymappers::TransferFunctionTable SampleScalarsToColors(
-  vtkScalarsToColors* colors, double lo, double hi, int n)
+raymappers::TransferFunctionTable SampleScalarsToColors(vtkScalarsToColors* colors,
+  double lo,
+  double hi,
+  int n)
 {
   raymappers::TransferFunctionTable table;
   n = std::max(n, 2);

@@ -5,8 +5,8 @@
 #define vtkRayMapperRenderHelpers_h
 
 #include "Lighting.h"
-#include "RayMappersMappersModule.h" // for export macro
 #include "RayCamera.h"
+#include "RayMappersMappersModule.h" // for export macro
 #include "TransferFunctionTable.h"
 
 #include <vector>
@@ -32,24 +32,33 @@ RAYMAPPERSMAPPERS_EXPORT ModelTransform GatherModelTransform(vtkProp3D* prop);
 /// Camera for the rays of the renderer's tiled viewport, in the prop's model coordinates,
 /// with float coordinates relative to `origin` (model space). Uses the same world-to-clip
 /// matrix as VTK's OpenGL mappers, so tiles of a large screenshot line up.
-RAYMAPPERSMAPPERS_EXPORT raymappers::RayCamera GatherCamera(
-  vtkRenderer* ren, const ModelTransform& model, const raymappers::Vec3d& origin);
+RAYMAPPERSMAPPERS_EXPORT raymappers::RayCamera GatherCamera(vtkRenderer* ren,
+  const ModelTransform& model,
+  const raymappers::Vec3d& origin);
 
 /// The renderer's switched-on lights in world space.
 RAYMAPPERSMAPPERS_EXPORT std::vector<raymappers::Light> GatherLights(vtkRenderer* ren);
 
 /// Window depth of what has been drawn so far in the renderer's tiled viewport, row 0 at
 /// the bottom (width x height values). Returns false when it cannot be read.
-RAYMAPPERSMAPPERS_EXPORT bool ReadOpaqueDepth(vtkRenderer* ren, std::vector<float>& depth, int& width, int& height);
+RAYMAPPERSMAPPERS_EXPORT bool ReadOpaqueDepth(vtkRenderer* ren,
+  std::vector<float>& depth,
+  int& width,
+  int& height);
 
 /// Colour and scalar opacity of one component of a volume property, sampled at n points
 /// over the colour function's range, with the property's scalar opacity unit distance.
 RAYMAPPERSMAPPERS_EXPORT raymappers::TransferFunctionTable SampleVolumeProperty(
-  vtkVolumeProperty* property, int component, int n);
+  vtkVolumeProperty* property,
+  int component,
+  int n);
 
 /// RGBA of a lookup table / colour transfer function at n points over [lo, hi].
 RAYMAPPERSMAPPERS_EXPORT raymappers::TransferFunctionTable SampleScalarsToColors(
-  vtkScalarsToColors* colors, double lo, double hi, int n);
+  vtkScalarsToColors* colors,
+  double lo,
+  double hi,
+  int n);
 
 }
 

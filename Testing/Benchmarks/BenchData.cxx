@@ -31,8 +31,10 @@ namespace
 bool EndsWith(const std::string& s, const std::string& tail)
 {
   return s.size() >= tail.size() &&
-    std::equal(tail.rbegin(), tail.rend(), s.rbegin(),
-      [](char a, char b) { return std::tolower(a) == std::tolower(b); });
+         std::equal(tail.rbegin(),
+           tail.rend(),
+           s.rbegin(),
+           [](char a, char b) { return std::tolower(a) == std::tolower(b); });
 }
 }
 
@@ -57,7 +59,7 @@ vtkSmartPointer<vtkDataObject> ReadAny(const std::string& path)
     return r->GetOutputDataObject(0);
   }
   if (EndsWith(path, ".ex2") || EndsWith(path, ".exo") || EndsWith(path, ".e") ||
-    EndsWith(path, ".g"))
+      EndsWith(path, ".g"))
   {
     vtkNew<vtkExodusIIReader> r;
     r->SetFileName(path.c_str());
@@ -92,7 +94,7 @@ vtkSmartPointer<vtkDataObject> ReadAny(const std::string& path)
     return r->GetOutput();
   }
   if (EndsWith(path, ".vtp") || EndsWith(path, ".vtu") || EndsWith(path, ".vti") ||
-    EndsWith(path, ".vts") || EndsWith(path, ".vtm"))
+      EndsWith(path, ".vts") || EndsWith(path, ".vtm"))
   {
     vtkNew<vtkXMLGenericDataObjectReader> r;
     r->SetFileName(path.c_str());

@@ -179,12 +179,13 @@ void WritePng(vtkImageData* image, const std::string& path)
 // preset gives users): discard outside the unit disc and shade with the normal of a
 // sphere seen head-on, n = (x, y, sqrt(1 - x^2 - y^2)), lit from the viewer. Its depth is
 // the flat splat's, so intersecting spheres are not resolved.
-const char* const SphereImposterShader = "//VTK::Color::Impl\n"
-                                         "float d2 = dot(offsetVCVSOutput.xy, offsetVCVSOutput.xy);\n"
-                                         "if (d2 > 1.0) { discard; }\n"
-                                         "float nz = sqrt(1.0 - d2);\n"
-                                         "ambientColor *= 0.1;\n"
-                                         "diffuseColor *= nz;\n";
+const char* const SphereImposterShader =
+  "//VTK::Color::Impl\n"
+  "float d2 = dot(offsetVCVSOutput.xy, offsetVCVSOutput.xy);\n"
+  "if (d2 > 1.0) { discard; }\n"
+  "float nz = sqrt(1.0 - d2);\n"
+  "ambientColor *= 0.1;\n"
+  "diffuseColor *= nz;\n";
 
 std::vector<std::string> DefaultSphereData(const Options& opt)
 {
@@ -192,9 +193,10 @@ std::vector<std::string> DefaultSphereData(const Options& opt)
   if (!vtksys::SystemTools::FileExists(melt, true))
   {
     vtksys::SystemTools::MakeDirectory(opt.generated);
-    const std::string cmd =
-      std::string("bash '") + RAYMAPPERS_SOURCE_DIR + "/Data/Generators/lammps_melt.sh' '" + melt + "'";
-    std::cout << "generating the LAMMPS melt (1,000,188 atoms, about a minute): " << cmd << std::endl;
+    const std::string cmd = std::string("bash '") + RAYMAPPERS_SOURCE_DIR +
+                            "/Data/Generators/lammps_melt.sh' '" + melt + "'";
+    std::cout << "generating the LAMMPS melt (1,000,188 atoms, about a minute): " << cmd
+              << std::endl;
     if (std::system(cmd.c_str()) != 0)
     {
       std::cerr << "raymappers-bench: the LAMMPS melt could not be generated; skipping it\n";
@@ -233,16 +235,18 @@ std::vector<Row> RunSpheres(const Options& opt)
       colors->GetRange(range);
     }
     std::cout << bench::BaseName(file) << ": " << n << " points, radius "
-              << (radii ? "array '" + radiusName + "'" : "constant " + std::to_string(constantRadius))
+              << (radii ? "array '" + radiusName + "'"
+                        : "constant " + std::to_string(constantRadius))
               << ", color " << (colors && colors->GetName() ? colors->GetName() : "none") << "\n";
 
     // One view for all methods: the data seen from a corner, filling the image.
-    auto view = [&](vtkCamera* cam) {
+    auto view = [&](vtkCamera* cam)
+    {
       double b[6];
       cloud->GetBounds(b);
       const double c[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
       const double diag = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
-        (b[5] - b[4]) * (b[5] - b[4]));
+                                    (b[5] - b[4]) * (b[5] - b[4]));
       cam->SetFocalPoint(c);
       cam->SetPosition(c[0] + 0.8 * diag, c[1] + 0.55 * diag, c[2] + 1.8 * diag);
       cam->SetViewUp(0, 1, 0);
@@ -251,8 +255,10 @@ std::vector<Row> RunSpheres(const Options& opt)
 
     std::vector<Method> methods;
     vtkSmartPointer<vtkCGTSphereMapper> ours;
-    methods.push_back({ "embree", "bvh=medium",
-      [&](vtkRenderer* ren) {
+    methods.push_back({ "embree",
+      "bvh=medium",
+      [&](vtkRenderer* ren)
+      {
         ours = vtkSmartPointer<vtkCGTSphereMapper>::New();
         ours->SetInputData(cloud);
         if (radii)
@@ -277,8 +283,10 @@ std::vector<Row> RunSpheres(const Options& opt)
         ren->AddActor(actor);
       },
       [&]() { return ours->GetStatistics()->GetPhaseTime("build"); } });
-    methods.push_back({ "vtk-point-gaussian", "sphere-imposter",
-      [&](vtkRenderer* ren) {
+    methods.push_back({ "vtk-point-gaussian",
+      "sphere-imposter",
+      [&](vtkRenderer* ren)
+      {
         vtkNew<vtkPointGaussianMapper> pg;
         pg->SetInputData(cloud);
         if (radii)
@@ -349,8 +357,17 @@ std::string Csv(const Row& r)
 
 void PrintTable(const std::vector<Row>& rows)
 {
-  std::printf("\n%-10s %-22s %-20s %-16s %10s %10s %10s %8s %8s %8s\n", "suite", "dataset",
-    "method", "setting", "items", "build_ms", "render_ms", "rmse", "max_err", "mem_mb");
+  std::printf("\n%-10s %-22s %-20s %-16s %10s %10s %10s %8s %8s %8s\n",
+    "suite",
+    "dataset",
+    "method",
+    "setting",
+    "items",
+    "build_ms",
+    "render_ms",
+    "rmse",
+    "max_err",
+    "mem_mb");
   for (const Row& r : rows)
   {
     char rmse[32] = "", maxErr[32] = "";
@@ -359,9 +376,17 @@ void PrintTable(const std::vector<Row>& rows)
       std::snprintf(rmse, sizeof rmse, "%.4f", r.rmse);
       std::snprintf(maxErr, sizeof maxErr, "%.3f", r.maxErr);
     }
-    std::printf("%-10s %-22s %-20s %-16s %10lld %10.1f %10.1f %8s %8s %8.1f\n", r.suite.c_str(),
-      r.dataset.c_str(), r.method.c_str(), r.setting.c_str(), r.items, r.buildMs, r.renderMs, rmse,
-      maxErr, r.memMb);
+    std::printf("%-10s %-22s %-20s %-16s %10lld %10.1f %10.1f %8s %8s %8.1f\n",
+      r.suite.c_str(),
+      r.dataset.c_str(),
+      r.method.c_str(),
+      r.setting.c_str(),
+      r.items,
+      r.buildMs,
+      r.renderMs,
+      rmse,
+      maxErr,
+      r.memMb);
   }
 }
 
@@ -386,7 +411,8 @@ int main(int argc, char* argv[])
   for (int i = 2; i < argc; ++i)
   {
     const std::string a = argv[i];
-    auto next = [&]() -> std::string {
+    auto next = [&]() -> std::string
+    {
       if (i + 1 >= argc)
       {
         std::cerr << a << " needs a value\n";
@@ -402,7 +428,7 @@ int main(int argc, char* argv[])
     {
       const std::string s = next();
       if (std::sscanf(s.c_str(), "%dx%d", &opt.width, &opt.height) != 2 || opt.width <= 0 ||
-        opt.height <= 0)
+          opt.height <= 0)
       {
         std::cerr << "--size takes WxH, e.g. 1024x1024\n";
         return 2;
@@ -452,7 +478,8 @@ int main(int argc, char* argv[])
   if (!opt.csv.empty())
   {
     std::ofstream out(opt.csv);
-    out << "suite,dataset,method,setting,width,height,items,build_ms,render_ms,rmse,max_err,mem_mb\n";
+    out
+      << "suite,dataset,method,setting,width,height,items,build_ms,render_ms,rmse,max_err,mem_mb\n";
     for (const Row& r : rows)
     {
       out << Csv(r) << "\n";

@@ -90,8 +90,8 @@ int main(int argc, char* argv[])
   vtkPointData* pd = output->GetPointData();
   Check(vtkIdTypeArray::SafeDownCast(pd->GetAbstractArray("id")) != nullptr,
     "'id' is a vtkIdTypeArray");
-  Check(vtkIntArray::SafeDownCast(pd->GetAbstractArray("type")) != nullptr,
-    "'type' is a vtkIntArray");
+  Check(
+    vtkIntArray::SafeDownCast(pd->GetAbstractArray("type")) != nullptr, "'type' is a vtkIntArray");
   for (const char* name : { "vx", "vy", "vz" })
   {
     Check(vtkDoubleArray::SafeDownCast(pd->GetAbstractArray(name)) != nullptr,
@@ -127,11 +127,10 @@ int main(int argc, char* argv[])
   Check(Near(pd->GetArray("vz")->GetTuple1(0), -2.7705), "vz of atom 1 at timestep 0");
   // Dump line: "256 2 5.03879 5.87859 5.87859 1.15457 1.02948 0.00417008"
   AtomPoint(output, 256, p);
-  Check(Near(p[0], 5.03879) && Near(p[1], 5.87859) && Near(p[2], 5.87859),
-    "atom 256 at timestep 0");
+  Check(
+    Near(p[0], 5.03879) && Near(p[1], 5.87859) && Near(p[2], 5.87859), "atom 256 at timestep 0");
   Check(types && types->GetValue(255) == 2, "atom 256 has type 2");
-  Check(output->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()) == 0.0,
-    "DATA_TIME_STEP 0");
+  Check(output->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()) == 0.0, "DATA_TIME_STEP 0");
 
   // Timestep 100, asked for exactly and by a time between the steps.
   reader->UpdateTimeStep(100.0);
@@ -140,17 +139,17 @@ int main(int argc, char* argv[])
   Check(output->GetNumberOfPoints() == 256, "256 points at timestep 100");
   // Dump line: "1 1 0.186116 6.42836 0.121928 -0.841203 -0.510253 1.41168"
   AtomPoint(output, 1, p);
-  Check(Near(p[0], 0.186116) && Near(p[1], 6.42836) && Near(p[2], 0.121928),
-    "atom 1 at timestep 100");
+  Check(
+    Near(p[0], 0.186116) && Near(p[1], 6.42836) && Near(p[2], 0.121928), "atom 1 at timestep 100");
   Check(pd->GetArray("vx") && Near(pd->GetArray("vx")->GetTuple1(0), -0.841203),
     "vx of atom 1 at timestep 100");
-  Check(output->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()) == 100.0,
-    "DATA_TIME_STEP 100");
+  Check(
+    output->GetInformation()->Get(vtkDataObject::DATA_TIME_STEP()) == 100.0, "DATA_TIME_STEP 100");
   vtkFieldData* fd = output->GetFieldData();
   Check(fd->GetArray("Timestep") && fd->GetArray("Timestep")->GetTuple1(0) == 100.0,
     "field data Timestep 100");
-  Check(fd->GetArray("BoxBounds") && Near(fd->GetArray("BoxBounds")->GetComponent(0, 1),
-                                       6.7183847655300291, 1e-12),
+  Check(fd->GetArray("BoxBounds") &&
+          Near(fd->GetArray("BoxBounds")->GetComponent(0, 1), 6.7183847655300291, 1e-12),
     "field data BoxBounds xhi");
   Check(fd->GetArray("BoxPeriodic") && fd->GetArray("BoxPeriodic")->GetComponent(0, 2) == 1.0,
     "periodic z");

@@ -36,30 +36,58 @@ inline Mat4 lookAt(const Vec3d& eye, const Vec3d& at, const Vec3d& up)
   const Vec3d f = normalize(at - eye);
   const Vec3d s = normalize(cross(f, up));
   const Vec3d u = cross(s, f);
-  return { s.x, s.y, s.z, -dot(s, eye), u.x, u.y, u.z, -dot(u, eye), -f.x, -f.y, -f.z,
-    dot(f, eye), 0, 0, 0, 1 };
+  return { s.x,
+    s.y,
+    s.z,
+    -dot(s, eye),
+    u.x,
+    u.y,
+    u.z,
+    -dot(u, eye),
+    -f.x,
+    -f.y,
+    -f.z,
+    dot(f, eye),
+    0,
+    0,
+    0,
+    1 };
 }
 
 /// Symmetric perspective projection: vertical field of view fovy (degrees), near n, far f.
 inline Mat4 perspective(double fovyDeg, double aspect, double n, double f)
 {
   const double t = 1.0 / std::tan(fovyDeg * M_PI / 360.0);
-  return { t / aspect, 0, 0, 0, 0, t, 0, 0, 0, 0, -(f + n) / (f - n), -2 * f * n / (f - n), 0,
-    0, -1, 0 };
+  return {
+    t / aspect, 0, 0, 0, 0, t, 0, 0, 0, 0, -(f + n) / (f - n), -2 * f * n / (f - n), 0, 0, -1, 0
+  };
 }
 
 /// Orthographic projection of the box [-hw, hw] x [-hh, hh] x [-n, -f] (view space).
 inline Mat4 orthographic(double hw, double hh, double n, double f)
 {
-  return { 1 / hw, 0, 0, 0, 0, 1 / hh, 0, 0, 0, 0, -2 / (f - n), -(f + n) / (f - n), 0, 0, 0,
-    1 };
+  return { 1 / hw, 0, 0, 0, 0, 1 / hh, 0, 0, 0, 0, -2 / (f - n), -(f + n) / (f - n), 0, 0, 0, 1 };
 }
 
 /// Clip-space transform selecting tile (a, b) of an s x s tiling: x' = s x + (s - 1 - 2a) w.
 inline Mat4 tileTransform(int s, int a, int b)
 {
-  return { double(s), 0, 0, double(s - 1 - 2 * a), 0, double(s), 0, double(s - 1 - 2 * b), 0,
-    0, 1, 0, 0, 0, 0, 1 };
+  return { double(s),
+    0,
+    0,
+    double(s - 1 - 2 * a),
+    0,
+    double(s),
+    0,
+    double(s - 1 - 2 * b),
+    0,
+    0,
+    1,
+    0,
+    0,
+    0,
+    0,
+    1 };
 }
 
 }

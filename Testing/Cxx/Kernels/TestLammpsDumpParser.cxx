@@ -40,7 +40,7 @@ protected:
   {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     this->Dir = fs::temp_directory_path() /
-      ("raymappers_lammps_" + std::to_string(RM_GETPID()) + "_" + info->name());
+                ("raymappers_lammps_" + std::to_string(RM_GETPID()) + "_" + info->name());
     fs::remove_all(this->Dir);
     fs::create_directories(this->Dir);
   }
@@ -188,8 +188,8 @@ TEST_F(LammpsDump, RepeatedTimestepsUseTheLaterSnapshot)
   for (int step : { 0, 100, 200, 100, 200, 300 })
   {
     text += "ITEM: TIMESTEP\n" + std::to_string(step) +
-      "\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
-      "ITEM: ATOMS id x y z\n1 0.5 0.5 0.5\n";
+            "\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
+            "ITEM: ATOMS id x y z\n1 0.5 0.5 0.5\n";
   }
   DumpParser parser;
   ASSERT_TRUE(parser.Open(this->Write("restart.dump", text))) << parser.GetError();
@@ -392,8 +392,7 @@ TEST_F(LammpsDump, UnsortedIdsPermuteEveryColumn)
   EXPECT_EQ(*Column(frame, "f_ave[2]"), (std::vector<double>{ 100, 200, 300, 400, 500 }));
   ASSERT_EQ(frame.TextColumns.size(), 1u);
   EXPECT_EQ(frame.TextColumns[0].Name, "element");
-  EXPECT_EQ(frame.TextColumns[0].Values,
-    (std::vector<std::string>{ "H", "O", "H", "O", "O" }));
+  EXPECT_EQ(frame.TextColumns[0].Values, (std::vector<std::string>{ "H", "O", "H", "O", "O" }));
 }
 
 TEST_F(LammpsDump, MissingColumns)
@@ -564,8 +563,8 @@ TEST_F(LammpsDump, MalformedFilesGiveClearErrors)
   EXPECT_TRUE(Contains(parser.GetError(), "line 2")) << parser.GetError();
   EXPECT_TRUE(Contains(parser.GetError(), "timestep")) << parser.GetError();
 
-  EXPECT_FALSE(parser.Open(
-    this->Write("count.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n-3\n")));
+  EXPECT_FALSE(
+    parser.Open(this->Write("count.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n-3\n")));
   EXPECT_TRUE(Contains(parser.GetError(), "number of atoms")) << parser.GetError();
 
   EXPECT_FALSE(parser.Open(this->Write("box.dump",

@@ -97,9 +97,8 @@ TEST(RayCamera, OriginOffsetKeepsFloatPrecisionFarFromTheWorldOrigin)
   // Data a million units away: relative coordinates keep the ray exact to float epsilon of
   // the scene size, not of 1e6.
   const Vec3d far{ 1e6, -2e6, 3e6 };
-  const RayCamera cam(multiply(perspective(30, 1, 0.5, 100),
-                        lookAt(far + Vec3d(0, 0, 10), far, Up)),
-    64, 64, far);
+  const RayCamera cam(
+    multiply(perspective(30, 1, 0.5, 100), lookAt(far + Vec3d(0, 0, 10), far, Up)), 64, 64, far);
   const Ray r = cam.primaryRay(32, 32);
   EXPECT_NEAR(r.org.x, 0, 1e-6);
   EXPECT_NEAR(r.org.y, 0, 1e-6);

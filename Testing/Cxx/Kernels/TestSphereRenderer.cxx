@@ -56,8 +56,12 @@ Scene randomScene(int n, unsigned seed)
   }
   Scene s;
   buildSphereSet(
-    n, Vec3d(0.5, -0.25, 0.1), [&](std::size_t i) { return p[i]; },
-    [&](std::size_t i) { return r[i]; }, [&](std::size_t i) { return c[i]; }, s.spheres);
+    n,
+    Vec3d(0.5, -0.25, 0.1),
+    [&](std::size_t i) { return p[i]; },
+    [&](std::size_t i) { return r[i]; },
+    [&](std::size_t i) { return c[i]; },
+    s.spheres);
   s.matrix = multiply(perspective(40, 1.25, 1, 40), lookAt({ 3, 4, 14 }, { 0, 0, 0 }, { 0, 1, 0 }));
   return s;
 }
@@ -166,10 +170,17 @@ TEST(SphereRenderer, LambertShadingOfAHeadOnSphere)
   // only: the centre pixel faces the light (n.l = 1), so its colour is Kd exactly.
   SphereSet s;
   buildSphereSet(
-    1, Vec3d(), [](std::size_t) { return Vec3d(0, 0, 0); }, [](std::size_t) { return 1.0; },
-    [](std::size_t) { return packRGBA8(255, 255, 255, 255); }, s);
+    1,
+    Vec3d(),
+    [](std::size_t) { return Vec3d(0, 0, 0); },
+    [](std::size_t) { return 1.0; },
+    [](std::size_t) { return packRGBA8(255, 255, 255, 255); },
+    s);
   const RayCamera camera(
-    multiply(orthographic(2, 2, 1, 20), lookAt({ 0, 0, 10 }, { 0, 0, 0 }, { 0, 1, 0 })), 64, 64, {});
+    multiply(orthographic(2, 2, 1, 20), lookAt({ 0, 0, 10 }, { 0, 0, 0 }, { 0, 1, 0 })),
+    64,
+    64,
+    {});
   EmbreeSphereAccelerator accel;
   accel.build(s);
   SphereShading shading;
@@ -190,13 +201,18 @@ TEST(SphereSet, InvalidInputIsDroppedAndCounted)
 {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
-  const std::vector<Vec3d> p = { { 0, 0, 0 }, { nan, 0, 0 }, { 1, inf, 0 }, { 2, 0, 0 },
-    { 3, 0, 0 }, { 4, 0, 0 }, { 5, 0, 0 } };
+  const std::vector<Vec3d> p = {
+    { 0, 0, 0 }, { nan, 0, 0 }, { 1, inf, 0 }, { 2, 0, 0 }, { 3, 0, 0 }, { 4, 0, 0 }, { 5, 0, 0 }
+  };
   const std::vector<double> r = { 1, 1, 1, 0, -1, nan, 0.5 };
   SphereSet s;
   buildSphereSet(
-    p.size(), Vec3d(), [&](std::size_t i) { return p[i]; }, [&](std::size_t i) { return r[i]; },
-    [](std::size_t) { return 0u; }, s);
+    p.size(),
+    Vec3d(),
+    [&](std::size_t i) { return p[i]; },
+    [&](std::size_t i) { return r[i]; },
+    [](std::size_t) { return 0u; },
+    s);
   EXPECT_EQ(s.size(), 2u);
   EXPECT_EQ(s.skippedNonFinite, 2u);
   EXPECT_EQ(s.skippedBadRadius, 3u);

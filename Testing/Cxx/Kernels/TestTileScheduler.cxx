@@ -15,17 +15,21 @@ TEST(TileScheduler, EveryPixelOnceForAnyTileSize)
       for (int ts : { 1, 4, 7, 32, 1000 })
       {
         std::vector<std::atomic<int>> visits(static_cast<std::size_t>(w * h));
-        raymappers::forEachTile(w, h, ts, [&](const raymappers::Tile& t) {
-          EXPECT_LE(t.x1 - t.x0, ts);
-          EXPECT_LE(t.y1 - t.y0, ts);
-          for (int j = t.y0; j < t.y1; ++j)
+        raymappers::forEachTile(w,
+          h,
+          ts,
+          [&](const raymappers::Tile& t)
           {
-            for (int i = t.x0; i < t.x1; ++i)
+            EXPECT_LE(t.x1 - t.x0, ts);
+            EXPECT_LE(t.y1 - t.y0, ts);
+            for (int j = t.y0; j < t.y1; ++j)
             {
-              ++visits[static_cast<std::size_t>(j * w + i)];
+              for (int i = t.x0; i < t.x1; ++i)
+              {
+                ++visits[static_cast<std::size_t>(j * w + i)];
+              }
             }
-          }
-        });
+          });
         for (const auto& v : visits)
         {
           ASSERT_EQ(v.load(), 1) << w << "x" << h << " tile " << ts;

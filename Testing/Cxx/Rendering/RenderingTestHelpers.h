@@ -29,8 +29,8 @@ namespace rmtest
 {
 
 /// Points with a "radius" and a "value" point array.
-inline vtkSmartPointer<vtkPolyData> MakeSpheres(
-  const std::vector<std::array<double, 3>>& centers, const std::vector<double>& radii)
+inline vtkSmartPointer<vtkPolyData> MakeSpheres(const std::vector<std::array<double, 3>>& centers,
+  const std::vector<double>& radii)
 {
   auto pd = vtkSmartPointer<vtkPolyData>::New();
   vtkNew<vtkPoints> pts;
@@ -92,7 +92,8 @@ private:
     auto* me = static_cast<EventCounter*>(self);
     (event == vtkCommand::WarningEvent ? me->Warnings : me->Errors)++;
     me->Last = text ? static_cast<const char*>(text) : "";
-    std::printf("observed %s: %s\n", event == vtkCommand::WarningEvent ? "warning" : "error",
+    std::printf("observed %s: %s\n",
+      event == vtkCommand::WarningEvent ? "warning" : "error",
       me->Last.c_str());
   }
   vtkNew<vtkCallbackCommand> Callback;
@@ -101,8 +102,8 @@ private:
 /// Window depth VTK would write for a world point, from the renderer's camera.
 inline double WindowDepthOf(vtkRenderer* ren, const double p[3])
 {
-  vtkMatrix4x4* m =
-    ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(ren->GetTiledAspectRatio(), -1, 1);
+  vtkMatrix4x4* m = ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(
+    ren->GetTiledAspectRatio(), -1, 1);
   double in[4] = { p[0], p[1], p[2], 1 }, out[4];
   m->MultiplyPoint(in, out);
   return 0.5 * out[2] / out[3] + 0.5;
@@ -170,14 +171,14 @@ inline std::vector<unsigned char> ReadRGB(vtkRenderWindow* win)
   return std::vector<unsigned char>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
 }
 
-#define RM_CHECK(cond)                                                                          \
-  do                                                                                            \
-  {                                                                                             \
-    if (!(cond))                                                                                \
-    {                                                                                           \
-      std::printf("%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond);                     \
-      return EXIT_FAILURE;                                                                      \
-    }                                                                                           \
+#define RM_CHECK(cond)                                                                             \
+  do                                                                                               \
+  {                                                                                                \
+    if (!(cond))                                                                                   \
+    {                                                                                              \
+      std::printf("%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond);                         \
+      return EXIT_FAILURE;                                                                         \
+    }                                                                                              \
   } while (0)
 
 }

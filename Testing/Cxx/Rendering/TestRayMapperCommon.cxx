@@ -95,11 +95,11 @@ int TestRayMapperCommon(int, char*[])
       ++onPlane;
       const double tBuffer = camera.depthMap(ray).distanceOf(d);
       worst = std::max(worst, std::fabs(tBuffer - t) / t);
-
     }
   }
   std::printf("depth read-back: %d pixels on the plane, worst relative distance error %.2e\n",
-    onPlane, worst);
+    onPlane,
+    worst);
   RM_CHECK(onPlane > 50);
   RM_CHECK(worst < 1e-4); // 24-bit depth buffer
 
@@ -118,8 +118,13 @@ int TestRayMapperCommon(int, char*[])
   win->Render();
   const auto centre = Pixel(win, 100, 80);
   const auto corner = Pixel(win, 1, 1);
-  std::printf("blend: over the plane (%d %d %d), over the background (%d %d %d)\n", centre[0],
-    centre[1], centre[2], corner[0], corner[1], corner[2]);
+  std::printf("blend: over the plane (%d %d %d), over the background (%d %d %d)\n",
+    centre[0],
+    centre[1],
+    centre[2],
+    corner[0],
+    corner[1],
+    corner[2]);
   RM_CHECK(std::abs(centre[0] - 191) <= 1 && std::abs(centre[1] - 128) <= 1);
   RM_CHECK(std::abs(corner[0] - 64) <= 1 && corner[1] == 0);
 
@@ -137,7 +142,10 @@ int TestRayMapperCommon(int, char*[])
   win->Render();
   const auto c2 = Pixel(win, 100, 80);
   std::printf("opaque: plane depth at the centre %.4f, frame in front: pixel (%d %d %d)\n",
-    planeDepthAtCentre, c2[0], c2[1], c2[2]);
+    planeDepthAtCentre,
+    c2[0],
+    c2[1],
+    c2[2]);
   RM_CHECK(c2[0] == 0 && c2[1] == 255 && c2[2] == 0);
   for (std::size_t k = 0; k < overlay.Frame.depth.size(); ++k)
   {

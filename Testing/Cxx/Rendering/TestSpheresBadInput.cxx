@@ -42,7 +42,8 @@ struct Viewer
 };
 
 vtkSmartPointer<vtkPolyData> WithExtraPoints(vtkPolyData* clean,
-  const std::vector<std::array<double, 3>>& points, const std::vector<double>& radii)
+  const std::vector<std::array<double, 3>>& points,
+  const std::vector<double>& radii)
 {
   std::vector<std::array<double, 3>> c;
   std::vector<double> r;
@@ -88,8 +89,8 @@ int TestSpheresBadInput(int, char*[])
   {
     Viewer v;
     v.Mapper->SetRadiusArrayName("radius");
-    auto data = WithExtraPoints(clean, { { nan, 0, 0 }, { 0, inf, 0 }, { nan, nan, nan } },
-      { 0.3, 0.3, 0.3 });
+    auto data = WithExtraPoints(
+      clean, { { nan, 0, 0 }, { 0, inf, 0 }, { nan, nan, nan } }, { 0.3, 0.3, 0.3 });
     RM_CHECK(v.Show(data) == expected);
     RM_CHECK(v.Events.Warnings == 1);
     RM_CHECK(v.Mapper->GetStatistics()->GetCounter("spheres") == 27);
@@ -98,8 +99,8 @@ int TestSpheresBadInput(int, char*[])
   {
     Viewer v;
     v.Mapper->SetRadiusArrayName("radius");
-    auto data = WithExtraPoints(clean, { { 0.5, 0.5, 0.5 }, { -0.5, 0.5, 0 }, { 0, 0, 0.5 } },
-      { 0.0, -0.2, nan });
+    auto data = WithExtraPoints(
+      clean, { { 0.5, 0.5, 0.5 }, { -0.5, 0.5, 0 }, { 0, 0, 0.5 } }, { 0.0, -0.2, nan });
     RM_CHECK(v.Show(data) == expected);
     RM_CHECK(v.Events.Warnings == 1);
   }

@@ -14,7 +14,8 @@
 
 int TestSpheresOcclusion(int argc, char* argv[])
 {
-  auto spheres = rmtest::MakeSpheres({ { -1.2, 0, 0 }, { 0, 0, 0 }, { 1.2, 0, 0 } }, { 0.5, 0.5, 0.5 });
+  auto spheres =
+    rmtest::MakeSpheres({ { -1.2, 0, 0 }, { 0, 0, 0 }, { 1.2, 0, 0 } }, { 0.5, 0.5, 0.5 });
   vtkNew<vtkCGTSphereMapper> mapper;
   mapper->SetInputData(spheres);
   mapper->SetRadiusArrayName("radius");
@@ -63,7 +64,8 @@ int TestSpheresOcclusion(int argc, char* argv[])
   ren->ResetCameraClippingRange();
   win->Render();
 
-  auto rgbAt = [&](const double p[3]) {
+  auto rgbAt = [&](const double p[3])
+  {
     double d[3];
     rmtest::DisplayOf(ren, p, d);
     const int x = static_cast<int>(std::floor(d[0])), y = static_cast<int>(std::floor(d[1]));
@@ -74,12 +76,13 @@ int TestSpheresOcclusion(int argc, char* argv[])
   };
   // Depth in the buffer at the pixel showing p, and the closed-form depth of the sphere
   // (c, 0.5) along that pixel's ray.
-  auto sphereDepths = [&](const double p[3], const double c[3], double& buffer, double& exact) {
+  auto sphereDepths = [&](const double p[3], const double c[3], double& buffer, double& exact)
+  {
     int x, y;
     buffer = rmtest::BufferDepthAt(ren, p, x, y);
     exact = rmtest::SphereDepthAtPixel(ren, x, y, c, 0.5);
-    std::printf("sphere depth at pixel (%d, %d): buffer %.7f closed form %.7f\n", x, y, buffer,
-      exact);
+    std::printf(
+      "sphere depth at pixel (%d, %d): buffer %.7f closed form %.7f\n", x, y, buffer, exact);
   };
   double buffer, exact;
 
@@ -94,7 +97,7 @@ int TestSpheresOcclusion(int argc, char* argv[])
   const double underPlane[3] = { 0, 0.48, 0.2 };
   int x, y;
   RM_CHECK(std::fabs(rmtest::BufferDepthAt(ren, underPlane, x, y) -
-             rmtest::WindowDepthOf(ren, underPlane)) < 1e-3);
+                     rmtest::WindowDepthOf(ren, underPlane)) < 1e-3);
   RM_CHECK(rgbAt(underPlane) == (std::array<int, 3>{ 255, 0, 0 }));
   // The green quad hides the lower part of the left sphere.
   const double onQuad[3] = { -1.2, -0.3, 1 };

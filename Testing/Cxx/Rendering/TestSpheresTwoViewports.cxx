@@ -54,8 +54,8 @@ int TestSpheresTwoViewports(int argc, char* argv[])
   int x, y;
   const double buffer = rmtest::BufferDepthAt(right, front, x, y);
   const double exact = rmtest::SphereDepthAtPixel(right, x, y, c, r);
-  std::printf("right viewport depth at (%d, %d): buffer %.7f closed form %.7f\n", x, y, buffer,
-    exact);
+  std::printf(
+    "right viewport depth at (%d, %d): buffer %.7f closed form %.7f\n", x, y, buffer, exact);
   RM_CHECK(std::fabs(buffer - exact) < 1e-5);
   // Nothing of the right renderer leaks into the left viewport: the left renderer's
   // corner pixel keeps its background.
