@@ -8,6 +8,7 @@
 #include "vtkDataSet.h"
 #include "vtkExodusIIReader.h"
 #include "vtkGenericDataObjectReader.h"
+#include "vtkLAMMPSDumpReader.h"
 #include "vtkMultiBlockPLOT3DReader.h"
 #include "vtkPDBReader.h"
 #include "vtkPointData.h"
@@ -83,6 +84,13 @@ vtkSmartPointer<vtkDataObject> ReadAny(const std::string& path)
     r->Update();
     return r->GetOutputDataObject(0);
   }
+  if (EndsWith(path, ".dump") || EndsWith(path, ".lammpstrj"))
+  {
+    vtkNew<vtkLAMMPSDumpReader> r;
+    r->SetFileName(path.c_str());
+    r->Update();
+    return r->GetOutputDataObject(0);
+  }
   if (EndsWith(path, ".vtk"))
   {
     vtkNew<vtkGenericDataObjectReader> r;
@@ -102,7 +110,7 @@ vtkSmartPointer<vtkDataObject> ReadAny(const std::string& path)
     return r->GetOutput();
   }
   std::cerr << "raymappers: unknown file type (legacy .vtk, VTK XML, Exodus, PDB, PLOT3D "
-               "NAMExyz.bin): "
+               "NAMExyz.bin, LAMMPS .dump/.lammpstrj): "
             << path << "\n";
   return nullptr;
 }

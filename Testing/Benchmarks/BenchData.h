@@ -1,6 +1,6 @@
 // Data for the benchmark and the demo: any file VTK reads (legacy .vtk, XML, Exodus, PDB,
-// PLOT3D NAMExyz.bin with NAMEq.bin beside it), turned into what a suite renders: all points
-// with their point data (particle suites) or the cells (volume suites).
+// PLOT3D NAMExyz.bin with NAMEq.bin beside it, LAMMPS text dumps), turned into what a suite
+// renders: all points with their point data (particle suites) or the cells (volume suites).
 #ifndef RayMappers_BenchData_h
 #define RayMappers_BenchData_h
 
