@@ -17,6 +17,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
+#include "vtkHardwareSelector.h"
 #include "vtkRenderer.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -146,6 +147,12 @@ void vtkCGTSphereMapper::ComputeBounds()
 
 void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
 {
+  if (ren->GetSelector())
+  {
+    // A hardware selection pass asks for ids, not colours: spheres are not pickable yet,
+    // and colours written there would be read as ids.
+    return;
+  }
   raymappers::RenderStatistics stats;
   vtkPolyData* input = this->GetInput();
   if (!input || input->GetNumberOfPoints() == 0)

@@ -62,6 +62,10 @@ vtkRayTracedSpheresRepresentation::vtkRayTracedSpheresRepresentation()
   this->Mapper = vtkSmartPointer<vtkCGTSphereMapper>::New();
   this->Actor = vtkSmartPointer<vtkActor>::New();
   this->Actor->SetMapper(this->Mapper);
+  // vtkCGTSphereMapper draws an opaque frame that writes depth: it must run in the
+  // opaque pass even when Opacity < 1 or the lookup table maps opacity (a translucent
+  // actor would be drawn by ParaView's depth peeling, which the mapper does not support).
+  this->Actor->ForceOpaqueOn();
   // Until a color array is chosen, the spheres have the solid color: do not let the
   // mapper pick the active scalars of the data on its own.
   this->Mapper->SetScalarVisibility(0);
@@ -139,8 +143,8 @@ vtkDataObject* vtkRayTracedSpheresRepresentation::GetRenderedDataObject(int port
 }
 
 //----------------------------------------------------------------------------
-int vtkRayTracedSpheresRepresentation::FillInputPortInformation(
-  int vtkNotUsed(port), vtkInformation* info)
+int vtkRayTracedSpheresRepresentation::FillInputPortInformation(int vtkNotUsed(port),
+  vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
   info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
@@ -151,8 +155,7 @@ int vtkRayTracedSpheresRepresentation::FillInputPortInformation(
 }
 
 //----------------------------------------------------------------------------
-vtkSmartPointer<vtkPolyData> vtkRayTracedSpheresRepresentation::GatherPoints(
-  vtkDataObject* input)
+vtkSmartPointer<vtkPolyData> vtkRayTracedSpheresRepresentation::GatherPoints(vtkDataObject* input)
 {
   auto output = vtkSmartPointer<vtkPolyData>::New();
 
@@ -254,8 +257,9 @@ vtkSmartPointer<vtkPolyData> vtkRayTracedSpheresRepresentation::GatherPoints(
 }
 
 //----------------------------------------------------------------------------
-int vtkRayTracedSpheresRepresentation::RequestData(
-  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkRayTracedSpheresRepresentation::RequestData(vtkInformation* request,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   this->ProcessedData = nullptr;
   if (inputVector[0]->GetNumberOfInformationObjects() == 1)
@@ -293,8 +297,9 @@ double vtkRayTracedSpheresRepresentation::GetLargestRadius(vtkPolyData* data) co
 }
 
 //----------------------------------------------------------------------------
-int vtkRayTracedSpheresRepresentation::ProcessViewRequest(
-  vtkInformationRequestKey* request_type, vtkInformation* inInfo, vtkInformation* outInfo)
+int vtkRayTracedSpheresRepresentation::ProcessViewRequest(vtkInformationRequestKey* request_type,
+  vtkInformation* inInfo,
+  vtkInformation* outInfo)
 {
   // The superclass returns 0 when the representation is hidden: nothing to do then.
   if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo))
@@ -327,8 +332,7 @@ int vtkRayTracedSpheresRepresentation::ProcessViewRequest(
   }
   else if (request_type == vtkPVView::REQUEST_RENDER())
   {
-    vtkPolyData* delivered =
-      vtkPolyData::SafeDownCast(vtkPVView::GetDeliveredPiece(inInfo, this));
+    vtkPolyData* delivered = vtkPolyData::SafeDownCast(vtkPVView::GetDeliveredPiece(inInfo, this));
     if (delivered)
     {
       this->Mapper->SetInputData(delivered);
@@ -361,7 +365,7 @@ void vtkRayTracedSpheresRepresentation::UpdateColoringParameters()
 
   // Only point arrays can color points: anything else shows the solid color.
   if (colorArrayName && colorArrayName[0] &&
-    fieldAssociation == vtkDataObject::FIELD_ASSOCIATION_POINTS)
+      fieldAssociation == vtkDataObject::FIELD_ASSOCIATION_POINTS)
   {
     this->Mapper->SetScalarVisibility(1);
     this->Mapper->SetScalarMode(VTK_SCALAR_MODE_USE_POINT_FIELD_DATA);
@@ -424,8 +428,7 @@ void vtkRayTracedSpheresRepresentation::SetUseRadiusArray(bool use)
 }
 
 //----------------------------------------------------------------------------
-void vtkRayTracedSpheresRepresentation::SelectRadiusArray(
-  int, int, int, int, const char* name)
+void vtkRayTracedSpheresRepresentation::SelectRadiusArray(int, int, int, int, const char* name)
 {
   const std::string newName = name ? name : "";
   if (this->RadiusArrayName != newName)
@@ -527,5 +530,7 @@ void vtkRayTracedSpheresRepresentation::SetSpecularColor(double r, double g, dou
 
 void vtkRayTracedSpheresRepresentation::SetOpacity(double val)
 {
+  // Kept on the property for the mapper; the actor stays in the opaque pass (see the
+  // constructor), so the spheres are drawn opaque until the mapper blends.
   this->Actor->GetProperty()->SetOpacity(val);
 }

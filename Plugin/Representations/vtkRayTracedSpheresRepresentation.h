@@ -17,7 +17,9 @@
  * Coloring follows ParaView's usual rules (ColorArrayName + LookupTable + MapScalars, or
  * the solid DiffuseColor when no point array is selected; cell arrays cannot color
  * points, the solid color is used then). Lighting comes from the actor's vtkProperty
- * (Ambient, Diffuse, Specular, SpecularPower, SpecularColor, Opacity).
+ * (Ambient, Diffuse, Specular, SpecularPower, SpecularColor). Opacity is passed to the
+ * property, but the actor is forced opaque: the mapper draws opaque spheres that write
+ * depth, and ParaView's translucent pass (depth peeling) cannot draw them.
  *
  * The sphere radius is RadiusScale * (UseRadiusArray ? the value of the selected
  * 1-component point array : Radius).
@@ -54,7 +56,8 @@ public:
    * REQUEST_UPDATE hands the cached point polydata and its bounds to the view;
    * REQUEST_RENDER gives the delivered piece to the mapper.
    */
-  int ProcessViewRequest(vtkInformationRequestKey* request_type, vtkInformation* inInfo,
+  int ProcessViewRequest(vtkInformationRequestKey* request_type,
+    vtkInformation* inInfo,
     vtkInformation* outInfo) override;
 
   /**

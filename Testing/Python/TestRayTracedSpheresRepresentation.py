@@ -16,10 +16,15 @@ What it checks, failing with a non-zero exit code otherwise:
      and the representation's properties exist;
   2. the default Radius is 1% of the largest side of the data's bounding box;
   3. every point of the data is rendered (all points of all blocks, not only the surface);
-  4. property changes are visible: larger spheres (the radius array) cover more pixels,
-     a hidden representation draws nothing;
-  5. the final image (colored by a point array, radii from a point array) matches the
-     baseline with ParaView's (VTK's) image comparison.
+  4. property changes are visible: a hidden representation draws nothing, the solid
+     DiffuseColor is used without a color array, larger spheres (the radius array) cover
+     more pixels;
+  5. the spheres are where ParaView's own sphere glyphs of the same radii are (silhouette
+     intersection over union > 0.98, same camera);
+  6. the final image (colored by a point array, radii from a point array) matches the
+     baseline with VTK's image comparison (vtkmodules.test.Testing, as ParaView's tests).
+Side images (constant radius, hidden, solid color, glyph reference) are written next to
+OUTPUT.
 """
 import argparse
 import math
@@ -87,6 +92,16 @@ def silhouette(png, background):
     return (abs(pixels - bg) > 3).any(axis=1)
 
 
+def mean_foreground_color(png):
+    """Mean RGB of the pixels of a PNG that differ from the background."""
+    reader = vtkPNGReader()
+    reader.SetFileName(png)
+    reader.Update()
+    pixels = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3].astype(float)
+    mask = silhouette(png, BACKGROUND)
+    return pixels[mask].mean(axis=0) if mask.any() else pixels[0] * 0
+
+
 def glyph_reference(source, view, radius_array, radius_scale, path, size):
     """ParaView's own sphere glyphs (tessellated spheres, same radii and camera): the
     reference for where the ray-traced spheres must be."""
@@ -94,8 +109,8 @@ def glyph_reference(source, view, radius_array, radius_scale, path, size):
     glyphs.GlyphMode = 'All Points'
     glyphs.ScaleArray = ['POINTS', radius_array]
     glyphs.ScaleFactor = 2.0 * radius_scale  # the glyph sphere's radius is 0.5
-    glyphs.GlyphType.ThetaResolution = 48
-    glyphs.GlyphType.PhiResolution = 48
+    glyphs.GlyphType.ThetaResolution = 32
+    glyphs.GlyphType.PhiResolution = 32
     glyph_rep = Show(glyphs, view)
     glyph_rep.ColorArrayName = ['POINTS', '']
     Render(view)
@@ -134,6 +149,11 @@ def compare_with_baseline(output, baseline, threshold):
 def main():
     args = parse_args()
     out_dir = os.path.dirname(os.path.abspath(args.output))
+    if out_dir == os.path.dirname(os.path.abspath(args.baseline)):
+        # A failed comparison writes the test image next to OUTPUT under the baseline's
+        # name: it must not land on the baseline itself.
+        print('FAIL  OUTPUT must not be in the baseline folder')
+        return 2
     os.makedirs(out_dir, exist_ok=True)
     stem = os.path.splitext(os.path.abspath(args.output))[0]
 
@@ -160,6 +180,10 @@ def run_checks(args, source, view, stem):
 
     view.ViewSize = args.size
     view.OrientationAxesVisibility = 0
+    # No FXAA (on by default in 5.11): it blends the edges of bright spheres into the
+    # background, which blurs the silhouette comparison with the glyphs.
+    if view.GetProperty('UseFXAA') is not None:
+        view.UseFXAA = 0
     if view.GetProperty('UseColorPaletteForBackground') is not None:
         view.UseColorPaletteForBackground = 0
     view.Background = BACKGROUND
@@ -216,6 +240,18 @@ def run_checks(args, source, view, stem):
     Show(source, view)
     check(rep.Representation == REPRESENTATION, 'the representation survives Hide/Show')
 
+    # No color array: the solid DiffuseColor (red here) colors the spheres.
+    ColorBy(rep, None)
+    rep.DiffuseColor = [1.0, 0.0, 0.0]
+    screenshot(view, stem + '-solid-color.png', args.size)
+    red = mean_foreground_color(stem + '-solid-color.png')
+    check(red[0] > 4 * max(red[1], red[2], 1.0),
+          'without a color array the spheres are DiffuseColor red (mean %s)'
+          % [round(c) for c in red])
+    rep.DiffuseColor = [1.0, 1.0, 1.0]
+    ColorBy(rep, ('POINTS', args.color_array))
+    rep.SetScalarBarVisibility(view, False)
+
     # Radii from a point array: the change must be visible (more pixels covered).
     rep.UseRadiusArray = 1
     rep.RadiusArray = ['POINTS', args.radius_array]
@@ -226,7 +262,7 @@ def run_checks(args, source, view, stem):
           % (args.radius_scale, 100 * large, 100 * small))
 
     # The spheres are where ParaView's sphere glyphs of the same radii are: the
-    # silhouettes agree (up to the glyphs' tessellation and antialiasing of edges).
+    # silhouettes agree (up to the glyphs' tessellation).
     ours = silhouette(args.output, BACKGROUND)
     Hide(source, view)
     theirs = glyph_reference(source, view, args.radius_array, args.radius_scale,
@@ -234,7 +270,7 @@ def run_checks(args, source, view, stem):
     Show(source, view)
     union = (ours | theirs).sum()
     iou = (ours & theirs).sum() / union if union else 0.0
-    check(iou > 0.97, 'silhouette matches ParaView sphere glyphs (IoU %.4f)' % iou)
+    check(iou > 0.98, 'silhouette matches ParaView sphere glyphs (IoU %.4f)' % iou)
 
     if not compare_with_baseline(args.output, args.baseline, args.threshold):
         failures.append('baseline comparison')
@@ -247,4 +283,8 @@ def run_checks(args, source, view, stem):
 
 
 if __name__ == '__main__':
-    sys.exit(main())
+    code = main()
+    # Exit explicitly only on failure: under `mpirun pvbatch`, sys.exit(0) on rank 0 skips
+    # ParaView's MPI finalization and leaves the other ranks waiting.
+    if code:
+        sys.exit(code)
