@@ -6,6 +6,8 @@ add_library(RayMappersKernels STATIC
   ${CMAKE_CURRENT_LIST_DIR}/Common/RenderStatistics.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/TransferFunctionTable.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/Lighting.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/CGT/CoherentGrid.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/CGT/CoherentGridAccelerator.cxx
   ${CMAKE_CURRENT_LIST_DIR}/CGT/EmbreeSphereAccelerator.cxx
   ${CMAKE_CURRENT_LIST_DIR}/CGT/SphereRenderer.cxx)
 target_include_directories(RayMappersKernels PUBLIC

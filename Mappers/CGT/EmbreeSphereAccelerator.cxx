@@ -60,12 +60,57 @@ void EmbreeSphereAccelerator::build(const SphereSet& spheres, Quality quality)
   rtcCommitScene(Scene);
 }
 
-void EmbreeSphereAccelerator::intersect16(const int* valid, RTCRayHit16& rayhit) const
+void EmbreeSphereAccelerator::intersect(const RayPacket& packet,
+  PacketHits& hits,
+  TraversalCounters& /*counters*/) const
 {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  rtcIntersect16(valid, Scene, &context, &rayhit);
+  const int n = packet.side * packet.side;
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[16];
+  for (int base = 0; base < n; base += 16)
+  {
+    bool any = false;
+    for (int k = 0; k < 16; ++k)
+    {
+      const int lane = base + k;
+      valid[k] = (lane < n && packet.valid[lane]) ? -1 : 0;
+      if (!valid[k])
+      {
+        continue;
+      }
+      any = true;
+      const Ray& r = packet.rays[lane];
+      rh.ray.org_x[k] = r.org.x;
+      rh.ray.org_y[k] = r.org.y;
+      rh.ray.org_z[k] = r.org.z;
+      rh.ray.dir_x[k] = r.dir.x;
+      rh.ray.dir_y[k] = r.dir.y;
+      rh.ray.dir_z[k] = r.dir.z;
+      rh.ray.tnear[k] = r.tnear;
+      rh.ray.tfar[k] = r.tfar;
+      rh.ray.time[k] = 0.f;
+      rh.ray.mask[k] = 0xFFFFFFFFu;
+      rh.ray.id[k] = static_cast<unsigned>(k);
+      rh.ray.flags[k] = 0;
+      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    if (!any)
+    {
+      continue;
+    }
+    rtcIntersect16(valid, Scene, &context, &rh);
+    for (int k = 0; k < 16 && base + k < n; ++k)
+    {
+      const int lane = base + k;
+      const bool hit = valid[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+      hits.prim[lane] = hit ? rh.hit.primID[k] : NoHit;
+      hits.t[lane] = hit ? rh.ray.tfar[k] : 0.f;
+    }
+  }
 }
 
 } // namespace raymappers

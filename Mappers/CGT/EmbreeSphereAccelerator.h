@@ -3,6 +3,7 @@
 #ifndef RayMappers_EmbreeSphereAccelerator_h
 #define RayMappers_EmbreeSphereAccelerator_h
 
+#include "SphereAccelerator.h"
 #include "SphereSet.h"
 
 #include <embree3/rtcore.h>
@@ -10,7 +11,7 @@
 namespace raymappers
 {
 
-class EmbreeSphereAccelerator
+class EmbreeSphereAccelerator : public SphereAccelerator
 {
 public:
   enum class Quality
@@ -21,17 +22,19 @@ public:
   };
 
   EmbreeSphereAccelerator();
-  ~EmbreeSphereAccelerator();
+  ~EmbreeSphereAccelerator() override;
   EmbreeSphereAccelerator(const EmbreeSphereAccelerator&) = delete;
   EmbreeSphereAccelerator& operator=(const EmbreeSphereAccelerator&) = delete;
 
   /// (Re)builds the BVH over the spheres. primID of a hit is the index in `spheres`.
   void build(const SphereSet& spheres, Quality quality = Quality::Medium);
-  bool empty() const { return Count == 0; }
+  bool empty() const override { return Count == 0; }
 
-  /// Closest hits of up to 16 rays (valid[i] = -1 for active lanes, 0 otherwise); the
-  /// context is flagged coherent (primary rays of a pixel block).
-  void intersect16(const int* valid, RTCRayHit16& rayhit) const;
+  /// The packet in chunks of 16 rays (4 x 4 pixels when side is 4) through rtcIntersect16,
+  /// with the context flagged coherent (primary rays of a pixel block).
+  void intersect(const RayPacket& packet,
+    PacketHits& hits,
+    TraversalCounters& counters) const override;
 
 private:
   RTCDevice Device = nullptr;

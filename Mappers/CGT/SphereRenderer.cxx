@@ -44,7 +44,8 @@ inline Vec3d mul3(const double* m, int stride, const Vec3d& v)
 }
 
 void renderSpheres(const SphereSet& spheres,
-  const EmbreeSphereAccelerator& accel,
+  const SphereAccelerator& accel,
+  int packetSide,
   const RayCamera& camera,
   const SphereShading& shading,
   int tileSize,
@@ -57,16 +58,18 @@ void renderSpheres(const SphereSet& spheres,
   const bool lit = !shading.lights.empty();
   stats.setEffect("shading", lit);
   stats.setEffect("specular", lit && shading.material.specular > 0);
-  stats.declareCounter("rays");
-  stats.declareCounter("packets");
-  stats.declareCounter("hits");
+  for (const char* c : { "rays", "packets", "hits", "cells", "culled", "sphere_tests" })
+  {
+    stats.declareCounter(c);
+  }
   if (accel.empty() || width <= 0 || height <= 0)
   {
     return;
   }
+  const int side = std::clamp(packetSide, 1, MaxPacketSide);
 
   const double* mw = shading.modelToWorld;
-  std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, hits{ 0 };
+  std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, hits{ 0 }, cells{ 0 }, culled{ 0 }, tests{ 0 };
   {
     ScopedPhase phase(stats, "trace");
     forEachTile(width,
@@ -75,56 +78,39 @@ void renderSpheres(const SphereSet& spheres,
       [&](const Tile& tile)
       {
         std::int64_t tileRays = 0, tilePackets = 0, tileHits = 0;
-        alignas(64) RTCRayHit16 rh;
-        alignas(64) int valid[16];
-        Ray lane[16];
-        for (int by = tile.y0; by < tile.y1; by += 4)
+        TraversalCounters counters;
+        RayPacket packet;
+        packet.side = side;
+        PacketHits result;
+        for (int by = tile.y0; by < tile.y1; by += side)
         {
-          for (int bx = tile.x0; bx < tile.x1; bx += 4)
+          for (int bx = tile.x0; bx < tile.x1; bx += side)
           {
-            int active = 0;
-            for (int k = 0; k < 16; ++k)
+            for (int k = 0; k < side * side; ++k)
             {
-              const int i = bx + (k & 3);
-              const int j = by + (k >> 2);
-              const bool inside = i < tile.x1 && j < tile.y1;
-              valid[k] = inside ? -1 : 0;
-              if (!inside)
+              const int i = bx + k % side;
+              const int j = by + k / side;
+              packet.valid[k] = i < tile.x1 && j < tile.y1;
+              if (packet.valid[k])
               {
-                continue;
+                packet.rays[k] = camera.pixelRay(i, j);
+                ++tileRays;
               }
-              ++active;
-              lane[k] = camera.pixelRay(i, j);
-              rh.ray.org_x[k] = lane[k].org.x;
-              rh.ray.org_y[k] = lane[k].org.y;
-              rh.ray.org_z[k] = lane[k].org.z;
-              rh.ray.dir_x[k] = lane[k].dir.x;
-              rh.ray.dir_y[k] = lane[k].dir.y;
-              rh.ray.dir_z[k] = lane[k].dir.z;
-              rh.ray.tnear[k] = lane[k].tnear;
-              rh.ray.tfar[k] = lane[k].tfar;
-              rh.ray.time[k] = 0.f;
-              rh.ray.mask[k] = 0xFFFFFFFFu;
-              rh.ray.id[k] = static_cast<unsigned>(k);
-              rh.ray.flags[k] = 0;
-              rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-              rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
             }
-            tileRays += active;
             ++tilePackets;
-            accel.intersect16(valid, rh);
-            for (int k = 0; k < 16; ++k)
+            accel.intersect(packet, result, counters);
+            for (int k = 0; k < side * side; ++k)
             {
-              if (!valid[k] || rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID)
+              if (!packet.valid[k] || result.prim[k] == NoHit)
               {
                 continue;
               }
               ++tileHits;
-              const unsigned id = rh.hit.primID[k];
-              const Ray& ray = lane[k];
+              const std::uint32_t id = result.prim[k];
+              const Ray& ray = packet.rays[k];
               const Vec3d o(ray.org), d(ray.dir), c(spheres.centers[id]);
               const double r = spheres.radii[id];
-              const double t = refineSphereHit(o, d, c, r, rh.ray.tfar[k]);
+              const double t = refineSphereHit(o, d, c, r, result.t[k]);
               const Vec3d pRel = o + d * t;
               Vec3d n = (pRel - c) * (1.0 / r);
               if (dot(n, d) > 0)
@@ -144,9 +130,7 @@ void renderSpheres(const SphereSet& spheres,
                 const Vec3d vw = normalize(-mul3(mw, 4, d));
                 color = shade(shading.lights, shading.material, base, pw, nw, vw);
               }
-              const int i = bx + (k & 3);
-              const int j = by + (k >> 2);
-              const std::size_t idx = frame.index(i, j);
+              const std::size_t idx = frame.index(bx + k % side, by + k / side);
               frame.rgba[4 * idx] = static_cast<float>(std::clamp(color.x, 0.0, 1.0));
               frame.rgba[4 * idx + 1] = static_cast<float>(std::clamp(color.y, 0.0, 1.0));
               frame.rgba[4 * idx + 2] = static_cast<float>(std::clamp(color.z, 0.0, 1.0));
@@ -159,11 +143,17 @@ void renderSpheres(const SphereSet& spheres,
         rays += tileRays;
         packets += tilePackets;
         hits += tileHits;
+        cells += counters.cells;
+        culled += counters.culled;
+        tests += counters.sphereTests;
       });
   }
   stats.addCounter("rays", rays.load());
   stats.addCounter("packets", packets.load());
   stats.addCounter("hits", hits.load());
+  stats.addCounter("cells", cells.load());
+  stats.addCounter("culled", culled.load());
+  stats.addCounter("sphere_tests", tests.load());
 }
 
 } // namespace raymappers

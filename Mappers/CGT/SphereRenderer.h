@@ -1,14 +1,14 @@
-// Ray casts a SphereSet into a Frame: primary rays in 4x4 packets per screen tile (TBB),
-// closest hits from the accelerator, the exact hit refined in double precision, Lambert +
-// Phong shading in world space, and the window depth of the hit.
+// Ray casts a SphereSet into a Frame: primary rays in square packets per screen tile (TBB),
+// closest hits from an accelerator (Embree's BVH or the coherent grid), the exact hit refined in
+// double precision, Lambert + Phong shading in world space, and the window depth of the hit.
 #ifndef RayMappers_SphereRenderer_h
 #define RayMappers_SphereRenderer_h
 
-#include "EmbreeSphereAccelerator.h"
 #include "Frame.h"
 #include "Lighting.h"
 #include "RayCamera.h"
 #include "RenderStatistics.h"
+#include "SphereAccelerator.h"
 #include "SphereSet.h"
 
 #include <vector>
@@ -24,10 +24,12 @@ struct SphereShading
   double normalToWorld[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
 };
 
-/// Renders the spheres seen by `camera` into `frame` (resized to the camera's grid).
-/// Counters: rays, packets, hits. Effects: shading, specular.
+/// Renders the spheres seen by `camera` into `frame` (resized to the camera's grid), in
+/// packets of packetSide x packetSide rays (clamped to [1, MaxPacketSide]).
+/// Counters: rays, packets, hits, cells, culled, sphere_tests. Effects: shading, specular.
 void renderSpheres(const SphereSet& spheres,
-  const EmbreeSphereAccelerator& accel,
+  const SphereAccelerator& accel,
+  int packetSide,
   const RayCamera& camera,
   const SphereShading& shading,
   int tileSize,

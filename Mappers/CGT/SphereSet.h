@@ -19,7 +19,8 @@ struct SphereSet
   Vec3d origin;
   std::vector<Vec3f> centers; // relative to origin
   std::vector<float> radii;
-  std::vector<std::uint32_t> colors; // RGBA8, red in the low byte
+  std::vector<std::uint32_t> colors;    // RGBA8, red in the low byte
+  std::vector<std::uint32_t> sourceIds; // the input point of each sphere
   float maxRadius = 0.f;
   std::size_t skippedNonFinite = 0; // centres with NaN/Inf
   std::size_t skippedBadRadius = 0; // radius NaN/Inf, zero or negative
@@ -47,6 +48,7 @@ void buildSphereSet(std::size_t n,
   out.centers.reserve(n);
   out.radii.reserve(n);
   out.colors.reserve(n);
+  out.sourceIds.reserve(n);
   for (std::size_t i = 0; i < n; ++i)
   {
     const Vec3d p = point(i);
@@ -64,6 +66,7 @@ void buildSphereSet(std::size_t n,
     out.centers.emplace_back(p - origin);
     out.radii.push_back(static_cast<float>(r));
     out.colors.push_back(color(i));
+    out.sourceIds.push_back(static_cast<std::uint32_t>(i));
     out.maxRadius = std::max(out.maxRadius, static_cast<float>(r));
   }
 }

@@ -1,5 +1,6 @@
 #include "vtkCGTSphereMapper.h"
 
+#include "CoherentGridAccelerator.h"
 #include "EmbreeSphereAccelerator.h"
 #include "Frame.h"
 #include "RenderStatistics.h"
@@ -11,13 +12,13 @@
 
 #include "vtkActor.h"
 #include "vtkDataArray.h"
+#include "vtkHardwareSelector.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
-#include "vtkHardwareSelector.h"
 #include "vtkRenderer.h"
 #include "vtkUnsignedCharArray.h"
 
@@ -30,7 +31,11 @@ vtkStandardNewMacro(vtkCGTSphereMapper);
 struct vtkCGTSphereMapper::Internals
 {
   raymappers::SphereSet Spheres;
-  raymappers::EmbreeSphereAccelerator Accelerator;
+  raymappers::EmbreeSphereAccelerator Embree;
+  raymappers::CoherentGridAccelerator Grid;
+  int BuiltAccelerator = -1;
+  double BuiltLambda = 0;
+  int BuiltMacrocell = 0;
   raymappers::Frame Frame;
   vtkRayMapperFrameDrawer Drawer;
   vtkNew<vtkRayMapperStatistics> Statistics;
@@ -161,8 +166,9 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     return;
   }
 
-  // 1. Update: the sphere set and its BVH depend on the points, the radius settings and
-  //    the colours; a camera or light change reuses them.
+  // 1. Update. The sphere set depends on the points and the radius settings, its colours
+  //    on the scalars, lookup table and actor colour, the accelerator on the sphere set and
+  //    its own parameters; a camera or light change reuses all of them.
   this->MapScalars(input, 1.0);
   vtkMTimeType colorTime = this->Colors ? this->Colors->GetMTime() : 0;
   colorTime = std::max(colorTime, actor->GetProperty()->GetMTime());
@@ -173,13 +179,7 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
                                Impl->BuiltRadiusArray != radiusArray;
   if (geometryChanged || Impl->BuiltColorTime != colorTime)
   {
-    raymappers::ScopedPhase phase(stats, "build");
-    std::string why;
-    vtkDataArray* radii = FindRadiusArray(input, this->RadiusArrayName, why);
-    if (!why.empty())
-    {
-      vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
-    }
+    raymappers::ScopedPhase phase(stats, geometryChanged ? "spheres" : "recolor");
     int cellFlag = 0;
     vtkUnsignedCharArray* colors = this->MapScalars(input, 1.0, cellFlag);
     if (colors && cellFlag != 0)
@@ -194,51 +194,64 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
         static_cast<unsigned>(std::lround(std::clamp(ac[1], 0.0, 1.0) * 255)),
         static_cast<unsigned>(std::lround(std::clamp(ac[2], 0.0, 1.0) * 255)),
         255);
-
-    vtkPoints* points = input->GetPoints();
-    const raymappers::Vec3d origin = FiniteCenter(points);
-    const double scale = this->RadiusScale;
-    const double constantRadius = this->Radius * scale;
     const unsigned char* rgba = colors ? colors->GetPointer(0) : nullptr;
     const int nc = colors ? colors->GetNumberOfComponents() : 0;
-    raymappers::buildSphereSet(
-      static_cast<std::size_t>(input->GetNumberOfPoints()),
-      origin,
-      [&](std::size_t i)
-      {
-        double p[3];
-        points->GetPoint(static_cast<vtkIdType>(i), p);
-        return raymappers::Vec3d(p[0], p[1], p[2]);
-      },
-      [&](std::size_t i) {
-        return radii ? radii->GetComponent(static_cast<vtkIdType>(i), 0) * scale : constantRadius;
-      },
-      [&](std::size_t i) -> std::uint32_t
-      {
-        if (!rgba)
-        {
-          return actorColor;
-        }
-        const unsigned char* c = rgba + nc * i;
-        return nc >= 3 ? raymappers::packRGBA8(c[0], c[1], c[2], 255)
-                       : raymappers::packRGBA8(c[0], c[0], c[0], 255);
-      },
-      Impl->Spheres);
-    if (Impl->Spheres.skippedNonFinite > 0)
+    auto colorOf = [&](std::size_t i) -> std::uint32_t
     {
-      vtkWarningMacro(<< Impl->Spheres.skippedNonFinite
-                      << " points have NaN or infinite coordinates and are not drawn.");
-    }
-    if (Impl->Spheres.skippedBadRadius > 0)
-    {
-      vtkWarningMacro(<< Impl->Spheres.skippedBadRadius
-                      << " spheres have a zero, negative or non-finite radius and are not drawn.");
-    }
+      if (!rgba)
+      {
+        return actorColor;
+      }
+      const unsigned char* c = rgba + nc * i;
+      return nc >= 3 ? raymappers::packRGBA8(c[0], c[1], c[2], 255)
+                     : raymappers::packRGBA8(c[0], c[0], c[0], 255);
+    };
+
     if (geometryChanged)
     {
-      Impl->Accelerator.build(Impl->Spheres, raymappers::EmbreeSphereAccelerator::Quality::Medium);
-      ++Impl->Builds;
-      stats.addCounter("bvh_builds_this_render", 1);
+      std::string why;
+      vtkDataArray* radii = FindRadiusArray(input, this->RadiusArrayName, why);
+      if (!why.empty())
+      {
+        vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
+      }
+      vtkPoints* points = input->GetPoints();
+      const double scale = this->RadiusScale;
+      const double constantRadius = this->Radius * scale;
+      raymappers::buildSphereSet(
+        static_cast<std::size_t>(input->GetNumberOfPoints()),
+        FiniteCenter(points),
+        [&](std::size_t i)
+        {
+          double p[3];
+          points->GetPoint(static_cast<vtkIdType>(i), p);
+          return raymappers::Vec3d(p[0], p[1], p[2]);
+        },
+        [&](std::size_t i) {
+          return radii ? radii->GetComponent(static_cast<vtkIdType>(i), 0) * scale : constantRadius;
+        },
+        colorOf,
+        Impl->Spheres);
+      if (Impl->Spheres.skippedNonFinite > 0)
+      {
+        vtkWarningMacro(<< Impl->Spheres.skippedNonFinite
+                        << " points have NaN or infinite coordinates and are not drawn.");
+      }
+      if (Impl->Spheres.skippedBadRadius > 0)
+      {
+        vtkWarningMacro(<< Impl->Spheres.skippedBadRadius
+                        << " spheres have a zero, negative or non-finite radius and are not "
+                           "drawn.");
+      }
+      Impl->BuiltAccelerator = -1;
+    }
+    else
+    {
+      // Only the colours changed: recolour in place (the spheres may be in grid order).
+      for (std::size_t i = 0; i < Impl->Spheres.size(); ++i)
+      {
+        Impl->Spheres.colors[i] = colorOf(Impl->Spheres.sourceIds[i]);
+      }
     }
     Impl->BuiltInputTime = input->GetMTime();
     Impl->BuiltColorTime = colorTime;
@@ -247,9 +260,37 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     Impl->BuiltRadiusArray = radiusArray;
     Impl->HasBuilt = true;
   }
-  stats.declareCounter("bvh_builds_this_render");
-  stats.addCounter("bvh_builds", Impl->Builds);
+  stats.declareCounter("builds_this_render");
+  const bool grid = this->Accelerator == VTK_CGT_ACCELERATOR_GRID;
+  if (Impl->BuiltAccelerator != this->Accelerator ||
+      (grid && (Impl->BuiltLambda != this->Lambda || Impl->BuiltMacrocell != this->MacrocellSize)))
+  {
+    raymappers::ScopedPhase phase(stats, grid ? "grid_build" : "bvh_build");
+    if (grid)
+    {
+      raymappers::CoherentGridParameters params;
+      params.lambda = this->Lambda;
+      params.macrocellSize = this->MacrocellSize;
+      Impl->Grid.build(Impl->Spheres, params);
+    }
+    else
+    {
+      Impl->Embree.build(Impl->Spheres, raymappers::EmbreeSphereAccelerator::Quality::Medium);
+    }
+    Impl->BuiltAccelerator = this->Accelerator;
+    Impl->BuiltLambda = this->Lambda;
+    Impl->BuiltMacrocell = this->MacrocellSize;
+    ++Impl->Builds;
+    stats.addCounter("builds_this_render", 1);
+  }
+  stats.addCounter("builds", Impl->Builds);
   stats.addCounter("spheres", static_cast<std::int64_t>(Impl->Spheres.size()));
+  if (grid)
+  {
+    const auto& d = Impl->Grid.grid().dims();
+    stats.addCounter("grid_cells", static_cast<std::int64_t>(d[0]) * d[1] * d[2]);
+    stats.addCounter("grid_bytes", static_cast<std::int64_t>(Impl->Grid.grid().memoryBytes()));
+  }
 
   // 2. Gather the camera, lights and material.
   raymappers::SphereShading shading;
@@ -271,8 +312,16 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   shading.material.specularColor = { sc[0], sc[1], sc[2] };
 
   // 3. Trace, 4. show.
-  raymappers::renderSpheres(
-    Impl->Spheres, Impl->Accelerator, camera, shading, this->TileSize, Impl->Frame, stats);
+  const raymappers::SphereAccelerator& accelerator =
+    grid ? static_cast<const raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
+  raymappers::renderSpheres(Impl->Spheres,
+    accelerator,
+    grid ? this->PacketSize : 4,
+    camera,
+    shading,
+    this->TileSize,
+    Impl->Frame,
+    stats);
   {
     raymappers::ScopedPhase phase(stats, "draw");
     Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth);
@@ -288,4 +337,9 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
      << "\n";
   os << indent << "RadiusScale: " << this->RadiusScale << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "Accelerator: "
+     << (this->Accelerator == VTK_CGT_ACCELERATOR_GRID ? "coherent grid" : "Embree") << "\n";
+  os << indent << "PacketSize: " << this->PacketSize << "\n";
+  os << indent << "Lambda: " << this->Lambda << "\n";
+  os << indent << "MacrocellSize: " << this->MacrocellSize << "\n";
 }

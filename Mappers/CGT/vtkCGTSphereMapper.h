@@ -13,8 +13,9 @@
  * RGBA + depth frame that is drawn into the OpenGL framebuffer writing depth, so the
  * spheres hide and are hidden by ordinary geometry.
  *
- * The accelerator is Embree's sphere-point BVH (the reference accelerator); the coherent
- * grid traversal of Gribble et al. is added by a later change as the default.
+ * Two accelerators answer the same closest-hit queries: the coherent grid traversal of
+ * Gribble et al. 2007 (default: a multi-level grid with the sphere-center method, square
+ * ray packets walking it slice by slice) and Embree's sphere-point BVH (the reference).
  *
  * Bad input never poisons the image: points with NaN/Inf coordinates, and spheres whose
  * radius is NaN, zero or negative, are skipped with one warning naming how many; a
@@ -32,6 +33,9 @@
 #include <memory> // for std::unique_ptr
 
 class vtkRayMapperStatistics;
+
+#define VTK_CGT_ACCELERATOR_GRID 0
+#define VTK_CGT_ACCELERATOR_EMBREE 1
 
 class RAYMAPPERSMAPPERS_EXPORT vtkCGTSphereMapper : public vtkPolyDataMapper
 {
@@ -76,6 +80,40 @@ public:
   vtkGetMacro(TileSize, int);
   ///@}
 
+  ///@{
+  /**
+   * The accelerator: VTK_CGT_ACCELERATOR_GRID (default) or VTK_CGT_ACCELERATOR_EMBREE.
+   */
+  vtkSetClampMacro(Accelerator, int, VTK_CGT_ACCELERATOR_GRID, VTK_CGT_ACCELERATOR_EMBREE);
+  vtkGetMacro(Accelerator, int);
+  void SetAcceleratorToCoherentGrid() { this->SetAccelerator(VTK_CGT_ACCELERATOR_GRID); }
+  void SetAcceleratorToEmbree() { this->SetAccelerator(VTK_CGT_ACCELERATOR_EMBREE); }
+  ///@}
+
+  ///@{
+  /**
+   * Side of the square ray packets of the coherent grid traversal, 1 to 16. Default 8.
+   */
+  vtkSetClampMacro(PacketSize, int, 1, 16);
+  vtkGetMacro(PacketSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * Grid cells per sphere (the grid has about Lambda * N cubic cells). Default 1.
+   */
+  vtkSetClampMacro(Lambda, double, 0.01, 100.0);
+  vtkGetMacro(Lambda, double);
+  ///@}
+
+  ///@{
+  /**
+   * Cells per side of a macrocell, the grid's empty-space level. Default 6.
+   */
+  vtkSetClampMacro(MacrocellSize, int, 1, 64);
+  vtkGetMacro(MacrocellSize, int);
+  ///@}
+
   /**
    * Statistics of the last render: phase times, counters, effects that ran.
    */
@@ -95,6 +133,10 @@ protected:
   char* RadiusArrayName = nullptr;
   double RadiusScale = 1.0;
   int TileSize = 32;
+  int Accelerator = VTK_CGT_ACCELERATOR_GRID;
+  int PacketSize = 8;
+  double Lambda = 1.0;
+  int MacrocellSize = 6;
 
 private:
   vtkCGTSphereMapper(const vtkCGTSphereMapper&) = delete;

@@ -1,5 +1,6 @@
-// Statistics after each render, and "rebuild only on change": a camera, colour or light
-// change reuses the BVH; a radius or point change rebuilds it. Lighting off turns the
+// Statistics after each render, and "rebuild only on change": a camera, colour, light or
+// packet-size change reuses the accelerator; switching accelerators builds only the new
+// one; a radius or point change rebuilds the spheres and the accelerator. Lighting off turns the
 // shading effect off.
 #include "RenderingTestHelpers.h"
 #include "vtkCGTSphereMapper.h"
@@ -27,8 +28,8 @@ int TestSpheresStatistics(int, char*[])
 
   vtkRayMapperStatistics* s = mapper->GetStatistics();
   std::printf("%s", s->GetSummary());
-  RM_CHECK(s->GetCounter("bvh_builds") == 1);
-  RM_CHECK(s->GetCounter("bvh_builds_this_render") == 1);
+  RM_CHECK(s->GetCounter("builds") == 1);
+  RM_CHECK(s->GetCounter("builds_this_render") == 1);
   RM_CHECK(s->GetCounter("spheres") == 64);
   RM_CHECK(s->GetCounter("rays") == 128 * 96);
   RM_CHECK(s->GetCounter("hits") > 0 && s->GetCounter("hits") < 128 * 96);
@@ -40,9 +41,9 @@ int TestSpheresStatistics(int, char*[])
   ren->GetActiveCamera()->Azimuth(30);
   ren->ResetCameraClippingRange();
   win->Render();
-  RM_CHECK(s->GetCounter("bvh_builds") == 1);
-  RM_CHECK(s->GetCounter("bvh_builds_this_render") == 0);
-  RM_CHECK(s->GetPhaseTime("build") == 0);
+  RM_CHECK(s->GetCounter("builds") == 1);
+  RM_CHECK(s->GetCounter("builds_this_render") == 0);
+  RM_CHECK(s->GetPhaseTime("spheres") == 0 && s->GetPhaseTime("grid_build") == 0);
 
   // New lookup table: colours change, the BVH does not.
   vtkNew<vtkLookupTable> lut;
@@ -50,23 +51,36 @@ int TestSpheresStatistics(int, char*[])
   lut->Build();
   mapper->SetLookupTable(lut);
   win->Render();
-  RM_CHECK(s->GetCounter("bvh_builds") == 1);
+  RM_CHECK(s->GetCounter("builds") == 1);
 
   // Lighting off: no shading effect.
   actor->GetProperty()->LightingOff();
   win->Render();
   RM_CHECK(!s->GetEffect("shading"));
   RM_CHECK(!s->GetEffect("specular"));
-  RM_CHECK(s->GetCounter("bvh_builds") == 1);
+  RM_CHECK(s->GetCounter("builds") == 1);
+
+  // Another packet size: nothing to rebuild. Another accelerator: that accelerator only.
+  mapper->SetPacketSize(4);
+  win->Render();
+  RM_CHECK(s->GetCounter("builds") == 1);
+  mapper->SetAcceleratorToEmbree();
+  win->Render();
+  RM_CHECK(s->GetCounter("builds") == 2);
+  RM_CHECK(s->GetPhaseTime("bvh_build") > 0 && s->GetPhaseTime("spheres") == 0);
+  mapper->SetAcceleratorToCoherentGrid();
+  win->Render();
+  RM_CHECK(s->GetCounter("builds") == 3);
+  RM_CHECK(s->GetCounter("grid_cells") > 0 && s->GetCounter("cells") > 0);
 
   // Radius scale and moved points rebuild.
   mapper->SetRadiusScale(0.5);
   win->Render();
-  RM_CHECK(s->GetCounter("bvh_builds") == 2);
+  RM_CHECK(s->GetCounter("builds") == 4);
   lattice->GetPoints()->SetPoint(0, 0.1, 0.2, 0.3);
   lattice->GetPoints()->Modified();
   win->Render();
-  RM_CHECK(s->GetCounter("bvh_builds") == 3);
+  RM_CHECK(s->GetCounter("builds") == 5);
   std::printf("%s", s->GetSummary());
   return EXIT_SUCCESS;
 }

@@ -1,0 +1,170 @@
+#include "CoherentGrid.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace raymappers
+{
+
+std::array<int, 3> CoherentGrid::cellOf(const Vec3f& p) const
+{
+  std::array<int, 3> c;
+  for (int a = 0; a < 3; ++a)
+  {
+    const float g = (p[a] - Lower[a]) / CellSize;
+    const int i = std::isfinite(g) ? static_cast<int>(std::floor(g)) : 0;
+    c[a] = std::clamp(i, 0, Dims[a] - 1);
+  }
+  return c;
+}
+
+void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& params)
+{
+  NumSpheres = spheres.size();
+  MaxRadius = spheres.maxRadius;
+  MacroSize = std::max(1, params.macrocellSize);
+  const std::size_t n = NumSpheres;
+
+  // Bounds of the centres.
+  Vec3f lo(std::numeric_limits<float>::max(),
+    std::numeric_limits<float>::max(),
+    std::numeric_limits<float>::max());
+  Vec3f hi(-lo.x, -lo.y, -lo.z);
+  for (const Vec3f& c : spheres.centers)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  }
+  if (n == 0)
+  {
+    lo = hi = Vec3f();
+  }
+  Lower = lo;
+
+  // Cubic cells of side h with about lambda * N cells over the extents that are not flat:
+  // h^d = (product of the d positive extents) / (lambda N).
+  const double lambda = params.lambda > 0 && std::isfinite(params.lambda) ? params.lambda : 1.0;
+  double volume = 1.0;
+  int d = 0;
+  double largest = 0.0;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double e = static_cast<double>(hi[a]) - lo[a];
+    largest = std::max(largest, e);
+    if (e > 0)
+    {
+      volume *= e;
+      ++d;
+    }
+  }
+  double h = 1.0;
+  if (d > 0 && n > 0)
+  {
+    h = std::pow(volume / (lambda * static_cast<double>(n)), 1.0 / d);
+    // Never fewer cells along the largest extent than 1 (a single sphere: one cell).
+    h = std::min(h, largest);
+  }
+  auto dimsFor = [&](double side)
+  {
+    std::array<int, 3> dims;
+    for (int a = 0; a < 3; ++a)
+    {
+      const double e = static_cast<double>(hi[a]) - lo[a];
+      dims[a] = std::max(1, static_cast<int>(std::ceil(e / side)));
+    }
+    return dims;
+  };
+  Dims = dimsFor(h);
+  auto total = [&]()
+  { return static_cast<std::int64_t>(Dims[0]) * Dims[1] * static_cast<std::int64_t>(Dims[2]); };
+  while (total() > params.maxCells)
+  {
+    h *= 1.25;
+    Dims = dimsFor(h);
+  }
+  CellSize = static_cast<float>(h);
+  const std::int64_t cells = total();
+
+  // Counting sort of the spheres by the cell of their centre.
+  std::vector<std::uint32_t> cellOfSphere(n);
+  tbb::parallel_for(std::size_t(0),
+    n,
+    [&](std::size_t i)
+    {
+      const auto c = cellOf(spheres.centers[i]);
+      cellOfSphere[i] = static_cast<std::uint32_t>(cellIndex(c[0], c[1], c[2]));
+    });
+  CellStart.assign(static_cast<std::size_t>(cells) + 1, 0);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    ++CellStart[cellOfSphere[i] + 1];
+  }
+  for (std::int64_t c = 0; c < cells; ++c)
+  {
+    CellStart[static_cast<std::size_t>(c) + 1] += CellStart[static_cast<std::size_t>(c)];
+  }
+  std::vector<std::uint32_t> perm(n);
+  {
+    std::vector<std::uint32_t> cursor(CellStart.begin(), CellStart.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      perm[cursor[cellOfSphere[i]]++] = static_cast<std::uint32_t>(i);
+    }
+  }
+  // Permute the spheres into cell order (stable: equal cells keep the input order).
+  {
+    SphereSet sorted;
+    sorted.origin = spheres.origin;
+    sorted.maxRadius = spheres.maxRadius;
+    sorted.skippedNonFinite = spheres.skippedNonFinite;
+    sorted.skippedBadRadius = spheres.skippedBadRadius;
+    sorted.centers.resize(n);
+    sorted.radii.resize(n);
+    sorted.colors.resize(n);
+    sorted.sourceIds.resize(n);
+    tbb::parallel_for(std::size_t(0),
+      n,
+      [&](std::size_t i)
+      {
+        sorted.centers[i] = spheres.centers[perm[i]];
+        sorted.radii[i] = spheres.radii[perm[i]];
+        sorted.colors[i] = spheres.colors[perm[i]];
+        sorted.sourceIds[i] = spheres.sourceIds[perm[i]];
+      });
+    spheres = std::move(sorted);
+  }
+
+  // Macrocells: how many spheres each M x M x M block of cells holds.
+  for (int a = 0; a < 3; ++a)
+  {
+    MacroDims[a] = (Dims[a] + MacroSize - 1) / MacroSize;
+  }
+  MacroCount.assign(
+    static_cast<std::size_t>(MacroDims[0]) * MacroDims[1] * static_cast<std::size_t>(MacroDims[2]),
+    0);
+  for (int k = 0; k < Dims[2]; ++k)
+  {
+    for (int j = 0; j < Dims[1]; ++j)
+    {
+      for (int i = 0; i < Dims[0]; ++i)
+      {
+        const std::int64_t c = cellIndex(i, j, k);
+        const std::uint32_t count = cellEnd(c) - cellBegin(c);
+        if (count)
+        {
+          MacroCount[(static_cast<std::size_t>(k / MacroSize) * MacroDims[1] + j / MacroSize) *
+                       MacroDims[0] +
+                     i / MacroSize] += count;
+        }
+      }
+    }
+  }
+}
+
+} // namespace raymappers

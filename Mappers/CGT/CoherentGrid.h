@@ -1,0 +1,79 @@
+// The multi-level grid of the coherent grid traversal for spheres (Gribble et al. 2007,
+// section 4.2), with the sphere-center method (section 4.1): every sphere is stored once,
+// in the cell that holds its centre, so the grid holds no duplicated references and needs
+// no mailboxes. The finest level has about lambda * N cubic cells; a second level of
+// macrocells (M x M x M cells each) records which blocks are empty so traversal skips them.
+//
+// The build sorts the spheres into cell order with a counting sort (cell ids computed in
+// parallel; histogram and scatter serial, which keeps the input order inside a cell): cell c
+// owns the spheres [cellStart[c], cellStart[c + 1]) of the permuted SphereSet, whose
+// sourceIds still name each sphere's input point. Besides the permuted
+// spheres the grid costs one 32-bit offset per cell and one count per macrocell.
+#ifndef RayMappers_CoherentGrid_h
+#define RayMappers_CoherentGrid_h
+
+#include "SphereSet.h"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace raymappers
+{
+
+struct CoherentGridParameters
+{
+  double lambda = 1.0;                           // cells per sphere (the paper's finding: 1)
+  int macrocellSize = 6;                         // cells per macrocell side (the paper's 6)
+  std::int64_t maxCells = std::int64_t(1) << 27; // memory guard
+};
+
+class CoherentGrid
+{
+public:
+  /// Builds the grid over `spheres`, permuting them into cell order in place.
+  void build(SphereSet& spheres, const CoherentGridParameters& params);
+
+  bool empty() const { return NumSpheres == 0; }
+  const std::array<int, 3>& dims() const { return Dims; }
+  const std::array<int, 3>& macroDims() const { return MacroDims; }
+  int macrocellSize() const { return MacroSize; }
+  const Vec3f& lower() const { return Lower; } // grid origin, origin-relative coordinates
+  float cellSize() const { return CellSize; }
+  float maxRadius() const { return MaxRadius; }
+
+  std::int64_t cellIndex(int i, int j, int k) const
+  {
+    return (static_cast<std::int64_t>(k) * Dims[1] + j) * Dims[0] + i;
+  }
+  std::uint32_t cellBegin(std::int64_t c) const { return CellStart[static_cast<std::size_t>(c)]; }
+  std::uint32_t cellEnd(std::int64_t c) const { return CellStart[static_cast<std::size_t>(c) + 1]; }
+  bool macrocellEmpty(int mi, int mj, int mk) const
+  {
+    return MacroCount[(static_cast<std::size_t>(mk) * MacroDims[1] + mj) * MacroDims[0] + mi] == 0;
+  }
+
+  /// Cell of a point (origin-relative), clamped to the grid.
+  std::array<int, 3> cellOf(const Vec3f& p) const;
+
+  /// Bytes held by the grid itself (offsets and macrocells), not the spheres.
+  std::size_t memoryBytes() const
+  {
+    return CellStart.size() * sizeof(std::uint32_t) + MacroCount.size() * sizeof(std::uint32_t);
+  }
+
+private:
+  std::array<int, 3> Dims{ 0, 0, 0 };
+  std::array<int, 3> MacroDims{ 0, 0, 0 };
+  int MacroSize = 6;
+  Vec3f Lower;
+  float CellSize = 1.f;
+  float MaxRadius = 0.f;
+  std::size_t NumSpheres = 0;
+  std::vector<std::uint32_t> CellStart;  // size cells + 1
+  std::vector<std::uint32_t> MacroCount; // spheres per macrocell
+};
+
+} // namespace raymappers
+
+#endif

@@ -1,0 +1,48 @@
+// Coherent grid traversal of sphere glyphs (Gribble et al. 2007, after Wald et al. 2006):
+// a packet of rays walks the grid slice by slice along its major axis K; in each slice the
+// rectangle of cells in U and V that any ray of the packet can reach is found from the
+// rays' extreme U and V coordinates at the slice's two faces, enlarged for the sphere-center
+// method by s = r_max sqrt(1 + dU^2) (section 4.1), and its cells are visited, skipping
+// empty macrocells. Each sphere of a visited cell is culled against the packet's frustum
+// (its centre farther than its radius outside one of the four side planes, section 4.3)
+// before the rays of the packet are tested against it. The walk stops once every ray's
+// closest hit lies before the next slice minus r_max: no later sphere can come nearer.
+#ifndef RayMappers_CoherentGridAccelerator_h
+#define RayMappers_CoherentGridAccelerator_h
+
+#include "CoherentGrid.h"
+#include "SphereAccelerator.h"
+
+namespace raymappers
+{
+
+class CoherentGridAccelerator : public SphereAccelerator
+{
+public:
+  /// Builds the grid; permutes `spheres` into cell order (they must outlive this object
+  /// and stay unchanged until the next build).
+  void build(SphereSet& spheres, const CoherentGridParameters& params);
+
+  bool empty() const override { return Spheres == nullptr || Grid.empty(); }
+  void intersect(const RayPacket& packet,
+    PacketHits& hits,
+    TraversalCounters& counters) const override;
+
+  const CoherentGrid& grid() const { return Grid; }
+
+private:
+  /// Traversal of the lanes in `lanes` (all valid, sharing the direction signs of `axis`).
+  void traverse(const RayPacket& packet,
+    const int* lanes,
+    int count,
+    int axis,
+    PacketHits& hits,
+    TraversalCounters& counters) const;
+
+  CoherentGrid Grid;
+  const SphereSet* Spheres = nullptr;
+};
+
+} // namespace raymappers
+
+#endif

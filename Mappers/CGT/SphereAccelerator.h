@@ -1,0 +1,52 @@
+// What the sphere renderer asks of an accelerator: the closest hits of a square packet of
+// primary rays (side x side pixels, row by row). Embree's BVH and the coherent grid answer
+// the same question, so the renderer, its shading and its tests are shared.
+#ifndef RayMappers_SphereAccelerator_h
+#define RayMappers_SphereAccelerator_h
+
+#include "RayCamera.h"
+
+#include <cstdint>
+
+namespace raymappers
+{
+
+constexpr int MaxPacketSide = 16;
+constexpr int MaxPacketRays = MaxPacketSide * MaxPacketSide;
+constexpr std::uint32_t NoHit = 0xFFFFFFFFu;
+
+struct RayPacket
+{
+  int side = 4;              // rays are side x side, lane = row * side + column
+  bool valid[MaxPacketRays]; // false for lanes outside the image
+  Ray rays[MaxPacketRays];
+};
+
+struct PacketHits
+{
+  float t[MaxPacketRays];
+  std::uint32_t prim[MaxPacketRays]; // index in the SphereSet, NoHit when missed
+};
+
+/// Work done by a traversal, summed into the render statistics.
+struct TraversalCounters
+{
+  std::int64_t cells = 0;       // grid cells visited
+  std::int64_t culled = 0;      // spheres rejected by the packet's frustum
+  std::int64_t sphereTests = 0; // ray-sphere intersection tests (rays x spheres)
+};
+
+class SphereAccelerator
+{
+public:
+  virtual ~SphereAccelerator() = default;
+  virtual bool empty() const = 0;
+  /// Closest hit per valid lane with t in [tnear, tfar].
+  virtual void intersect(const RayPacket& packet,
+    PacketHits& hits,
+    TraversalCounters& counters) const = 0;
+};
+
+} // namespace raymappers
+
+#endif

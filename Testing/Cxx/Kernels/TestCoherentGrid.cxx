@@ -1,0 +1,369 @@
+// The coherent grid traversal against a brute-force reference (every sphere at every
+// pixel, in double) and against Embree, on random scenes and on the method's hard cases.
+#include "CameraFixtures.h"
+#include "CoherentGridAccelerator.h"
+#include "EmbreeSphereAccelerator.h"
+#include "SphereRenderer.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+
+using namespace raymappers;
+using namespace raymappers::test;
+
+namespace
+{
+SphereSet makeSet(const std::vector<Vec3d>& p, const std::vector<double>& r, const Vec3d& origin)
+{
+  SphereSet s;
+  buildSphereSet(
+    p.size(),
+    origin,
+    [&](std::size_t i) { return p[i]; },
+    [&](std::size_t i) { return r[i]; },
+    [](std::size_t i) { return packRGBA8(i % 256, (7 * i) % 256, (13 * i) % 256, 255); },
+    s);
+  return s;
+}
+
+// Closest hit over all spheres in double; margin: how close the ray comes to grazing any
+// sphere it passes (relative to that sphere's radius).
+int bruteForce(const SphereSet& s, const Ray& ray, double& tHit, double& margin)
+{
+  const Vec3d o(ray.org), d(ray.dir);
+  int best = -1;
+  tHit = std::numeric_limits<double>::infinity();
+  margin = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < s.size(); ++i)
+  {
+    const Vec3d c(s.centers[i]);
+    const double r = s.radii[i];
+    const Vec3d f = o - c;
+    const double b = dot(f, d);
+    const double dist = length(f - d * b);
+    margin = std::min(margin, std::fabs(dist - r) / r);
+    if (dist > r)
+    {
+      continue;
+    }
+    const double root = std::sqrt(r * r - dist * dist);
+    double t = -b - root;
+    if (t < ray.tnear)
+    {
+      t = -b + root;
+    }
+    if (t >= ray.tnear && t <= ray.tfar && t < tHit)
+    {
+      tHit = t;
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
+struct Rendered
+{
+  Frame frame;
+  RenderStatistics stats;
+};
+
+Rendered renderGrid(SphereSet& s, const RayCamera& cam, int packet, double lambda = 1.0)
+{
+  CoherentGridAccelerator grid;
+  CoherentGridParameters params;
+  params.lambda = lambda;
+  grid.build(s, params);
+  Rendered out;
+  renderSpheres(s, grid, packet, cam, SphereShading{}, 32, out.frame, out.stats);
+  return out;
+}
+
+Rendered renderEmbree(const SphereSet& s, const RayCamera& cam)
+{
+  EmbreeSphereAccelerator bvh;
+  bvh.build(s);
+  Rendered out;
+  renderSpheres(s, bvh, 4, cam, SphereShading{}, 32, out.frame, out.stats);
+  return out;
+}
+
+// Every pixel whose ray does not graze a sphere: same hit or miss as the brute force, the
+// same depth to 1e-5 relative, the colour of the sphere hit.
+void expectExact(const SphereSet& s, const RayCamera& cam, const Frame& f, const char* what)
+{
+  int checked = 0, mismatches = 0;
+  for (int j = 0; j < cam.height(); ++j)
+  {
+    for (int i = 0; i < cam.width(); ++i)
+    {
+      const Ray ray = cam.pixelRay(i, j);
+      double t, margin;
+      const int id = bruteForce(s, ray, t, margin);
+      if (margin < 1e-4)
+      {
+        continue;
+      }
+      ++checked;
+      const std::size_t k = f.index(i, j);
+      const bool hit = f.rgba[4 * k + 3] > 0;
+      if (hit != (id >= 0))
+      {
+        ++mismatches;
+        continue;
+      }
+      if (id >= 0)
+      {
+        const double expected = cam.depthMap(ray).depthOf(t);
+        if (std::fabs(f.depth[k] - expected) > 1e-5 * std::max(1e-3, expected))
+        {
+          ++mismatches;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0) << what << " (" << checked << " pixels checked)";
+  EXPECT_GT(checked, cam.width() * cam.height() / 2) << what;
+}
+
+RayCamera perspectiveCamera(const Vec3d& eye,
+  const Vec3d& at,
+  const Vec3d& origin,
+  int w = 96,
+  int h = 80,
+  double n = 0.5,
+  double f = 200)
+{
+  return RayCamera(
+    multiply(perspective(40, double(w) / h, n, f), lookAt(eye, at, { 0, 1, 0 })), w, h, origin);
+}
+
+std::vector<Vec3d> randomPoints(int n, double extent, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-extent, extent);
+  std::vector<Vec3d> p(n);
+  for (auto& q : p)
+  {
+    q = { u(rng), u(rng), u(rng) };
+  }
+  return p;
+}
+}
+
+TEST(CoherentGrid, EverySphereInTheCellOfItsCentre)
+{
+  const auto p = randomPoints(5000, 10, 3);
+  SphereSet s = makeSet(p, std::vector<double>(p.size(), 0.2), {});
+  CoherentGrid grid;
+  CoherentGridParameters params;
+  grid.build(s, params);
+  const auto& d = grid.dims();
+  const double cells = double(d[0]) * d[1] * d[2];
+  EXPECT_GT(cells, 0.5 * p.size());
+  EXPECT_LT(cells, 2.5 * p.size());
+  std::vector<std::uint32_t> ids = s.sourceIds;
+  std::sort(ids.begin(), ids.end());
+  for (std::size_t i = 0; i < ids.size(); ++i)
+  {
+    ASSERT_EQ(ids[i], i); // a permutation of the input
+  }
+  std::size_t total = 0;
+  for (int k = 0; k < d[2]; ++k)
+    for (int j = 0; j < d[1]; ++j)
+      for (int i = 0; i < d[0]; ++i)
+      {
+        const auto c = grid.cellIndex(i, j, k);
+        for (auto id = grid.cellBegin(c); id < grid.cellEnd(c); ++id)
+        {
+          const auto cell = grid.cellOf(s.centers[id]);
+          ASSERT_EQ(cell[0], i);
+          ASSERT_EQ(cell[1], j);
+          ASSERT_EQ(cell[2], k);
+          ++total;
+          // the permuted sphere is the input sphere it names
+          const Vec3f expected(p[s.sourceIds[id]]);
+          ASSERT_EQ(s.centers[id].x, expected.x);
+        }
+      }
+  EXPECT_EQ(total, p.size());
+  // grid overhead: one offset per cell and one count per macrocell
+  EXPECT_LT(grid.memoryBytes(), 0.5 * p.size() * (sizeof(Vec3f) + 2 * sizeof(float)));
+}
+
+TEST(CoherentGrid, MatchesBruteForceForEveryPacketSize)
+{
+  const auto p = randomPoints(800, 6, 5);
+  std::vector<double> r(p.size());
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> ur(0.1, 0.7);
+  for (auto& x : r)
+  {
+    x = ur(rng);
+  }
+  for (int packet : { 1, 2, 4, 8, 16 })
+  {
+    SphereSet s = makeSet(p, r, { 0.3, -0.2, 0.1 });
+    const RayCamera cam = perspectiveCamera({ 4, 6, 18 }, { 0, 0, 0 }, s.origin);
+    const Rendered g = renderGrid(s, cam, packet);
+    expectExact(s, cam, g.frame, ("packet " + std::to_string(packet)).c_str());
+    if (packet > 1) // a single ray has no frustum to cull with
+    {
+      EXPECT_GT(g.stats.counter("culled"), 0);
+    }
+  }
+}
+
+TEST(CoherentGrid, SameImageAsEmbree)
+{
+  const auto p = randomPoints(2000, 8, 21);
+  SphereSet s = makeSet(p, std::vector<double>(p.size(), 0.35), {});
+  const RayCamera cam = perspectiveCamera({ -9, 5, 14 }, { 1, 0, 0 }, s.origin, 128, 96);
+  const Rendered e = renderEmbree(s, cam);
+  const Rendered g = renderGrid(s, cam, 8);
+  int differ = 0;
+  for (std::size_t k = 0; k < e.frame.depth.size(); ++k)
+  {
+    differ += (e.frame.rgba[4 * k + 3] > 0) != (g.frame.rgba[4 * k + 3] > 0) ? 1 : 0;
+  }
+  // only silhouette pixels, where float hit tests of two methods may disagree
+  EXPECT_LE(differ, 3);
+  EXPECT_EQ(e.stats.counter("rays"), g.stats.counter("rays"));
+}
+
+TEST(CoherentGridHardCases, RadiiOverThreeOrdersOfMagnitude)
+{
+  const auto p = randomPoints(600, 5, 13);
+  std::vector<double> r(p.size());
+  for (std::size_t i = 0; i < r.size(); ++i)
+  {
+    r[i] = std::pow(10.0, -3.0 + 3.0 * double(i % 7) / 6.0); // 0.001 .. 1
+  }
+  SphereSet s = makeSet(p, r, {});
+  const RayCamera cam = perspectiveCamera({ 3, 2, 14 }, { 0, 0, 0 }, s.origin);
+  expectExact(s, cam, renderGrid(s, cam, 8).frame, "radii 1e-3..1");
+}
+
+TEST(CoherentGridHardCases, AllSpheresInOneCell)
+{
+  const auto p = randomPoints(200, 2, 17);
+  SphereSet s = makeSet(p, std::vector<double>(p.size(), 0.3), {});
+  const RayCamera cam = perspectiveCamera({ 1, 2, 9 }, { 0, 0, 0 }, s.origin);
+  const Rendered g = renderGrid(s, cam, 8, 0.01 / 200.0 * 0.001); // lambda tiny: one cell
+  expectExact(s, cam, g.frame, "one cell");
+}
+
+TEST(CoherentGridHardCases, CentresOnCellAndMacrocellBoundaries)
+{
+  // A lattice of 16^3 points with spacing 1: lambda = 1 gives cells of side 1, so every
+  // centre lies exactly on cell (and every 6th on macrocell) faces, and on the grid bounds.
+  std::vector<Vec3d> p;
+  for (int k = 0; k < 16; ++k)
+    for (int j = 0; j < 16; ++j)
+      for (int i = 0; i < 16; ++i)
+        p.push_back({ double(i), double(j), double(k) });
+  std::vector<double> r(p.size());
+  for (std::size_t i = 0; i < r.size(); ++i)
+  {
+    r[i] = 0.15 + 0.3 * double(i % 3) / 2.0;
+  }
+  SphereSet s = makeSet(p, r, { 7.5, 7.5, 7.5 });
+  const RayCamera cam = perspectiveCamera({ -6, 22, 30 }, { 7.5, 7.5, 7.5 }, s.origin);
+  expectExact(s, cam, renderGrid(s, cam, 8).frame, "lattice on cell faces");
+  // Axis-aligned view: rays travel exactly along the cell faces.
+  const RayCamera aligned(
+    multiply(orthographic(9, 9, 1, 60), lookAt({ 7.5, 7.5, 40 }, { 7.5, 7.5, 0 }, { 0, 1, 0 })),
+    90,
+    90,
+    s.origin);
+  expectExact(s, aligned, renderGrid(s, aligned, 8).frame, "lattice, parallel, axis aligned");
+}
+
+TEST(CoherentGridHardCases, CoincidentSpheres)
+{
+  std::vector<Vec3d> p = randomPoints(100, 3, 19);
+  const std::vector<Vec3d> copy = p;
+  p.insert(p.end(), copy.begin(), copy.end()); // every sphere twice
+  SphereSet s = makeSet(p, std::vector<double>(p.size(), 0.4), {});
+  const RayCamera cam = perspectiveCamera({ 2, 1, 12 }, { 0, 0, 0 }, s.origin);
+  expectExact(s, cam, renderGrid(s, cam, 4).frame, "coincident");
+}
+
+TEST(CoherentGridHardCases, SphereContainingTheCamera)
+{
+  std::vector<Vec3d> p = randomPoints(100, 3, 23);
+  p.push_back({ 0, 0, 8 }); // the eye is inside this sphere of radius 2
+  std::vector<double> r(p.size(), 0.3);
+  r.back() = 2.0;
+  SphereSet s = makeSet(p, r, {});
+  const RayCamera cam = perspectiveCamera({ 0, 0, 8 }, { 0, 0, 0 }, s.origin, 64, 64, 0.1, 50);
+  const Rendered g = renderGrid(s, cam, 8);
+  expectExact(s, cam, g.frame, "inside a sphere");
+  EXPECT_EQ(g.stats.counter("hits"), 64 * 64); // every ray sees the inside
+}
+
+TEST(CoherentGridHardCases, FarFromTheOriginGivesTheSameImage)
+{
+  const auto p = randomPoints(500, 5, 29);
+  std::vector<Vec3d> shifted = p;
+  const Vec3d offset{ 1e6, -1e6, 1e6 };
+  for (auto& q : shifted)
+  {
+    q = q + offset;
+  }
+  SphereSet a = makeSet(p, std::vector<double>(p.size(), 0.3), {});
+  SphereSet b = makeSet(shifted, std::vector<double>(p.size(), 0.3), offset);
+  const RayCamera ca = perspectiveCamera({ 3, 4, 15 }, { 0, 0, 0 }, a.origin);
+  const RayCamera cb = perspectiveCamera(Vec3d(3, 4, 15) + offset, offset, b.origin);
+  const Rendered fa = renderGrid(a, ca, 8);
+  const Rendered fb = renderGrid(b, cb, 8);
+  int differ = 0;
+  double worst = 0;
+  for (std::size_t k = 0; k < fa.frame.depth.size(); ++k)
+  {
+    differ += fa.frame.rgba[4 * k + 3] != fb.frame.rgba[4 * k + 3] ? 1 : 0;
+    worst = std::max(worst, double(std::fabs(fa.frame.depth[k] - fb.frame.depth[k])));
+  }
+  EXPECT_LE(differ, 2); // silhouette pixels only
+  EXPECT_LT(worst, 1e-5);
+}
+
+TEST(CoherentGridHardCases, OneAndZeroParticles)
+{
+  SphereSet one = makeSet({ { 1, 2, 3 } }, { 0.5 }, { 1, 2, 3 });
+  const RayCamera cam = perspectiveCamera({ 1, 2, 8 }, { 1, 2, 3 }, one.origin, 48, 48);
+  const Rendered g = renderGrid(one, cam, 8);
+  expectExact(one, cam, g.frame, "one particle");
+  EXPECT_GT(g.stats.counter("hits"), 0);
+  SphereSet none = makeSet({}, {}, {});
+  const Rendered z = renderGrid(none, cam, 8);
+  EXPECT_EQ(z.stats.counter("hits"), 0);
+}
+
+TEST(CoherentGridHardCases, TangentRays)
+{
+  // Spheres placed so that rays through pixel centres of a parallel view touch them
+  // tangentially (centre offset by exactly r from a pixel's ray).
+  const RayCamera cam(
+    multiply(orthographic(4, 4, 1, 30), lookAt({ 0, 0, 10 }, { 0, 0, 0 }, { 0, 1, 0 })),
+    64,
+    64,
+    {});
+  std::vector<Vec3d> p;
+  std::vector<double> r;
+  for (int i = 0; i < 8; ++i)
+  {
+    const Ray ray = cam.pixelRay(8 * i + 3, 20);
+    p.push_back(Vec3d(ray.org.x + 0.25, ray.org.y, 0.0));
+    r.push_back(0.25);
+  }
+  SphereSet s = makeSet(p, r, {});
+  const Rendered g = renderGrid(s, cam, 8);
+  const Rendered e = renderEmbree(s, cam);
+  expectExact(s, cam, g.frame, "tangent (grid)");
+  expectExact(s, cam, e.frame, "tangent (embree)");
+}
