@@ -440,6 +440,34 @@ void vtkRayTracedSpheresRepresentation::SelectRadiusArray(int, int, int, int, co
 }
 
 //----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetAccelerator(int accelerator)
+{
+  this->Mapper->SetAccelerator(accelerator);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetPacketSize(int side)
+{
+  this->Mapper->SetPacketSize(side);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetLambda(double lambda)
+{
+  this->Mapper->SetLambda(lambda);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetMacrocellSize(int cells)
+{
+  this->Mapper->SetMacrocellSize(cells);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
 void vtkRayTracedSpheresRepresentation::SetRadiusScale(double scale)
 {
   if (this->RadiusScale != scale)

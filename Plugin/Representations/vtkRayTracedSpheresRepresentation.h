@@ -121,6 +121,13 @@ public:
   ///@}
 
   //***************************************************************************
+  // Accelerator (forwarded to vtkCGTSphereMapper, see there).
+  void SetAccelerator(int accelerator);
+  void SetPacketSize(int side);
+  void SetLambda(double lambda);
+  void SetMacrocellSize(int cells);
+
+  //***************************************************************************
   // Forwarded to the actor.
   virtual void SetOrientation(double, double, double);
   virtual void SetOrigin(double, double, double);
