@@ -256,11 +256,13 @@ std::vector<Row> RunSpheres(const Options& opt)
     std::vector<Method> methods;
     vtkSmartPointer<vtkCGTSphereMapper> ours;
     // Our mapper with one accelerator; its build time is the sphere set plus the structure.
-    auto oursWith = [&](int accelerator)
+    auto oursWith = [&](int accelerator, double lambda, int packet)
     {
-      return [&, accelerator](vtkRenderer* ren)
+      return [&, accelerator, lambda, packet](vtkRenderer* ren)
       {
         ours = vtkSmartPointer<vtkCGTSphereMapper>::New();
+        ours->SetLambda(lambda);
+        ours->SetPacketSize(packet);
         ours->SetAccelerator(accelerator);
         ours->SetInputData(cloud);
         if (radii)
@@ -292,9 +294,24 @@ std::vector<Row> RunSpheres(const Options& opt)
              st->GetPhaseTime("bvh_build");
     };
     methods.push_back(
-      { "embree", "bvh=medium", oursWith(VTK_CGT_ACCELERATOR_EMBREE), oursBuildMs });
+      { "embree", "bvh=medium", oursWith(VTK_CGT_ACCELERATOR_EMBREE, 1.0, 4), oursBuildMs });
+    // The defaults (lambda 1, 8 x 8 packets) and the sweep behind them.
     methods.push_back(
-      { "cgt", "lambda=1,packet=8", oursWith(VTK_CGT_ACCELERATOR_GRID), oursBuildMs });
+      { "cgt", "lambda=1;packet=8", oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, 8), oursBuildMs });
+    for (const double lambda : { 0.25, 0.5, 2.0, 4.0 })
+    {
+      std::ostringstream setting;
+      setting << "lambda=" << lambda << ";packet=8";
+      methods.push_back(
+        { "cgt", setting.str(), oursWith(VTK_CGT_ACCELERATOR_GRID, lambda, 8), oursBuildMs });
+    }
+    for (const int packet : { 1, 2, 4, 16 })
+    {
+      methods.push_back({ "cgt",
+        "lambda=1;packet=" + std::to_string(packet),
+        oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, packet),
+        oursBuildMs });
+    }
     methods.push_back({ "vtk-point-gaussian",
       "sphere-imposter",
       [&](vtkRenderer* ren)
@@ -341,7 +358,10 @@ std::vector<Row> RunSpheres(const Options& opt)
       }
       if (!opt.images.empty())
       {
-        WritePng(r.image, opt.images + "/spheres-" + r.row.dataset + "-" + m.name + ".png");
+        std::string tag = m.name + "-" + m.setting;
+        std::replace(tag.begin(), tag.end(), ';', '_');
+        std::replace(tag.begin(), tag.end(), '=', '-');
+        WritePng(r.image, opt.images + "/spheres-" + r.row.dataset + "-" + tag + ".png");
       }
       rows.push_back(r.row);
     }
@@ -369,7 +389,7 @@ std::string Csv(const Row& r)
 
 void PrintTable(const std::vector<Row>& rows)
 {
-  std::printf("\n%-10s %-22s %-20s %-16s %10s %10s %10s %8s %8s %8s\n",
+  std::printf("\n%-10s %-22s %-20s %-20s %10s %10s %10s %8s %8s %8s\n",
     "suite",
     "dataset",
     "method",
@@ -388,7 +408,7 @@ void PrintTable(const std::vector<Row>& rows)
       std::snprintf(rmse, sizeof rmse, "%.4f", r.rmse);
       std::snprintf(maxErr, sizeof maxErr, "%.3f", r.maxErr);
     }
-    std::printf("%-10s %-22s %-20s %-16s %10lld %10.1f %10.1f %8s %8s %8.1f\n",
+    std::printf("%-10s %-22s %-20s %-20s %10lld %10.1f %10.1f %8s %8s %8.1f\n",
       r.suite.c_str(),
       r.dataset.c_str(),
       r.method.c_str(),
