@@ -128,6 +128,8 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
     sorted.radii.resize(n);
     sorted.colors.resize(n);
     sorted.sourceIds.resize(n);
+    sorted.numAttributes = spheres.numAttributes;
+    sorted.attributes.resize(spheres.attributes.size());
     tbb::parallel_for(std::size_t(0),
       n,
       [&](std::size_t i)
@@ -136,18 +138,27 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
         sorted.radii[i] = spheres.radii[perm[i]];
         sorted.colors[i] = spheres.colors[perm[i]];
         sorted.sourceIds[i] = spheres.sourceIds[perm[i]];
+        for (int a = 0; a < spheres.numAttributes; ++a)
+        {
+          sorted.attributes[i * spheres.numAttributes + a] =
+            spheres.attributes[perm[i] * spheres.numAttributes + a];
+        }
       });
     spheres = std::move(sorted);
   }
 
-  // Macrocells: how many spheres each M x M x M block of cells holds.
+  // Macrocells: how many spheres each M x M x M block of cells holds, and the extrema of
+  // their attributes.
   for (int a = 0; a < 3; ++a)
   {
     MacroDims[a] = (Dims[a] + MacroSize - 1) / MacroSize;
   }
-  MacroCount.assign(
-    static_cast<std::size_t>(MacroDims[0]) * MacroDims[1] * static_cast<std::size_t>(MacroDims[2]),
-    0);
+  const std::size_t macros =
+    static_cast<std::size_t>(MacroDims[0]) * MacroDims[1] * static_cast<std::size_t>(MacroDims[2]);
+  MacroCount.assign(macros, 0);
+  NumAttributes = spheres.numAttributes;
+  MacroMin.assign(macros * NumAttributes, std::numeric_limits<float>::max());
+  MacroMax.assign(macros * NumAttributes, -std::numeric_limits<float>::max());
   for (int k = 0; k < Dims[2]; ++k)
   {
     for (int j = 0; j < Dims[1]; ++j)
@@ -158,9 +169,20 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
         const std::uint32_t count = cellEnd(c) - cellBegin(c);
         if (count)
         {
-          MacroCount[(static_cast<std::size_t>(k / MacroSize) * MacroDims[1] + j / MacroSize) *
-                       MacroDims[0] +
-                     i / MacroSize] += count;
+          const std::size_t m = macrocellIndex(i / MacroSize, j / MacroSize, k / MacroSize);
+          MacroCount[m] += count;
+          for (std::uint32_t id = cellBegin(c); id < cellEnd(c); ++id)
+          {
+            for (int a = 0; a < NumAttributes; ++a)
+            {
+              const float v = spheres.attributesOf(id)[a];
+              if (!std::isnan(v))
+              {
+                MacroMin[m * NumAttributes + a] = std::min(MacroMin[m * NumAttributes + a], v);
+                MacroMax[m * NumAttributes + a] = std::max(MacroMax[m * NumAttributes + a], v);
+              }
+            }
+          }
         }
       }
     }

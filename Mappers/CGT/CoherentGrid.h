@@ -2,7 +2,9 @@
 // section 4.2), with the sphere-center method (section 4.1): every sphere is stored once,
 // in the cell that holds its centre, so the grid holds no duplicated references and needs
 // no mailboxes. The finest level has about lambda * N cubic cells; a second level of
-// macrocells (M x M x M cells each) records which blocks are empty so traversal skips them.
+// macrocells (M x M x M cells each) records which blocks are empty, and the extrema of each
+// sphere attribute inside them, so traversal skips empty blocks and blocks whose spheres
+// all fail a parameter range (section 4.3).
 //
 // The build sorts the spheres into cell order with a counting sort (cell ids computed in
 // parallel; histogram and scatter serial, which keeps the input order inside a cell): cell c
@@ -48,9 +50,16 @@ public:
   }
   std::uint32_t cellBegin(std::int64_t c) const { return CellStart[static_cast<std::size_t>(c)]; }
   std::uint32_t cellEnd(std::int64_t c) const { return CellStart[static_cast<std::size_t>(c) + 1]; }
-  bool macrocellEmpty(int mi, int mj, int mk) const
+  std::size_t macrocellIndex(int mi, int mj, int mk) const
   {
-    return MacroCount[(static_cast<std::size_t>(mk) * MacroDims[1] + mj) * MacroDims[0] + mi] == 0;
+    return (static_cast<std::size_t>(mk) * MacroDims[1] + mj) * MacroDims[0] + mi;
+  }
+  bool macrocellEmpty(std::size_t m) const { return MacroCount[m] == 0; }
+  /// Whether some sphere of the macrocell can pass the filter (its stored extrema overlap
+  /// the ranges: section 4.3's macrocell culling).
+  bool macrocellInRange(std::size_t m, const RangeFilter& filter) const
+  {
+    return filter.overlaps(&MacroMin[m * NumAttributes], &MacroMax[m * NumAttributes]);
   }
 
   /// Cell of a point (origin-relative), clamped to the grid.
@@ -59,7 +68,8 @@ public:
   /// Bytes held by the grid itself (offsets and macrocells), not the spheres.
   std::size_t memoryBytes() const
   {
-    return CellStart.size() * sizeof(std::uint32_t) + MacroCount.size() * sizeof(std::uint32_t);
+    return CellStart.size() * sizeof(std::uint32_t) + MacroCount.size() * sizeof(std::uint32_t) +
+           (MacroMin.size() + MacroMax.size()) * sizeof(float);
   }
 
 private:
@@ -72,6 +82,8 @@ private:
   std::size_t NumSpheres = 0;
   std::vector<std::uint32_t> CellStart;  // size cells + 1
   std::vector<std::uint32_t> MacroCount; // spheres per macrocell
+  int NumAttributes = 0;
+  std::vector<float> MacroMin, MacroMax; // per macrocell and attribute
 };
 
 } // namespace raymappers

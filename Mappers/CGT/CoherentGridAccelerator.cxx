@@ -212,6 +212,7 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
   }
 
   const int M = Grid.macrocellSize();
+  const bool ranged = Filter.count > 0 && Filter.count <= spheres.numAttributes;
   const int first =
     std::clamp(static_cast<int>(std::floor(ascending ? kMin : kMax)), 0, dims[K] - 1);
   const int last =
@@ -247,8 +248,14 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
         mc[K] = s / M;
         mc[U] = mu;
         mc[V] = mv;
-        if (Grid.macrocellEmpty(mc[0], mc[1], mc[2]))
+        const std::size_t macro = Grid.macrocellIndex(mc[0], mc[1], mc[2]);
+        if (Grid.macrocellEmpty(macro))
         {
+          continue;
+        }
+        if (ranged && !Grid.macrocellInRange(macro, Filter))
+        {
+          ++counters.rangeCulled;
           continue;
         }
         for (int v = std::max(v0, mv * M); v <= std::min(v1, mv * M + M - 1); ++v)
@@ -268,6 +275,11 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
             ++counters.cells;
             for (std::uint32_t id = begin; id < end; ++id)
             {
+              if (ranged && !Filter.passes(spheres.attributesOf(id)))
+              {
+                ++counters.rangeCulled;
+                continue;
+              }
               const Vec3f& center = spheres.centers[id];
               const float radius = spheres.radii[id];
               bool outside = false;

@@ -39,7 +39,10 @@ void EmbreeSphereAccelerator::build(const SphereSet& spheres, Quality quality)
       ? RTC_BUILD_QUALITY_LOW
       : (quality == Quality::High ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
   rtcSetSceneBuildQuality(Scene, q);
-  rtcSetSceneFlags(Scene, RTC_SCENE_FLAG_NONE);
+  // Range culling runs as a filter in the intersection context, so changing the ranges
+  // needs no rebuild.
+  rtcSetSceneFlags(Scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  Spheres = &spheres;
   if (Count > 0)
   {
     RTCGeometry geom = rtcNewGeometry(Device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
@@ -60,13 +63,53 @@ void EmbreeSphereAccelerator::build(const SphereSet& spheres, Quality quality)
   rtcCommitScene(Scene);
 }
 
-void EmbreeSphereAccelerator::intersect(const RayPacket& packet,
-  PacketHits& hits,
-  TraversalCounters& /*counters*/) const
+namespace
+{
+// The intersection context with what the range filter needs; Embree hands the context back
+// to the filter callback.
+struct RangeContext
 {
   RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  const RangeFilter* filter;
+  const SphereSet* spheres;
+  std::int64_t rejected;
+};
+
+// Rejects candidate hits on spheres outside the parameter ranges.
+void rangeFilterCallback(const RTCFilterFunctionNArguments* args)
+{
+  auto* ctx = reinterpret_cast<RangeContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i)
+  {
+    if (args->valid[i] != -1)
+    {
+      continue;
+    }
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    if (!ctx->filter->passes(ctx->spheres->attributesOf(prim)))
+    {
+      args->valid[i] = 0;
+      ++ctx->rejected;
+    }
+  }
+}
+}
+
+void EmbreeSphereAccelerator::intersect(const RayPacket& packet,
+  PacketHits& hits,
+  TraversalCounters& counters) const
+{
+  RangeContext ranges;
+  rtcInitIntersectContext(&ranges.context);
+  ranges.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  ranges.filter = &Filter;
+  ranges.spheres = Spheres;
+  ranges.rejected = 0;
+  if (Filter.count > 0 && Spheres && Filter.count <= Spheres->numAttributes)
+  {
+    ranges.context.filter = &rangeFilterCallback;
+  }
+  RTCIntersectContext& context = ranges.context;
   const int n = packet.side * packet.side;
   alignas(64) RTCRayHit16 rh;
   alignas(64) int valid[16];
@@ -103,6 +146,8 @@ void EmbreeSphereAccelerator::intersect(const RayPacket& packet,
       continue;
     }
     rtcIntersect16(valid, Scene, &context, &rh);
+    counters.rangeCulled += ranges.rejected;
+    ranges.rejected = 0;
     for (int k = 0; k < 16 && base + k < n; ++k)
     {
       const int lane = base + k;

@@ -26,7 +26,8 @@ public:
   EmbreeSphereAccelerator(const EmbreeSphereAccelerator&) = delete;
   EmbreeSphereAccelerator& operator=(const EmbreeSphereAccelerator&) = delete;
 
-  /// (Re)builds the BVH over the spheres. primID of a hit is the index in `spheres`.
+  /// (Re)builds the BVH over the spheres. primID of a hit is the index in `spheres`, which
+  /// must outlive this object and stay unchanged until the next build.
   void build(const SphereSet& spheres, Quality quality = Quality::Medium);
   bool empty() const override { return Count == 0; }
 
@@ -40,6 +41,7 @@ private:
   RTCDevice Device = nullptr;
   RTCScene Scene = nullptr;
   std::size_t Count = 0;
+  const SphereSet* Spheres = nullptr; // for the range filter's attributes
 };
 
 } // namespace raymappers

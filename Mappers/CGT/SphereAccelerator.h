@@ -5,6 +5,7 @@
 #define RayMappers_SphereAccelerator_h
 
 #include "RayCamera.h"
+#include "SphereSet.h"
 
 #include <cstdint>
 
@@ -34,6 +35,7 @@ struct TraversalCounters
   std::int64_t cells = 0;       // grid cells visited
   std::int64_t culled = 0;      // spheres rejected by the packet's frustum
   std::int64_t sphereTests = 0; // ray-sphere intersection tests (rays x spheres)
+  std::int64_t rangeCulled = 0; // spheres and macrocells skipped by parameter ranges
 };
 
 class SphereAccelerator
@@ -41,10 +43,16 @@ class SphereAccelerator
 public:
   virtual ~SphereAccelerator() = default;
   virtual bool empty() const = 0;
+  /// Parameter ranges for the following renders (count 0: none); never rebuilds.
+  void setRangeFilter(const RangeFilter& filter) { Filter = filter; }
+  const RangeFilter& rangeFilter() const { return Filter; }
   /// Closest hit per valid lane with t in [tnear, tfar].
   virtual void intersect(const RayPacket& packet,
     PacketHits& hits,
     TraversalCounters& counters) const = 0;
+
+protected:
+  RangeFilter Filter;
 };
 
 } // namespace raymappers

@@ -58,7 +58,9 @@ void renderSpheres(const SphereSet& spheres,
   const bool lit = !shading.lights.empty();
   stats.setEffect("shading", lit);
   stats.setEffect("specular", lit && shading.material.specular > 0);
-  for (const char* c : { "rays", "packets", "hits", "cells", "culled", "sphere_tests" })
+  stats.setEffect("range_culling", accel.rangeFilter().count > 0);
+  for (const char* c :
+    { "rays", "packets", "hits", "cells", "culled", "sphere_tests", "range_culled" })
   {
     stats.declareCounter(c);
   }
@@ -69,7 +71,8 @@ void renderSpheres(const SphereSet& spheres,
   const int side = std::clamp(packetSide, 1, MaxPacketSide);
 
   const double* mw = shading.modelToWorld;
-  std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, hits{ 0 }, cells{ 0 }, culled{ 0 }, tests{ 0 };
+  std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, hits{ 0 }, cells{ 0 }, culled{ 0 }, tests{ 0 },
+    rangeCulled{ 0 };
   {
     ScopedPhase phase(stats, "trace");
     forEachTile(width,
@@ -146,6 +149,7 @@ void renderSpheres(const SphereSet& spheres,
         cells += counters.cells;
         culled += counters.culled;
         tests += counters.sphereTests;
+        rangeCulled += counters.rangeCulled;
       });
   }
   stats.addCounter("rays", rays.load());
@@ -154,6 +158,7 @@ void renderSpheres(const SphereSet& spheres,
   stats.addCounter("cells", cells.load());
   stats.addCounter("culled", culled.load());
   stats.addCounter("sphere_tests", tests.load());
+  stats.addCounter("range_culled", rangeCulled.load());
 }
 
 } // namespace raymappers

@@ -26,7 +26,8 @@ struct SphereShading
 
 /// Renders the spheres seen by `camera` into `frame` (resized to the camera's grid), in
 /// packets of packetSide x packetSide rays (clamped to [1, MaxPacketSide]).
-/// Counters: rays, packets, hits, cells, culled, sphere_tests. Effects: shading, specular.
+/// Counters: rays, packets, hits, cells, culled, sphere_tests, range_culled. Effects:
+/// shading, specular, range_culling.
 void renderSpheres(const SphereSet& spheres,
   const SphereAccelerator& accel,
   int packetSide,

@@ -23,7 +23,9 @@
 #include "vtkUnsignedCharArray.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
 vtkStandardNewMacro(vtkCGTSphereMapper);
@@ -46,6 +48,12 @@ struct vtkCGTSphereMapper::Internals
   vtkMTimeType BuiltColorTime = 0;
   double BuiltRadius = 0, BuiltScale = 0;
   std::string BuiltRadiusArray;
+
+  // Parameter ranges: array names (empty: unused slot) and bounds.
+  std::array<std::string, raymappers::MaxRangeAttributes> RangeArrays;
+  std::array<std::string, raymappers::MaxRangeAttributes> BuiltRangeArrays;
+  std::array<double, raymappers::MaxRangeAttributes> RangeLo{}, RangeHi{};
+  std::array<bool, raymappers::MaxRangeAttributes> RangeArrayFound{};
   bool HasBuilt = false;
   vtkMTimeType WarnedEmptyInputTime = 0;
 };
@@ -58,6 +66,33 @@ vtkCGTSphereMapper::vtkCGTSphereMapper()
 vtkCGTSphereMapper::~vtkCGTSphereMapper()
 {
   this->SetRadiusArrayName(nullptr);
+}
+
+void vtkCGTSphereMapper::SetRange(int index, const char* arrayName, double minimum, double maximum)
+{
+  if (index < 0 || index >= raymappers::MaxRangeAttributes)
+  {
+    vtkErrorMacro(<< "range index " << index << " is outside [0, "
+                  << raymappers::MaxRangeAttributes - 1 << "]");
+    return;
+  }
+  const std::string name = arrayName ? arrayName : "";
+  if (Impl->RangeArrays[index] != name || Impl->RangeLo[index] != minimum ||
+      Impl->RangeHi[index] != maximum)
+  {
+    Impl->RangeArrays[index] = name;
+    Impl->RangeLo[index] = minimum;
+    Impl->RangeHi[index] = maximum;
+    this->Modified();
+  }
+}
+
+void vtkCGTSphereMapper::RemoveAllRanges()
+{
+  for (int r = 0; r < raymappers::MaxRangeAttributes; ++r)
+  {
+    this->SetRange(r, nullptr, 0, 0);
+  }
 }
 
 vtkRayMapperStatistics* vtkCGTSphereMapper::GetStatistics()
@@ -173,10 +208,10 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   vtkMTimeType colorTime = this->Colors ? this->Colors->GetMTime() : 0;
   colorTime = std::max(colorTime, actor->GetProperty()->GetMTime());
   const std::string radiusArray = this->RadiusArrayName ? this->RadiusArrayName : "";
-  const bool geometryChanged = !Impl->HasBuilt || Impl->BuiltInputTime != input->GetMTime() ||
-                               Impl->BuiltRadius != this->Radius ||
-                               Impl->BuiltScale != this->RadiusScale ||
-                               Impl->BuiltRadiusArray != radiusArray;
+  const bool geometryChanged =
+    !Impl->HasBuilt || Impl->BuiltInputTime != input->GetMTime() ||
+    Impl->BuiltRadius != this->Radius || Impl->BuiltScale != this->RadiusScale ||
+    Impl->BuiltRadiusArray != radiusArray || Impl->BuiltRangeArrays != Impl->RangeArrays;
   if (geometryChanged || Impl->BuiltColorTime != colorTime)
   {
     raymappers::ScopedPhase phase(stats, geometryChanged ? "spheres" : "recolor");
@@ -232,6 +267,33 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
         },
         colorOf,
         Impl->Spheres);
+      // The attributes of parameter-range culling (first component of each range's array).
+      vtkDataArray* rangeArrays[raymappers::MaxRangeAttributes] = {};
+      int numRanges = 0;
+      for (int r = 0; r < raymappers::MaxRangeAttributes; ++r)
+      {
+        const std::string& name = Impl->RangeArrays[r];
+        if (!name.empty())
+        {
+          rangeArrays[r] = input->GetPointData()->GetArray(name.c_str());
+          numRanges = r + 1;
+          if (!rangeArrays[r])
+          {
+            vtkWarningMacro(<< "range array '" << name
+                            << "' is not a point array of the input; that range is ignored.");
+          }
+        }
+      }
+      raymappers::setSphereAttributes(Impl->Spheres,
+        numRanges,
+        [&](std::uint32_t id, int a) {
+          return rangeArrays[a] ? rangeArrays[a]->GetComponent(static_cast<vtkIdType>(id), 0) : 0.0;
+        });
+      Impl->RangeArrayFound.fill(false);
+      for (int r = 0; r < numRanges; ++r)
+      {
+        Impl->RangeArrayFound[r] = rangeArrays[r] != nullptr;
+      }
       if (Impl->Spheres.skippedNonFinite > 0)
       {
         vtkWarningMacro(<< Impl->Spheres.skippedNonFinite
@@ -258,6 +320,7 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     Impl->BuiltRadius = this->Radius;
     Impl->BuiltScale = this->RadiusScale;
     Impl->BuiltRadiusArray = radiusArray;
+    Impl->BuiltRangeArrays = Impl->RangeArrays;
     Impl->HasBuilt = true;
   }
   stats.declareCounter("builds_this_render");
@@ -312,8 +375,21 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   shading.material.specularColor = { sc[0], sc[1], sc[2] };
 
   // 3. Trace, 4. show.
-  const raymappers::SphereAccelerator& accelerator =
-    grid ? static_cast<const raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
+  raymappers::SphereAccelerator& accelerator =
+    grid ? static_cast<raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
+  // Parameter ranges: set on the accelerator at every render, never a rebuild. A range whose
+  // array is missing passes everything.
+  raymappers::RangeFilter filter;
+  filter.count = Impl->Spheres.numAttributes;
+  for (int r = 0; r < filter.count; ++r)
+  {
+    const bool active = Impl->RangeArrayFound[r];
+    filter.lo[r] =
+      active ? static_cast<float>(Impl->RangeLo[r]) : -std::numeric_limits<float>::max();
+    filter.hi[r] =
+      active ? static_cast<float>(Impl->RangeHi[r]) : std::numeric_limits<float>::max();
+  }
+  accelerator.setRangeFilter(filter);
   raymappers::renderSpheres(Impl->Spheres,
     accelerator,
     grid ? this->PacketSize : 4,

@@ -115,6 +115,16 @@ public:
   ///@}
 
   /**
+   * Parameter-range culling (Gribble et al., section 4.3): range `index` (0 to 3) keeps only
+   * the points whose point array `arrayName` (first component) lies in [minimum, maximum];
+   * all set ranges must hold. A null or empty name clears the range. Changing the bounds
+   * never rebuilds the accelerator (the grid's macrocells keep each array's extrema);
+   * changing the array rebuilds the spheres.
+   */
+  void SetRange(int index, const char* arrayName, double minimum, double maximum);
+  void RemoveAllRanges();
+
+  /**
    * Statistics of the last render: phase times, counters, effects that ran.
    */
   vtkRayMapperStatistics* GetStatistics();

@@ -367,3 +367,58 @@ TEST(CoherentGridHardCases, TangentRays)
   expectExact(s, cam, g.frame, "tangent (grid)");
   expectExact(s, cam, e.frame, "tangent (embree)");
 }
+
+TEST(ParameterRangeCulling, BothAcceleratorsDrawExactlyTheSpheresInRange)
+{
+  const auto p = randomPoints(1500, 6, 31);
+  // attribute 0: the x coordinate; attribute 1: the index modulo 10
+  auto withAttributes = [&](const std::vector<Vec3d>& pts) {
+    SphereSet s = makeSet(pts, std::vector<double>(pts.size(), 0.3), {});
+    setSphereAttributes(s, 2, [&](std::uint32_t id, int a) {
+      return a == 0 ? pts[id].x : double(id % 10);
+    });
+    return s;
+  };
+  RangeFilter filter;
+  filter.count = 2;
+  filter.lo[0] = -2;
+  filter.hi[0] = 3;
+  filter.lo[1] = 0;
+  filter.hi[1] = 6;
+  std::vector<Vec3d> kept;
+  for (std::size_t i = 0; i < p.size(); ++i)
+  {
+    if (p[i].x >= -2 && p[i].x <= 3 && double(i % 10) <= 6)
+    {
+      kept.push_back(p[i]);
+    }
+  }
+  const SphereSet reference = makeSet(kept, std::vector<double>(kept.size(), 0.3), {});
+  const RayCamera cam = perspectiveCamera({ 2, 5, 16 }, { 0, 0, 0 }, {});
+
+  SphereSet forGrid = withAttributes(p);
+  CoherentGridAccelerator grid;
+  grid.build(forGrid, CoherentGridParameters{});
+  grid.setRangeFilter(filter);
+  Rendered g;
+  renderSpheres(forGrid, grid, 8, cam, SphereShading{}, 32, g.frame, g.stats);
+  expectExact(reference, cam, g.frame, "grid with ranges");
+  EXPECT_TRUE(g.stats.effect("range_culling"));
+  EXPECT_GT(g.stats.counter("range_culled"), 0);
+
+  SphereSet forEmbree = withAttributes(p);
+  EmbreeSphereAccelerator bvh;
+  bvh.build(forEmbree);
+  bvh.setRangeFilter(filter);
+  Rendered e;
+  renderSpheres(forEmbree, bvh, 4, cam, SphereShading{}, 32, e.frame, e.stats);
+  expectExact(reference, cam, e.frame, "embree with ranges");
+
+  // No range: nothing culled, the effect is off, and every sphere is drawn again.
+  grid.setRangeFilter(RangeFilter{});
+  Rendered all;
+  renderSpheres(forGrid, grid, 8, cam, SphereShading{}, 32, all.frame, all.stats);
+  EXPECT_FALSE(all.stats.effect("range_culling"));
+  EXPECT_EQ(all.stats.counter("range_culled"), 0);
+  expectExact(forGrid, cam, all.frame, "grid without ranges");
+}

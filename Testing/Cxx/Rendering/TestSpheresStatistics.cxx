@@ -73,14 +73,31 @@ int TestSpheresStatistics(int, char*[])
   RM_CHECK(s->GetCounter("builds") == 3);
   RM_CHECK(s->GetCounter("grid_cells") > 0 && s->GetCounter("cells") > 0);
 
+  // Parameter ranges: only the lattice values in [10, 30] are drawn, and moving the
+  // bounds never rebuilds anything.
+  const auto before = rmtest::ReadRGB(win);
+  mapper->SetRange(0, "value", 10, 30);
+  win->Render();
+  RM_CHECK(s->GetCounter("builds") == 4); // the range's array: a new sphere set and grid
+  RM_CHECK(s->GetEffect("range_culling") && s->GetCounter("range_culled") > 0);
+  RM_CHECK(s->GetCounter("hits") < 128 * 96);
+  mapper->SetRange(0, "value", 0, 63);
+  win->Render();
+  RM_CHECK(s->GetCounter("builds") == 4);
+  RM_CHECK(rmtest::ReadRGB(win) == before); // every value in range: the full picture
+  mapper->RemoveAllRanges();
+  win->Render();
+  RM_CHECK(!s->GetEffect("range_culling") && s->GetCounter("range_culled") == 0);
+  RM_CHECK(s->GetCounter("builds") == 5);
+
   // Radius scale and moved points rebuild.
   mapper->SetRadiusScale(0.5);
   win->Render();
-  RM_CHECK(s->GetCounter("builds") == 4);
+  RM_CHECK(s->GetCounter("builds") == 6);
   lattice->GetPoints()->SetPoint(0, 0.1, 0.2, 0.3);
   lattice->GetPoints()->Modified();
   win->Render();
-  RM_CHECK(s->GetCounter("builds") == 5);
+  RM_CHECK(s->GetCounter("builds") == 7);
   std::printf("%s", s->GetSummary());
   return EXIT_SUCCESS;
 }
