@@ -14,7 +14,7 @@ target_include_directories(RayMappersKernels PUBLIC
   ${CMAKE_CURRENT_LIST_DIR}/Common
   ${CMAKE_CURRENT_LIST_DIR}/CGT)
 target_link_libraries(RayMappersKernels PUBLIC embree TBB::tbb)
-target_compile_options(RayMappersKernels PRIVATE ${RAYMAPPERS_WARNINGS})
+target_compile_options(RayMappersKernels PRIVATE ${RAYMAPPERS_WARNINGS} -fopenmp-simd)
 if (RAYMAPPERS_NATIVE)
   target_compile_options(RayMappersKernels PRIVATE -march=native)
 endif ()

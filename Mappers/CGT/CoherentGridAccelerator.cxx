@@ -126,7 +126,6 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
     float dk;     // dK/dt in cell units
     float su, sv; // dU/dK, dV/dK
     float kLo, kHi;
-    float tBest;
   };
   Lane L[MaxPacketRays];
   int active = 0;
@@ -169,7 +168,6 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
     const float ka = l.o[K] + t0 * l.dk, kb = l.o[K] + t1 * l.dk;
     l.kLo = std::min(ka, kb);
     l.kHi = std::max(ka, kb);
-    l.tBest = r.tfar;
     kMin = std::min(kMin, l.kLo);
     kMax = std::max(kMax, l.kHi);
     slopeU = std::max(slopeU, std::fabs(l.su));
@@ -180,6 +178,35 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
   {
     return;
   }
+  // The active rays in structure-of-arrays form, so that testing one sphere against all of
+  // them is a loop the compiler vectorizes (AVX2 / AVX-512 with -march=native).
+  alignas(64) float ox[MaxPacketRays], oy[MaxPacketRays], oz[MaxPacketRays];
+  alignas(64) float dx[MaxPacketRays], dy[MaxPacketRays], dz[MaxPacketRays];
+  alignas(64) float tNear[MaxPacketRays], tBest[MaxPacketRays];
+  alignas(64) std::uint32_t prim[MaxPacketRays];
+  auto load = [&](int i)
+  {
+    const Ray& r = packet.rays[L[i].id];
+    ox[i] = r.org.x;
+    oy[i] = r.org.y;
+    oz[i] = r.org.z;
+    dx[i] = r.dir.x;
+    dy[i] = r.dir.y;
+    dz[i] = r.dir.z;
+    tNear[i] = r.tnear;
+    tBest[i] = r.tfar;
+    prim[i] = NoHit;
+  };
+  for (int i = 0; i < active; ++i)
+  {
+    load(i);
+  }
+  // A ray's result goes to the packet when it leaves the active set.
+  auto store = [&](int i)
+  {
+    hits.prim[L[i].id] = prim[i];
+    hits.t[L[i].id] = prim[i] == NoHit ? 0.f : tBest[i];
+  };
   // Sphere-center method: a ray reaches a sphere of radius r whose centre is at most
   // r sqrt(1 + dU^2) away from it in U within the centre's K-plane (same for V).
   const float sU = rG * std::sqrt(1.f + slopeU * slopeU);
@@ -294,29 +321,21 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
               }
               counters.sphereTests += active;
               const float r2 = radius * radius;
+              const float cx = center.x, cy = center.y, cz = center.z;
+#pragma omp simd
               for (int i = 0; i < active; ++i)
               {
-                const Ray& ray = packet.rays[L[i].id];
-                const Vec3f f = ray.org - center;
-                const float b = dot(f, ray.dir);
-                const Vec3f perp = f - ray.dir * b;
-                const float disc = r2 - dot(perp, perp);
-                if (disc < 0.f)
-                {
-                  continue;
-                }
-                const float root = std::sqrt(disc);
-                float t = -b - root;
-                if (t < ray.tnear)
-                {
-                  t = -b + root; // the ray starts inside the sphere
-                }
-                if (t >= ray.tnear && t < L[i].tBest)
-                {
-                  L[i].tBest = t;
-                  hits.prim[L[i].id] = id;
-                  hits.t[L[i].id] = t;
-                }
+                // |f + t d|^2 = r^2, f = o - c: roots -b -+ sqrt(r^2 - |f - b d|^2), b = f.d
+                const float fx = ox[i] - cx, fy = oy[i] - cy, fz = oz[i] - cz;
+                const float b = fx * dx[i] + fy * dy[i] + fz * dz[i];
+                const float px = fx - dx[i] * b, py = fy - dy[i] * b, pz = fz - dz[i] * b;
+                const float disc = r2 - (px * px + py * py + pz * pz);
+                const float root = std::sqrt(std::max(disc, 0.f));
+                const float near = -b - root;
+                const float t = near < tNear[i] ? -b + root : near; // from inside: far root
+                const bool hit = disc >= 0.f && t >= tNear[i] && t < tBest[i];
+                tBest[i] = hit ? t : tBest[i];
+                prim[i] = hit ? id : prim[i];
               }
             }
           }
@@ -335,17 +354,33 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
     for (int i = 0; i < active; ++i)
     {
       const Lane& l = L[i];
-      const bool hit = hits.prim[l.id] != NoHit;
-      const float kHit = l.o[K] + l.tBest * l.dk;
+      const bool hit = prim[i] != NoHit;
+      const float kHit = l.o[K] + tBest[i] * l.dk;
       const bool settled = hit && (ascending ? kHit <= face : kHit >= face);
       const bool passed =
         ascending ? l.kHi < static_cast<float>(s + 1) : l.kLo > static_cast<float>(s);
-      if (!settled && !passed)
+      if (settled || passed)
       {
-        L[kept++] = l;
+        store(i);
+        continue;
       }
+      L[kept] = l;
+      ox[kept] = ox[i];
+      oy[kept] = oy[i];
+      oz[kept] = oz[i];
+      dx[kept] = dx[i];
+      dy[kept] = dy[i];
+      dz[kept] = dz[i];
+      tNear[kept] = tNear[i];
+      tBest[kept] = tBest[i];
+      prim[kept] = prim[i];
+      ++kept;
     }
     active = kept;
+  }
+  for (int i = 0; i < active; ++i)
+  {
+    store(i);
   }
 }
 

@@ -38,6 +38,7 @@ struct vtkCGTSphereMapper::Internals
   int BuiltAccelerator = -1;
   double BuiltLambda = 0;
   int BuiltMacrocell = 0;
+  int BuiltQuality = -1;
   raymappers::Frame Frame;
   vtkRayMapperFrameDrawer Drawer;
   vtkNew<vtkRayMapperStatistics> Statistics;
@@ -338,11 +339,17 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     }
     else
     {
-      Impl->Embree.build(Impl->Spheres, raymappers::EmbreeSphereAccelerator::Quality::Medium);
+      const auto quality =
+        this->EmbreeBuildQuality == 0
+          ? raymappers::EmbreeSphereAccelerator::Quality::Low
+          : (this->EmbreeBuildQuality == 2 ? raymappers::EmbreeSphereAccelerator::Quality::High
+                                           : raymappers::EmbreeSphereAccelerator::Quality::Medium);
+      Impl->Embree.build(Impl->Spheres, quality);
     }
     Impl->BuiltAccelerator = this->Accelerator;
     Impl->BuiltLambda = this->Lambda;
     Impl->BuiltMacrocell = this->MacrocellSize;
+    Impl->BuiltQuality = this->EmbreeBuildQuality;
     ++Impl->Builds;
     stats.addCounter("builds_this_render", 1);
   }
@@ -418,4 +425,5 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PacketSize: " << this->PacketSize << "\n";
   os << indent << "Lambda: " << this->Lambda << "\n";
   os << indent << "MacrocellSize: " << this->MacrocellSize << "\n";
+  os << indent << "EmbreeBuildQuality: " << this->EmbreeBuildQuality << "\n";
 }

@@ -114,6 +114,15 @@ public:
   vtkGetMacro(MacrocellSize, int);
   ///@}
 
+  ///@{
+  /**
+   * Build quality of Embree's BVH: 0 low (fast build, for time steps), 1 medium (default),
+   * 2 high (slow build, fastest traversal, for static scenes).
+   */
+  vtkSetClampMacro(EmbreeBuildQuality, int, 0, 2);
+  vtkGetMacro(EmbreeBuildQuality, int);
+  ///@}
+
   /**
    * Parameter-range culling (Gribble et al., section 4.3): range `index` (0 to 3) keeps only
    * the points whose point array `arrayName` (first component) lies in [minimum, maximum];
@@ -147,6 +156,7 @@ protected:
   int PacketSize = 8;
   double Lambda = 1.0;
   int MacrocellSize = 6;
+  int EmbreeBuildQuality = 1;
 
 private:
   vtkCGTSphereMapper(const vtkCGTSphereMapper&) = delete;
