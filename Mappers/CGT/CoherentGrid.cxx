@@ -1,5 +1,6 @@
 #include "CoherentGrid.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -93,12 +94,14 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
 
   // Counting sort of the spheres by the cell of their centre.
   std::vector<std::uint32_t> cellOfSphere(n);
-  tbb::parallel_for(std::size_t(0),
-    n,
-    [&](std::size_t i)
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+    [&](const tbb::blocked_range<std::size_t>& range)
     {
-      const auto c = cellOf(spheres.centers[i]);
-      cellOfSphere[i] = static_cast<std::uint32_t>(cellIndex(c[0], c[1], c[2]));
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      {
+        const auto c = cellOf(spheres.centers[i]);
+        cellOfSphere[i] = static_cast<std::uint32_t>(cellIndex(c[0], c[1], c[2]));
+      }
     });
   CellStart.assign(static_cast<std::size_t>(cells) + 1, 0);
   for (std::size_t i = 0; i < n; ++i)
@@ -117,34 +120,38 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
       perm[cursor[cellOfSphere[i]]++] = static_cast<std::uint32_t>(i);
     }
   }
-  // Permute the spheres into cell order (stable: equal cells keep the input order).
+  // Permute the spheres into cell order (stable: equal cells keep the input order). The
+  // arrays are gathered into the grid's scratch set and swapped with the spheres', so the
+  // next build (a new time step) reuses this memory instead of allocating it again.
   {
-    SphereSet sorted;
-    sorted.origin = spheres.origin;
-    sorted.maxRadius = spheres.maxRadius;
-    sorted.skippedNonFinite = spheres.skippedNonFinite;
-    sorted.skippedBadRadius = spheres.skippedBadRadius;
+    SphereSet& sorted = Scratch;
+    const int na = spheres.numAttributes;
     sorted.centers.resize(n);
     sorted.radii.resize(n);
     sorted.colors.resize(n);
     sorted.sourceIds.resize(n);
-    sorted.numAttributes = spheres.numAttributes;
     sorted.attributes.resize(spheres.attributes.size());
-    tbb::parallel_for(std::size_t(0),
-      n,
-      [&](std::size_t i)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+      [&](const tbb::blocked_range<std::size_t>& range)
       {
-        sorted.centers[i] = spheres.centers[perm[i]];
-        sorted.radii[i] = spheres.radii[perm[i]];
-        sorted.colors[i] = spheres.colors[perm[i]];
-        sorted.sourceIds[i] = spheres.sourceIds[perm[i]];
-        for (int a = 0; a < spheres.numAttributes; ++a)
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
         {
-          sorted.attributes[i * spheres.numAttributes + a] =
-            spheres.attributes[perm[i] * spheres.numAttributes + a];
+          const std::uint32_t from = perm[i];
+          sorted.centers[i] = spheres.centers[from];
+          sorted.radii[i] = spheres.radii[from];
+          sorted.colors[i] = spheres.colors[from];
+          sorted.sourceIds[i] = spheres.sourceIds[from];
+          for (int a = 0; a < na; ++a)
+          {
+            sorted.attributes[i * na + a] = spheres.attributes[from * na + a];
+          }
         }
       });
-    spheres = std::move(sorted);
+    spheres.centers.swap(sorted.centers);
+    spheres.radii.swap(sorted.radii);
+    spheres.colors.swap(sorted.colors);
+    spheres.sourceIds.swap(sorted.sourceIds);
+    spheres.attributes.swap(sorted.attributes);
   }
 
   // Macrocells: how many spheres each M x M x M block of cells holds, and the extrema of

@@ -84,6 +84,7 @@ private:
   std::vector<std::uint32_t> MacroCount; // spheres per macrocell
   int NumAttributes = 0;
   std::vector<float> MacroMin, MacroMax; // per macrocell and attribute
+  SphereSet Scratch;                     // the previous build's arrays, reused
 };
 
 } // namespace raymappers
