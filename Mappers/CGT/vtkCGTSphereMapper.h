@@ -9,7 +9,7 @@
  * actor's color, and shaded with the renderer's lights (Lambert diffuse plus Phong
  * specular, from vtkProperty's Ambient/Diffuse/Specular/SpecularPower).
  *
- * The rays are traced on the CPU (TBB tiles, 4x4 ray packets) into a premultiplied
+ * The rays are traced on the CPU (TBB tiles, square ray packets) into a premultiplied
  * RGBA + depth frame that is drawn into the OpenGL framebuffer writing depth, so the
  * spheres hide and are hidden by ordinary geometry.
  *
