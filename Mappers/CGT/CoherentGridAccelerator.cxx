@@ -215,7 +215,7 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
   // The packet's frustum from its corner rays (a full rectangle of lanes).
   Plane planes[4];
   int numPlanes = 0;
-  if (count > 1)
+  if (count > 1 && packet.pixelBlock)
   {
     int c0 = MaxPacketSide, c1 = -1, r0 = MaxPacketSide, r1 = -1;
     for (int i = 0; i < count; ++i)
@@ -240,6 +240,10 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
 
   const int M = Grid.macrocellSize();
   const bool ranged = Filter.count > 0 && Filter.count <= spheres.numAttributes;
+  // Near and far shifted by r_max: a sphere whose centre lies up to r_max before a ray's
+  // start (or after its end) along K can still be hit (section 4.1).
+  kMin -= rG;
+  kMax += rG;
   const int first =
     std::clamp(static_cast<int>(std::floor(ascending ? kMin : kMax)), 0, dims[K] - 1);
   const int last =
@@ -357,8 +361,8 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
       const bool hit = prim[i] != NoHit;
       const float kHit = l.o[K] + tBest[i] * l.dk;
       const bool settled = hit && (ascending ? kHit <= face : kHit >= face);
-      const bool passed =
-        ascending ? l.kHi < static_cast<float>(s + 1) : l.kLo > static_cast<float>(s);
+      const bool passed = ascending ? l.kHi + rG < static_cast<float>(s + 1)
+                                    : l.kLo - rG > static_cast<float>(s);
       if (settled || passed)
       {
         store(i);

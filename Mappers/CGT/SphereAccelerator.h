@@ -20,6 +20,10 @@ struct RayPacket
 {
   int side = 4;              // rays are side x side, lane = row * side + column
   bool valid[MaxPacketRays]; // false for lanes outside the image
+  // True for the rays of a block of pixels of a projective camera: rays along each edge
+  // of the block are coplanar, so the corner rays bound a frustum. False for other rays
+  // (ambient occlusion), which get no frustum culling.
+  bool pixelBlock = true;
   Ray rays[MaxPacketRays];
 };
 

@@ -43,6 +43,32 @@ inline Vec3d mul3(const double* m, int stride, const Vec3d& v)
 }
 }
 
+Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel)
+{
+  // Per-pixel Cranley-Patterson shift from an integer hash of the pixel index.
+  std::uint32_t h = pixel * 0x9E3779B1u;
+  h ^= h >> 16;
+  h *= 0x85EBCA6Bu;
+  h ^= h >> 13;
+  const double shift0 = (h & 0xFFFF) / 65536.0, shift1 = (h >> 16) / 65536.0;
+  std::uint32_t bits = static_cast<std::uint32_t>(k);
+  bits = (bits << 16) | (bits >> 16);
+  bits = ((bits & 0x55555555u) << 1) | ((bits & 0xAAAAAAAAu) >> 1);
+  bits = ((bits & 0x33333333u) << 2) | ((bits & 0xCCCCCCCCu) >> 2);
+  bits = ((bits & 0x0F0F0F0Fu) << 4) | ((bits & 0xF0F0F0F0u) >> 4);
+  bits = ((bits & 0x00FF00FFu) << 8) | ((bits & 0xFF00FF00u) >> 8);
+  double u = (k + 0.5) / count + shift0;
+  double v = bits * (1.0 / 4294967296.0) + shift1;
+  u -= std::floor(u);
+  v -= std::floor(v);
+  // Cosine-weighted: radius sqrt(u) on the unit disc lifted to the hemisphere.
+  const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
+  const Vec3d a = std::fabs(n.x) > 0.9 ? Vec3d(0, 1, 0) : Vec3d(1, 0, 0);
+  const Vec3d t = normalize(cross(a, n));
+  const Vec3d b = cross(n, t);
+  return normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(1.0 - u));
+}
+
 void renderSpheres(const SphereSet& spheres,
   const SphereAccelerator& accel,
   int packetSide,
@@ -59,8 +85,12 @@ void renderSpheres(const SphereSet& spheres,
   stats.setEffect("shading", lit);
   stats.setEffect("specular", lit && shading.material.specular > 0);
   stats.setEffect("range_culling", accel.rangeFilter().count > 0);
+  const int aoSamples = std::clamp(shading.aoSamples, 0, MaxPacketRays);
+  const bool ao = aoSamples > 0 && shading.aoRadius > 0;
+  stats.setEffect("ambient_occlusion", ao);
+  const int aoSide = aoSamples <= 16 ? 4 : (aoSamples <= 64 ? 8 : MaxPacketSide);
   for (const char* c :
-    { "rays", "packets", "hits", "cells", "culled", "sphere_tests", "range_culled" })
+    { "rays", "packets", "hits", "cells", "culled", "sphere_tests", "range_culled", "ao_rays" })
   {
     stats.declareCounter(c);
   }
@@ -72,7 +102,7 @@ void renderSpheres(const SphereSet& spheres,
 
   const double* mw = shading.modelToWorld;
   std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, hits{ 0 }, cells{ 0 }, culled{ 0 }, tests{ 0 },
-    rangeCulled{ 0 };
+    rangeCulled{ 0 }, aoRays{ 0 };
   {
     ScopedPhase phase(stats, "trace");
     forEachTile(width,
@@ -80,7 +110,11 @@ void renderSpheres(const SphereSet& spheres,
       tileSize,
       [&](const Tile& tile)
       {
-        std::int64_t tileRays = 0, tilePackets = 0, tileHits = 0;
+        std::int64_t tileRays = 0, tilePackets = 0, tileHits = 0, tileAoRays = 0;
+        RayPacket aoPacket;
+        aoPacket.side = aoSide;
+        aoPacket.pixelBlock = false;
+        PacketHits aoHits;
         TraversalCounters counters;
         RayPacket packet;
         packet.side = side;
@@ -134,6 +168,34 @@ void renderSpheres(const SphereSet& spheres,
                 color = shade(shading.lights, shading.material, base, pw, nw, vw);
               }
               const std::size_t idx = frame.index(bx + k % side, by + k / side);
+              if (ao)
+              {
+                // Ambient occlusion: the fraction of hemisphere rays that escape within
+                // the radius scales the shaded colour. The rays leave slightly above the
+                // surface so they cannot hit their own sphere.
+                const Vec3d start = pRel + n * (1e-4 * r);
+                for (int a = 0; a < aoSide * aoSide; ++a)
+                {
+                  aoPacket.valid[a] = a < aoSamples;
+                  if (a < aoSamples)
+                  {
+                    Ray& aoRay = aoPacket.rays[a];
+                    aoRay.org = Vec3f(start);
+                    aoRay.dir =
+                      Vec3f(aoDirection(n, a, aoSamples, static_cast<std::uint32_t>(idx)));
+                    aoRay.tnear = 0.f;
+                    aoRay.tfar = static_cast<float>(shading.aoRadius);
+                  }
+                }
+                accel.intersect(aoPacket, aoHits, counters);
+                int occluded = 0;
+                for (int a = 0; a < aoSamples; ++a)
+                {
+                  occluded += aoHits.prim[a] != NoHit ? 1 : 0;
+                }
+                tileAoRays += aoSamples;
+                color = color * (1.0 - static_cast<double>(occluded) / aoSamples);
+              }
               frame.rgba[4 * idx] = static_cast<float>(std::clamp(color.x, 0.0, 1.0));
               frame.rgba[4 * idx + 1] = static_cast<float>(std::clamp(color.y, 0.0, 1.0));
               frame.rgba[4 * idx + 2] = static_cast<float>(std::clamp(color.z, 0.0, 1.0));
@@ -150,6 +212,7 @@ void renderSpheres(const SphereSet& spheres,
         culled += counters.culled;
         tests += counters.sphereTests;
         rangeCulled += counters.rangeCulled;
+        aoRays += tileAoRays;
       });
   }
   stats.addCounter("rays", rays.load());
@@ -159,6 +222,7 @@ void renderSpheres(const SphereSet& spheres,
   stats.addCounter("culled", culled.load());
   stats.addCounter("sphere_tests", tests.load());
   stats.addCounter("range_culled", rangeCulled.load());
+  stats.addCounter("ao_rays", aoRays.load());
 }
 
 } // namespace raymappers

@@ -22,12 +22,21 @@ struct SphereShading
   Material material;
   double modelToWorld[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
   double normalToWorld[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+  /// Ambient occlusion: rays per hit (0: off) reaching at most `aoRadius` (model units).
+  int aoSamples = 0;
+  double aoRadius = 0.0;
 };
+
+/// The k-th of `count` ambient-occlusion directions at a hit with unit normal n: a
+/// cosine-weighted hemisphere sample (Hammersley point (k + 1/2)/count, radical inverse of
+/// k), rotated by a per-pixel shift so neighbouring pixels do not share a pattern. The
+/// occlusion of a hit is the fraction of these rays that meet a sphere within the radius.
+Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel);
 
 /// Renders the spheres seen by `camera` into `frame` (resized to the camera's grid), in
 /// packets of packetSide x packetSide rays (clamped to [1, MaxPacketSide]).
-/// Counters: rays, packets, hits, cells, culled, sphere_tests, range_culled. Effects:
-/// shading, specular, range_culling.
+/// Counters: rays, packets, hits, cells, culled, sphere_tests, range_culled, ao_rays.
+/// Effects: shading, specular, range_culling, ambient_occlusion.
 void renderSpheres(const SphereSet& spheres,
   const SphereAccelerator& accel,
   int packetSide,

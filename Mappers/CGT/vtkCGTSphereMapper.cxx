@@ -374,6 +374,9 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   {
     shading.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
   }
+  shading.aoSamples = this->AmbientOcclusionSamples;
+  shading.aoRadius =
+    this->AmbientOcclusionRadius > 0 ? this->AmbientOcclusionRadius : 2.0 * Impl->Spheres.maxRadius;
   shading.material.ambient = property->GetAmbient();
   shading.material.diffuse = property->GetDiffuse();
   shading.material.specular = property->GetSpecular();
@@ -426,4 +429,6 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Lambda: " << this->Lambda << "\n";
   os << indent << "MacrocellSize: " << this->MacrocellSize << "\n";
   os << indent << "EmbreeBuildQuality: " << this->EmbreeBuildQuality << "\n";
+  os << indent << "AmbientOcclusionSamples: " << this->AmbientOcclusionSamples << "\n";
+  os << indent << "AmbientOcclusionRadius: " << this->AmbientOcclusionRadius << "\n";
 }

@@ -116,6 +116,19 @@ public:
 
   ///@{
   /**
+   * Ambient occlusion: rays per visible point (0, the default, turns it off; at most 256),
+   * cosine-distributed over the hemisphere of the normal; the fraction that meets no
+   * sphere within AmbientOcclusionRadius scales the shaded colour. A radius of 0 (default)
+   * means twice the largest sphere radius.
+   */
+  vtkSetClampMacro(AmbientOcclusionSamples, int, 0, 256);
+  vtkGetMacro(AmbientOcclusionSamples, int);
+  vtkSetClampMacro(AmbientOcclusionRadius, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(AmbientOcclusionRadius, double);
+  ///@}
+
+  ///@{
+  /**
    * Build quality of Embree's BVH: 0 low (fast build, for time steps), 1 medium (default),
    * 2 high (slow build, fastest traversal, for static scenes).
    */
@@ -157,6 +170,8 @@ protected:
   double Lambda = 1.0;
   int MacrocellSize = 6;
   int EmbreeBuildQuality = 1;
+  int AmbientOcclusionSamples = 0;
+  double AmbientOcclusionRadius = 0.0;
 
 private:
   vtkCGTSphereMapper(const vtkCGTSphereMapper&) = delete;

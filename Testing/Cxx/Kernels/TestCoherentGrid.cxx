@@ -372,11 +372,11 @@ TEST(ParameterRangeCulling, BothAcceleratorsDrawExactlyTheSpheresInRange)
 {
   const auto p = randomPoints(1500, 6, 31);
   // attribute 0: the x coordinate; attribute 1: the index modulo 10
-  auto withAttributes = [&](const std::vector<Vec3d>& pts) {
+  auto withAttributes = [&](const std::vector<Vec3d>& pts)
+  {
     SphereSet s = makeSet(pts, std::vector<double>(pts.size(), 0.3), {});
-    setSphereAttributes(s, 2, [&](std::uint32_t id, int a) {
-      return a == 0 ? pts[id].x : double(id % 10);
-    });
+    setSphereAttributes(
+      s, 2, [&](std::uint32_t id, int a) { return a == 0 ? pts[id].x : double(id % 10); });
     return s;
   };
   RangeFilter filter;
@@ -421,4 +421,94 @@ TEST(ParameterRangeCulling, BothAcceleratorsDrawExactlyTheSpheresInRange)
   EXPECT_FALSE(all.stats.effect("range_culling"));
   EXPECT_EQ(all.stats.counter("range_culled"), 0);
   expectExact(forGrid, cam, all.frame, "grid without ranges");
+}
+
+TEST(AmbientOcclusion, MatchesBruteForceWithBothAccelerators)
+{
+  // Spheres packed closely: much of each visible point's hemisphere is blocked nearby.
+  const auto p = randomPoints(400, 2.5, 37);
+  const std::vector<double> r(p.size(), 0.35);
+  const RayCamera cam = perspectiveCamera({ 1, 2, 9 }, { 0, 0, 0 }, {}, 48, 40);
+  SphereShading shading; // unlit: the colour is the sphere's, times the unoccluded share
+  shading.aoSamples = 16;
+  shading.aoRadius = 1.0;
+  for (int which = 0; which < 2; ++which)
+  {
+    SphereSet s = makeSet(p, r, {});
+    CoherentGridAccelerator grid;
+    EmbreeSphereAccelerator bvh;
+    if (which == 0)
+    {
+      grid.build(s, CoherentGridParameters{});
+    }
+    else
+    {
+      bvh.build(s);
+    }
+    const SphereAccelerator& accel = which == 0 ? static_cast<const SphereAccelerator&>(grid) : bvh;
+    Frame f;
+    RenderStatistics stats;
+    renderSpheres(s, accel, 8, cam, shading, 16, f, stats);
+    EXPECT_TRUE(stats.effect("ambient_occlusion"));
+    EXPECT_EQ(stats.counter("ao_rays"), 16 * stats.counter("hits"));
+    int checked = 0, darkened = 0;
+    for (int j = 0; j < cam.height(); ++j)
+    {
+      for (int i = 0; i < cam.width(); ++i)
+      {
+        const Ray ray = cam.pixelRay(i, j);
+        double t, margin;
+        const int id = bruteForce(s, ray, t, margin);
+        if (id < 0 || margin < 1e-3)
+        {
+          continue;
+        }
+        // The same rays as the renderer, traced against every sphere in double.
+        const Vec3d c(s.centers[id]);
+        const Vec3d hit = Vec3d(ray.org) + Vec3d(ray.dir) * t;
+        const Vec3d n = normalize(hit - c);
+        const Vec3d start = hit + n * (1e-4 * s.radii[id]);
+        const std::size_t k = f.index(i, j);
+        int occluded = 0;
+        bool ambiguous = false;
+        for (int a = 0; a < 16; ++a)
+        {
+          Ray probe;
+          probe.org = Vec3f(start);
+          probe.dir = Vec3f(aoDirection(n, a, 16, static_cast<std::uint32_t>(k)));
+          probe.tnear = 0.f;
+          probe.tfar = 1.0f;
+          double tp, mp;
+          const int blocker = bruteForce(s, probe, tp, mp);
+          occluded += blocker >= 0 ? 1 : 0;
+          ambiguous = ambiguous || mp < 1e-3 || (blocker >= 0 && std::fabs(tp - 1.0) < 1e-3);
+        }
+        if (ambiguous)
+        {
+          continue; // a probe grazes a sphere or ends on one: float and double may differ
+        }
+        ++checked;
+        darkened += occluded > 0 ? 1 : 0;
+        const std::uint32_t col = s.colors[static_cast<std::size_t>(id)];
+        const double expected = (col & 0xFF) / 255.0 * (1.0 - occluded / 16.0);
+        EXPECT_NEAR(f.rgba[4 * k], expected, 1e-5)
+          << (which ? "embree" : "grid") << " " << i << "," << j;
+      }
+    }
+    EXPECT_GT(checked, 200);
+    EXPECT_GT(darkened, checked / 4); // the scene is dense enough for occlusion to show
+  }
+}
+
+TEST(AmbientOcclusion, OffCostsNothing)
+{
+  SphereSet s = makeSet(randomPoints(100, 3, 41), std::vector<double>(100, 0.3), {});
+  CoherentGridAccelerator grid;
+  grid.build(s, CoherentGridParameters{});
+  const RayCamera cam = perspectiveCamera({ 1, 2, 9 }, { 0, 0, 0 }, {}, 32, 32);
+  Frame f;
+  RenderStatistics stats;
+  renderSpheres(s, grid, 8, cam, SphereShading{}, 16, f, stats);
+  EXPECT_FALSE(stats.effect("ambient_occlusion"));
+  EXPECT_EQ(stats.counter("ao_rays"), 0);
 }
