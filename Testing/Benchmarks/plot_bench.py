@@ -126,14 +126,17 @@ def plot_times(suite, dataset, rows, path):
 
 
 def plot_errors(suite, dataset, rows, path):
-    """rmse against render_ms, one line per method with several settings;
-    methods with a single measured setting (e.g. the alternatives a user has
-    today) appear as lone markers for comparison. False if no method has
+    """rmse against render_ms, one line per method and swept parameter (the
+    setting's first name, e.g. "ao" in "ao=16": a sweep may have its own
+    reference); methods with a single measured setting (e.g. the alternatives a
+    user has today) appear as lone markers for comparison. False if nothing has
     several settings."""
     by_method = OrderedDict()
     for r in rows:
         if r["rmse"] is not None and r["render_ms"] is not None:
-            by_method.setdefault(r["method"], []).append(r)
+            swept = r["setting"].split("=", 1)[0] if "=" in r["setting"] else ""
+            key = f"{r['method']} ({swept})" if swept else r["method"]
+            by_method.setdefault(key, []).append(r)
     if all(len(rs) < 2 for rs in by_method.values()):
         return False
 
