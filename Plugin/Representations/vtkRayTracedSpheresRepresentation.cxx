@@ -468,6 +468,20 @@ void vtkRayTracedSpheresRepresentation::SetMacrocellSize(int cells)
 }
 
 //----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetAmbientOcclusionSamples(int samples)
+{
+  this->Mapper->SetAmbientOcclusionSamples(samples);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetAmbientOcclusionRadius(double radius)
+{
+  this->Mapper->SetAmbientOcclusionRadius(radius);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
 void vtkRayTracedSpheresRepresentation::SetRadiusScale(double scale)
 {
   if (this->RadiusScale != scale)

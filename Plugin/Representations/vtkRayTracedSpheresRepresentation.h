@@ -126,6 +126,8 @@ public:
   void SetPacketSize(int side);
   void SetLambda(double lambda);
   void SetMacrocellSize(int cells);
+  void SetAmbientOcclusionSamples(int samples);
+  void SetAmbientOcclusionRadius(double radius);
 
   //***************************************************************************
   // Forwarded to the actor.

@@ -288,6 +288,22 @@ def run_checks(args, source, view, stem):
         same = (ours & other).sum() / union if union else 0.0
         check(same > 0.999, '%s = %s draws the same spheres (IoU %.5f)' % (name, value, same))
 
+    # Ambient occlusion darkens the spheres where they crowd each other.
+    def mean_level(png):
+        rgb = mean_foreground_color(png)
+        return sum(rgb) / 3.0
+
+    rep.AmbientOcclusionSamples = 0
+    plain = stem + '-ao-off.png'
+    screenshot(view, plain, args.size)
+    rep.AmbientOcclusionSamples = 16
+    occluded = stem + '-ao-16.png'
+    screenshot(view, occluded, args.size)
+    check(mean_level(occluded) < 0.97 * mean_level(plain),
+          'ambient occlusion darkens the spheres (%.1f < %.1f)'
+          % (mean_level(occluded), mean_level(plain)))
+    rep.AmbientOcclusionSamples = 0
+
     if failures:
         print('%d check(s) failed' % len(failures))
         return 1
