@@ -43,14 +43,36 @@ inline Vec3d mul3(const double* m, int stride, const Vec3d& v)
 }
 }
 
-Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel)
+namespace
 {
-  // Per-pixel Cranley-Patterson shift from an integer hash of the pixel index.
+// Per-pixel Cranley-Patterson shift in [0, 1)^2 from an integer hash of the pixel index.
+void pixelShift(std::uint32_t pixel, double& shift0, double& shift1)
+{
   std::uint32_t h = pixel * 0x9E3779B1u;
   h ^= h >> 16;
   h *= 0x85EBCA6Bu;
   h ^= h >> 13;
-  const double shift0 = (h & 0xFFFF) / 65536.0, shift1 = (h >> 16) / 65536.0;
+  shift0 = (h & 0xFFFF) / 65536.0;
+  shift1 = (h >> 16) / 65536.0;
+}
+}
+
+Vec3d shadowTarget(const SphereShading& shading, int a, int b, std::uint32_t pixel)
+{
+  const int side = std::max(1, shading.shadowSide);
+  double s0 = 0.5, s1 = 0.5;
+  if (side > 1)
+  {
+    pixelShift(pixel, s0, s1);
+  }
+  const double u = (a + s0) / side, v = (b + s1) / side;
+  return shading.lightCenter + shading.lightEdgeU * (u - 0.5) + shading.lightEdgeV * (v - 0.5);
+}
+
+Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel)
+{
+  double shift0, shift1;
+  pixelShift(pixel, shift0, shift1);
   std::uint32_t bits = static_cast<std::uint32_t>(k);
   bits = (bits << 16) | (bits >> 16);
   bits = ((bits & 0x55555555u) << 1) | ((bits & 0xAAAAAAAAu) >> 1);
@@ -81,7 +103,7 @@ void renderSpheres(const SphereSet& spheres,
   const int width = camera.width();
   const int height = camera.height();
   frame.resize(width, height);
-  const bool lit = !shading.lights.empty();
+  const bool lit = !shading.lights.empty() || shading.shadowSide > 0;
   stats.setEffect("shading", lit);
   stats.setEffect("specular", lit && shading.material.specular > 0);
   stats.setEffect("range_culling", accel.rangeFilter().count > 0);
@@ -89,8 +111,27 @@ void renderSpheres(const SphereSet& spheres,
   const bool ao = aoSamples > 0 && shading.aoRadius > 0;
   stats.setEffect("ambient_occlusion", ao);
   const int aoSide = aoSamples <= 16 ? 4 : (aoSamples <= 64 ? 8 : MaxPacketSide);
-  for (const char* c :
-    { "rays", "packets", "hits", "cells", "culled", "sphere_tests", "range_culled", "ao_rays" })
+  const int shadowSide = std::clamp(shading.shadowSide, 0, MaxPacketSide);
+  const bool shadows = shadowSide > 0;
+  stats.setEffect("soft_shadows", shadows);
+  std::vector<Light> areaLight;
+  if (shadows)
+  {
+    Light l;
+    l.positional = true;
+    l.position = shading.lightCenterWorld;
+    l.color = Vec3d(1, 1, 1) * shading.lightIntensity;
+    areaLight.push_back(l);
+  }
+  for (const char* c : { "rays",
+         "packets",
+         "hits",
+         "cells",
+         "culled",
+         "sphere_tests",
+         "range_culled",
+         "ao_rays",
+         "shadow_rays" })
   {
     stats.declareCounter(c);
   }
@@ -102,7 +143,7 @@ void renderSpheres(const SphereSet& spheres,
 
   const double* mw = shading.modelToWorld;
   std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, hits{ 0 }, cells{ 0 }, culled{ 0 }, tests{ 0 },
-    rangeCulled{ 0 }, aoRays{ 0 };
+    rangeCulled{ 0 }, aoRays{ 0 }, shadowRays{ 0 };
   {
     ScopedPhase phase(stats, "trace");
     forEachTile(width,
@@ -110,7 +151,12 @@ void renderSpheres(const SphereSet& spheres,
       tileSize,
       [&](const Tile& tile)
       {
-        std::int64_t tileRays = 0, tilePackets = 0, tileHits = 0, tileAoRays = 0;
+        std::int64_t tileRays = 0, tilePackets = 0, tileHits = 0, tileAoRays = 0,
+                     tileShadowRays = 0;
+        RayPacket shadowPacket;
+        shadowPacket.side = shadowSide <= 4 ? 4 : (shadowSide <= 8 ? 8 : MaxPacketSide);
+        shadowPacket.pixelBlock = false;
+        PacketHits shadowHits;
         RayPacket aoPacket;
         aoPacket.side = aoSide;
         aoPacket.pixelBlock = false;
@@ -165,9 +211,43 @@ void renderSpheres(const SphereSet& spheres,
                 const Vec3d pw = mul3(mw, 4, pm) + Vec3d(mw[3], mw[7], mw[11]);
                 const Vec3d nw = normalize(mul3(shading.normalToWorld, 3, n));
                 const Vec3d vw = normalize(-mul3(mw, 4, d));
-                color = shade(shading.lights, shading.material, base, pw, nw, vw);
+                color =
+                  shade(shadows ? areaLight : shading.lights, shading.material, base, pw, nw, vw);
               }
               const std::size_t idx = frame.index(bx + k % side, by + k / side);
+              if (shadows)
+              {
+                // Shadow rays from just above the surface to the light's samples; the
+                // visible share scales the direct (non-ambient) light.
+                const Vec3d start = pRel + n * (1e-4 * r);
+                const int count = shadowSide * shadowSide;
+                for (int a = 0; a < shadowPacket.side * shadowPacket.side; ++a)
+                {
+                  shadowPacket.valid[a] = a < count;
+                  if (a < count)
+                  {
+                    const Vec3d q = shadowTarget(
+                      shading, a % shadowSide, a / shadowSide, static_cast<std::uint32_t>(idx));
+                    const Vec3d toLight = q - start;
+                    const double dist = length(toLight);
+                    Ray& sr = shadowPacket.rays[a];
+                    sr.org = Vec3f(start);
+                    sr.dir = Vec3f(toLight * (1.0 / dist));
+                    sr.tnear = 0.f;
+                    sr.tfar = static_cast<float>(dist);
+                  }
+                }
+                accel.intersect(shadowPacket, shadowHits, counters);
+                int blocked = 0;
+                for (int a = 0; a < count; ++a)
+                {
+                  blocked += shadowHits.prim[a] != NoHit ? 1 : 0;
+                }
+                tileShadowRays += count;
+                const double visible = 1.0 - static_cast<double>(blocked) / count;
+                const Vec3d ambient = base * shading.material.ambient;
+                color = ambient + (color - ambient) * visible;
+              }
               if (ao)
               {
                 // Ambient occlusion: the fraction of hemisphere rays that escape within
@@ -213,6 +293,7 @@ void renderSpheres(const SphereSet& spheres,
         tests += counters.sphereTests;
         rangeCulled += counters.rangeCulled;
         aoRays += tileAoRays;
+        shadowRays += tileShadowRays;
       });
   }
   stats.addCounter("rays", rays.load());
@@ -223,6 +304,7 @@ void renderSpheres(const SphereSet& spheres,
   stats.addCounter("sphere_tests", tests.load());
   stats.addCounter("range_culled", rangeCulled.load());
   stats.addCounter("ao_rays", aoRays.load());
+  stats.addCounter("shadow_rays", shadowRays.load());
 }
 
 } // namespace raymappers

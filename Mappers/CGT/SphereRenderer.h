@@ -25,7 +25,21 @@ struct SphereShading
   /// Ambient occlusion: rays per hit (0: off) reaching at most `aoRadius` (model units).
   int aoSamples = 0;
   double aoRadius = 0.0;
+  /// Soft shadows from a rectangular area light (Gribble et al., section 4.3): side x side
+  /// shadow rays per hit (0: off; 1: a hard shadow from the centre). The rectangle is
+  /// given in the sphere set's origin-relative model coordinates (centre, two edge
+  /// vectors) and, for shading, by its centre in world coordinates. When on, the area light
+  /// is the direct light (the `lights` are not used) and the visible fraction of its
+  /// samples scales its diffuse and specular terms.
+  int shadowSide = 0;
+  Vec3d lightCenter, lightEdgeU, lightEdgeV;
+  Vec3d lightCenterWorld;
+  double lightIntensity = 1.0;
 };
+
+/// Sample (a, b) of a side x side stratified pattern on the area light, shifted per
+/// pixel: centre + (u - 1/2) U + (v - 1/2) V with u = (a + s0) / side, v = (b + s1) / side.
+Vec3d shadowTarget(const SphereShading& shading, int a, int b, std::uint32_t pixel);
 
 /// The k-th of `count` ambient-occlusion directions at a hit with unit normal n: a
 /// cosine-weighted hemisphere sample (Hammersley point (k + 1/2)/count, radical inverse of
@@ -35,8 +49,8 @@ Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel);
 
 /// Renders the spheres seen by `camera` into `frame` (resized to the camera's grid), in
 /// packets of packetSide x packetSide rays (clamped to [1, MaxPacketSide]).
-/// Counters: rays, packets, hits, cells, culled, sphere_tests, range_culled, ao_rays.
-/// Effects: shading, specular, range_culling, ambient_occlusion.
+/// Counters: rays, packets, hits, cells, culled, sphere_tests, range_culled, ao_rays,
+/// shadow_rays. Effects: shading, specular, range_culling, ambient_occlusion, soft_shadows.
 void renderSpheres(const SphereSet& spheres,
   const SphereAccelerator& accel,
   int packetSide,

@@ -96,6 +96,66 @@ void vtkCGTSphereMapper::RemoveAllRanges()
   }
 }
 
+void vtkCGTSphereMapper::SetUpShadowLight(const vtkRayMapperRenderHelpers::ModelTransform& model,
+  raymappers::SphereShading& shading)
+{
+  // The data's centre and diagonal in world coordinates, from the mapper's bounds.
+  double b[6];
+  this->GetBounds(b);
+  std::array<double, 16> m;
+  std::copy(model.modelToWorld, model.modelToWorld + 16, m.begin());
+  auto toWorld = [&](const raymappers::Vec3d& p)
+  {
+    return raymappers::Vec3d(m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3],
+      m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7],
+      m[8] * p.x + m[9] * p.y + m[10] * p.z + m[11]);
+  };
+  const raymappers::Vec3d centerModel(
+    0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]));
+  const raymappers::Vec3d center = toWorld(centerModel);
+  const double diag = std::sqrt(
+    (b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
+  raymappers::Vec3d position(
+    this->ShadowLightPosition[0], this->ShadowLightPosition[1], this->ShadowLightPosition[2]);
+  double size = this->ShadowLightSize;
+  if (this->AutomaticShadowLight)
+  {
+    position = center + raymappers::Vec3d(0.5, 1.0, 0.8) * diag;
+    size = 0.15 * diag;
+  }
+  // A square facing the data's centre, in world coordinates, then in the kernel's
+  // origin-relative model coordinates.
+  raymappers::Vec3d w = raymappers::normalize(center - position);
+  const raymappers::Vec3d up =
+    std::fabs(w.y) < 0.99 ? raymappers::Vec3d(0, 1, 0) : raymappers::Vec3d(1, 0, 0);
+  const raymappers::Vec3d u = raymappers::normalize(raymappers::cross(w, up)) * size;
+  const raymappers::Vec3d v = raymappers::normalize(raymappers::cross(u, w)) * size;
+  std::array<double, 16> inv;
+  if (!raymappers::invert4x4(m, inv))
+  {
+    vtkWarningMacro(<< "The actor's matrix is singular: no shadows.");
+    return;
+  }
+  auto toModelPoint = [&](const raymappers::Vec3d& p)
+  {
+    return raymappers::Vec3d(inv[0] * p.x + inv[1] * p.y + inv[2] * p.z + inv[3],
+      inv[4] * p.x + inv[5] * p.y + inv[6] * p.z + inv[7],
+      inv[8] * p.x + inv[9] * p.y + inv[10] * p.z + inv[11]);
+  };
+  auto toModelVector = [&](const raymappers::Vec3d& p)
+  {
+    return raymappers::Vec3d(inv[0] * p.x + inv[1] * p.y + inv[2] * p.z,
+      inv[4] * p.x + inv[5] * p.y + inv[6] * p.z,
+      inv[8] * p.x + inv[9] * p.y + inv[10] * p.z);
+  };
+  shading.shadowSide = this->ShadowRays;
+  shading.lightCenterWorld = position;
+  shading.lightCenter = toModelPoint(position) - Impl->Spheres.origin;
+  shading.lightEdgeU = toModelVector(u);
+  shading.lightEdgeV = toModelVector(v);
+  shading.lightIntensity = this->ShadowLightIntensity;
+}
+
 vtkRayMapperStatistics* vtkCGTSphereMapper::GetStatistics()
 {
   return Impl->Statistics;
@@ -377,6 +437,10 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   shading.aoSamples = this->AmbientOcclusionSamples;
   shading.aoRadius =
     this->AmbientOcclusionRadius > 0 ? this->AmbientOcclusionRadius : 2.0 * Impl->Spheres.maxRadius;
+  if (this->ShadowRays > 0)
+  {
+    this->SetUpShadowLight(model, shading);
+  }
   shading.material.ambient = property->GetAmbient();
   shading.material.diffuse = property->GetDiffuse();
   shading.material.specular = property->GetSpecular();
@@ -431,4 +495,10 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EmbreeBuildQuality: " << this->EmbreeBuildQuality << "\n";
   os << indent << "AmbientOcclusionSamples: " << this->AmbientOcclusionSamples << "\n";
   os << indent << "AmbientOcclusionRadius: " << this->AmbientOcclusionRadius << "\n";
+  os << indent << "ShadowRays: " << this->ShadowRays << "\n";
+  os << indent << "AutomaticShadowLight: " << this->AutomaticShadowLight << "\n";
+  os << indent << "ShadowLightPosition: " << this->ShadowLightPosition[0] << " "
+     << this->ShadowLightPosition[1] << " " << this->ShadowLightPosition[2] << "\n";
+  os << indent << "ShadowLightSize: " << this->ShadowLightSize << "\n";
+  os << indent << "ShadowLightIntensity: " << this->ShadowLightIntensity << "\n";
 }

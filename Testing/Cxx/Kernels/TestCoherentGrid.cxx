@@ -512,3 +512,109 @@ TEST(AmbientOcclusion, OffCostsNothing)
   EXPECT_FALSE(stats.effect("ambient_occlusion"));
   EXPECT_EQ(stats.counter("ao_rays"), 0);
 }
+
+TEST(SoftShadows, MatchBruteForceWithBothAccelerators)
+{
+  // A cloud of spheres over a big "floor" sphere, lit by an area light above: the share
+  // of each point's shadow rays that reach the light, brute-forced in double, must be the
+  // renderer's.
+  std::vector<Vec3d> p = randomPoints(120, 2.0, 43);
+  std::vector<double> r(p.size(), 0.3);
+  p.push_back({ 0, -30, 0 });
+  r.push_back(27.0);
+  const RayCamera cam = perspectiveCamera({ 2, 4, 12 }, { 0, -1, 0 }, {}, 48, 40);
+  SphereShading shading;
+  shading.material.ambient = 0.2;
+  shading.material.diffuse = 0.8;
+  shading.shadowSide = 3;
+  shading.lightCenter = { 1, 8, 2 };
+  shading.lightEdgeU = { 2, 0, 0 };
+  shading.lightEdgeV = { 0, 0, 2 };
+  shading.lightCenterWorld = shading.lightCenter; // identity model transform, origin 0
+  for (int which = 0; which < 2; ++which)
+  {
+    SphereSet s = makeSet(p, r, {});
+    CoherentGridAccelerator grid;
+    EmbreeSphereAccelerator bvh;
+    if (which == 0)
+    {
+      grid.build(s, CoherentGridParameters{});
+    }
+    else
+    {
+      bvh.build(s);
+    }
+    const SphereAccelerator& accel = which == 0 ? static_cast<const SphereAccelerator&>(grid) : bvh;
+    Frame f;
+    RenderStatistics stats;
+    renderSpheres(s, accel, 8, cam, shading, 16, f, stats);
+    EXPECT_TRUE(stats.effect("soft_shadows"));
+    EXPECT_EQ(stats.counter("shadow_rays"), 9 * stats.counter("hits"));
+    int checked = 0, penumbra = 0, umbra = 0;
+    for (int j = 0; j < cam.height(); ++j)
+    {
+      for (int i = 0; i < cam.width(); ++i)
+      {
+        const Ray ray = cam.pixelRay(i, j);
+        double t, margin;
+        const int id = bruteForce(s, ray, t, margin);
+        if (id < 0 || margin < 1e-3)
+        {
+          continue;
+        }
+        const Vec3d c(s.centers[id]);
+        const Vec3d hit = Vec3d(ray.org) + Vec3d(ray.dir) * t;
+        const Vec3d n = normalize(hit - c);
+        const Vec3d start = hit + n * (1e-4 * s.radii[id]);
+        const std::size_t k = f.index(i, j);
+        int blocked = 0;
+        bool ambiguous = false;
+        for (int a = 0; a < 9; ++a)
+        {
+          const Vec3d q = shadowTarget(shading, a % 3, a / 3, static_cast<std::uint32_t>(k));
+          Ray probe;
+          probe.org = Vec3f(start);
+          probe.dir = Vec3f(normalize(q - start));
+          probe.tnear = 0.f;
+          probe.tfar = static_cast<float>(length(q - start));
+          double tp, mp;
+          blocked += bruteForce(s, probe, tp, mp) >= 0 ? 1 : 0;
+          ambiguous = ambiguous || mp < 1e-3;
+        }
+        if (ambiguous)
+        {
+          continue;
+        }
+        ++checked;
+        penumbra += blocked > 0 && blocked < 9 ? 1 : 0;
+        umbra += blocked == 9 ? 1 : 0;
+        // unclamped Lambert toward the light's centre, times the visible share
+        const std::uint32_t col = s.colors[static_cast<std::size_t>(id)];
+        const double base = (col & 0xFF) / 255.0;
+        const Vec3d l = normalize(shading.lightCenter - hit);
+        const double direct = 0.8 * std::max(0.0, dot(n, l)) * base;
+        const double expected = std::min(1.0, 0.2 * base + direct * (1.0 - blocked / 9.0));
+        EXPECT_NEAR(f.rgba[4 * k], expected, 1e-5)
+          << (which ? "embree" : "grid") << " " << i << "," << j;
+      }
+    }
+    EXPECT_GT(checked, 300);
+    EXPECT_GT(penumbra, 10); // the light's size gives soft edges
+    EXPECT_GT(umbra, 10);
+  }
+}
+
+TEST(SoftShadows, OffCostsNothing)
+{
+  SphereSet s = makeSet(randomPoints(100, 3, 47), std::vector<double>(100, 0.3), {});
+  CoherentGridAccelerator grid;
+  grid.build(s, CoherentGridParameters{});
+  const RayCamera cam = perspectiveCamera({ 1, 2, 9 }, { 0, 0, 0 }, {}, 32, 32);
+  Frame f;
+  RenderStatistics stats;
+  SphereShading lit;
+  lit.lights.push_back(Light{});
+  renderSpheres(s, grid, 8, cam, lit, 16, f, stats);
+  EXPECT_FALSE(stats.effect("soft_shadows"));
+  EXPECT_EQ(stats.counter("shadow_rays"), 0);
+}
