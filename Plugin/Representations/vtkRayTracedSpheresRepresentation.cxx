@@ -482,6 +482,73 @@ void vtkRayTracedSpheresRepresentation::SetAmbientOcclusionRadius(double radius)
 }
 
 //----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetShadowRays(int side)
+{
+  this->Mapper->SetShadowRays(side);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetAutomaticShadowLight(bool automatic)
+{
+  this->Mapper->SetAutomaticShadowLight(automatic);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetShadowLightPosition(double x, double y, double z)
+{
+  this->Mapper->SetShadowLightPosition(x, y, z);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetShadowLightSize(double size)
+{
+  this->Mapper->SetShadowLightSize(size);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetShadowLightIntensity(double intensity)
+{
+  this->Mapper->SetShadowLightIntensity(intensity);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SelectRangeArray(int, int, int, int, const char* name)
+{
+  // The panel's "None" entry (the domain's none_string) turns range culling off.
+  this->RangeArrayName = name && std::string(name) != "None" ? name : "";
+  this->UpdateRange();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetRangeMinimum(double value)
+{
+  this->RangeMinimum = value;
+  this->UpdateRange();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetRangeMaximum(double value)
+{
+  this->RangeMaximum = value;
+  this->UpdateRange();
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::UpdateRange()
+{
+  this->Mapper->SetRange(0,
+    this->RangeArrayName.empty() ? nullptr : this->RangeArrayName.c_str(),
+    this->RangeMinimum,
+    this->RangeMaximum);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
 void vtkRayTracedSpheresRepresentation::SetRadiusScale(double scale)
 {
   if (this->RadiusScale != scale)

@@ -128,6 +128,19 @@ public:
   void SetMacrocellSize(int cells);
   void SetAmbientOcclusionSamples(int samples);
   void SetAmbientOcclusionRadius(double radius);
+  void SetShadowRays(int side);
+  void SetAutomaticShadowLight(bool automatic);
+  void SetShadowLightPosition(double x, double y, double z);
+  void SetShadowLightSize(double size);
+  void SetShadowLightIntensity(double intensity);
+
+  /**
+   * Parameter-range culling of the panel: one range (slot 0 of the mapper) on the point
+   * array chosen with SelectRangeArray (empty: off), between RangeMinimum and RangeMaximum.
+   */
+  void SelectRangeArray(int, int, int, int, const char* name);
+  void SetRangeMinimum(double value);
+  void SetRangeMaximum(double value);
 
   //***************************************************************************
   // Forwarded to the actor.
@@ -193,6 +206,10 @@ protected:
   vtkSmartPointer<vtkPolyData> ProcessedData;
 
   double Radius = 1.0;
+  std::string RangeArrayName;
+  double RangeMinimum = 0.0;
+  double RangeMaximum = 1.0;
+  void UpdateRange();
   double RadiusScale = 1.0;
   bool UseRadiusArray = false;
   std::string RadiusArrayName;

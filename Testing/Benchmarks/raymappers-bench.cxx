@@ -270,13 +270,15 @@ std::vector<Row> RunSpheres(const Options& opt)
     std::vector<Method> methods;
     vtkSmartPointer<vtkCGTSphereMapper> ours;
     // Our mapper with one accelerator; its build time is the sphere set plus the structure.
-    auto oursWith = [&](int accelerator, double lambda, int packet, int quality = 1, int ao = 0)
+    auto oursWith =
+      [&](int accelerator, double lambda, int packet, int quality = 1, int ao = 0, int shadows = 0)
     {
-      return [&, accelerator, lambda, packet, quality, ao](vtkRenderer* ren)
+      return [&, accelerator, lambda, packet, quality, ao, shadows](vtkRenderer* ren)
       {
         ours = vtkSmartPointer<vtkCGTSphereMapper>::New();
         ours->SetEmbreeBuildQuality(quality);
         ours->SetAmbientOcclusionSamples(ao);
+        ours->SetShadowRays(shadows);
         ours->SetLambda(lambda);
         ours->SetPacketSize(packet);
         ours->SetAccelerator(accelerator);
@@ -362,7 +364,7 @@ std::vector<Row> RunSpheres(const Options& opt)
       nullptr });
 
     // Accuracy against time of ambient occlusion: 4 to 64 rays per hit against 256 (the
-    // reference of these rows), on data small enough for 256 incoherent rays per pixel.
+    // reference of these rows), on data small enough for 256 secondary rays per pixel.
     const bool aoSweep = n <= 100000;
     if (aoSweep)
     {
@@ -375,7 +377,19 @@ std::vector<Row> RunSpheres(const Options& opt)
       }
     }
 
-    vtkSmartPointer<vtkImageData> reference, aoReference;
+    // Soft shadows: 1x1 to 8x8 shadow rays per hit against 16x16 (the automatic light).
+    if (aoSweep)
+    {
+      for (const int side : { 16, 1, 2, 4, 8 })
+      {
+        methods.push_back({ "cgt",
+          "shadows=" + std::to_string(side) + "x" + std::to_string(side),
+          oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, 8, 1, 0, side),
+          oursBuildMs });
+      }
+    }
+
+    vtkSmartPointer<vtkImageData> reference, aoReference, shadowReference;
     for (const Method& m : methods)
     {
       Result r = Measure(opt, m, view);
@@ -393,6 +407,14 @@ std::vector<Row> RunSpheres(const Options& opt)
       else if (m.setting.rfind("ao=", 0) == 0 && aoReference)
       {
         Compare(aoReference, r.image, r.row.rmse, r.row.maxErr);
+      }
+      else if (m.setting == "shadows=16x16")
+      {
+        shadowReference = r.image;
+      }
+      else if (m.setting.rfind("shadows=", 0) == 0 && shadowReference)
+      {
+        Compare(shadowReference, r.image, r.row.rmse, r.row.maxErr);
       }
       else if (reference)
       {
