@@ -3,6 +3,7 @@
 #include "CameraFixtures.h"
 #include "CoherentGridAccelerator.h"
 #include "EmbreeSphereAccelerator.h"
+#include "SphereReference.h"
 #include "SphereRenderer.h"
 
 #include <gtest/gtest.h>
@@ -31,41 +32,6 @@ SphereSet makeSet(const std::vector<Vec3d>& p, const std::vector<double>& r, con
   return s;
 }
 
-// Closest hit over all spheres in double; margin: how close the ray comes to grazing any
-// sphere it passes (relative to that sphere's radius).
-int bruteForce(const SphereSet& s, const Ray& ray, double& tHit, double& margin)
-{
-  const Vec3d o(ray.org), d(ray.dir);
-  int best = -1;
-  tHit = std::numeric_limits<double>::infinity();
-  margin = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < s.size(); ++i)
-  {
-    const Vec3d c(s.centers[i]);
-    const double r = s.radii[i];
-    const Vec3d f = o - c;
-    const double b = dot(f, d);
-    const double dist = length(f - d * b);
-    margin = std::min(margin, std::fabs(dist - r) / r);
-    if (dist > r)
-    {
-      continue;
-    }
-    const double root = std::sqrt(r * r - dist * dist);
-    double t = -b - root;
-    if (t < ray.tnear)
-    {
-      t = -b + root;
-    }
-    if (t >= ray.tnear && t <= ray.tfar && t < tHit)
-    {
-      tHit = t;
-      best = static_cast<int>(i);
-    }
-  }
-  return best;
-}
-
 struct Rendered
 {
   Frame frame;
@@ -81,6 +47,28 @@ Rendered renderGrid(SphereSet& s, const RayCamera& cam, int packet, double lambd
   Rendered out;
   renderSpheres(s, grid, packet, cam, SphereShading{}, 32, out.frame, out.stats);
   return out;
+}
+
+// Renders with the coherent grid (which == 0) or Embree (which == 1).
+void renderWith(int which,
+  SphereSet& s,
+  const RayCamera& cam,
+  const SphereShading& shading,
+  Frame& f,
+  RenderStatistics& stats)
+{
+  CoherentGridAccelerator grid;
+  EmbreeSphereAccelerator bvh;
+  if (which == 0)
+  {
+    grid.build(s, CoherentGridParameters{});
+  }
+  else
+  {
+    bvh.build(s);
+  }
+  const SphereAccelerator& accel = which == 0 ? static_cast<const SphereAccelerator&>(grid) : bvh;
+  renderSpheres(s, accel, 8, cam, shading, 16, f, stats);
 }
 
 Rendered renderEmbree(const SphereSet& s, const RayCamera& cam)
@@ -435,20 +423,9 @@ TEST(AmbientOcclusion, MatchesBruteForceWithBothAccelerators)
   for (int which = 0; which < 2; ++which)
   {
     SphereSet s = makeSet(p, r, {});
-    CoherentGridAccelerator grid;
-    EmbreeSphereAccelerator bvh;
-    if (which == 0)
-    {
-      grid.build(s, CoherentGridParameters{});
-    }
-    else
-    {
-      bvh.build(s);
-    }
-    const SphereAccelerator& accel = which == 0 ? static_cast<const SphereAccelerator&>(grid) : bvh;
     Frame f;
     RenderStatistics stats;
-    renderSpheres(s, accel, 8, cam, shading, 16, f, stats);
+    renderWith(which, s, cam, shading, f, stats);
     EXPECT_TRUE(stats.effect("ambient_occlusion"));
     EXPECT_EQ(stats.counter("ao_rays"), 16 * stats.counter("hits"));
     int checked = 0, darkened = 0;
@@ -534,20 +511,9 @@ TEST(SoftShadows, MatchBruteForceWithBothAccelerators)
   for (int which = 0; which < 2; ++which)
   {
     SphereSet s = makeSet(p, r, {});
-    CoherentGridAccelerator grid;
-    EmbreeSphereAccelerator bvh;
-    if (which == 0)
-    {
-      grid.build(s, CoherentGridParameters{});
-    }
-    else
-    {
-      bvh.build(s);
-    }
-    const SphereAccelerator& accel = which == 0 ? static_cast<const SphereAccelerator&>(grid) : bvh;
     Frame f;
     RenderStatistics stats;
-    renderSpheres(s, accel, 8, cam, shading, 16, f, stats);
+    renderWith(which, s, cam, shading, f, stats);
     EXPECT_TRUE(stats.effect("soft_shadows"));
     EXPECT_EQ(stats.counter("shadow_rays"), 9 * stats.counter("hits"));
     int checked = 0, penumbra = 0, umbra = 0;

@@ -2,6 +2,7 @@
 // that tests every sphere at every pixel in double precision.
 #include "CameraFixtures.h"
 #include "EmbreeSphereAccelerator.h"
+#include "SphereReference.h"
 #include "SphereRenderer.h"
 #include "SphereSet.h"
 
@@ -66,36 +67,6 @@ Scene randomScene(int n, unsigned seed)
   return s;
 }
 
-// Closest hit of the ray over all spheres, in double. Returns the sphere index or -1, and
-// the distance to the second-closest silhouette test (how close the ray is to grazing).
-int bruteForce(const SphereSet& s, const Ray& ray, double& tHit, double& margin)
-{
-  const Vec3d o(ray.org), d(ray.dir);
-  int best = -1;
-  tHit = std::numeric_limits<double>::infinity();
-  margin = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < s.size(); ++i)
-  {
-    const Vec3d c(s.centers[i]);
-    const double r = s.radii[i];
-    const Vec3d f = o - c;
-    const double b = dot(f, d);
-    const Vec3d l = f - d * b;
-    const double dist = length(l);
-    margin = std::min(margin, std::fabs(dist - r) / r);
-    if (dist > r)
-    {
-      continue;
-    }
-    const double t = -b - std::sqrt(r * r - dist * dist);
-    if (t >= ray.tnear && t <= ray.tfar && t < tHit)
-    {
-      tHit = t;
-      best = static_cast<int>(i);
-    }
-  }
-  return best;
-}
 }
 
 TEST(SphereRenderer, MatchesBruteForceReference)
