@@ -49,6 +49,29 @@ Rendered renderGrid(SphereSet& s, const RayCamera& cam, int packet, double lambd
   return out;
 }
 
+// The brute-force hit of pixel (i, j)'s ray, its normal, and where the renderer starts
+// secondary rays (just above the surface); -1 when the ray misses or grazes a sphere.
+int referenceHit(const SphereSet& s,
+  const RayCamera& cam,
+  int i,
+  int j,
+  Vec3d& hit,
+  Vec3d& n,
+  Vec3d& start)
+{
+  const Ray ray = cam.pixelRay(i, j);
+  double t, margin;
+  const int id = bruteForce(s, ray, t, margin);
+  if (id < 0 || margin < 1e-3)
+  {
+    return -1;
+  }
+  hit = Vec3d(ray.org) + Vec3d(ray.dir) * t;
+  n = normalize(hit - Vec3d(s.centers[static_cast<std::size_t>(id)]));
+  start = hit + n * (1e-4 * s.radii[static_cast<std::size_t>(id)]);
+  return id;
+}
+
 // Renders with the coherent grid (which == 0) or Embree (which == 1).
 void renderWith(int which,
   SphereSet& s,
@@ -433,18 +456,12 @@ TEST(AmbientOcclusion, MatchesBruteForceWithBothAccelerators)
     {
       for (int i = 0; i < cam.width(); ++i)
       {
-        const Ray ray = cam.pixelRay(i, j);
-        double t, margin;
-        const int id = bruteForce(s, ray, t, margin);
-        if (id < 0 || margin < 1e-3)
+        Vec3d hit, n, start;
+        const int id = referenceHit(s, cam, i, j, hit, n, start);
+        if (id < 0)
         {
           continue;
         }
-        // The same rays as the renderer, traced against every sphere in double.
-        const Vec3d c(s.centers[id]);
-        const Vec3d hit = Vec3d(ray.org) + Vec3d(ray.dir) * t;
-        const Vec3d n = normalize(hit - c);
-        const Vec3d start = hit + n * (1e-4 * s.radii[id]);
         const std::size_t k = f.index(i, j);
         int occluded = 0;
         bool ambiguous = false;
@@ -521,17 +538,12 @@ TEST(SoftShadows, MatchBruteForceWithBothAccelerators)
     {
       for (int i = 0; i < cam.width(); ++i)
       {
-        const Ray ray = cam.pixelRay(i, j);
-        double t, margin;
-        const int id = bruteForce(s, ray, t, margin);
-        if (id < 0 || margin < 1e-3)
+        Vec3d hit, n, start;
+        const int id = referenceHit(s, cam, i, j, hit, n, start);
+        if (id < 0)
         {
           continue;
         }
-        const Vec3d c(s.centers[id]);
-        const Vec3d hit = Vec3d(ray.org) + Vec3d(ray.dir) * t;
-        const Vec3d n = normalize(hit - c);
-        const Vec3d start = hit + n * (1e-4 * s.radii[id]);
         const std::size_t k = f.index(i, j);
         int blocked = 0;
         bool ambiguous = false;
