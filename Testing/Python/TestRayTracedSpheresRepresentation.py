@@ -312,6 +312,13 @@ def run_checks(args, source, view, stem):
     check(mean_level(shadowed) < 0.97 * mean_level(plain),
           'soft shadows darken the spheres (%.1f < %.1f)'
           % (mean_level(shadowed), mean_level(plain)))
+    rep.ShadowLightIntensity = 0.5
+    dimmer = stem + '-shadows-dim.png'
+    screenshot(view, dimmer, args.size)
+    check(mean_level(dimmer) < mean_level(shadowed),
+          'a dimmer shadow light darkens the spheres (%.1f < %.1f)'
+          % (mean_level(dimmer), mean_level(shadowed)))
+    rep.ShadowLightIntensity = 1.0
     rep.ShadowRays = 0
 
     # Range culling on the colour array: the upper half of its values leaves fewer spheres.
