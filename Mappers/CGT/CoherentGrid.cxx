@@ -2,10 +2,12 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace raymappers
 {
@@ -29,19 +31,36 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   MacroSize = std::max(1, params.macrocellSize);
   const std::size_t n = NumSpheres;
 
-  // Bounds of the centres.
-  Vec3f lo(std::numeric_limits<float>::max(),
-    std::numeric_limits<float>::max(),
-    std::numeric_limits<float>::max());
-  Vec3f hi(-lo.x, -lo.y, -lo.z);
-  for (const Vec3f& c : spheres.centers)
-  {
-    for (int a = 0; a < 3; ++a)
+  // Bounds of the centres (a parallel reduction).
+  using Box = std::pair<Vec3f, Vec3f>;
+  const float big = std::numeric_limits<float>::max();
+  const Box empty(Vec3f(big, big, big), Vec3f(-big, -big, -big));
+  const Box box = tbb::parallel_reduce(
+    tbb::blocked_range<std::size_t>(0, n, 65536),
+    empty,
+    [&](const tbb::blocked_range<std::size_t>& range, Box b)
     {
-      lo[a] = std::min(lo[a], c[a]);
-      hi[a] = std::max(hi[a], c[a]);
-    }
-  }
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      {
+        const Vec3f& c = spheres.centers[i];
+        for (int a = 0; a < 3; ++a)
+        {
+          b.first[a] = std::min(b.first[a], c[a]);
+          b.second[a] = std::max(b.second[a], c[a]);
+        }
+      }
+      return b;
+    },
+    [](Box a, const Box& b)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        a.first[k] = std::min(a.first[k], b.first[k]);
+        a.second[k] = std::max(a.second[k], b.second[k]);
+      }
+      return a;
+    });
+  Vec3f lo = box.first, hi = box.second;
   if (n == 0)
   {
     lo = hi = Vec3f();
@@ -92,22 +111,25 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   CellSize = static_cast<float>(h);
   const std::int64_t cells = total();
 
-  // Counting sort of the spheres by the cell of their centre.
+  // Counting sort of the spheres by the cell of their centre, in parallel: cell ids, then a
+  // histogram with atomic increments, an exclusive prefix sum, and a scatter through atomic
+  // per-cell cursors. The scatter leaves the spheres of one cell in arbitrary order, so each
+  // cell's few entries (about 1 / lambda) are sorted by input index afterwards: the result
+  // is the stable order, the same for any number of threads.
   std::vector<std::uint32_t> cellOfSphere(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+  CellStart.assign(static_cast<std::size_t>(cells) + 1, 0);
+  std::uint32_t* counts = CellStart.data() + 1;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
     [&](const tbb::blocked_range<std::size_t>& range)
     {
       for (std::size_t i = range.begin(); i != range.end(); ++i)
       {
         const auto c = cellOf(spheres.centers[i]);
-        cellOfSphere[i] = static_cast<std::uint32_t>(cellIndex(c[0], c[1], c[2]));
+        const auto id = static_cast<std::uint32_t>(cellIndex(c[0], c[1], c[2]));
+        cellOfSphere[i] = id;
+        __atomic_fetch_add(&counts[id], 1u, __ATOMIC_RELAXED);
       }
     });
-  CellStart.assign(static_cast<std::size_t>(cells) + 1, 0);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    ++CellStart[cellOfSphere[i] + 1];
-  }
   for (std::int64_t c = 0; c < cells; ++c)
   {
     CellStart[static_cast<std::size_t>(c) + 1] += CellStart[static_cast<std::size_t>(c)];
@@ -115,10 +137,28 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   std::vector<std::uint32_t> perm(n);
   {
     std::vector<std::uint32_t> cursor(CellStart.begin(), CellStart.end() - 1);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      perm[cursor[cellOfSphere[i]]++] = static_cast<std::uint32_t>(i);
-    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
+      [&](const tbb::blocked_range<std::size_t>& range)
+      {
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
+        {
+          const std::uint32_t slot =
+            __atomic_fetch_add(&cursor[cellOfSphere[i]], 1u, __ATOMIC_RELAXED);
+          perm[slot] = static_cast<std::uint32_t>(i);
+        }
+      });
+    tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, cells, 65536),
+      [&](const tbb::blocked_range<std::int64_t>& range)
+      {
+        for (std::int64_t c = range.begin(); c != range.end(); ++c)
+        {
+          const auto first = perm.begin() + cellBegin(c), last = perm.begin() + cellEnd(c);
+          if (last - first > 1)
+          {
+            std::sort(first, last);
+          }
+        }
+      });
   }
   // Permute the spheres into cell order (stable: equal cells keep the input order). The
   // arrays are gathered into the grid's scratch set and swapped with the spheres', so the
@@ -166,34 +206,42 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   NumAttributes = spheres.numAttributes;
   MacroMin.assign(macros * NumAttributes, std::numeric_limits<float>::max());
   MacroMax.assign(macros * NumAttributes, -std::numeric_limits<float>::max());
-  for (int k = 0; k < Dims[2]; ++k)
-  {
-    for (int j = 0; j < Dims[1]; ++j)
+  // One task per slab of macrocells along z: each macrocell is written by one task only.
+  tbb::parallel_for(tbb::blocked_range<int>(0, MacroDims[2], 1),
+    [&](const tbb::blocked_range<int>& slabs)
     {
-      for (int i = 0; i < Dims[0]; ++i)
+      for (int k = slabs.begin() * MacroSize; k < std::min(Dims[2], slabs.end() * MacroSize); ++k)
       {
-        const std::int64_t c = cellIndex(i, j, k);
-        const std::uint32_t count = cellEnd(c) - cellBegin(c);
-        if (count)
+        for (int j = 0; j < Dims[1]; ++j)
         {
-          const std::size_t m = macrocellIndex(i / MacroSize, j / MacroSize, k / MacroSize);
-          MacroCount[m] += count;
-          for (std::uint32_t id = cellBegin(c); id < cellEnd(c); ++id)
+          for (int i = 0; i < Dims[0]; ++i)
           {
-            for (int a = 0; a < NumAttributes; ++a)
+            const std::int64_t c = cellIndex(i, j, k);
+            const std::uint32_t count = cellEnd(c) - cellBegin(c);
+            if (count == 0)
             {
-              const float v = spheres.attributesOf(id)[a];
-              if (!std::isnan(v))
+              continue;
+            }
+            const std::size_t m = macrocellIndex(i / MacroSize, j / MacroSize, k / MacroSize);
+            MacroCount[m] += count;
+            float* mn = MacroMin.data() + m * NumAttributes;
+            float* mx = MacroMax.data() + m * NumAttributes;
+            for (std::uint32_t id = cellBegin(c); id < cellEnd(c); ++id)
+            {
+              const float* v = spheres.attributesOf(id);
+              for (int a = 0; a < NumAttributes; ++a)
               {
-                MacroMin[m * NumAttributes + a] = std::min(MacroMin[m * NumAttributes + a], v);
-                MacroMax[m * NumAttributes + a] = std::max(MacroMax[m * NumAttributes + a], v);
+                if (!std::isnan(v[a]))
+                {
+                  mn[a] = std::min(mn[a], v[a]);
+                  mx[a] = std::max(mx[a], v[a]);
+                }
               }
             }
           }
         }
       }
-    }
-  }
+    });
 }
 
 } // namespace raymappers

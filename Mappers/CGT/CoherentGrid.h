@@ -6,8 +6,8 @@
 // sphere attribute inside them, so traversal skips empty blocks and blocks whose spheres
 // all fail a parameter range (section 4.3).
 //
-// The build sorts the spheres into cell order with a counting sort (cell ids computed in
-// parallel; histogram and scatter serial, which keeps the input order inside a cell): cell c
+// The build sorts the spheres into cell order with a parallel counting sort that keeps the
+// input order inside a cell (the same result for any number of threads): cell c
 // owns the spheres [cellStart[c], cellStart[c + 1]) of the permuted SphereSet, whose
 // sourceIds still name each sphere's input point. Besides the permuted
 // spheres the grid costs one 32-bit offset per cell and one count per macrocell.

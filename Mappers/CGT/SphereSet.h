@@ -6,6 +6,11 @@
 
 #include "Vec3.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -75,8 +80,9 @@ inline std::uint32_t packRGBA8(unsigned r, unsigned g, unsigned b, unsigned a)
   return r | (g << 8) | (b << 16) | (a << 24);
 }
 
-/// Builds `out` from n input points. point(i) -> Vec3d centre, radius(i) -> double,
-/// color(i) -> uint32 RGBA8.
+/// Builds `out` from n input points, in parallel: point(i) -> Vec3d centre, radius(i) ->
+/// double, color(i) -> uint32 RGBA8 (all three are called from several threads at once).
+/// The vectors of `out` keep their capacity, so a new time step reuses the memory.
 template<typename PointFn, typename RadiusFn, typename ColorFn>
 void buildSphereSet(std::size_t n,
   const Vec3d& origin,
@@ -85,47 +91,102 @@ void buildSphereSet(std::size_t n,
   ColorFn color,
   SphereSet& out)
 {
-  out = SphereSet();
   out.origin = origin;
-  out.centers.reserve(n);
-  out.radii.reserve(n);
-  out.colors.reserve(n);
-  out.sourceIds.reserve(n);
-  for (std::size_t i = 0; i < n; ++i)
+  out.numAttributes = 0;
+  out.attributes.clear();
+  out.centers.resize(n);
+  out.radii.resize(n);
+  out.colors.resize(n);
+  out.sourceIds.resize(n);
+  // Each point goes to its own slot; an invalid one gets radius 0 and is compacted away
+  // below (valid radii are positive).
+  struct Tally
   {
-    const Vec3d p = point(i);
-    if (!isFinite(p))
+    std::size_t nonFinite = 0, badRadius = 0;
+    float maxRadius = 0.f;
+  };
+  const Tally tally = tbb::parallel_reduce(
+    tbb::blocked_range<std::size_t>(0, n, 16384),
+    Tally(),
+    [&](const tbb::blocked_range<std::size_t>& range, Tally t)
     {
-      ++out.skippedNonFinite;
-      continue;
-    }
-    const double r = radius(i);
-    if (!(r > 0.0) || !std::isfinite(r))
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      {
+        const Vec3d p = point(i);
+        const double r = isFinite(p) ? radius(i) : 0.0;
+        float rf = 0.f;
+        if (!isFinite(p))
+        {
+          ++t.nonFinite;
+        }
+        else if (!(r > 0.0) || !std::isfinite(r))
+        {
+          ++t.badRadius;
+        }
+        else
+        {
+          rf = static_cast<float>(r);
+          t.maxRadius = std::max(t.maxRadius, rf);
+        }
+        out.centers[i] = rf > 0.f ? Vec3f(p - origin) : Vec3f();
+        out.radii[i] = rf;
+        out.colors[i] = rf > 0.f ? color(i) : 0u;
+        out.sourceIds[i] = static_cast<std::uint32_t>(i);
+      }
+      return t;
+    },
+    [](Tally a, const Tally& b)
     {
-      ++out.skippedBadRadius;
-      continue;
+      a.nonFinite += b.nonFinite;
+      a.badRadius += b.badRadius;
+      a.maxRadius = std::max(a.maxRadius, b.maxRadius);
+      return a;
+    });
+  out.skippedNonFinite = tally.nonFinite;
+  out.skippedBadRadius = tally.badRadius;
+  out.maxRadius = tally.maxRadius;
+  if (tally.nonFinite + tally.badRadius > 0)
+  {
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      if (out.radii[i] > 0.f)
+      {
+        out.centers[kept] = out.centers[i];
+        out.radii[kept] = out.radii[i];
+        out.colors[kept] = out.colors[i];
+        out.sourceIds[kept] = out.sourceIds[i];
+        ++kept;
+      }
     }
-    out.centers.emplace_back(p - origin);
-    out.radii.push_back(static_cast<float>(r));
-    out.colors.push_back(color(i));
-    out.sourceIds.push_back(static_cast<std::uint32_t>(i));
-    out.maxRadius = std::max(out.maxRadius, static_cast<float>(r));
+    out.centers.resize(kept);
+    out.radii.resize(kept);
+    out.colors.resize(kept);
+    out.sourceIds.resize(kept);
   }
 }
 
-/// Sets `count` attributes per sphere from value(sourceId, a).
+/// Sets `count` attributes per sphere from value(sourceId, a), in parallel.
 template<typename ValueFn>
 void setSphereAttributes(SphereSet& s, int count, ValueFn value)
 {
   s.numAttributes = count;
   s.attributes.resize(s.size() * static_cast<std::size_t>(count));
-  for (std::size_t i = 0; i < s.size(); ++i)
+  if (count == 0)
   {
-    for (int a = 0; a < count; ++a)
-    {
-      s.attributes[i * count + a] = static_cast<float>(value(s.sourceIds[i], a));
-    }
+    return;
   }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s.size(), 16384),
+    [&](const tbb::blocked_range<std::size_t>& range)
+    {
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      {
+        for (int a = 0; a < count; ++a)
+        {
+          s.attributes[i * count + a] = static_cast<float>(value(s.sourceIds[i], a));
+        }
+      }
+    });
 }
 
 } // namespace raymappers

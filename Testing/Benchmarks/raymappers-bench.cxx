@@ -8,7 +8,10 @@
 // itself; mem_mb the growth of the process's resident memory over the method's first frame.
 //
 // usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] [--csv FILE]
-//                               [--images DIR] [--generated DIR]
+//                               [--images DIR] [--generated DIR] [--only TEXT ...]
+// --only runs just the methods whose "method:setting" contains TEXT (and the references).
+// build_ms of our mapper is the median over --repeat rebuilds after the data is marked
+// modified (a new time step), and the breakdown is printed.
 #include "BenchData.h"
 #include "vtkCGTSphereMapper.h"
 #include "vtkRayMapperStatistics.h"
@@ -56,6 +59,7 @@ struct Options
   std::string csv;
   std::string images;
   std::string generated = RAYMAPPERS_GENERATED_DIR;
+  std::vector<std::string> only; // run only methods whose "method:setting" contains one
 };
 
 struct Row
@@ -96,7 +100,9 @@ struct Method
   std::string name;
   std::string setting;
   std::function<void(vtkRenderer*)> setup;
-  std::function<double()> buildMs; // read after the first frame; nullptr: first - median
+  std::function<double()> buildMs;          // read after a frame; nullptr: first frame - median
+  std::function<void()> touch;              // marks the data modified, as a new time step does
+  std::function<std::string()> buildDetail; // what the build time is made of
 };
 
 struct Result
@@ -123,7 +129,7 @@ Result Measure(const Options& opt, const Method& m, const std::function<void(vtk
   win->WaitForCompletion();
   const double first = Now() - t0;
   const double mem1 = ResidentMb();
-  const double build = m.buildMs ? m.buildMs() : -1.0;
+  double build = m.buildMs ? m.buildMs() : -1.0;
   std::vector<double> times;
   for (int i = 0; i < opt.repeat; ++i)
   {
@@ -131,6 +137,23 @@ Result Measure(const Options& opt, const Method& m, const std::function<void(vtk
     win->Render();
     win->WaitForCompletion();
     times.push_back(Now() - t0);
+  }
+  // The build of a time step: the data marked modified and rendered again, --repeat times.
+  if (m.buildMs && m.touch)
+  {
+    std::vector<double> builds;
+    for (int i = 0; i < opt.repeat; ++i)
+    {
+      m.touch();
+      win->Render();
+      win->WaitForCompletion();
+      builds.push_back(m.buildMs());
+    }
+    build = Median(builds);
+  }
+  if (m.buildDetail)
+  {
+    std::cout << "  " << m.name << " " << m.setting << ": " << m.buildDetail() << std::endl;
   }
   Result r;
   r.row.method = m.name;
@@ -186,6 +209,16 @@ const char* const SphereImposterShader =
   "float nz = sqrt(1.0 - d2);\n"
   "ambientColor *= 0.1;\n"
   "diffuseColor *= nz;\n";
+
+/// Whether --only selects the method (no --only: all).
+bool Selected(const Options& opt, const Method& m)
+{
+  const std::string key = m.name + ":" + m.setting;
+  return opt.only.empty() ||
+         std::any_of(opt.only.begin(),
+           opt.only.end(),
+           [&](const std::string& o) { return key.find(o) != std::string::npos; });
+}
 
 std::vector<std::string> DefaultSphereData(const Options& opt)
 {
@@ -309,30 +342,63 @@ std::vector<Row> RunSpheres(const Options& opt)
       return st->GetPhaseTime("spheres") + st->GetPhaseTime("grid_build") +
              st->GetPhaseTime("bvh_build");
     };
+    auto touch = [&]() { cloud->Modified(); };
+    auto buildDetail = [&]()
+    {
+      vtkRayMapperStatistics* st = ours->GetStatistics();
+      std::ostringstream s;
+      s << "last build: spheres " << st->GetPhaseTime("spheres") << " ms, "
+        << (st->GetPhaseTime("grid_build") > 0 ? "grid " : "bvh ")
+        << st->GetPhaseTime("grid_build") + st->GetPhaseTime("bvh_build") << " ms; trace "
+        << st->GetPhaseTime("trace") << " ms";
+      return s.str();
+    };
     // Embree at its best: 16-ray coherent packets, and each build quality (low suits a
     // time step, medium or high a static scene).
-    methods.push_back(
-      { "embree", "bvh=medium", oursWith(VTK_CGT_ACCELERATOR_EMBREE, 1.0, 4, 1), oursBuildMs });
-    methods.push_back(
-      { "embree", "bvh=low", oursWith(VTK_CGT_ACCELERATOR_EMBREE, 1.0, 4, 0), oursBuildMs });
-    methods.push_back(
-      { "embree", "bvh=high", oursWith(VTK_CGT_ACCELERATOR_EMBREE, 1.0, 4, 2), oursBuildMs });
+    methods.push_back({ "embree",
+      "bvh=medium",
+      oursWith(VTK_CGT_ACCELERATOR_EMBREE, 1.0, 4, 1),
+      oursBuildMs,
+      touch,
+      buildDetail });
+    methods.push_back({ "embree",
+      "bvh=low",
+      oursWith(VTK_CGT_ACCELERATOR_EMBREE, 1.0, 4, 0),
+      oursBuildMs,
+      touch,
+      buildDetail });
+    methods.push_back({ "embree",
+      "bvh=high",
+      oursWith(VTK_CGT_ACCELERATOR_EMBREE, 1.0, 4, 2),
+      oursBuildMs,
+      touch,
+      buildDetail });
     // The defaults (lambda 1, 8 x 8 packets) and the sweep behind them.
-    methods.push_back(
-      { "cgt", "lambda=1;packet=8", oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, 8), oursBuildMs });
+    methods.push_back({ "cgt",
+      "lambda=1;packet=8",
+      oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, 8),
+      oursBuildMs,
+      touch,
+      buildDetail });
     for (const double lambda : { 0.25, 0.5, 2.0, 4.0 })
     {
       std::ostringstream setting;
       setting << "lambda=" << lambda << ";packet=8";
-      methods.push_back(
-        { "cgt", setting.str(), oursWith(VTK_CGT_ACCELERATOR_GRID, lambda, 8), oursBuildMs });
+      methods.push_back({ "cgt",
+        setting.str(),
+        oursWith(VTK_CGT_ACCELERATOR_GRID, lambda, 8),
+        oursBuildMs,
+        touch,
+        buildDetail });
     }
     for (const int packet : { 1, 2, 4, 16 })
     {
       methods.push_back({ "cgt",
         "lambda=1;packet=" + std::to_string(packet),
         oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, packet),
-        oursBuildMs });
+        oursBuildMs,
+        touch,
+        buildDetail });
     }
     methods.push_back({ "vtk-point-gaussian",
       "sphere-imposter",
@@ -361,6 +427,8 @@ std::vector<Row> RunSpheres(const Options& opt)
         actor->SetMapper(pg);
         ren->AddActor(actor);
       },
+      nullptr,
+      nullptr,
       nullptr });
 
     // Accuracy against time of ambient occlusion: 4 to 64 rays per hit against 256 (the
@@ -373,7 +441,9 @@ std::vector<Row> RunSpheres(const Options& opt)
         methods.push_back({ "cgt",
           "ao=" + std::to_string(ao),
           oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, 8, 1, ao),
-          oursBuildMs });
+          oursBuildMs,
+          touch,
+          buildDetail });
       }
     }
 
@@ -385,13 +455,20 @@ std::vector<Row> RunSpheres(const Options& opt)
         methods.push_back({ "cgt",
           "shadows=" + std::to_string(side) + "x" + std::to_string(side),
           oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, 8, 1, 0, side),
-          oursBuildMs });
+          oursBuildMs,
+          touch,
+          buildDetail });
       }
     }
 
     vtkSmartPointer<vtkImageData> reference, aoReference, shadowReference;
     for (const Method& m : methods)
     {
+      if (!Selected(opt, m) && m.setting != "bvh=medium" && m.setting != "ao=256" &&
+          m.setting != "shadows=16x16")
+      {
+        continue; // (the references always run)
+      }
       Result r = Measure(opt, m, view);
       r.row.suite = "spheres";
       r.row.dataset = bench::BaseName(file);
@@ -489,7 +566,7 @@ void PrintTable(const std::vector<Row>& rows)
 int Usage()
 {
   std::cerr << "usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] "
-               "[--csv FILE] [--images DIR] [--generated DIR]\n"
+               "[--csv FILE] [--images DIR] [--generated DIR] [--only METHOD:SETTING ...]\n"
                "suites: spheres (rbf, zsweep, sph arrive with their mappers)\n";
   return 2;
 }
@@ -542,6 +619,10 @@ int main(int argc, char* argv[])
     {
       opt.images = next();
       vtksys::SystemTools::MakeDirectory(opt.images);
+    }
+    else if (a == "--only")
+    {
+      opt.only.push_back(next());
     }
     else if (a == "--generated")
     {

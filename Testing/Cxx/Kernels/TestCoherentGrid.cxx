@@ -206,6 +206,32 @@ TEST(CoherentGrid, EverySphereInTheCellOfItsCentre)
   EXPECT_LT(grid.memoryBytes(), 0.5 * p.size() * (sizeof(Vec3f) + 2 * sizeof(float)));
 }
 
+// The parallel counting sort keeps the input order inside each cell (so the build is the
+// same for any number of threads), on enough spheres that every parallel loop splits, with
+// about 20 spheres per cell.
+TEST(CoherentGrid, ParallelBuildKeepsInputOrderInsideCells)
+{
+  const auto p = randomPoints(300000, 10, 5);
+  SphereSet s = makeSet(p, std::vector<double>(p.size(), 0.01), {});
+  CoherentGrid grid;
+  CoherentGridParameters params;
+  params.lambda = 0.05;
+  grid.build(s, params);
+  const auto& d = grid.dims();
+  const std::int64_t cells = std::int64_t(d[0]) * d[1] * d[2];
+  std::int64_t crowded = 0;
+  for (std::int64_t c = 0; c < cells; ++c)
+  {
+    crowded += grid.cellEnd(c) - grid.cellBegin(c) > 1;
+    for (auto id = grid.cellBegin(c); id + 1 < grid.cellEnd(c); ++id)
+    {
+      ASSERT_LT(s.sourceIds[id], s.sourceIds[id + 1]) << "cell " << c;
+    }
+  }
+  EXPECT_GT(crowded, cells / 2);
+  EXPECT_EQ(grid.cellEnd(cells - 1), p.size());
+}
+
 TEST(CoherentGrid, MatchesBruteForceForEveryPacketSize)
 {
   const auto p = randomPoints(800, 6, 5);
