@@ -9,6 +9,7 @@ add_library(RayMappersKernels STATIC
   ${CMAKE_CURRENT_LIST_DIR}/CGT/CoherentGrid.cxx
   ${CMAKE_CURRENT_LIST_DIR}/CGT/CoherentGridAccelerator.cxx
   ${CMAKE_CURRENT_LIST_DIR}/CGT/EmbreeSphereAccelerator.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/CGT/RaySphereLanes.cxx
   ${CMAKE_CURRENT_LIST_DIR}/CGT/SphereRenderer.cxx)
 target_include_directories(RayMappersKernels PUBLIC
   ${CMAKE_CURRENT_LIST_DIR}/Common

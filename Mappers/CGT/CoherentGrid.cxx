@@ -17,7 +17,7 @@ std::array<int, 3> CoherentGrid::cellOf(const Vec3f& p) const
   std::array<int, 3> c;
   for (int a = 0; a < 3; ++a)
   {
-    const float g = (p[a] - Lower[a]) / CellSize;
+    const float g = (p[a] - Lower[a]) * InvCellSize; // as in build() and the traversal
     const int i = std::isfinite(g) ? static_cast<int>(std::floor(g)) : 0;
     c[a] = std::clamp(i, 0, Dims[a] - 1);
   }
@@ -109,6 +109,7 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
     Dims = dimsFor(h);
   }
   CellSize = static_cast<float>(h);
+  InvCellSize = 1.f / CellSize;
   const std::int64_t cells = total();
 
   // Counting sort of the spheres by the cell of their centre, in parallel: cell ids, then a
@@ -116,16 +117,24 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   // per-cell cursors. The scatter leaves the spheres of one cell in arbitrary order, so each
   // cell's few entries (about 1 / lambda) are sorted by input index afterwards: the result
   // is the stable order, the same for any number of threads.
-  std::vector<std::uint32_t> cellOfSphere(n);
+  std::vector<std::uint32_t>& cellOfSphere = CellOfSphere;
+  cellOfSphere.resize(n);
   CellStart.assign(static_cast<std::size_t>(cells) + 1, 0);
   std::uint32_t* counts = CellStart.data() + 1;
+  const float inv = InvCellSize;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
     [&](const tbb::blocked_range<std::size_t>& range)
     {
       for (std::size_t i = range.begin(); i != range.end(); ++i)
       {
-        const auto c = cellOf(spheres.centers[i]);
-        const auto id = static_cast<std::uint32_t>(cellIndex(c[0], c[1], c[2]));
+        // The centres are finite and inside [Lower, Lower + Dims * h]; the clamp catches
+        // the upper faces and rounding.
+        const Vec3f& p = spheres.centers[i];
+        const int ci = std::min(static_cast<int>((p.x - Lower.x) * inv), Dims[0] - 1);
+        const int cj = std::min(static_cast<int>((p.y - Lower.y) * inv), Dims[1] - 1);
+        const int ck = std::min(static_cast<int>((p.z - Lower.z) * inv), Dims[2] - 1);
+        const auto id =
+          static_cast<std::uint32_t>(cellIndex(std::max(ci, 0), std::max(cj, 0), std::max(ck, 0)));
         cellOfSphere[i] = id;
         __atomic_fetch_add(&counts[id], 1u, __ATOMIC_RELAXED);
       }
@@ -134,9 +143,11 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   {
     CellStart[static_cast<std::size_t>(c) + 1] += CellStart[static_cast<std::size_t>(c)];
   }
-  std::vector<std::uint32_t> perm(n);
+  std::vector<std::uint32_t>& perm = Permutation;
+  perm.resize(n);
   {
-    std::vector<std::uint32_t> cursor(CellStart.begin(), CellStart.end() - 1);
+    std::vector<std::uint32_t>& cursor = Cursor;
+    cursor.assign(CellStart.begin(), CellStart.end() - 1);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
       [&](const tbb::blocked_range<std::size_t>& range)
       {

@@ -42,6 +42,7 @@ public:
   int macrocellSize() const { return MacroSize; }
   const Vec3f& lower() const { return Lower; } // grid origin, origin-relative coordinates
   float cellSize() const { return CellSize; }
+  float inverseCellSize() const { return InvCellSize; }
   float maxRadius() const { return MaxRadius; }
 
   std::int64_t cellIndex(int i, int j, int k) const
@@ -78,13 +79,16 @@ private:
   int MacroSize = 6;
   Vec3f Lower;
   float CellSize = 1.f;
+  float InvCellSize = 1.f;
   float MaxRadius = 0.f;
   std::size_t NumSpheres = 0;
   std::vector<std::uint32_t> CellStart;  // size cells + 1
   std::vector<std::uint32_t> MacroCount; // spheres per macrocell
   int NumAttributes = 0;
   std::vector<float> MacroMin, MacroMax; // per macrocell and attribute
-  SphereSet Scratch;                     // the previous build's arrays, reused
+  // The previous build's arrays, reused by the next (a time step) instead of reallocated.
+  SphereSet Scratch;
+  std::vector<std::uint32_t> CellOfSphere, Permutation, Cursor;
 };
 
 } // namespace raymappers

@@ -1,4 +1,5 @@
 #include "CoherentGridAccelerator.h"
+#include "RaySphereLanes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -87,9 +88,25 @@ void CoherentGridAccelerator::intersect(const RayPacket& packet,
       axis = a;
     }
   }
+  auto run = [&](const int* which, int howMany, int k)
+  {
+    switch (Simd)
+    {
+#ifdef RAYMAPPERS_X86_SIMD
+      case SimdPath::Avx512:
+        traverse<Avx512Lanes>(packet, which, howMany, k, hits, counters);
+        break;
+      case SimdPath::Avx2:
+        traverse<Avx2Lanes>(packet, which, howMany, k, hits, counters);
+        break;
+#endif
+      default:
+        traverse<PortableLanes>(packet, which, howMany, k, hits, counters);
+    }
+  };
   if (axis >= 0)
   {
-    traverse(packet, lanes, count, axis, hits, counters);
+    run(lanes, count, axis);
     return;
   }
   // No common axis (a very wide packet): each ray on its own.
@@ -98,10 +115,11 @@ void CoherentGridAccelerator::intersect(const RayPacket& packet,
     const Vec3f& d = packet.rays[lanes[i]].dir;
     const int own = std::fabs(d.x) >= std::fabs(d.y) ? (std::fabs(d.x) >= std::fabs(d.z) ? 0 : 2)
                                                      : (std::fabs(d.y) >= std::fabs(d.z) ? 1 : 2);
-    traverse(packet, &lanes[i], 1, own, hits, counters);
+    run(&lanes[i], 1, own);
   }
 }
 
+template<typename Lanes>
 void CoherentGridAccelerator::traverse(const RayPacket& packet,
   const int* lanes,
   int count,
@@ -112,7 +130,7 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
   const SphereSet& spheres = *Spheres;
   const auto& dims = Grid.dims();
   const int K = axis, U = (axis + 1) % 3, V = (axis + 2) % 3;
-  const float inv = 1.f / Grid.cellSize();
+  const float inv = Grid.inverseCellSize();
   const float rG = Grid.maxRadius() * inv; // r_max in cell units
   const Vec3f lower = Grid.lower();
   const bool ascending = packet.rays[lanes[0]].dir[K] > 0;
@@ -178,34 +196,27 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
   {
     return;
   }
-  // The active rays in structure-of-arrays form, so that testing one sphere against all of
-  // them is a loop the compiler vectorizes (AVX2 / AVX-512 with -march=native).
-  alignas(64) float ox[MaxPacketRays], oy[MaxPacketRays], oz[MaxPacketRays];
-  alignas(64) float dx[MaxPacketRays], dy[MaxPacketRays], dz[MaxPacketRays];
-  alignas(64) float tNear[MaxPacketRays], tBest[MaxPacketRays];
-  alignas(64) std::uint32_t prim[MaxPacketRays];
-  auto load = [&](int i)
-  {
-    const Ray& r = packet.rays[L[i].id];
-    ox[i] = r.org.x;
-    oy[i] = r.org.y;
-    oz[i] = r.org.z;
-    dx[i] = r.dir.x;
-    dy[i] = r.dir.y;
-    dz[i] = r.dir.z;
-    tNear[i] = r.tnear;
-    tBest[i] = r.tfar;
-    prim[i] = NoHit;
-  };
+  // The active rays in structure-of-arrays form, padded for the SIMD lanes.
+  RayLanes R;
   for (int i = 0; i < active; ++i)
   {
-    load(i);
+    const Ray& r = packet.rays[L[i].id];
+    R.ox[i] = r.org.x;
+    R.oy[i] = r.org.y;
+    R.oz[i] = r.org.z;
+    R.dx[i] = r.dir.x;
+    R.dy[i] = r.dir.y;
+    R.dz[i] = r.dir.z;
+    R.tNear[i] = r.tnear;
+    R.tBest[i] = r.tfar;
+    R.prim[i] = NoHit;
   }
+  R.pad(active);
   // A ray's result goes to the packet when it leaves the active set.
   auto store = [&](int i)
   {
-    hits.prim[L[i].id] = prim[i];
-    hits.t[L[i].id] = prim[i] == NoHit ? 0.f : tBest[i];
+    hits.prim[L[i].id] = R.prim[i];
+    hits.t[L[i].id] = R.prim[i] == NoHit ? 0.f : R.tBest[i];
   };
   // Sphere-center method: a ray reaches a sphere of radius r whose centre is at most
   // r sqrt(1 + dU^2) away from it in U within the centre's K-plane (same for V).
@@ -324,23 +335,8 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
                 continue;
               }
               counters.sphereTests += active;
-              const float r2 = radius * radius;
-              const float cx = center.x, cy = center.y, cz = center.z;
-#pragma omp simd
-              for (int i = 0; i < active; ++i)
-              {
-                // |f + t d|^2 = r^2, f = o - c: roots -b -+ sqrt(r^2 - |f - b d|^2), b = f.d
-                const float fx = ox[i] - cx, fy = oy[i] - cy, fz = oz[i] - cz;
-                const float b = fx * dx[i] + fy * dy[i] + fz * dz[i];
-                const float px = fx - dx[i] * b, py = fy - dy[i] * b, pz = fz - dz[i] * b;
-                const float disc = r2 - (px * px + py * py + pz * pz);
-                const float root = std::sqrt(std::max(disc, 0.f));
-                const float near = -b - root;
-                const float t = near < tNear[i] ? -b + root : near; // from inside: far root
-                const bool hit = disc >= 0.f && t >= tNear[i] && t < tBest[i];
-                tBest[i] = hit ? t : tBest[i];
-                prim[i] = hit ? id : prim[i];
-              }
+              Lanes::intersect(
+                R, RayLanes::padded(active), center.x, center.y, center.z, radius * radius, id);
             }
           }
         }
@@ -358,29 +354,30 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
     for (int i = 0; i < active; ++i)
     {
       const Lane& l = L[i];
-      const bool hit = prim[i] != NoHit;
-      const float kHit = l.o[K] + tBest[i] * l.dk;
+      const bool hit = R.prim[i] != NoHit;
+      const float kHit = l.o[K] + R.tBest[i] * l.dk;
       const bool settled = hit && (ascending ? kHit <= face : kHit >= face);
-      const bool passed = ascending ? l.kHi + rG < static_cast<float>(s + 1)
-                                    : l.kLo - rG > static_cast<float>(s);
+      const bool passed =
+        ascending ? l.kHi + rG < static_cast<float>(s + 1) : l.kLo - rG > static_cast<float>(s);
       if (settled || passed)
       {
         store(i);
         continue;
       }
       L[kept] = l;
-      ox[kept] = ox[i];
-      oy[kept] = oy[i];
-      oz[kept] = oz[i];
-      dx[kept] = dx[i];
-      dy[kept] = dy[i];
-      dz[kept] = dz[i];
-      tNear[kept] = tNear[i];
-      tBest[kept] = tBest[i];
-      prim[kept] = prim[i];
+      R.ox[kept] = R.ox[i];
+      R.oy[kept] = R.oy[i];
+      R.oz[kept] = R.oz[i];
+      R.dx[kept] = R.dx[i];
+      R.dy[kept] = R.dy[i];
+      R.dz[kept] = R.dz[i];
+      R.tNear[kept] = R.tNear[i];
+      R.tBest[kept] = R.tBest[i];
+      R.prim[kept] = R.prim[i];
       ++kept;
     }
     active = kept;
+    R.pad(active);
   }
   for (int i = 0; i < active; ++i)
   {

@@ -11,6 +11,7 @@
 #define RayMappers_CoherentGridAccelerator_h
 
 #include "CoherentGrid.h"
+#include "SimdPath.h"
 #include "SphereAccelerator.h"
 
 namespace raymappers
@@ -30,8 +31,14 @@ public:
 
   const CoherentGrid& grid() const { return Grid; }
 
+  /// The SIMD path of the ray-sphere tests (Auto: the widest the CPU has).
+  void setSimdPath(SimdPath path) { Simd = resolveSimdPath(path); }
+  SimdPath simdPath() const { return Simd; }
+
 private:
-  /// Traversal of the lanes in `lanes` (all valid, sharing the direction signs of `axis`).
+  /// Traversal of the lanes in `lanes` (all valid, sharing the direction signs of `axis`),
+  /// testing spheres with Lanes::intersect.
+  template<typename Lanes>
   void traverse(const RayPacket& packet,
     const int* lanes,
     int count,
@@ -41,6 +48,7 @@ private:
 
   CoherentGrid Grid;
   const SphereSet* Spheres = nullptr;
+  SimdPath Simd = resolveSimdPath(SimdPath::Auto);
 };
 
 } // namespace raymappers

@@ -12,6 +12,8 @@
 
 #include "vtkActor.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
 #include "vtkHardwareSelector.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
@@ -169,6 +171,32 @@ void vtkCGTSphereMapper::ReleaseGraphicsResources(vtkWindow* win)
 
 namespace
 {
+/// Reads component c of tuple i of a data array from several threads: float and double
+/// arrays directly from their memory, any other through vtkDataArray::GetComponent.
+struct TupleReader
+{
+  explicit TupleReader(vtkDataArray* array)
+    : Array(array)
+    , Floats(vtkFloatArray::FastDownCast(array) ? vtkFloatArray::FastDownCast(array)->GetPointer(0)
+                                                : nullptr)
+    , Doubles(vtkDoubleArray::FastDownCast(array)
+                ? vtkDoubleArray::FastDownCast(array)->GetPointer(0)
+                : nullptr)
+    , Components(array ? array->GetNumberOfComponents() : 0)
+  {
+  }
+  double get(std::size_t i, int c) const
+  {
+    const std::size_t k = i * static_cast<std::size_t>(Components) + static_cast<std::size_t>(c);
+    return Floats ? Floats[k]
+                  : (Doubles ? Doubles[k] : Array->GetComponent(static_cast<vtkIdType>(i), c));
+  }
+  vtkDataArray* Array;
+  const float* Floats;
+  const double* Doubles;
+  int Components;
+};
+
 // The radius array the mapper should use, or nullptr (with the reason in `why`).
 vtkDataArray* FindRadiusArray(vtkPolyData* input, const char* name, std::string& why)
 {
@@ -314,18 +342,18 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
       vtkPoints* points = input->GetPoints();
       const double scale = this->RadiusScale;
       const double constantRadius = this->Radius * scale;
+      // Float and double arrays (nearly all data) are read directly, others through the
+      // generic vtkDataArray interface.
+      const TupleReader pointReader(points->GetData());
+      const TupleReader radiusReader(radii);
       raymappers::buildSphereSet(
         static_cast<std::size_t>(input->GetNumberOfPoints()),
         FiniteCenter(points),
-        [&](std::size_t i)
-        {
-          double p[3];
-          points->GetPoint(static_cast<vtkIdType>(i), p);
-          return raymappers::Vec3d(p[0], p[1], p[2]);
-        },
         [&](std::size_t i) {
-          return radii ? radii->GetComponent(static_cast<vtkIdType>(i), 0) * scale : constantRadius;
+          return raymappers::Vec3d(
+            pointReader.get(i, 0), pointReader.get(i, 1), pointReader.get(i, 2));
         },
+        [&](std::size_t i) { return radii ? radiusReader.get(i, 0) * scale : constantRadius; },
         colorOf,
         Impl->Spheres);
       // The attributes of parameter-range culling (first component of each range's array).
@@ -420,6 +448,10 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     const auto& d = Impl->Grid.grid().dims();
     stats.addCounter("grid_cells", static_cast<std::int64_t>(d[0]) * d[1] * d[2]);
     stats.addCounter("grid_bytes", static_cast<std::int64_t>(Impl->Grid.grid().memoryBytes()));
+    Impl->Grid.setSimdPath(static_cast<raymappers::SimdPath>(this->SimdInstructions));
+    const raymappers::SimdPath path = Impl->Grid.simdPath();
+    stats.addCounter("simd_lanes",
+      path == raymappers::SimdPath::Avx512 ? 16 : (path == raymappers::SimdPath::Avx2 ? 8 : 1));
   }
 
   // 2. Gather the camera, lights and material.
@@ -493,6 +525,7 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Lambda: " << this->Lambda << "\n";
   os << indent << "MacrocellSize: " << this->MacrocellSize << "\n";
   os << indent << "EmbreeBuildQuality: " << this->EmbreeBuildQuality << "\n";
+  os << indent << "SimdInstructions: " << this->SimdInstructions << "\n";
   os << indent << "AmbientOcclusionSamples: " << this->AmbientOcclusionSamples << "\n";
   os << indent << "AmbientOcclusionRadius: " << this->AmbientOcclusionRadius << "\n";
   os << indent << "ShadowRays: " << this->ShadowRays << "\n";

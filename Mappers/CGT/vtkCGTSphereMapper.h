@@ -45,6 +45,11 @@ struct SphereShading;
 #define VTK_CGT_ACCELERATOR_GRID 0
 #define VTK_CGT_ACCELERATOR_EMBREE 1
 
+#define VTK_CGT_SIMD_AUTO 0
+#define VTK_CGT_SIMD_PORTABLE 1
+#define VTK_CGT_SIMD_AVX2 2
+#define VTK_CGT_SIMD_AVX512 3
+
 class RAYMAPPERSMAPPERS_EXPORT vtkCGTSphereMapper : public vtkPolyDataMapper
 {
 public:
@@ -167,6 +172,17 @@ public:
   vtkGetMacro(EmbreeBuildQuality, int);
   ///@}
 
+  ///@{
+  /**
+   * SIMD instructions of the grid's ray-sphere tests: VTK_CGT_SIMD_AUTO (default, the
+   * widest the CPU has), _PORTABLE (plain C++), _AVX2 (8 rays at once), _AVX512 (16). A
+   * request the CPU cannot run falls back to the widest it can; the "simd_lanes" counter
+   * of the statistics says which ran. For benchmarks and checks; the image is the same.
+   */
+  vtkSetClampMacro(SimdInstructions, int, VTK_CGT_SIMD_AUTO, VTK_CGT_SIMD_AVX512);
+  vtkGetMacro(SimdInstructions, int);
+  ///@}
+
   /**
    * Parameter-range culling (Gribble et al., section 4.3): range `index` (0 to 3) keeps only
    * the points whose point array `arrayName` (first component) lies in [minimum, maximum];
@@ -201,6 +217,7 @@ protected:
   double Lambda = 1.0;
   int MacrocellSize = 6;
   int EmbreeBuildQuality = 1;
+  int SimdInstructions = VTK_CGT_SIMD_AUTO;
   int AmbientOcclusionSamples = 0;
   int ShadowRays = 0;
   bool AutomaticShadowLight = true;

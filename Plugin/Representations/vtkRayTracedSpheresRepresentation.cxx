@@ -517,34 +517,34 @@ void vtkRayTracedSpheresRepresentation::SetShadowLightIntensity(double intensity
 }
 
 //----------------------------------------------------------------------------
-void vtkRayTracedSpheresRepresentation::SelectRangeArray(int, int, int, int, const char* name)
+void vtkRayTracedSpheresRepresentation::SelectRangeArray(int slot, int, int, int, const char* name)
 {
-  // The panel's "None" entry (the domain's none_string) turns range culling off.
-  this->RangeArrayName = name && std::string(name) != "None" ? name : "";
-  this->UpdateRange();
+  if (slot < 0 || slot > 3)
+  {
+    vtkErrorMacro(<< "range slot " << slot << " does not exist (0 to 3)");
+    return;
+  }
+  // The panel's "None" entry (the domain's none_string) turns that range off.
+  this->RangeArrayNames[slot] = name && std::string(name) != "None" ? name : "";
+  this->UpdateRange(slot);
 }
 
 //----------------------------------------------------------------------------
-void vtkRayTracedSpheresRepresentation::SetRangeMinimum(double value)
+void vtkRayTracedSpheresRepresentation::SetRangeBounds(int slot, double minimum, double maximum)
 {
-  this->RangeMinimum = value;
-  this->UpdateRange();
+  this->RangeBounds[slot][0] = minimum;
+  this->RangeBounds[slot][1] = maximum;
+  this->UpdateRange(slot);
 }
 
 //----------------------------------------------------------------------------
-void vtkRayTracedSpheresRepresentation::SetRangeMaximum(double value)
+void vtkRayTracedSpheresRepresentation::UpdateRange(int slot)
 {
-  this->RangeMaximum = value;
-  this->UpdateRange();
-}
-
-//----------------------------------------------------------------------------
-void vtkRayTracedSpheresRepresentation::UpdateRange()
-{
-  this->Mapper->SetRange(0,
-    this->RangeArrayName.empty() ? nullptr : this->RangeArrayName.c_str(),
-    this->RangeMinimum,
-    this->RangeMaximum);
+  const std::string& name = this->RangeArrayNames[slot];
+  this->Mapper->SetRange(slot,
+    name.empty() ? nullptr : name.c_str(),
+    this->RangeBounds[slot][0],
+    this->RangeBounds[slot][1]);
   this->Modified();
 }
 

@@ -135,12 +135,15 @@ public:
   void SetShadowLightIntensity(double intensity);
 
   /**
-   * Parameter-range culling of the panel: one range (slot 0 of the mapper) on the point
-   * array chosen with SelectRangeArray (empty: off), between RangeMinimum and RangeMaximum.
+   * Parameter-range culling of the panel: four ranges (the mapper's slots 0 to 3), each on
+   * the point array chosen with SelectRangeArray(slot, ..., name) (empty or "None": off)
+   * between the bounds of SetRange1 to SetRange4.
    */
-  void SelectRangeArray(int, int, int, int, const char* name);
-  void SetRangeMinimum(double value);
-  void SetRangeMaximum(double value);
+  void SelectRangeArray(int slot, int, int, int, const char* name);
+  void SetRange1(double minimum, double maximum) { this->SetRangeBounds(0, minimum, maximum); }
+  void SetRange2(double minimum, double maximum) { this->SetRangeBounds(1, minimum, maximum); }
+  void SetRange3(double minimum, double maximum) { this->SetRangeBounds(2, minimum, maximum); }
+  void SetRange4(double minimum, double maximum) { this->SetRangeBounds(3, minimum, maximum); }
 
   //***************************************************************************
   // Forwarded to the actor.
@@ -206,10 +209,10 @@ protected:
   vtkSmartPointer<vtkPolyData> ProcessedData;
 
   double Radius = 1.0;
-  std::string RangeArrayName;
-  double RangeMinimum = 0.0;
-  double RangeMaximum = 1.0;
-  void UpdateRange();
+  std::string RangeArrayNames[4];
+  double RangeBounds[4][2] = { { 0, 1 }, { 0, 1 }, { 0, 1 }, { 0, 1 } };
+  void SetRangeBounds(int slot, double minimum, double maximum);
+  void UpdateRange(int slot);
   double RadiusScale = 1.0;
   bool UseRadiusArray = false;
   std::string RadiusArrayName;

@@ -303,12 +303,18 @@ std::vector<Row> RunSpheres(const Options& opt)
     std::vector<Method> methods;
     vtkSmartPointer<vtkCGTSphereMapper> ours;
     // Our mapper with one accelerator; its build time is the sphere set plus the structure.
-    auto oursWith =
-      [&](int accelerator, double lambda, int packet, int quality = 1, int ao = 0, int shadows = 0)
+    auto oursWith = [&](int accelerator,
+                      double lambda,
+                      int packet,
+                      int quality = 1,
+                      int ao = 0,
+                      int shadows = 0,
+                      int simd = VTK_CGT_SIMD_AUTO)
     {
-      return [&, accelerator, lambda, packet, quality, ao, shadows](vtkRenderer* ren)
+      return [&, accelerator, lambda, packet, quality, ao, shadows, simd](vtkRenderer* ren)
       {
         ours = vtkSmartPointer<vtkCGTSphereMapper>::New();
+        ours->SetSimdInstructions(simd);
         ours->SetEmbreeBuildQuality(quality);
         ours->SetAmbientOcclusionSamples(ao);
         ours->SetShadowRays(shadows);
@@ -396,6 +402,18 @@ std::vector<Row> RunSpheres(const Options& opt)
       methods.push_back({ "cgt",
         "lambda=1;packet=" + std::to_string(packet),
         oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, packet),
+        oursBuildMs,
+        touch,
+        buildDetail });
+    }
+    // The SIMD paths of the ray-sphere tests, side by side (default: the widest the CPU has).
+    for (const auto& simd : { std::make_pair(VTK_CGT_SIMD_PORTABLE, "portable"),
+           std::make_pair(VTK_CGT_SIMD_AVX2, "avx2"),
+           std::make_pair(VTK_CGT_SIMD_AVX512, "avx512") })
+    {
+      methods.push_back({ "cgt",
+        std::string("lambda=1;packet=8;simd=") + simd.second,
+        oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, 8, 1, 0, 0, simd.first),
         oursBuildMs,
         touch,
         buildDetail });

@@ -322,18 +322,30 @@ def run_checks(args, source, view, stem):
     rep.ShadowRays = 0
 
     # Range culling on the colour array: the upper half of its values leaves fewer spheres.
-    rep.RangeArray = ['POINTS', args.color_array]
+    rep.RangeArray1 = ['POINTS', args.color_array]
     values = source.PointData[args.color_array].GetRange()
-    rep.RangeMinimum = values[0] + 0.5 * (values[1] - values[0])
-    rep.RangeMaximum = values[1]
+    middle = values[0] + 0.5 * (values[1] - values[0])
+    rep.Range1 = [middle, values[1]]
     culled = stem + '-range.png'
     culled_cover = screenshot(view, culled, args.size)
-    rep.RangeMinimum = values[0]
+    rep.Range1 = [values[0], values[1]]
     full_cover = screenshot(view, stem + '-range-full.png', args.size)
     check(culled_cover < 0.9 * full_cover,
           'the upper half of the values draws fewer spheres (%.1f%% < %.1f%%)'
           % (100 * culled_cover, 100 * full_cover))
-    rep.RangeArray = ['POINTS', '']
+    # All ranges must hold: range 4 keeps the lower half of the same array, range 1 the
+    # upper half, so only values at the middle itself could remain.
+    rep.Range1 = [middle, values[1]]
+    rep.RangeArray4 = ['POINTS', args.color_array]
+    rep.Range4 = [values[0], middle]
+    both_cover = screenshot(view, stem + '-range-both.png', args.size)
+    check(both_cover < 0.5 * culled_cover,
+          'ranges 1 and 4 together draw less than range 1 alone (%.1f%% < half of %.1f%%)'
+          % (100 * both_cover, 100 * culled_cover))
+    rep.RangeArray4 = ['POINTS', 'None']
+    check(abs(screenshot(view, stem + '-range-one.png', args.size) - culled_cover) < 1e-9,
+          'turning range 4 off draws what range 1 alone drew')
+    rep.RangeArray1 = ['POINTS', 'None']
 
     if failures:
         print('%d check(s) failed' % len(failures))

@@ -10,9 +10,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <numeric>
 #include <random>
+#include <string>
 
 using namespace raymappers;
 using namespace raymappers::test;
@@ -38,9 +40,14 @@ struct Rendered
   RenderStatistics stats;
 };
 
-Rendered renderGrid(SphereSet& s, const RayCamera& cam, int packet, double lambda = 1.0)
+Rendered renderGrid(SphereSet& s,
+  const RayCamera& cam,
+  int packet,
+  double lambda = 1.0,
+  SimdPath simd = SimdPath::Auto)
 {
   CoherentGridAccelerator grid;
+  grid.setSimdPath(simd);
   CoherentGridParameters params;
   params.lambda = lambda;
   grid.build(s, params);
@@ -251,6 +258,32 @@ TEST(CoherentGrid, MatchesBruteForceForEveryPacketSize)
     if (packet > 1) // a single ray has no frustum to cull with
     {
       EXPECT_GT(g.stats.counter("culled"), 0);
+    }
+  }
+}
+
+// Each SIMD path of the ray-sphere tests (those this CPU runs) gives the brute-force image,
+// with packets whose active rays are not a multiple of the vector width (padding lanes).
+TEST(CoherentGrid, EverySimdPathMatchesBruteForce)
+{
+  const auto p = randomPoints(1500, 6, 17);
+  std::vector<double> r(p.size(), 0.3);
+  for (const SimdPath path : { SimdPath::Portable, SimdPath::Avx2, SimdPath::Avx512 })
+  {
+    if (resolveSimdPath(path) != path)
+    {
+      std::cout << "this CPU has no " << simdPathName(path) << " path; not checked\n";
+      continue;
+    }
+    for (int packet : { 3, 8, 16 })
+    {
+      SphereSet s = makeSet(p, r, { 0.3, -0.2, 0.1 });
+      const RayCamera cam = perspectiveCamera({ 4, 6, 18 }, { 0, 0, 0 }, s.origin, 101, 77);
+      const Rendered g = renderGrid(s, cam, packet, 1.0, path);
+      expectExact(s,
+        cam,
+        g.frame,
+        (std::string(simdPathName(path)) + " packet " + std::to_string(packet)).c_str());
     }
   }
 }
