@@ -1,0 +1,241 @@
+#include "ParticleBVH.h"
+
+#include <embree3/rtcore.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace raymappers
+{
+
+namespace
+{
+// Embree's builder hands out nodes through these callbacks; they live in its thread-local
+// allocator until the flattening below copies them.
+struct TempNode
+{
+  bool leaf;
+  std::uint32_t count;      // leaf: particles
+  TempNode* child[2];       // inner
+  const std::uint32_t* ids; // leaf: the particles' indices (in the allocator too)
+};
+
+void* createNode(RTCThreadLocalAllocator alloc, unsigned int, void*)
+{
+  auto* node = static_cast<TempNode*>(rtcThreadLocalAlloc(alloc, sizeof(TempNode), 16));
+  node->leaf = false;
+  node->count = 0;
+  node->child[0] = node->child[1] = nullptr;
+  node->ids = nullptr;
+  return node;
+}
+
+void setNodeChildren(void* nodePtr, void** children, unsigned int childCount, void*)
+{
+  auto* node = static_cast<TempNode*>(nodePtr);
+  for (unsigned int c = 0; c < childCount && c < 2; ++c)
+  {
+    node->child[c] = static_cast<TempNode*>(children[c]);
+  }
+}
+
+void setNodeBounds(void*, const RTCBounds**, unsigned int, void*)
+{
+  // The flattened nodes get the bounds of their centres, computed from the particles.
+}
+
+void* createLeaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t count, void*)
+{
+  auto* node = static_cast<TempNode*>(rtcThreadLocalAlloc(alloc, sizeof(TempNode), 16));
+  auto* ids =
+    static_cast<std::uint32_t*>(rtcThreadLocalAlloc(alloc, count * sizeof(std::uint32_t), 4));
+  for (size_t i = 0; i < count; ++i)
+  {
+    ids[i] = prims[i].primID;
+  }
+  node->leaf = true;
+  node->count = static_cast<std::uint32_t>(count);
+  node->child[0] = node->child[1] = nullptr;
+  node->ids = ids;
+  return node;
+}
+
+struct DeviceHolder
+{
+  RTCDevice device = nullptr;
+  ~DeviceHolder()
+  {
+    if (device)
+    {
+      rtcReleaseDevice(device);
+    }
+  }
+};
+}
+
+void ParticleBVH::build(RBFParticles& particles, int leafSize)
+{
+  Nodes.clear();
+  Depth = 0;
+  const std::size_t n = particles.size();
+  if (n == 0)
+  {
+    return;
+  }
+  leafSize = std::clamp(leafSize, 1, 64);
+
+  DeviceHolder holder;
+  holder.device = rtcNewDevice(nullptr);
+  if (!holder.device)
+  {
+    throw std::runtime_error("Embree: rtcNewDevice failed");
+  }
+  std::vector<RTCBuildPrimitive> prims(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
+    [&](const tbb::blocked_range<std::size_t>& range)
+    {
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      {
+        const Vec3f& c = particles.centers[i];
+        const float r = particles.radii[i];
+        RTCBuildPrimitive& p = prims[i];
+        p.lower_x = c.x - r;
+        p.lower_y = c.y - r;
+        p.lower_z = c.z - r;
+        p.upper_x = c.x + r;
+        p.upper_y = c.y + r;
+        p.upper_z = c.z + r;
+        p.geomID = 0;
+        p.primID = static_cast<unsigned int>(i);
+      }
+    });
+  RTCBVH bvh = rtcNewBVH(holder.device);
+  RTCBuildArguments args = rtcDefaultBuildArguments();
+  args.buildQuality = RTC_BUILD_QUALITY_MEDIUM;
+  args.maxBranchingFactor = 2;
+  args.maxDepth = 48;
+  args.minLeafSize = static_cast<unsigned int>(leafSize); // (a smaller node is a leaf)
+  args.maxLeafSize = static_cast<unsigned int>(leafSize);
+  args.bvh = bvh;
+  args.primitives = prims.data();
+  args.primitiveCount = n;
+  args.primitiveArrayCapacity = n;
+  args.createNode = createNode;
+  args.setNodeChildren = setNodeChildren;
+  args.setNodeBounds = setNodeBounds;
+  args.createLeaf = createLeaf;
+  auto* root = static_cast<TempNode*>(rtcBuildBVH(&args));
+  if (!root)
+  {
+    rtcReleaseBVH(bvh);
+    throw std::runtime_error("Embree: rtcBuildBVH failed (error " +
+                             std::to_string(static_cast<int>(rtcGetDeviceError(holder.device))) +
+                             ")");
+  }
+
+  // Flatten depth first; leaves take their particles in order, giving the permutation.
+  std::vector<std::uint32_t> order;
+  order.reserve(n);
+  Nodes.reserve(2 * n / static_cast<std::size_t>(leafSize) + 2);
+  struct Item
+  {
+    const TempNode* node;
+    std::uint32_t index;
+    int depth;
+  };
+  std::vector<Item> stack{ { root, 0, 1 } };
+  Nodes.emplace_back();
+  while (!stack.empty())
+  {
+    const Item item = stack.back();
+    stack.pop_back();
+    Depth = std::max(Depth, item.depth);
+    BVHNode& out = Nodes[item.index];
+    if (item.node->leaf)
+    {
+      out.first = static_cast<std::uint32_t>(order.size());
+      out.count = item.node->count;
+      order.insert(order.end(), item.node->ids, item.node->ids + item.node->count);
+      continue;
+    }
+    const auto a = static_cast<std::uint32_t>(Nodes.size());
+    Nodes.emplace_back();
+    Nodes.emplace_back();
+    BVHNode& parent = Nodes[item.index]; // (emplace_back may have moved it)
+    parent.first = a;
+    parent.count = 0;
+    stack.push_back({ item.node->child[1], a + 1, item.depth + 1 });
+    stack.push_back({ item.node->child[0], a, item.depth + 1 });
+  }
+  rtcReleaseBVH(bvh);
+
+  // Permute the particles into leaf order.
+  {
+    RBFParticles sorted;
+    sorted.centers.resize(n);
+    sorted.radii.resize(n);
+    sorted.values.resize(n);
+    sorted.fields.resize(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
+      [&](const tbb::blocked_range<std::size_t>& range)
+      {
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
+        {
+          const std::uint32_t from = order[i];
+          sorted.centers[i] = particles.centers[from];
+          sorted.radii[i] = particles.radii[from];
+          sorted.values[i] = particles.values[from];
+          sorted.fields[i] = particles.fields[from];
+        }
+      });
+    particles.centers.swap(sorted.centers);
+    particles.radii.swap(sorted.radii);
+    particles.values.swap(sorted.values);
+    particles.fields.swap(sorted.fields);
+  }
+
+  // Bounds bottom-up: children always come after their parent, so a reverse sweep sees
+  // both children of a node before the node.
+  for (std::size_t k = Nodes.size(); k-- > 0;)
+  {
+    BVHNode& node = Nodes[k];
+    const float big = std::numeric_limits<float>::max();
+    float lo[3] = { big, big, big }, hi[3] = { -big, -big, -big }, rMax = 0.f;
+    if (node.count > 0)
+    {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
+      {
+        const Vec3f& c = particles.centers[i];
+        for (int a = 0; a < 3; ++a)
+        {
+          lo[a] = std::min(lo[a], c[a]);
+          hi[a] = std::max(hi[a], c[a]);
+        }
+        rMax = std::max(rMax, particles.radii[i]);
+      }
+    }
+    else
+    {
+      for (const std::uint32_t c : { node.first, node.first + 1 })
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          lo[a] = std::min(lo[a], Nodes[c].lo[a]);
+          hi[a] = std::max(hi[a], Nodes[c].hi[a]);
+        }
+        rMax = std::max(rMax, Nodes[c].rMax);
+      }
+    }
+    std::copy(lo, lo + 3, node.lo);
+    std::copy(hi, hi + 3, node.hi);
+    node.rMax = rMax;
+  }
+}
+
+} // namespace raymappers

@@ -1,0 +1,52 @@
+// Bounding volume hierarchy over RBF particles (Knoll et al. 2014, section 5.1), built with
+// Embree's rtcBuildBVH (SAH, binary nodes, nodes of at most `leafSize` particles become
+// leaves) from the
+// boxes x_i +- r_i, then flattened into one array in depth-first order and the particles
+// permuted into leaf order, so a leaf owns a contiguous range.
+//
+// A node stores the box of its particles' centres and the largest radius below it. At
+// traversal the box is grown by sigma r_max (section 5.3: "dynamically expanding extents of
+// every BVH node by sigma"): it then holds every particle's support, for any sigma, so
+// changing sigma or kappa never rebuilds.
+#ifndef RayMappers_ParticleBVH_h
+#define RayMappers_ParticleBVH_h
+
+#include "RBFParticles.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace raymappers
+{
+
+struct BVHNode
+{
+  float lo[3]; // box of the centres below
+  float rMax;  // largest radius below
+  float hi[3];
+  // Inner node (count 0): children `first` and `first + 1`. Leaf (count > 0): particles
+  // [first, first + count).
+  std::uint32_t first;
+  std::uint32_t count;
+};
+
+class ParticleBVH
+{
+public:
+  /// Builds over `particles`, permuting them into leaf order (they must stay unchanged
+  /// until the next build). leafSize is clamped to [1, 64].
+  void build(RBFParticles& particles, int leafSize);
+
+  bool empty() const { return Nodes.empty(); }
+  const std::vector<BVHNode>& nodes() const { return Nodes; }
+  int depth() const { return Depth; }
+  std::size_t memoryBytes() const { return Nodes.size() * sizeof(BVHNode); }
+
+private:
+  std::vector<BVHNode> Nodes;
+  int Depth = 0;
+};
+
+} // namespace raymappers
+
+#endif

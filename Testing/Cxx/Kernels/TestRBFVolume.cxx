@@ -1,0 +1,495 @@
+// RBF volume ray casting (Knoll et al. 2014) against closed forms and an independent
+// brute-force reference: a per-pixel ray march in double precision that sums every
+// particle at every sample (no BVH, no packets, no recurrence).
+#include "CameraFixtures.h"
+#include "ParticleBVH.h"
+#include "RBFVolumeRenderer.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <random>
+#include <string>
+
+using namespace raymappers;
+using namespace raymappers::test;
+
+namespace
+{
+struct Input
+{
+  std::vector<Vec3d> p;
+  std::vector<double> r, k;
+  std::vector<int> field;
+  int numFields = 1;
+};
+
+RBFParticles makeParticles(const Input& in, const Vec3d& origin)
+{
+  RBFParticles s;
+  buildRBFParticles(
+    in.p.size(),
+    origin,
+    in.numFields,
+    [&](std::size_t i) { return in.p[i]; },
+    [&](std::size_t i) { return in.r[i]; },
+    [&](std::size_t i) { return in.k.empty() ? 1.0 : in.k[i]; },
+    [&](std::size_t i) { return in.field.empty() ? 0 : in.field[i]; },
+    s);
+  return s;
+}
+
+Input randomCloud(int n, double extent, unsigned seed, int numFields = 1)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-extent, extent), ur(0.3, 0.8), uk(0.5, 1.5);
+  Input in;
+  in.numFields = numFields;
+  for (int i = 0; i < n; ++i)
+  {
+    in.p.push_back({ u(rng), u(rng), u(rng) });
+    in.r.push_back(ur(rng));
+    in.k.push_back(uk(rng));
+    in.field.push_back(i % numFields);
+  }
+  return in;
+}
+
+/// A table of n samples over [0, hi]: colour ramps, opacity from `alpha`.
+template<typename AlphaFn>
+TransferFunctionTable table(double hi, int n, double unit, AlphaFn alpha, double hue = 0.0)
+{
+  std::vector<float> rgba;
+  for (int k = 0; k < n; ++k)
+  {
+    const double x = double(k) / (n - 1);
+    rgba.push_back(static_cast<float>(x));
+    rgba.push_back(static_cast<float>(1.0 - x));
+    rgba.push_back(static_cast<float>(hue));
+    rgba.push_back(static_cast<float>(alpha(x * hi)));
+  }
+  TransferFunctionTable t;
+  t.assign(rgba, 0.0, hi, unit);
+  return t;
+}
+
+RayCamera camera(const Vec3d& eye, const Vec3d& at, const Vec3d& origin, int w = 40, int h = 32)
+{
+  return RayCamera(
+    multiply(perspective(35, double(w) / h, 0.5, 100), lookAt(eye, at, { 0, 1, 0 })), w, h, origin);
+}
+
+struct Rendered
+{
+  Frame frame;
+  RenderStatistics stats;
+};
+
+Rendered render(const Input& in,
+  const Vec3d& origin,
+  const RayCamera& cam,
+  const RBFRenderParameters& params,
+  const std::vector<TransferFunctionTable>& tf,
+  int leafSize = 8)
+{
+  RBFParticles s = makeParticles(in, origin);
+  ParticleBVH bvh;
+  bvh.build(s, leafSize);
+  Rendered out;
+  renderRBF(s, bvh, cam, params, tf, nullptr, out.frame, out.stats);
+  return out;
+}
+
+// Classification as VTK's volume mappers define it: the table's samples get their opacity
+// corrected for the step, 1 - (1 - alpha)^(dt / unit), and are then interpolated linearly.
+std::array<double, 4> classify(const TransferFunctionTable& tf, double v, double dt)
+{
+  const int n = tf.size();
+  const double lo = tf.rangeMin(), hi = tf.rangeMax();
+  const double x = std::clamp((v - lo) / (hi - lo) * (n - 1), 0.0, double(n - 1));
+  const int k = std::min(int(x), n - 2);
+  std::array<double, 4> out{};
+  for (const int s : { k, k + 1 })
+  {
+    const double w = s == k ? 1.0 - (x - k) : x - k;
+    const auto c = tf.lookup(lo + (hi - lo) * s / (n - 1)); // exactly sample s
+    const double a = 1.0 - std::pow(1.0 - std::min<double>(c[3], 1.0), dt / tf.unitDistance());
+    out[0] += w * c[0];
+    out[1] += w * c[1];
+    out[2] += w * c[2];
+    out[3] += w * a;
+  }
+  return out;
+}
+
+// The independent reference: samples t_k = k dt over the ray, each the sum over every
+// particle in double, classified with the tables and blended front to back per field.
+Frame bruteForce(const Input& in,
+  const Vec3d& origin,
+  const RayCamera& cam,
+  const RBFRenderParameters& params,
+  const std::vector<TransferFunctionTable>& tf)
+{
+  Frame f;
+  f.resize(cam.width(), cam.height());
+  const double dt = params.sampleDistance, sigma = params.sigma;
+  for (int j = 0; j < cam.height(); ++j)
+  {
+    for (int i = 0; i < cam.width(); ++i)
+    {
+      const Ray ray = cam.pixelRay(i, j);
+      const Vec3d o = Vec3d(ray.org) + cam.origin(), d(ray.dir);
+      // The t interval where some particle's support lies.
+      double tMin = 1e300, tMax = -1e300;
+      for (std::size_t p = 0; p < in.p.size(); ++p)
+      {
+        const Vec3d fo = o - in.p[p];
+        const double b = dot(fo, d);
+        const double h2 = dot(fo, fo) - b * b;
+        const double R = sigma * in.r[p];
+        if (h2 < R * R)
+        {
+          const double w = std::sqrt(R * R - h2);
+          tMin = std::min(tMin, -b - w);
+          tMax = std::max(tMax, -b + w);
+        }
+      }
+      tMin = std::max(tMin, double(ray.tnear));
+      tMax = std::min(tMax, double(ray.tfar));
+      double A = 0, Cr = 0, Cg = 0, Cb = 0;
+      for (long k = long(std::ceil(tMin / dt)); k <= long(std::floor(tMax / dt)); ++k)
+      {
+        const Vec3d x = o + d * (k * dt);
+        double phi[MaxRBFFields] = { 0, 0, 0, 0 };
+        for (std::size_t p = 0; p < in.p.size(); ++p)
+        {
+          const double d2 = dot(x - in.p[p], x - in.p[p]);
+          const double r = in.r[p];
+          if (d2 <= sigma * sigma * r * r)
+          {
+            phi[in.field.empty() ? 0 : in.field[p]] +=
+              params.kappa * (in.k.empty() ? 1.0 : in.k[p]) * std::exp(-d2 / (2 * r * r));
+          }
+        }
+        for (int m = 0; m < in.numFields; ++m)
+        {
+          const auto c = classify(tf[std::min<std::size_t>(m, tf.size() - 1)], phi[m], dt);
+          const double a = c[3];
+          const double w = (1 - A) * a;
+          Cr += w * c[0];
+          Cg += w * c[1];
+          Cb += w * c[2];
+          A += w;
+        }
+        if (A >= params.terminationOpacity)
+        {
+          break;
+        }
+      }
+      float* px = &f.rgba[4 * f.index(i, j)];
+      px[0] = float(Cr);
+      px[1] = float(Cg);
+      px[2] = float(Cb);
+      px[3] = float(A);
+    }
+  }
+  return f;
+}
+
+double maxDifference(const Frame& a, const Frame& b)
+{
+  double m = 0;
+  for (std::size_t i = 0; i < a.rgba.size(); ++i)
+  {
+    EXPECT_TRUE(std::isfinite(a.rgba[i])) << "NaN or Inf at " << i;
+    m = std::max(m, double(std::fabs(a.rgba[i] - b.rgba[i])));
+  }
+  return m;
+}
+
+double coverage(const Frame& f)
+{
+  double s = 0;
+  for (std::size_t i = 3; i < f.rgba.size(); i += 4)
+  {
+    s += f.rgba[i];
+  }
+  return s;
+}
+
+// Opacity ramp with extinction proportional to the field: alpha over the unit distance is
+// 1 - exp(-c Phi u), i.e. extinction c Phi.
+std::vector<TransferFunctionTable> linearExtinction(double hi, double c, double unit = 1.0)
+{
+  return { table(hi, 4096, unit, [&](double v) { return 1.0 - std::exp(-c * v * unit); }) };
+}
+}
+
+// A single particle seen head-on: the optical depth -ln(1 - A) of the centre pixel equals
+// c times the closed-form integral of the truncated Gaussian along the ray,
+//   kappa k r sqrt(2 pi) exp(-h^2 / 2r^2) erf(W / (r sqrt 2)),  W = sqrt(sigma^2 r^2 - h^2).
+TEST(RBFVolume, SingleParticleOpticalDepthIsTheErfIntegral)
+{
+  Input in;
+  in.p = { { 0.1, -0.05, 0.0 } };
+  in.r = { 0.7 };
+  in.k = { 1.3 };
+  RBFRenderParameters params;
+  params.kappa = 1.5;
+  params.sigma = 3.0;
+  params.sampleDistance = 0.02;
+  params.terminationOpacity = 1.0;
+  const double c = 0.4;
+  const auto tf = linearExtinction(params.kappa * 1.3 * 1.01, c);
+  const RayCamera cam = camera({ 0, 0, 8 }, { 0, 0, 0 }, { 0, 0, 0 }, 41, 41);
+  for (const bool direct : { false, true })
+  {
+    params.direct = direct;
+    const Rendered out = render(in, {}, cam, params, tf);
+    for (const auto& [i, j] : { std::pair{ 20, 20 }, std::pair{ 22, 19 }, std::pair{ 25, 24 } })
+    {
+      const Ray ray = cam.pixelRay(i, j);
+      const Vec3d f = Vec3d(ray.org) - in.p[0], d(ray.dir);
+      const double b = dot(f, d), h2 = dot(f, f) - b * b, r = in.r[0];
+      const double W = std::sqrt(params.sigma * params.sigma * r * r - h2);
+      const double integral = params.kappa * in.k[0] * r * std::sqrt(2 * M_PI) *
+                              std::exp(-h2 / (2 * r * r)) * std::erf(W / (r * std::sqrt(2.0)));
+      const double A = out.frame.rgba[4 * out.frame.index(i, j) + 3];
+      EXPECT_NEAR(-std::log(1.0 - A), c * integral, 1e-4 * c * integral)
+        << (direct ? "direct" : "coherent") << " pixel " << i << "," << j;
+    }
+  }
+}
+
+TEST(RBFVolume, MatchesBruteForceForPacketsPassesAndLeaves)
+{
+  const Input in = randomCloud(150, 2.0, 3);
+  const auto tf = linearExtinction(4.0, 0.8);
+  const RayCamera cam = camera({ 1, 2, 9 }, { 0, 0, 0 }, { 0.2, 0.1, -0.3 });
+  RBFRenderParameters params;
+  params.sampleDistance = 0.05;
+  // (Early termination is tested on its own: here a float and a double opacity could
+  // cross the threshold one sample apart. Likewise sigma 4 makes the truncation's jump,
+  // exp(-sigma^2 / 2), too small to matter where float and double disagree on whether a
+  // sample lies inside a support.)
+  params.terminationOpacity = 1.0;
+  params.sigma = 4.0;
+  const Frame ref = bruteForce(in, { 0.2, 0.1, -0.3 }, cam, params, tf);
+  EXPECT_GT(coverage(ref), 50.0);
+  for (const int side : { 1, 3, 4, 8 })
+  {
+    for (const int K : { 1, 7, 32 })
+    {
+      params.packetSide = side;
+      params.samplesPerPass = K;
+      const Rendered out = render(in, { 0.2, 0.1, -0.3 }, cam, params, tf, side == 3 ? 1 : 4);
+      EXPECT_LT(maxDifference(out.frame, ref), 2e-4) << "packet " << side << " K " << K;
+    }
+  }
+  params.direct = true;
+  EXPECT_LT(maxDifference(render(in, { 0.2, 0.1, -0.3 }, cam, params, tf).frame, ref), 2e-4);
+}
+
+// Two fields, each with its own transfer function, blended per sample; and shading, whose
+// gradients must agree between the coherent and the direct method.
+TEST(RBFVolume, MultiFieldAndShadingMatchTheDirectMethod)
+{
+  const Input in = randomCloud(200, 2.0, 5, 2);
+  std::vector<TransferFunctionTable> tf = {
+    table(
+      3.0, 256, 1.0, [](double v) { return std::min(1.0, 0.3 * v); }, 0.0),
+    table(
+      3.0, 256, 1.0, [](double v) { return std::min(1.0, 0.6 * v); }, 1.0),
+  };
+  const RayCamera cam = camera({ -3, 2, 8 }, { 0, 0, 0 }, {});
+  RBFRenderParameters params;
+  params.sampleDistance = 0.05;
+  params.sigma = 4.0; // (see MatchesBruteForceForPacketsPassesAndLeaves)
+  params.terminationOpacity = 1.0;
+  const Frame ref = bruteForce(in, {}, cam, params, tf);
+  const Rendered coherent = render(in, {}, cam, params, tf);
+  EXPECT_LT(maxDifference(coherent.frame, ref), 2e-4);
+  EXPECT_TRUE(coherent.stats.effect("multi_field"));
+  EXPECT_FALSE(coherent.stats.effect("shading"));
+
+  params.shade = true;
+  Light light;
+  light.direction = normalize(Vec3d(-1, -1, -2));
+  params.lights = { light };
+  params.material.ambient = 0.2;
+  params.material.diffuse = 0.8;
+  const Rendered lit = render(in, {}, cam, params, tf);
+  params.direct = true;
+  const Rendered litDirect = render(in, {}, cam, params, tf);
+  EXPECT_LT(maxDifference(lit.frame, litDirect.frame), 5e-4);
+  EXPECT_GT(maxDifference(lit.frame, coherent.frame), 0.02); // the shading does something
+  EXPECT_TRUE(lit.stats.effect("shading"));
+}
+
+TEST(RBFVolume, SaturatingKappaTerminatesEarlyAndExactly)
+{
+  const Input in = randomCloud(300, 2.0, 7);
+  const auto tf = linearExtinction(2.0, 5.0);
+  const RayCamera cam = camera({ 0, 0, 9 }, { 0, 0, 0 }, {});
+  RBFRenderParameters params;
+  params.kappa = 1e4;
+  params.sampleDistance = 0.05;
+  params.terminationOpacity = 0.99;
+  const Rendered early = render(in, {}, cam, params, tf);
+  params.terminationOpacity = 1.0;
+  const Rendered full = render(in, {}, cam, params, tf);
+  // Stopping at opacity 0.99 changes a pixel by at most what the rest could add: 0.01.
+  EXPECT_LE(maxDifference(early.frame, full.frame), 0.01 + 1e-6);
+  EXPECT_GT(early.stats.counter("terminated_rays"), 0);
+  EXPECT_LT(early.stats.counter("samples"), full.stats.counter("samples") / 4);
+  EXPECT_LT(early.stats.counter("passes"), full.stats.counter("passes"));
+}
+
+TEST(RBFVolumeHardCases, CoincidentParticlesAddUp)
+{
+  Input two, one;
+  two.p = { { 0, 0, 0 }, { 0, 0, 0 } };
+  two.r = { 0.5, 0.5 };
+  two.k = { 1.0, 1.0 };
+  one.p = { { 0, 0, 0 } };
+  one.r = { 0.5 };
+  one.k = { 2.0 };
+  const auto tf = linearExtinction(3.0, 1.0);
+  const RayCamera cam = camera({ 0, 0, 4 }, { 0, 0, 0 }, {});
+  RBFRenderParameters params;
+  params.sampleDistance = 0.02;
+  EXPECT_LT(
+    maxDifference(render(two, {}, cam, params, tf).frame, render(one, {}, cam, params, tf).frame),
+    1e-5);
+}
+
+TEST(RBFVolumeHardCases, InvalidParticlesAreSkippedAndCounted)
+{
+  Input in = randomCloud(50, 1.0, 9);
+  in.r[3] = 0.0;
+  in.r[4] = -1.0;
+  in.r[5] = std::nan("");
+  in.p[6].x = std::nan("");
+  in.k[7] = std::numeric_limits<double>::infinity();
+  const RBFParticles s = makeParticles(in, {});
+  EXPECT_EQ(s.size(), 45u);
+  EXPECT_EQ(s.skippedBadRadius, 3u);
+  EXPECT_EQ(s.skippedNonFinite, 2u);
+  const auto tf = linearExtinction(3.0, 1.0);
+  RBFRenderParameters params;
+  const Rendered out = render(in, {}, camera({ 0, 0, 6 }, { 0, 0, 0 }, {}), params, tf);
+  EXPECT_GT(coverage(out.frame), 1.0);
+  for (float v : out.frame.rgba)
+  {
+    ASSERT_TRUE(std::isfinite(v));
+  }
+}
+
+TEST(RBFVolumeHardCases, TinyAndHugeSigma)
+{
+  const Input in = randomCloud(100, 1.5, 11);
+  const auto tf = linearExtinction(3.0, 1.0);
+  const RayCamera cam = camera({ 0, 0, 7 }, { 0, 0, 0 }, {});
+  RBFRenderParameters params;
+  params.sampleDistance = 0.05;
+  params.sigma = 1e-4; // supports smaller than a step: (almost) nothing is sampled
+  const Rendered tiny = render(in, {}, cam, params, tf);
+  EXPECT_LT(coverage(tiny.frame), 1e-3);
+  params.sigma = 8.0;
+  const Rendered wide = render(in, {}, cam, params, tf);
+  params.sigma = 60.0; // the Gaussians' tails beyond 8 r add nothing visible
+  const Rendered huge = render(in, {}, cam, params, tf);
+  EXPECT_LT(maxDifference(wide.frame, huge.frame), 1e-5);
+}
+
+TEST(RBFVolumeHardCases, CameraInsideTheCloud)
+{
+  const Input in = randomCloud(400, 2.0, 13);
+  const auto tf = linearExtinction(4.0, 0.5);
+  const RayCamera cam = camera({ 0.1, 0.2, 0.3 }, { 1, 0, 0 }, {});
+  RBFRenderParameters params;
+  params.sampleDistance = 0.05;
+  params.sigma = 4.0; // (see MatchesBruteForceForPacketsPassesAndLeaves)
+  params.terminationOpacity = 1.0;
+  const Frame ref = bruteForce(in, {}, cam, params, tf);
+  EXPECT_GT(coverage(ref), 100.0);
+  EXPECT_LT(maxDifference(render(in, {}, cam, params, tf).frame, ref), 2e-4);
+}
+
+TEST(RBFVolumeHardCases, FarFromTheOriginGivesTheSameImage)
+{
+  Input near = randomCloud(150, 2.0, 15), far = near;
+  const Vec3d shift(1e6, -2e6, 1e6);
+  for (auto& p : far.p)
+  {
+    p = p + shift;
+  }
+  const auto tf = linearExtinction(4.0, 0.8);
+  RBFRenderParameters params;
+  params.sampleDistance = 0.05;
+  const Rendered a = render(near, {}, camera({ 1, 2, 9 }, { 0, 0, 0 }, {}), params, tf);
+  const Rendered b = render(far, shift, camera(Vec3d(1, 2, 9) + shift, shift, shift), params, tf);
+  EXPECT_LT(maxDifference(a.frame, b.frame), 1e-4);
+}
+
+TEST(RBFVolumeHardCases, EmptyInputAndOpaqueGeometry)
+{
+  const auto tf = linearExtinction(3.0, 1.0);
+  RBFRenderParameters params;
+  const RayCamera cam = camera({ 0, 0, 6 }, { 0, 0, 0 }, {});
+  const Rendered empty = render(Input{}, {}, cam, params, tf);
+  EXPECT_EQ(coverage(empty.frame), 0.0);
+
+  // Opaque geometry at window depth 0 in front of everything: nothing is sampled.
+  const Input in = randomCloud(100, 1.0, 17);
+  RBFParticles s = makeParticles(in, {});
+  ParticleBVH bvh;
+  bvh.build(s, 4);
+  std::vector<float> depth(cam.width() * cam.height(), 0.0f);
+  Frame f;
+  RenderStatistics stats;
+  renderRBF(s, bvh, cam, params, tf, depth.data(), f, stats);
+  EXPECT_EQ(coverage(f), 0.0);
+}
+
+TEST(ParticleBVH, EveryParticleInOneLeafInsideItsBounds)
+{
+  const Input in = randomCloud(5000, 5.0, 19);
+  RBFParticles s = makeParticles(in, {});
+  ParticleBVH bvh;
+  bvh.build(s, 8);
+  std::vector<int> seen(s.size(), 0);
+  const auto& nodes = bvh.nodes();
+  for (const BVHNode& n : nodes)
+  {
+    if (n.count == 0)
+    {
+      for (const auto c : { n.first, n.first + 1 })
+      {
+        for (int a = 0; a < 3; ++a)
+        {
+          ASSERT_GE(nodes[c].lo[a], n.lo[a]);
+          ASSERT_LE(nodes[c].hi[a], n.hi[a]);
+        }
+        ASSERT_LE(nodes[c].rMax, n.rMax);
+      }
+      continue;
+    }
+    EXPECT_LE(n.count, 8u);
+    for (auto i = n.first; i < n.first + n.count; ++i)
+    {
+      ++seen[i];
+      for (int a = 0; a < 3; ++a)
+      {
+        ASSERT_GE(s.centers[i][a], n.lo[a]);
+        ASSERT_LE(s.centers[i][a], n.hi[a]);
+      }
+      ASSERT_LE(s.radii[i], n.rMax);
+    }
+  }
+  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int c) { return c == 1; }));
+  // Memory: the nodes take at most the size of the particle data (centre, radius, value).
+  EXPECT_LE(bvh.memoryBytes(), s.size() * (sizeof(Vec3f) + 2 * sizeof(float)));
+}
