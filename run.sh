@@ -17,7 +17,8 @@ case "$mode" in
 esac
 
 # ParaView 5.11 SDK (its own VTK), Embree 3, TBB, the -dev packages ParaView's CMake config
-# asks for, Xvfb for headless rendering, LAMMPS for the generated data, matplotlib for plots.
+# asks for, Xvfb for headless rendering, LAMMPS, LIGGGHTS and galpy (with scipy) for the
+# generated data, matplotlib for plots.
 packages=(
   build-essential cmake ninja-build pkg-config
   paraview paraview-dev python3-paraview
@@ -27,7 +28,8 @@ packages=(
   libdouble-conversion-dev libogg-dev libtheora-dev libgl2ps-dev libjpeg-dev libpng-dev
   libfreetype-dev libxml2-dev libexpat1-dev liblzma-dev zlib1g-dev libavformat-dev
   libavcodec-dev libavutil-dev libswscale-dev libnetcdf-dev libboost-dev libgdal-dev
-  xvfb xauth lammps openmpi-bin python3-numpy python3-matplotlib
+  xvfb xauth lammps liggghts openmpi-bin python3-numpy python3-matplotlib python3-scipy
+  python3-galpy
 )
 missing=()
 for p in "${packages[@]}"; do

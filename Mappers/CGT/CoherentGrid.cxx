@@ -117,8 +117,10 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   // per-cell cursors. The scatter leaves the spheres of one cell in arbitrary order, so each
   // cell's few entries (about 1 / lambda) are sorted by input index afterwards: the result
   // is the stable order, the same for any number of threads.
-  std::vector<std::uint32_t>& cellOfSphere = CellOfSphere;
-  cellOfSphere.resize(n);
+  // The build's temporaries are freed when it ends: between builds the grid holds only its
+  // offsets and macrocells (reusing them across time steps would save about a millisecond
+  // per million spheres and cost 36 bytes per sphere of resident memory).
+  std::vector<std::uint32_t> cellOfSphere(n);
   CellStart.assign(static_cast<std::size_t>(cells) + 1, 0);
   std::uint32_t* counts = CellStart.data() + 1;
   const float inv = InvCellSize;
@@ -143,11 +145,9 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   {
     CellStart[static_cast<std::size_t>(c) + 1] += CellStart[static_cast<std::size_t>(c)];
   }
-  std::vector<std::uint32_t>& perm = Permutation;
-  perm.resize(n);
+  std::vector<std::uint32_t> perm(n);
   {
-    std::vector<std::uint32_t>& cursor = Cursor;
-    cursor.assign(CellStart.begin(), CellStart.end() - 1);
+    std::vector<std::uint32_t> cursor(CellStart.begin(), CellStart.end() - 1);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
       [&](const tbb::blocked_range<std::size_t>& range)
       {
@@ -171,11 +171,10 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
         }
       });
   }
-  // Permute the spheres into cell order (stable: equal cells keep the input order). The
-  // arrays are gathered into the grid's scratch set and swapped with the spheres', so the
-  // next build (a new time step) reuses this memory instead of allocating it again.
+  // Permute the spheres into cell order (stable: equal cells keep the input order), gathering
+  // into new arrays that are swapped with the spheres' (the old ones are freed).
   {
-    SphereSet& sorted = Scratch;
+    SphereSet sorted;
     const int na = spheres.numAttributes;
     sorted.centers.resize(n);
     sorted.radii.resize(n);

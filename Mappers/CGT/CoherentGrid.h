@@ -86,9 +86,6 @@ private:
   std::vector<std::uint32_t> MacroCount; // spheres per macrocell
   int NumAttributes = 0;
   std::vector<float> MacroMin, MacroMax; // per macrocell and attribute
-  // The previous build's arrays, reused by the next (a time step) instead of reallocated.
-  SphereSet Scratch;
-  std::vector<std::uint32_t> CellOfSphere, Permutation, Cursor;
 };
 
 } // namespace raymappers

@@ -169,76 +169,6 @@ void vtkCGTSphereMapper::ReleaseGraphicsResources(vtkWindow* win)
   this->Superclass::ReleaseGraphicsResources(win);
 }
 
-namespace
-{
-/// Reads component c of tuple i of a data array from several threads: float and double
-/// arrays directly from their memory, any other through vtkDataArray::GetComponent.
-struct TupleReader
-{
-  explicit TupleReader(vtkDataArray* array)
-    : Array(array)
-    , Floats(vtkFloatArray::FastDownCast(array) ? vtkFloatArray::FastDownCast(array)->GetPointer(0)
-                                                : nullptr)
-    , Doubles(vtkDoubleArray::FastDownCast(array)
-                ? vtkDoubleArray::FastDownCast(array)->GetPointer(0)
-                : nullptr)
-    , Components(array ? array->GetNumberOfComponents() : 0)
-  {
-  }
-  double get(std::size_t i, int c) const
-  {
-    const std::size_t k = i * static_cast<std::size_t>(Components) + static_cast<std::size_t>(c);
-    return Floats ? Floats[k]
-                  : (Doubles ? Doubles[k] : Array->GetComponent(static_cast<vtkIdType>(i), c));
-  }
-  vtkDataArray* Array;
-  const float* Floats;
-  const double* Doubles;
-  int Components;
-};
-
-// The radius array the mapper should use, or nullptr (with the reason in `why`).
-vtkDataArray* FindRadiusArray(vtkPolyData* input, const char* name, std::string& why)
-{
-  if (!name || !*name)
-  {
-    return nullptr;
-  }
-  vtkDataArray* array = input->GetPointData()->GetArray(name);
-  if (!array)
-  {
-    why = std::string("radius array '") + name + "' is not a point array of the input";
-    return nullptr;
-  }
-  return array;
-}
-
-// Centre of the bounds of the finite points: the origin of the kernel's float coordinates.
-raymappers::Vec3d FiniteCenter(vtkPoints* points)
-{
-  double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
-  double hi[3] = { VTK_DOUBLE_MIN, VTK_DOUBLE_MIN, VTK_DOUBLE_MIN };
-  bool any = false;
-  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    points->GetPoint(i, p);
-    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))
-    {
-      any = true;
-      for (int c = 0; c < 3; ++c)
-      {
-        lo[c] = std::min(lo[c], p[c]);
-        hi[c] = std::max(hi[c], p[c]);
-      }
-    }
-  }
-  return any
-           ? raymappers::Vec3d(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]))
-           : raymappers::Vec3d();
-}
-}
-
 void vtkCGTSphereMapper::ComputeBounds()
 {
   this->Superclass::ComputeBounds();
@@ -257,7 +187,8 @@ void vtkCGTSphereMapper::ComputeBounds()
   }
   std::string why;
   double rmax = this->Radius;
-  if (vtkDataArray* radii = FindRadiusArray(input, this->RadiusArrayName, why))
+  if (vtkDataArray* radii =
+        vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why))
   {
     double range[2];
     radii->GetFiniteRange(range, 0);
@@ -334,7 +265,8 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     if (geometryChanged)
     {
       std::string why;
-      vtkDataArray* radii = FindRadiusArray(input, this->RadiusArrayName, why);
+      vtkDataArray* radii =
+        vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
       if (!why.empty())
       {
         vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
@@ -344,11 +276,11 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
       const double constantRadius = this->Radius * scale;
       // Float and double arrays (nearly all data) are read directly, others through the
       // generic vtkDataArray interface.
-      const TupleReader pointReader(points->GetData());
-      const TupleReader radiusReader(radii);
+      const vtkRayMapperRenderHelpers::TupleReader pointReader(points->GetData());
+      const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
       raymappers::buildSphereSet(
         static_cast<std::size_t>(input->GetNumberOfPoints()),
-        FiniteCenter(points),
+        vtkRayMapperRenderHelpers::FiniteCenter(points),
         [&](std::size_t i) {
           return raymappers::Vec3d(
             pointReader.get(i, 0), pointReader.get(i, 1), pointReader.get(i, 2));

@@ -2,6 +2,9 @@
 
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
+#include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
 #include "vtkMatrix3x3.h"
@@ -9,6 +12,8 @@
 #include "vtkOpenGLCamera.h"
 #include "vtkOpenGLRenderWindow.h"
 #include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
 #include "vtkProp3D.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
@@ -128,6 +133,62 @@ std::vector<raymappers::Light> GatherLights(vtkRenderer* ren)
     lights.push_back(light);
   }
   return lights;
+}
+
+TupleReader::TupleReader(vtkDataArray* array)
+  : Array(array)
+  , Components(array ? array->GetNumberOfComponents() : 0)
+{
+  if (auto* f = vtkFloatArray::FastDownCast(array))
+  {
+    Floats = f->GetPointer(0);
+  }
+  else if (auto* d = vtkDoubleArray::FastDownCast(array))
+  {
+    Doubles = d->GetPointer(0);
+  }
+}
+
+vtkDataArray* FindPointArray(vtkDataSet* input,
+  const char* name,
+  const char* role,
+  std::string& why)
+{
+  if (!name || !*name || !input)
+  {
+    return nullptr;
+  }
+  vtkDataArray* array = input->GetPointData()->GetArray(name);
+  if (!array)
+  {
+    why = std::string(role) + " array '" + name + "' is not a point array of the input";
+  }
+  return array;
+}
+
+raymappers::Vec3d FiniteCenter(vtkPoints* points)
+{
+  const TupleReader reader(points->GetData());
+  double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+  double hi[3] = { VTK_DOUBLE_MIN, VTK_DOUBLE_MIN, VTK_DOUBLE_MIN };
+  bool any = false;
+  const auto n = static_cast<std::size_t>(points->GetNumberOfPoints());
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double p[3] = { reader.get(i, 0), reader.get(i, 1), reader.get(i, 2) };
+    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))
+    {
+      any = true;
+      for (int c = 0; c < 3; ++c)
+      {
+        lo[c] = std::min(lo[c], p[c]);
+        hi[c] = std::max(hi[c], p[c]);
+      }
+    }
+  }
+  return any
+           ? raymappers::Vec3d(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]))
+           : raymappers::Vec3d();
 }
 
 bool ReadOpaqueDepth(vtkRenderer* ren, std::vector<float>& depth, int& width, int& height)

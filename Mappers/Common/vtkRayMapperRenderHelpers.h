@@ -9,8 +9,14 @@
 #include "RayMappersMappersModule.h" // for export macro
 #include "TransferFunctionTable.h"
 
+#include "vtkDataArray.h" // for TupleReader
+
+#include <cstddef>
+#include <string>
 #include <vector>
 
+class vtkDataSet;
+class vtkPoints;
 class vtkProp3D;
 class vtkRenderer;
 class vtkScalarsToColors;
@@ -18,6 +24,39 @@ class vtkVolumeProperty;
 
 namespace vtkRayMapperRenderHelpers
 {
+
+/// Reads component c of tuple i of a data array, safely from several threads at once:
+/// float and double arrays (nearly all data) directly from memory, others through
+/// vtkDataArray::GetComponent.
+class RAYMAPPERSMAPPERS_EXPORT TupleReader
+{
+public:
+  explicit TupleReader(vtkDataArray* array);
+  double get(std::size_t i, int c) const
+  {
+    const std::size_t k = i * static_cast<std::size_t>(Components) + static_cast<std::size_t>(c);
+    return Floats ? Floats[k]
+                  : (Doubles ? Doubles[k] : Array->GetComponent(static_cast<vtkIdType>(i), c));
+  }
+
+private:
+  vtkDataArray* Array;
+  const float* Floats = nullptr;
+  const double* Doubles = nullptr;
+  int Components = 0;
+};
+
+/// The point array `name` of `input`. nullptr when the name is empty, and nullptr with the
+/// reason in `why` ("<role> array '<name>' is not a point array of the input") when the
+/// input has no such array.
+RAYMAPPERSMAPPERS_EXPORT vtkDataArray* FindPointArray(vtkDataSet* input,
+  const char* name,
+  const char* role,
+  std::string& why);
+
+/// Centre of the bounds of the finite points (the origin of a kernel's float coordinates);
+/// (0, 0, 0) when there is none.
+RAYMAPPERSMAPPERS_EXPORT raymappers::Vec3d FiniteCenter(vtkPoints* points);
 
 /// Model-to-world transform of a prop (row-major) and its normal matrix
 /// (inverse transpose of the linear part).

@@ -59,6 +59,7 @@ struct Classifier
   const RBFRenderParameters* params;
   Vec3d origin;
   int numFields;
+  bool emptyIsClear; // every field's opacity at 0 is 0: samples no particle reaches are skipped
 
   /// Blends the sample at t of ray (o, d) with field values phi[] and field-sum gradient
   /// grad (used only when shading) into acc, sequentially per field (section 5.5).
@@ -116,6 +117,30 @@ struct Classifier
     }
   }
 };
+
+// Whether the ray o + t d (inv = 1/d per axis) meets the box grown by `grow` for some t in
+// [t0, t1]. A zero direction component gives an infinite inverse; the NaN of 0 * inf then
+// drops out of the min/max, which keeps the test conservative.
+inline bool slabsHit(const Vec3f& o,
+  const Vec3f& inv,
+  const float lo[3],
+  const float hi[3],
+  float grow,
+  float t0,
+  float t1)
+{
+  for (int a = 0; a < 3; ++a)
+  {
+    float ta = (lo[a] - grow - o[a]) * inv[a], tb = (hi[a] + grow - o[a]) * inv[a];
+    if (ta > tb)
+    {
+      std::swap(ta, tb);
+    }
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
 
 // The sample range [k0, k1] of a ray: t in [tEnter, tExit] with t = k dt.
 struct SampleRange
@@ -189,7 +214,11 @@ void renderRBF(const RBFParticles& particles,
   const float threshold = static_cast<float>(std::clamp(params.terminationOpacity, 0.0, 1.0));
   const bool grads = params.shade;
   const std::vector<TransferFunctionTable> tables = correctForStep(fields, dtD);
-  const Classifier classifier{ &tables, &params, particles.origin, numFields };
+  const bool emptyIsClear = std::all_of(tables.begin(),
+    tables.end(),
+    [](const TransferFunctionTable& t) { return t.lookup(0.0)[3] == 0.f; });
+  stats.setEffect("empty_space_skipping", emptyIsClear);
+  const Classifier classifier{ &tables, &params, particles.origin, numFields, emptyIsClear };
   const std::vector<BVHNode>& nodes = bvh.nodes();
   const BVHNode& root = nodes[0];
   const int side = std::clamp(params.packetSide, 1, MaxRBFPacketSide);
@@ -295,6 +324,10 @@ void renderRBF(const RBFParticles& particles,
                   }
                 }
               }
+              if (emptyIsClear && phi[0] == 0.f && phi[1] == 0.f && phi[2] == 0.f && phi[3] == 0.f)
+              {
+                continue; // no particle reaches this sample
+              }
               ++tileSamples;
               classifier.blend(phi, grads ? grad : nullptr, ray.org, ray.dir, t, acc);
               if (acc.a >= threshold)
@@ -330,6 +363,7 @@ void renderRBF(const RBFParticles& particles,
         std::vector<std::uint32_t> stack;
         stack.reserve(128);
         Ray ray[MaxRays];
+        Vec3f invDir[MaxRays];
         SampleRange range[MaxRays];
         RayAccumulator acc[MaxRays];
         bool active[MaxRays];
@@ -362,6 +396,10 @@ void renderRBF(const RBFParticles& particles,
             }
             tileRays += n;
             ++tilePackets;
+            for (int r = 0; r < n; ++r)
+            {
+              invDir[r] = Vec3f(1.f / ray[r].dir.x, 1.f / ray[r].dir.y, 1.f / ray[r].dir.z);
+            }
             // Passes of K samples (section 4.2) until every ray is opaque or done.
             for (std::int64_t s0 = kFirst; s0 <= kLast; s0 += K)
             {
@@ -381,23 +419,19 @@ void renderRBF(const RBFParticles& particles,
                 continue;
               }
               ++tilePasses;
-              std::fill(phiBuf.begin(),
-                phiBuf.begin() + static_cast<std::size_t>(n) * K * MaxRBFFields,
-                0.f);
-              if (grads)
-              {
-                std::fill(
-                  gradBuf.begin(), gradBuf.begin() + static_cast<std::size_t>(n) * K * 3, 0.f);
-              }
               // This pass's samples of each ray [passFirst, passLast] (empty for rays not
               // in it) and their t interval.
               std::int64_t passFirst[MaxRays], passLast[MaxRays];
+              // The samples of the pass some particle reached, per ray.
+              std::int64_t touchedFirst[MaxRays], touchedLast[MaxRays];
               float segT0[MaxRays], segT1[MaxRays];
               for (int r = 0; r < n; ++r)
               {
                 const bool in = active[r] && range[r].k0 <= s1;
                 passFirst[r] = in ? std::max(s0, range[r].k0) : 1;
                 passLast[r] = in ? std::min(s1, range[r].k1) : 0;
+                touchedFirst[r] = std::numeric_limits<std::int64_t>::max();
+                touchedLast[r] = std::numeric_limits<std::int64_t>::min();
                 segT0[r] = in ? static_cast<float>(passFirst[r]) * dt : 1.f;
                 segT1[r] = in ? static_cast<float>(passLast[r]) * dt : 0.f;
               }
@@ -413,9 +447,8 @@ void renderRBF(const RBFParticles& particles,
                 bool any = false;
                 for (int r = 0; r < n && !any; ++r)
                 {
-                  float t0 = segT0[r], t1 = segT1[r];
-                  any =
-                    t0 <= t1 && clipToBox(ray[r].org, ray[r].dir, node.lo, node.hi, grow, t0, t1);
+                  any = segT0[r] <= segT1[r] &&
+                        slabsHit(ray[r].org, invDir[r], node.lo, node.hi, grow, segT0[r], segT1[r]);
                 }
                 if (!any)
                 {
@@ -463,6 +496,8 @@ void renderRBF(const RBFParticles& particles,
                       continue;
                     }
                     ++tileDeposits;
+                    touchedFirst[r] = std::min(touchedFirst[r], ka);
+                    touchedLast[r] = std::max(touchedLast[r], kb);
                     const float u0 = static_cast<float>(ka) * dt + b;
                     float g = amp * std::exp(-(u0 * u0 + h2) * inv2r2);
                     float rho = std::exp(-(2.f * u0 * dt + dt * dt) * inv2r2);
@@ -500,7 +535,10 @@ void renderRBF(const RBFParticles& particles,
               int stillActive = 0;
               for (int r = 0; r < n; ++r)
               {
-                for (std::int64_t k = passFirst[r]; k <= passLast[r]; ++k)
+                // With a clear empty field only the reached samples can add anything.
+                const std::int64_t first = emptyIsClear ? touchedFirst[r] : passFirst[r];
+                const std::int64_t last = emptyIsClear ? touchedLast[r] : passLast[r];
+                for (std::int64_t k = first; k <= last; ++k)
                 {
                   const std::size_t slot = static_cast<std::size_t>(r) * K + (k - s0);
                   ++tileSamples;
@@ -518,6 +556,18 @@ void renderRBF(const RBFParticles& particles,
                   }
                 }
                 stillActive += active[r];
+                // Leave the buffer zero for the next pass: only the reached samples changed.
+                if (touchedFirst[r] <= touchedLast[r])
+                {
+                  const std::size_t a = static_cast<std::size_t>(r) * K + (touchedFirst[r] - s0);
+                  const std::size_t b = static_cast<std::size_t>(r) * K + (touchedLast[r] - s0) + 1;
+                  std::fill(
+                    phiBuf.begin() + a * MaxRBFFields, phiBuf.begin() + b * MaxRBFFields, 0.f);
+                  if (grads)
+                  {
+                    std::fill(gradBuf.begin() + a * 3, gradBuf.begin() + b * 3, 0.f);
+                  }
+                }
               }
               if (stillActive == 0)
               {

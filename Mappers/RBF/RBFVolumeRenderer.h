@@ -61,7 +61,7 @@ struct RBFRenderParameters
 /// fields use the last table). `opaqueDepth`, when not null, holds the window depth of
 /// opaque geometry per pixel (camera grid, row 0 at the bottom): rays stop there.
 /// Counters: rays, packets, passes, samples, node_visits, deposits, terminated_rays.
-/// Effects: shading, multi_field, early_termination.
+/// Effects: shading, multi_field, early_termination, empty_space_skipping.
 void renderRBF(const RBFParticles& particles,
   const ParticleBVH& bvh,
   const RayCamera& camera,

@@ -357,6 +357,14 @@ std::vector<Row> RunSpheres(const Options& opt)
         << (st->GetPhaseTime("grid_build") > 0 ? "grid " : "bvh ")
         << st->GetPhaseTime("grid_build") + st->GetPhaseTime("bvh_build") << " ms; trace "
         << st->GetPhaseTime("trace") << " ms";
+      if (st->GetCounter("grid_bytes") > 0)
+      {
+        // The grid's own memory (offsets, macrocells) against the particle data it indexes.
+        const double particles = cloud->GetActualMemorySize() * 1024.0;
+        s << "; grid " << st->GetCounter("grid_bytes") / 1048576.0 << " MB = "
+          << 100.0 * st->GetCounter("grid_bytes") / particles << "% of the particle data ("
+          << particles / 1048576.0 << " MB); simd lanes " << st->GetCounter("simd_lanes");
+      }
       return s.str();
     };
     // Embree at its best: 16-ray coherent packets, and each build quality (low suits a

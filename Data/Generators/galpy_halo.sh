@@ -1,0 +1,56 @@
+#!/bin/bash
+# Generate a large particle dataset with Debian's galpy: a Milky-Way-like NFW
+# dark-matter halo (scale radius 16 kpc, 1e12 Msun inside 20 scale radii)
+# sampled from its isotropic self-consistent distribution function, written
+# as legacy VTK binary polydata by galpy_halo.py.
+#
+# Usage: galpy_halo.sh OUTPUT.vtk [N]
+#   N  number of particles (default 1000000)
+# Environment:
+#   GALPY_HALO_SEED  random seed (default 1)
+#
+# Writes OUTPUT.vtk and OUTPUT.vtk.provenance.txt. If OUTPUT.vtk exists it is
+# kept as a cache and nothing runs: delete it to regenerate.
+set -euo pipefail
+
+if [[ $# -lt 1 || $# -gt 2 ]]; then
+  sed -n '2,13p' "$0" >&2
+  exit 2
+fi
+output=$1
+n=${2:-1000000}
+seed=${GALPY_HALO_SEED:-1}
+here=$(cd "$(dirname "$0")" && pwd)
+
+if [[ -e "$output" ]]; then
+  echo "$output exists, not regenerated"
+  exit 0
+fi
+[[ "$n" =~ ^[1-9][0-9]*$ ]] || { echo "N must be a positive integer" >&2; exit 2; }
+[[ "$seed" =~ ^[0-9]+$ ]] || { echo "GALPY_HALO_SEED must be a non-negative integer" >&2; exit 2; }
+galpy_version=$(/usr/bin/python3 -c 'import galpy; print(galpy.__version__)' 2>/dev/null) \
+  || { echo "galpy not importable by /usr/bin/python3 (Debian package 'python3-galpy')" >&2; exit 1; }
+
+trap 'rm -f "$output.part"' EXIT
+
+cmd=(/usr/bin/python3 "$here/galpy_halo.py" --n "$n" --seed "$seed")
+start=$(date +%s)
+# Write to a temporary name first so an interrupted run never leaves a
+# half-written file that the cache check above would accept.
+summary=$("${cmd[@]}" "$output.part")
+mv "$output.part" "$output"
+seconds=$(( $(date +%s) - start ))
+
+{
+  echo "file: $(basename "$output")"
+  echo "generator: Data/Generators/galpy_halo.sh (sampler galpy_halo.py)"
+  echo "galpy: $galpy_version"
+  echo "debian package: python3-galpy $(dpkg-query -W -f='${Version}' python3-galpy 2>/dev/null || echo unknown)"
+  echo "command: ${cmd[*]} $(basename "$output")" | sed "s#$here/##g"
+  echo "date: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
+  echo "host cores: $(nproc)"
+  echo "particles: $n, seed: $seed"
+  echo "sampled: $summary"
+  echo "wall time: ${seconds} s (sampling, neighbour search and writing)"
+} > "$output.provenance.txt"
+echo "wrote $output ($n particles, ${seconds} s)"

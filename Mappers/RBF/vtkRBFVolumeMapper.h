@@ -1,0 +1,187 @@
+/**
+ * @class   vtkRBFVolumeMapper
+ * @brief   Volume renders the points of a point set as a Gaussian RBF field.
+ *
+ * Every point i of the input vtkPointSet (polydata, unstructured grid, ...; cells are
+ * ignored) adds the Gaussian
+ *   phi_i(x) = Kappa * k_i * exp(-|x - x_i|^2 / (2 r_i^2)),  truncated at Sigma * r_i,
+ * to a scalar field that is ray cast with the vtkVolumeProperty of the vtkVolume: its
+ * colour and scalar opacity functions (opacity per ScalarOpacityUnitDistance, corrected for
+ * the step), and, when its Shade flag is on, Lambert + Phong lighting with the renderer's
+ * lights and the field's analytic gradient (Knoll et al., "RBF Volume Ray Casting on
+ * Multicore and Manycore CPUs", EuroVis 2014).
+ *   k_i: the first component of ValueArrayName, or 1 when it is not set.
+ *   r_i: RadiusScale * (the first component of RadiusArrayName, or Radius when not set).
+ *
+ * Multi-field classification (section 5.5): with FieldArrayName set, the distinct values
+ * of that point array (a category, such as an atom type) split the particles into up to
+ * four fields, in increasing order of value; field m is classified with component m of the
+ * volume property (its own colour and opacity functions), and the fields are blended per
+ * sample.
+ *
+ * The rays go in square packets that walk a BVH (Embree's builder) once per pass of
+ * SamplesPerPass samples, filling a per-packet sample buffer; a packet stops when all its
+ * rays reach TerminationOpacity. Method DIRECT gathers the particles at every sample
+ * instead (the reference method, much slower). Changing Kappa, Sigma, SampleDistance, the
+ * transfer functions or the lights never rebuilds the BVH. Opaque geometry already drawn
+ * stops the rays.
+ *
+ * Bad input never poisons the image: points with NaN/Inf coordinates or values, and radii
+ * that are NaN, zero or negative, are skipped with one warning saying how many.
+ *
+ * GetStatistics() reports phase times, counters and effects of the last render.
+ */
+#ifndef vtkRBFVolumeMapper_h
+#define vtkRBFVolumeMapper_h
+
+#include "RayMappersMappersModule.h" // for export macro
+#include "vtkAbstractVolumeMapper.h"
+
+#include <memory> // for std::unique_ptr
+
+class vtkPointSet;
+class vtkRayMapperStatistics;
+
+#define VTK_RBF_METHOD_COHERENT 0
+#define VTK_RBF_METHOD_DIRECT 1
+
+class RAYMAPPERSMAPPERS_EXPORT vtkRBFVolumeMapper : public vtkAbstractVolumeMapper
+{
+public:
+  static vtkRBFVolumeMapper* New();
+  vtkTypeMacro(vtkRBFVolumeMapper, vtkAbstractVolumeMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  void SetInputData(vtkPointSet* input);
+
+  ///@{
+  /**
+   * Global scale of the kernels (the paper's kappa). Default 1.
+   */
+  vtkSetClampMacro(Kappa, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(Kappa, double);
+  ///@}
+
+  ///@{
+  /**
+   * Truncation of each Gaussian at Sigma radii (the paper's sigma). Default 2.
+   */
+  vtkSetClampMacro(Sigma, double, 0.0, 1000.0);
+  vtkGetMacro(Sigma, double);
+  ///@}
+
+  ///@{
+  /**
+   * Distance between samples along a ray (model units); 0 (default) chooses half the mean
+   * radius.
+   */
+  vtkSetClampMacro(SampleDistance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(SampleDistance, double);
+  ///@}
+
+  ///@{
+  /**
+   * Constant radius (used without a radius array), a radius array (first component) and a
+   * factor on either. Defaults 1, none, 1.
+   */
+  vtkSetMacro(Radius, double);
+  vtkGetMacro(Radius, double);
+  vtkSetStringMacro(RadiusArrayName);
+  vtkGetStringMacro(RadiusArrayName);
+  vtkSetMacro(RadiusScale, double);
+  vtkGetMacro(RadiusScale, double);
+  ///@}
+
+  ///@{
+  /**
+   * Point array of the particles' values k_i (first component); none (default): 1.
+   */
+  vtkSetStringMacro(ValueArrayName);
+  vtkGetStringMacro(ValueArrayName);
+  ///@}
+
+  ///@{
+  /**
+   * Categorical point array splitting the particles into fields (up to 4); none (default):
+   * one field.
+   */
+  vtkSetStringMacro(FieldArrayName);
+  vtkGetStringMacro(FieldArrayName);
+  ///@}
+
+  ///@{
+  /**
+   * A ray stops once its opacity reaches this (1: never early). Default 0.99.
+   */
+  vtkSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
+  vtkGetMacro(TerminationOpacity, double);
+  ///@}
+
+  ///@{
+  /**
+   * Samples per ray and pass of the packet's buffer (the paper's K, 1 to 256; default 32),
+   * rays per packet side (1 to 8; default 4: 16 rays), particles per BVH leaf (1 to 64;
+   * default 8; changing it rebuilds the BVH) and screen tile size (default 32).
+   */
+  vtkSetClampMacro(SamplesPerPass, int, 1, 256);
+  vtkGetMacro(SamplesPerPass, int);
+  vtkSetClampMacro(PacketSize, int, 1, 8);
+  vtkGetMacro(PacketSize, int);
+  vtkSetClampMacro(LeafSize, int, 1, 64);
+  vtkGetMacro(LeafSize, int);
+  vtkSetClampMacro(TileSize, int, 4, 1024);
+  vtkGetMacro(TileSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * VTK_RBF_METHOD_COHERENT (default: packets and sample buffer) or VTK_RBF_METHOD_DIRECT
+   * (per-sample gathering, the reference).
+   */
+  vtkSetClampMacro(Method, int, VTK_RBF_METHOD_COHERENT, VTK_RBF_METHOD_DIRECT);
+  vtkGetMacro(Method, int);
+  ///@}
+
+  /**
+   * Statistics of the last render: phase times, counters, effects that ran.
+   */
+  vtkRayMapperStatistics* GetStatistics();
+
+  double* GetBounds() VTK_SIZEHINT(6) override;
+  void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
+
+  void Render(vtkRenderer* ren, vtkVolume* vol) override;
+  void ReleaseGraphicsResources(vtkWindow* win) override;
+
+protected:
+  vtkRBFVolumeMapper();
+  ~vtkRBFVolumeMapper() override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  double Kappa = 1.0;
+  double Sigma = 2.0;
+  double SampleDistance = 0.0;
+  double Radius = 1.0;
+  char* RadiusArrayName = nullptr;
+  double RadiusScale = 1.0;
+  char* ValueArrayName = nullptr;
+  char* FieldArrayName = nullptr;
+  double TerminationOpacity = 0.99;
+  int SamplesPerPass = 32;
+  int PacketSize = 4;
+  int LeafSize = 8;
+  int TileSize = 32;
+  int Method = VTK_RBF_METHOD_COHERENT;
+
+private:
+  vtkRBFVolumeMapper(const vtkRBFVolumeMapper&) = delete;
+  void operator=(const vtkRBFVolumeMapper&) = delete;
+
+  /// Rebuilds the particles (and marks the BVH stale) when the input or the arrays changed.
+  bool UpdateParticles(vtkPointSet* input);
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
