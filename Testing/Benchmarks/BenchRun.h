@@ -1,0 +1,93 @@
+// The harness of raymappers-bench: options, one CSV row per measured method, the
+// measurement of one method in its own window, image comparison and the printed table.
+#ifndef RayMappers_BenchRun_h
+#define RayMappers_BenchRun_h
+
+#include "vtkSmartPointer.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+class vtkCamera;
+class vtkImageData;
+class vtkRenderer;
+
+namespace bench
+{
+
+struct Options
+{
+  std::string suite;
+  std::vector<std::string> data;
+  int width = 1024;
+  int height = 1024;
+  int repeat = 5;
+  std::string csv;
+  std::string images;
+  std::string generated = RAYMAPPERS_GENERATED_DIR;
+  std::vector<std::string> only; // run only methods whose "method:setting" contains one
+};
+
+struct Row
+{
+  std::string suite, dataset, method, setting;
+  int width = 0, height = 0;
+  long long items = 0;
+  double buildMs = 0, renderMs = 0;
+  double rmse = -1, maxErr = -1; // < 0: no reference
+  double memMb = 0;
+};
+
+/// What one method renders into a window: it adds its props to the renderer.
+struct Method
+{
+  std::string name;
+  std::string setting;
+  std::function<void(vtkRenderer*)> setup;
+  std::function<double()> buildMs;          // read after a frame; nullptr: first frame - median
+  std::function<void()> touch;              // marks the data modified, as a new time step does
+  std::function<std::string()> buildDetail; // what the build time is made of
+  int repeat = 0;                           // frames to time; 0: --repeat
+};
+
+struct Result
+{
+  Row row;
+  vtkSmartPointer<vtkImageData> image;
+};
+
+double ResidentMb();
+double Median(std::vector<double> v);
+double Now();
+
+/// Renders the method in a new off-screen window: the first frame (build), --repeat frames
+/// (render_ms, the median), --repeat rebuilds when the method can be touched (build_ms),
+/// the memory growth over the first frame, and the final image.
+Result Measure(const Options& opt, const Method& m, const std::function<void(vtkCamera*)>& view);
+
+/// RMSE and maximum absolute difference of two RGB images, channels in 0..1.
+void Compare(vtkImageData* a, vtkImageData* b, double& rmse, double& maxErr);
+void WritePng(vtkImageData* image, const std::string& path);
+
+/// Whether --only selects the method (no --only: all).
+bool Selected(const Options& opt, const Method& m);
+
+/// The file `name` in the --generated folder, made by Data/Generators/`script` when it is
+/// not there yet (a real simulator run, cached); empty when the generation failed.
+std::string Generated(const Options& opt, const std::string& name, const std::string& script);
+
+/// One empty frame at the benchmark's size, so that the OpenGL driver's one-time
+/// allocations are not counted in the memory of the first method measured.
+void WarmUp(const Options& opt);
+
+std::string Csv(const Row& r);
+void PrintTable(const std::vector<Row>& rows);
+
+/// The suites.
+std::vector<Row> RunSpheres(const Options& opt);
+std::vector<Row> RunRBF(const Options& opt);
+
+} // namespace bench
+
+#endif

@@ -1,0 +1,396 @@
+// The rbf suite: vtkRBFVolumeMapper's coherent method (rbf) against its direct method on the
+// same BVH (direct-rbf) and against what a VTK user does today, resampling the particles onto
+// an image grid with vtkPointInterpolator and a Gaussian kernel, then ray casting it with
+// vtkFixedPointVolumeRayCastMapper (resample-volume, at several grid sizes). The reference
+// image of the error columns is a converged RBF image (dt / 4, sigma 4, no early
+// termination). Sweeps of dt, sigma, the termination threshold, leaf size, packet size and
+// samples per pass show what accuracy costs. Every dataset is seen from far and close.
+#include "BenchData.h"
+#include "BenchRun.h"
+#include "vtkRBFVolumeMapper.h"
+#include "vtkRayMapperStatistics.h"
+
+#include "vtkCamera.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDataArray.h"
+#include "vtkFixedPointVolumeRayCastMapper.h"
+#include "vtkFloatArray.h"
+#include "vtkGaussianKernel.h"
+#include "vtkImageData.h"
+#include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkPointInterpolator.h"
+#include "vtkPolyData.h"
+#include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace bench
+{
+
+namespace
+{
+struct Dataset
+{
+  std::string file;
+  vtkSmartPointer<vtkPolyData> cloud;
+  std::string radiusArray; // empty: constant radius
+  double radiusFactor = 1.0;
+  double radius = 1.0;    // mean radius (the constant one without an array)
+  std::string fieldArray; // empty: one field
+};
+
+// A volume property for a field whose values reach about `peak`: colour from blue through
+// white to orange, opacity rising from 10 % of the peak, per `unit` (the mean radius).
+vtkSmartPointer<vtkVolumeProperty> MakeProperty(double peak, double unit, int fields)
+{
+  auto property = vtkSmartPointer<vtkVolumeProperty>::New();
+  property->SetIndependentComponents(1);
+  for (int m = 0; m < fields; ++m)
+  {
+    vtkNew<vtkColorTransferFunction> color;
+    vtkNew<vtkPiecewiseFunction> opacity;
+    if (m == 0)
+    {
+      color->AddRGBPoint(0.0, 0.23, 0.30, 0.75);
+      color->AddRGBPoint(0.5 * peak, 0.87, 0.87, 0.87);
+      color->AddRGBPoint(peak, 0.71, 0.02, 0.15);
+    }
+    else
+    {
+      color->AddRGBPoint(0.0, 0.1, 0.6, 0.2);
+      color->AddRGBPoint(peak, 0.95, 0.85, 0.1);
+    }
+    opacity->AddPoint(0.0, 0.0);
+    opacity->AddPoint(0.1 * peak, 0.0);
+    opacity->AddPoint(peak, 0.35);
+    property->SetColor(m, color);
+    property->SetScalarOpacity(m, opacity);
+    property->SetScalarOpacityUnitDistance(m, unit);
+  }
+  return property;
+}
+
+Dataset Prepare(const std::string& file)
+{
+  Dataset d;
+  d.file = file;
+  auto data = ReadAny(file);
+  if (!data)
+  {
+    return d;
+  }
+  d.cloud = ToPointCloud(data);
+  std::string name;
+  double factor = 1.0;
+  if (vtkDataArray* radii = FindRadiusArray(d.cloud, name, factor))
+  {
+    d.radiusArray = name;
+    d.radiusFactor = factor;
+    double sum = 0;
+    for (vtkIdType i = 0; i < radii->GetNumberOfTuples(); ++i)
+    {
+      sum += radii->GetComponent(i, 0);
+    }
+    d.radius = factor * sum / std::max<vtkIdType>(1, radii->GetNumberOfTuples());
+  }
+  else
+  {
+    d.radius = DefaultRadius(d.cloud);
+  }
+  // PDB: two fields, carbon (atomic number 6 in vtkPDBReader's atom_type) and the rest.
+  if (vtkDataArray* types = d.cloud->GetPointData()->GetArray("atom_type"))
+  {
+    vtkNew<vtkFloatArray> carbon;
+    carbon->SetName("carbon_or_not");
+    carbon->SetNumberOfTuples(types->GetNumberOfTuples());
+    for (vtkIdType i = 0; i < types->GetNumberOfTuples(); ++i)
+    {
+      carbon->SetValue(i, types->GetComponent(i, 0) == 6 ? 0.f : 1.f);
+    }
+    d.cloud->GetPointData()->AddArray(carbon);
+    d.fieldArray = "carbon_or_not";
+  }
+  return d;
+}
+}
+
+std::vector<Row> RunRBF(const Options& opt)
+{
+  WarmUp(opt);
+  std::vector<std::string> files = opt.data;
+  if (files.empty())
+  {
+    for (const auto& [name, script] : { std::pair{ "lammps_melt_1M.vtk", "lammps_melt.sh" },
+           std::pair{ "lammps_crack.vtk", "lammps_crack.sh" },
+           std::pair{ "galpy_halo_1M.vtk", "galpy_halo.sh" } })
+    {
+      const std::string path = Generated(opt, name, script);
+      if (!path.empty())
+      {
+        files.push_back(path);
+      }
+    }
+    files.insert(files.begin(), std::string(RAYMAPPERS_SOURCE_DIR) + "/Data/2LYZ.pdb");
+  }
+  std::vector<Row> rows;
+  for (const std::string& file : files)
+  {
+    const Dataset d = Prepare(file);
+    if (!d.cloud || d.cloud->GetNumberOfPoints() == 0)
+    {
+      std::cerr << "raymappers-bench: " << file << " has no points; skipped\n";
+      continue;
+    }
+    const long long n = d.cloud->GetNumberOfPoints();
+    const int fields = d.fieldArray.empty() ? 1 : 2;
+    // The field peaks near kappa times the particles overlapping a point: about 1.5 for
+    // these data at sigma 2.
+    const auto property = MakeProperty(1.5, d.radius, fields);
+    const double dt = 0.5 * d.radius;
+    std::cout << BaseName(file) << ": " << n << " particles, mean radius " << d.radius
+              << (d.radiusArray.empty() ? " (constant)" : " (array '" + d.radiusArray + "')")
+              << ", fields " << fields << ", dt " << dt << "\n";
+
+    for (const std::string view : { "far", "close" })
+    {
+      auto camera = [&](vtkCamera* cam)
+      {
+        double b[6];
+        d.cloud->GetBounds(b);
+        const double c[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+        const double diag =
+          std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+                    (b[5] - b[4]) * (b[5] - b[4]));
+        cam->SetFocalPoint(c);
+        cam->SetPosition(c[0] + 0.8 * diag, c[1] + 0.55 * diag, c[2] + 1.8 * diag);
+        cam->SetViewUp(0, 1, 0);
+        cam->SetViewAngle(30);
+        if (view == "close")
+        {
+          cam->Zoom(4.0);
+        }
+      };
+
+      vtkSmartPointer<vtkRBFVolumeMapper> ours;
+      auto rbf = [&](int method,
+                   double step,
+                   double sigma,
+                   double termination,
+                   int leaf,
+                   int packet,
+                   int perPass)
+      {
+        return [&, method, step, sigma, termination, leaf, packet, perPass](vtkRenderer* ren)
+        {
+          ours = vtkSmartPointer<vtkRBFVolumeMapper>::New();
+          ours->SetInputData(d.cloud);
+          if (!d.radiusArray.empty())
+          {
+            ours->SetRadiusArrayName(d.radiusArray.c_str());
+            ours->SetRadiusScale(d.radiusFactor);
+          }
+          else
+          {
+            ours->SetRadius(d.radius);
+          }
+          if (!d.fieldArray.empty())
+          {
+            ours->SetFieldArrayName(d.fieldArray.c_str());
+          }
+          ours->SetMethod(method);
+          ours->SetSampleDistance(step);
+          ours->SetSigma(sigma);
+          ours->SetTerminationOpacity(termination);
+          ours->SetLeafSize(leaf);
+          ours->SetPacketSize(packet);
+          ours->SetSamplesPerPass(perPass);
+          vtkNew<vtkVolume> volume;
+          volume->SetMapper(ours);
+          volume->SetProperty(property);
+          ren->AddVolume(volume);
+        };
+      };
+      auto buildMs = [&]()
+      {
+        vtkRayMapperStatistics* st = ours->GetStatistics();
+        return st->GetPhaseTime("particles") + st->GetPhaseTime("bvh_build");
+      };
+      auto detail = [&]()
+      {
+        vtkRayMapperStatistics* st = ours->GetStatistics();
+        const double particles = d.cloud->GetActualMemorySize() * 1024.0;
+        std::ostringstream s;
+        s << "particles " << st->GetPhaseTime("particles") << " ms, bvh "
+          << st->GetPhaseTime("bvh_build") << " ms (" << st->GetCounter("bvh_bytes") / 1048576.0
+          << " MB = " << 100.0 * st->GetCounter("bvh_bytes") / particles
+          << "% of the particle data), trace " << st->GetPhaseTime("trace") << " ms, samples "
+          << st->GetCounter("samples") << ", passes " << st->GetCounter("passes");
+        return s.str();
+      };
+      auto ourMethod = [&](const std::string& name,
+                         const std::string& setting,
+                         int method,
+                         double step,
+                         double sigma = 2.0,
+                         double termination = 0.99,
+                         int leaf = 8,
+                         int packet = 4,
+                         int perPass = 32)
+      {
+        Method m{ name,
+          setting,
+          rbf(method, step, sigma, termination, leaf, packet, perPass),
+          buildMs,
+          nullptr,
+          detail };
+        return m;
+      };
+
+      std::vector<Method> methods;
+      methods.push_back(ourMethod(
+        "rbf", "reference;dt/4;sigma=4;term=1", VTK_RBF_METHOD_COHERENT, dt / 4, 4.0, 1.0));
+      methods.back().repeat = 1;
+      methods.push_back(ourMethod("rbf", "default", VTK_RBF_METHOD_COHERENT, dt));
+      methods.push_back(ourMethod("direct-rbf", "default", VTK_RBF_METHOD_DIRECT, dt));
+      methods.back().repeat = 1;
+      for (const double f : { 2.0, 0.5 })
+      {
+        methods.push_back(
+          ourMethod("rbf", "dt=" + std::to_string(f).substr(0, 3) + "x", 0, dt * f));
+      }
+      for (const double sigma : { 1.5, 3.0, 4.0 })
+      {
+        methods.push_back(
+          ourMethod("rbf", "sigma=" + std::to_string(sigma).substr(0, 3), 0, dt, sigma));
+      }
+      for (const double term : { 0.9, 0.97, 1.0 })
+      {
+        methods.push_back(
+          ourMethod("rbf", "term=" + std::to_string(term).substr(0, 4), 0, dt, 2.0, term));
+      }
+      for (const int leaf : { 4, 16 })
+      {
+        methods.push_back(ourMethod("rbf", "leaf=" + std::to_string(leaf), 0, dt, 2.0, 0.99, leaf));
+      }
+      for (const int packet : { 2, 8 })
+      {
+        methods.push_back(
+          ourMethod("rbf", "packet=" + std::to_string(packet), 0, dt, 2.0, 0.99, 8, packet));
+      }
+      for (const int perPass : { 16, 64 })
+      {
+        methods.push_back(
+          ourMethod("rbf", "K=" + std::to_string(perPass), 0, dt, 2.0, 0.99, 8, 4, perPass));
+      }
+      // Resampling onto a grid: VTK's Gaussian kernel exp(-(s d / R)^2) with R = sigma r and
+      // sharpness s = sigma / sqrt(2) is exp(-d^2 / 2 r^2), summed (weights not normalized)
+      // over the particles within R; one radius for all (the kernel has no per-point
+      // radius), the mean one.
+      for (const int res : { 64, 128, 256 })
+      {
+        auto resampleMs = std::make_shared<double>(0.0);
+        methods.push_back({ "resample-volume",
+          "grid=" + std::to_string(res),
+          [&, res, resampleMs](vtkRenderer* ren)
+          {
+            const double t0 = Now();
+            double b[6];
+            d.cloud->GetBounds(b);
+            const double grow = 2.0 * d.radius;
+            double longest = 0;
+            for (int a = 0; a < 3; ++a)
+            {
+              b[2 * a] -= grow;
+              b[2 * a + 1] += grow;
+              longest = std::max(longest, b[2 * a + 1] - b[2 * a]);
+            }
+            const double h = longest / (res - 1);
+            vtkNew<vtkImageData> grid;
+            grid->SetOrigin(b[0], b[2], b[4]);
+            grid->SetSpacing(h, h, h);
+            grid->SetDimensions(std::max(2, int(std::ceil((b[1] - b[0]) / h)) + 1),
+              std::max(2, int(std::ceil((b[3] - b[2]) / h)) + 1),
+              std::max(2, int(std::ceil((b[5] - b[4]) / h)) + 1));
+            vtkNew<vtkPolyData> source;
+            source->SetPoints(d.cloud->GetPoints());
+            vtkNew<vtkFloatArray> ones;
+            ones->SetName("k");
+            ones->SetNumberOfTuples(n);
+            ones->Fill(1.0);
+            source->GetPointData()->AddArray(ones);
+            vtkNew<vtkGaussianKernel> kernel;
+            kernel->SetRadius(2.0 * d.radius);
+            kernel->SetSharpness(2.0 / std::sqrt(2.0));
+            kernel->NormalizeWeightsOff();
+            vtkNew<vtkPointInterpolator> interpolator;
+            interpolator->SetInputData(grid);
+            interpolator->SetSourceData(source);
+            interpolator->SetKernel(kernel);
+            interpolator->SetNullPointsStrategyToNullValue();
+            interpolator->SetNullValue(0.0);
+            interpolator->Update();
+            auto image = vtkSmartPointer<vtkImageData>::New();
+            image->ShallowCopy(interpolator->GetOutput());
+            image->GetPointData()->SetActiveScalars("k");
+            *resampleMs = Now() - t0;
+            vtkNew<vtkFixedPointVolumeRayCastMapper> mapper;
+            mapper->SetInputData(image);
+            mapper->SetSampleDistance(dt);
+            mapper->SetAutoAdjustSampleDistances(0);
+            vtkNew<vtkVolume> volume;
+            volume->SetMapper(mapper);
+            volume->SetProperty(property);
+            ren->AddVolume(volume);
+          },
+          [resampleMs]() { return *resampleMs; }, // the resample is its build
+          nullptr,
+          nullptr });
+      }
+
+      vtkSmartPointer<vtkImageData> reference;
+      for (const Method& m : methods)
+      {
+        const bool isReference = m.setting.rfind("reference", 0) == 0;
+        if (!isReference && !Selected(opt, m))
+        {
+          continue;
+        }
+        Result r = Measure(opt, m, camera);
+        r.row.suite = "rbf";
+        r.row.dataset = BaseName(file) + "-" + view;
+        r.row.items = n;
+        if (isReference)
+        {
+          reference = r.image;
+        }
+        else if (reference)
+        {
+          Compare(reference, r.image, r.row.rmse, r.row.maxErr);
+        }
+        if (!opt.images.empty())
+        {
+          std::string tag = m.name + "-" + m.setting;
+          std::replace(tag.begin(), tag.end(), ';', '_');
+          std::replace(tag.begin(), tag.end(), '=', '-');
+          std::replace(tag.begin(), tag.end(), '/', '_');
+          WritePng(r.image, opt.images + "/rbf-" + r.row.dataset + "-" + tag + ".png");
+        }
+        rows.push_back(r.row);
+      }
+    }
+  }
+  return rows;
+}
+
+} // namespace bench
