@@ -27,7 +27,7 @@ Output, in kpc, km/s and Msun: float points (the halo centre is the origin),
 one VERTEX cell per particle (as lammps_dump_to_vtk.py writes), and the
 float point arrays, in this order:
   speed   |v| (km/s); the active scalars, so a plain reader colours by it
-  radius  smoothing length (kpc): the distance to the k-th nearest other
+  smoothing_length  h (kpc): the distance to the k-th nearest other
           particle, k = 32, from scipy.spatial.cKDTree (--radius-method knn,
           the default; galpy depends on scipy, so it is always there with
           Debian's package). --radius-method analytic (and the fallback when
@@ -187,7 +187,7 @@ def main(argv):
              f"kpc km/s Msun")
     t2 = time.perf_counter()
     write_vtk(args.output, xyz.astype(np.float32),
-              [("speed", speed), ("radius", radius), ("mass", np.full(n, particle_mass))],
+              [("speed", speed), ("smoothing_length", radius), ("mass", np.full(n, particle_mass))],
               title)
     t_write = time.perf_counter() - t2
 
@@ -199,10 +199,10 @@ def main(argv):
     print(f"{n} particles (seed {args.seed}, galpy {galpy.__version__}), NFW a={a_kpc:g} kpc "
           f"truncated at {args.rmax:g} a = {args.rmax * a_kpc:g} kpc, particle mass "
           f"{particle_mass:g} Msun; {redrawn} redrawn beyond rmax; r <= a: {inside_a:.4f} "
-          f"(NFW: {expected_inside_a:.4f}); radius ({method}, k={args.k}) min/median/max "
+          f"(NFW: {expected_inside_a:.4f}); smoothing_length ({method}, k={args.k}) min/median/max "
           f"{radius.min():.4g}/{np.median(radius):.4g}/{radius.max():.4g} kpc; speed max "
           f"{speed.max():.4g} km/s; times: sample {t_sample:.1f} s, radius {t_radius:.1f} s, "
-          f"write {t_write:.1f} s; point arrays: speed radius mass")
+          f"write {t_write:.1f} s; point arrays: speed smoothing_length mass")
 
 
 if __name__ == "__main__":

@@ -4,11 +4,11 @@
 #ifndef RayMappers_SphereSet_h
 #define RayMappers_SphereSet_h
 
+#include "ParticleInput.h"
 #include "Vec3.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
@@ -100,69 +100,29 @@ void buildSphereSet(std::size_t n,
   out.sourceIds.resize(n);
   // Each point goes to its own slot; an invalid one gets radius 0 and is compacted away
   // below (valid radii are positive).
-  struct Tally
-  {
-    std::size_t nonFinite = 0, badRadius = 0;
-    float maxRadius = 0.f;
-  };
-  const Tally tally = tbb::parallel_reduce(
-    tbb::blocked_range<std::size_t>(0, n, 16384),
-    Tally(),
-    [&](const tbb::blocked_range<std::size_t>& range, Tally t)
+  const ParticleTally tally = tallyParticles(n,
+    [&](std::size_t i, ParticleTally& t)
     {
-      for (std::size_t i = range.begin(); i != range.end(); ++i)
-      {
-        const Vec3d p = point(i);
-        const double r = isFinite(p) ? radius(i) : 0.0;
-        float rf = 0.f;
-        if (!isFinite(p))
-        {
-          ++t.nonFinite;
-        }
-        else if (!(r > 0.0) || !std::isfinite(r))
-        {
-          ++t.badRadius;
-        }
-        else
-        {
-          rf = static_cast<float>(r);
-          t.maxRadius = std::max(t.maxRadius, rf);
-        }
-        out.centers[i] = rf > 0.f ? Vec3f(p - origin) : Vec3f();
-        out.radii[i] = rf;
-        out.colors[i] = rf > 0.f ? color(i) : 0u;
-        out.sourceIds[i] = static_cast<std::uint32_t>(i);
-      }
-      return t;
-    },
-    [](Tally a, const Tally& b)
-    {
-      a.nonFinite += b.nonFinite;
-      a.badRadius += b.badRadius;
-      a.maxRadius = std::max(a.maxRadius, b.maxRadius);
-      return a;
+      const Vec3d p = point(i);
+      const float rf = t.admit(p, true, isFinite(p) ? radius(i) : 0.0);
+      out.centers[i] = rf > 0.f ? Vec3f(p - origin) : Vec3f();
+      out.radii[i] = rf;
+      out.colors[i] = rf > 0.f ? color(i) : 0u;
+      out.sourceIds[i] = static_cast<std::uint32_t>(i);
     });
   out.skippedNonFinite = tally.nonFinite;
   out.skippedBadRadius = tally.badRadius;
   out.maxRadius = tally.maxRadius;
-  if (tally.nonFinite + tally.badRadius > 0)
+  if (tally.skipped() > 0)
   {
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      if (out.radii[i] > 0.f)
-      {
-        out.centers[kept] = out.centers[i];
-        out.radii[kept] = out.radii[i];
-        out.colors[kept] = out.colors[i];
-        out.sourceIds[kept] = out.sourceIds[i];
-        ++kept;
-      }
-    }
-    out.centers.resize(kept);
-    out.radii.resize(kept);
-    out.colors.resize(kept);
-    out.sourceIds.resize(kept);
+    // (Entry i is read before any write reaches it: writes go to kept <= i.)
+    compactStable(
+      n,
+      [&](std::size_t i) { return out.radii[i] > 0.f; },
+      out.centers,
+      out.radii,
+      out.colors,
+      out.sourceIds);
   }
 }
 

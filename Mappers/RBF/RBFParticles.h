@@ -9,10 +9,8 @@
 #ifndef RayMappers_RBFParticles_h
 #define RayMappers_RBFParticles_h
 
+#include "ParticleInput.h"
 #include "Vec3.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
@@ -57,72 +55,32 @@ void buildRBFParticles(std::size_t n,
   out.radii.resize(n);
   out.values.resize(n);
   out.fields.resize(n);
-  struct Tally
-  {
-    std::size_t nonFinite = 0, badRadius = 0;
-    float maxRadius = 0.f;
-  };
   // Every point goes to its own slot; an invalid one gets radius 0 and is compacted away.
-  const Tally tally = tbb::parallel_reduce(
-    tbb::blocked_range<std::size_t>(0, n, 16384),
-    Tally(),
-    [&](const tbb::blocked_range<std::size_t>& range, Tally t)
+  const ParticleTally tally = tallyParticles(n,
+    [&](std::size_t i, ParticleTally& t)
     {
-      for (std::size_t i = range.begin(); i != range.end(); ++i)
-      {
-        const Vec3d p = point(i);
-        const double k = value(i);
-        const double r = radius(i);
-        float rf = 0.f;
-        if (!isFinite(p) || !std::isfinite(k))
-        {
-          ++t.nonFinite;
-        }
-        else if (!(r > 0.0) || !std::isfinite(r))
-        {
-          ++t.badRadius;
-        }
-        else
-        {
-          rf = static_cast<float>(r);
-          t.maxRadius = std::max(t.maxRadius, rf);
-        }
-        out.centers[i] = rf > 0.f ? Vec3f(p - origin) : Vec3f();
-        out.radii[i] = rf;
-        out.values[i] = rf > 0.f ? static_cast<float>(k) : 0.f;
-        out.fields[i] =
-          static_cast<std::uint8_t>(std::clamp(rf > 0.f ? field(i) : 0, 0, out.numFields - 1));
-      }
-      return t;
-    },
-    [](Tally a, const Tally& b)
-    {
-      a.nonFinite += b.nonFinite;
-      a.badRadius += b.badRadius;
-      a.maxRadius = std::max(a.maxRadius, b.maxRadius);
-      return a;
+      const Vec3d p = point(i);
+      const double k = value(i);
+      const float rf = t.admit(p, std::isfinite(k), isFinite(p) ? radius(i) : 0.0);
+      out.centers[i] = rf > 0.f ? Vec3f(p - origin) : Vec3f();
+      out.radii[i] = rf;
+      out.values[i] = rf > 0.f ? static_cast<float>(k) : 0.f;
+      out.fields[i] =
+        static_cast<std::uint8_t>(std::clamp(rf > 0.f ? field(i) : 0, 0, out.numFields - 1));
     });
   out.skippedNonFinite = tally.nonFinite;
   out.skippedBadRadius = tally.badRadius;
   out.maxRadius = tally.maxRadius;
-  if (tally.nonFinite + tally.badRadius > 0)
+  if (tally.skipped() > 0)
   {
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      if (out.radii[i] > 0.f)
-      {
-        out.centers[kept] = out.centers[i];
-        out.radii[kept] = out.radii[i];
-        out.values[kept] = out.values[i];
-        out.fields[kept] = out.fields[i];
-        ++kept;
-      }
-    }
-    out.centers.resize(kept);
-    out.radii.resize(kept);
-    out.values.resize(kept);
-    out.fields.resize(kept);
+    // (Entry i is read before any write reaches it: writes go to kept <= i.)
+    compactStable(
+      n,
+      [&](std::size_t i) { return out.radii[i] > 0.f; },
+      out.centers,
+      out.radii,
+      out.values,
+      out.fields);
   }
 }
 

@@ -182,13 +182,15 @@ vtkSmartPointer<vtkPolyData> ToPointCloud(vtkDataObject* data)
 
 vtkDataArray* FindRadiusArray(vtkPolyData* points, std::string& name, double& factor)
 {
-  for (const char* candidate : { "radius", "radii", "r", "Radius", "diameter" })
+  // A diameter, or an SPH smoothing length h (a support of two radii, the RBF default,
+  // then reaches h), gives half its value.
+  for (const char* candidate : { "radius", "radii", "r", "Radius", "diameter", "smoothing_length" })
   {
     vtkDataArray* a = points->GetPointData()->GetArray(candidate);
     if (a)
     {
       name = candidate;
-      factor = name == "diameter" ? 0.5 : 1.0;
+      factor = name == "diameter" || name == "smoothing_length" ? 0.5 : 1.0;
       return a;
     }
   }

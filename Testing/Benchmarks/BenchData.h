@@ -23,7 +23,7 @@ vtkSmartPointer<vtkDataObject> ReadAny(const std::string& path);
 vtkSmartPointer<vtkPolyData> ToPointCloud(vtkDataObject* data);
 
 /// The point array used as particle radius (first component): the first of radius, radii, r,
-/// Radius, diameter (halved) present; nullptr if none.
+/// Radius, diameter (halved), smoothing_length (halved) present; nullptr if none.
 vtkDataArray* FindRadiusArray(vtkPolyData* points, std::string& name, double& factor);
 
 /// The point array to colour by: the active scalars if 1 component, else the first of

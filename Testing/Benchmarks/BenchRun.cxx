@@ -169,6 +169,19 @@ void WarmUp(const Options& opt)
   win->WaitForCompletion();
 }
 
+const char* const CsvHeader =
+  "suite,dataset,method,setting,width,height,items,build_ms,render_ms,rmse,max_err,mem_mb";
+
+void Record(const Options& opt, const Row& row, std::vector<Row>& rows)
+{
+  rows.push_back(row);
+  if (!opt.csv.empty())
+  {
+    std::ofstream out(opt.csv, std::ios::app);
+    out << Csv(row) << std::endl;
+  }
+}
+
 std::string Csv(const Row& r)
 {
   std::ostringstream s;

@@ -82,6 +82,10 @@ std::string Generated(const Options& opt, const std::string& name, const std::st
 void WarmUp(const Options& opt);
 
 std::string Csv(const Row& r);
+extern const char* const CsvHeader;
+/// Adds the row to `rows` and appends it to the --csv file at once (a long run keeps what it
+/// measured even if it is stopped).
+void Record(const Options& opt, const Row& row, std::vector<Row>& rows);
 void PrintTable(const std::vector<Row>& rows);
 
 /// The suites.

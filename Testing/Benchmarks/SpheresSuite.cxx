@@ -344,7 +344,7 @@ std::vector<Row> RunSpheres(const Options& opt)
         std::replace(tag.begin(), tag.end(), '=', '-');
         WritePng(r.image, opt.images + "/spheres-" + r.row.dataset + "-" + tag + ".png");
       }
-      rows.push_back(r.row);
+      Record(opt, r.row, rows);
     }
   }
   return rows;
