@@ -42,10 +42,15 @@ appended data (see SETUP.md). Run with Debian's /usr/bin/python3.
 """
 
 import argparse
+import os
 import sys
 import time
 
 import numpy as np
+
+# The legacy-VTK polydata writer shared with the LAMMPS converter (same folder).
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lammps_dump_to_vtk import write_vtk  # noqa: E402
 
 DEFAULT_N = 1_000_000
 DEFAULT_SEED = 1
@@ -114,29 +119,6 @@ def analytic_radius(pot, xyz_natural, k, particle_mass_natural):
     return (3.0 * k * particle_mass_natural / (4.0 * np.pi * rho)) ** (1.0 / 3.0)
 
 
-def write_vtk(path, xyz, arrays, title):
-    """Write legacy VTK 3.0 binary polydata (big-endian, as the format requires)."""
-    n = len(xyz)
-    # VERTICES: n cells, each "1 pointIndex", 2n integers in total.
-    verts = np.empty((n, 2), dtype=">i4")
-    verts[:, 0] = 1
-    verts[:, 1] = np.arange(n)
-    with open(path, "wb") as f:
-        def text(s):
-            f.write(s.encode("ascii"))
-
-        text(f"# vtk DataFile Version 3.0\n{title[:255]}\nBINARY\nDATASET POLYDATA\n")
-        text(f"POINTS {n} float\n")
-        f.write(xyz.astype(">f4").tobytes())
-        text(f"\nVERTICES {n} {2 * n}\n")
-        f.write(verts.tobytes())
-        text(f"\nPOINT_DATA {n}\n")
-        for name, values in arrays:
-            text(f"SCALARS {name} float 1\nLOOKUP_TABLE default\n")
-            f.write(np.asarray(values).astype(">f4").tobytes())
-            text("\n")
-
-
 def main(argv):
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -187,7 +169,8 @@ def main(argv):
              f"kpc km/s Msun")
     t2 = time.perf_counter()
     write_vtk(args.output, xyz.astype(np.float32),
-              [("speed", speed), ("smoothing_length", radius), ("mass", np.full(n, particle_mass))],
+              [(name, values, "float", ">f4") for name, values in
+               (("speed", speed), ("smoothing_length", radius), ("mass", np.full(n, particle_mass)))],
               title)
     t_write = time.perf_counter() - t2
 

@@ -9,6 +9,7 @@
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperStatistics.h"
 
+#include "vtkAlgorithm.h"
 #include "vtkDataArray.h"
 #include "vtkInformation.h"
 #include "vtkMath.h"
@@ -85,6 +86,11 @@ double* vtkRBFVolumeMapper::GetBounds()
 {
   // The points' bounds grown by the largest support, Sigma * r_max, so a camera reset
   // frames the whole field.
+  // Bring the input up to date first (as vtkAbstractVolumeMapper::GetBounds does).
+  if (vtkAlgorithm* producer = this->GetInputAlgorithm())
+  {
+    producer->Update();
+  }
   auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
   if (!input || input->GetNumberOfPoints() == 0)
   {
@@ -99,8 +105,6 @@ double* vtkRBFVolumeMapper::GetBounds()
     }
     return this->Bounds;
   }
-  this->GetInputAlgorithm()->UpdateInformation();
-  this->GetInputAlgorithm()->Update();
   input->GetBounds(this->Bounds);
   std::string why;
   double rMax = this->Radius;

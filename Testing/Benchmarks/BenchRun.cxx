@@ -172,9 +172,19 @@ void WarmUp(const Options& opt)
 const char* const CsvHeader =
   "suite,dataset,method,setting,width,height,items,build_ms,render_ms,rmse,max_err,mem_mb";
 
-void Record(const Options& opt, const Row& row, std::vector<Row>& rows)
+void Record(const Options& opt, const Result& result, std::vector<Row>& rows)
 {
+  const Row& row = result.row;
   rows.push_back(row);
+  if (!opt.images.empty())
+  {
+    std::string tag = row.method + "-" + row.setting;
+    for (char& c : tag)
+    {
+      c = c == ';' || c == '/' ? '_' : (c == '=' ? '-' : c);
+    }
+    WritePng(result.image, opt.images + "/" + row.suite + "-" + row.dataset + "-" + tag + ".png");
+  }
   if (!opt.csv.empty())
   {
     std::ofstream out(opt.csv, std::ios::app);

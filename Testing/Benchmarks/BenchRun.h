@@ -83,9 +83,10 @@ void WarmUp(const Options& opt);
 
 std::string Csv(const Row& r);
 extern const char* const CsvHeader;
-/// Adds the row to `rows` and appends it to the --csv file at once (a long run keeps what it
-/// measured even if it is stopped).
-void Record(const Options& opt, const Row& row, std::vector<Row>& rows);
+/// Adds the result's row to `rows`, appends it to the --csv file at once (a long run keeps
+/// what it measured even if it is stopped) and, with --images, writes its image as
+/// <suite>-<dataset>-<method>-<setting>.png.
+void Record(const Options& opt, const Result& result, std::vector<Row>& rows);
 void PrintTable(const std::vector<Row>& rows);
 
 /// The suites.

@@ -441,15 +441,7 @@ std::vector<Row> RunRBF(const Options& opt)
         {
           Compare(reference, r.image, r.row.rmse, r.row.maxErr);
         }
-        if (!opt.images.empty())
-        {
-          std::string tag = m.name + "-" + m.setting;
-          std::replace(tag.begin(), tag.end(), ';', '_');
-          std::replace(tag.begin(), tag.end(), '=', '-');
-          std::replace(tag.begin(), tag.end(), '/', '_');
-          WritePng(r.image, opt.images + "/rbf-" + r.row.dataset + "-" + tag + ".png");
-        }
-        Record(opt, r.row, rows);
+        Record(opt, r, rows);
       }
     }
   }

@@ -337,14 +337,7 @@ std::vector<Row> RunSpheres(const Options& opt)
       {
         Compare(reference, r.image, r.row.rmse, r.row.maxErr);
       }
-      if (!opt.images.empty())
-      {
-        std::string tag = m.name + "-" + m.setting;
-        std::replace(tag.begin(), tag.end(), ';', '_');
-        std::replace(tag.begin(), tag.end(), '=', '-');
-        WritePng(r.image, opt.images + "/spheres-" + r.row.dataset + "-" + tag + ".png");
-      }
-      Record(opt, r.row, rows);
+      Record(opt, r, rows);
     }
   }
   return rows;
