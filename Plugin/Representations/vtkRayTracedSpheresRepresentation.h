@@ -184,12 +184,6 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   /**
-   * Gathers all the points (and the common point arrays) of a dataset or of the leaves
-   * of a composite dataset into one vtkPolyData without cells.
-   */
-  static vtkSmartPointer<vtkPolyData> GatherPoints(vtkDataObject* input);
-
-  /**
    * Pushes the color array selection (SetInputArrayToProcess(0, ...)) to the mapper.
    */
   void UpdateColoringParameters();

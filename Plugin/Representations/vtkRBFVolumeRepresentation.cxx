@@ -1,0 +1,476 @@
+#include "vtkRBFVolumeRepresentation.h"
+
+#include "vtkColorTransferFunction.h"
+#include "vtkDataArray.h"
+#include "vtkDiscretizableColorTransferFunction.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPVRenderView.h"
+#include "vtkPVView.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkPolyData.h"
+#include "vtkRBFVolumeMapper.h"
+#include "vtkRayMapperStatistics.h"
+#include "vtkRayMapperGatherPoints.h"
+#include "vtkRenderer.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include <algorithm>
+#include <cmath>
+
+vtkStandardNewMacro(vtkRBFVolumeRepresentation);
+
+//----------------------------------------------------------------------------
+vtkRBFVolumeRepresentation::vtkRBFVolumeRepresentation()
+{
+  this->Mapper = vtkSmartPointer<vtkRBFVolumeMapper>::New();
+  this->Property = vtkSmartPointer<vtkVolumeProperty>::New();
+  this->Volume = vtkSmartPointer<vtkVolume>::New();
+  this->Volume->SetMapper(this->Mapper);
+  this->Volume->SetProperty(this->Property);
+  // One component per field: field m is classified with component m.
+  this->Property->IndependentComponentsOn();
+  this->Property->SetInterpolationTypeToLinear();
+  this->SolidColor = vtkSmartPointer<vtkColorTransferFunction>::New();
+  this->SolidOpacity = vtkSmartPointer<vtkPiecewiseFunction>::New();
+  this->SolidOpacity->AddPoint(0.0, 0.0);
+  this->SolidOpacity->AddPoint(1.0, 1.0);
+  this->SetDiffuseColor(1.0, 1.0, 1.0);
+  this->UpdateRadiusParameters();
+}
+
+//----------------------------------------------------------------------------
+vtkRBFVolumeRepresentation::~vtkRBFVolumeRepresentation() = default;
+
+//----------------------------------------------------------------------------
+void vtkRBFVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "UseRadiusArray: " << this->UseRadiusArray << "\n";
+  os << indent << "RadiusArrayName: " << this->RadiusArrayName << "\n";
+  os << indent << "FieldArrayName: " << this->FieldArrayName << "\n";
+  os << indent << "ScalarOpacityUnitDistance: " << this->ScalarOpacityUnitDistance << "\n";
+  os << indent << "ProcessedData: " << this->ProcessedData.Get() << "\n";
+}
+
+//----------------------------------------------------------------------------
+vtkRBFVolumeMapper* vtkRBFVolumeRepresentation::GetMapper()
+{
+  return this->Mapper;
+}
+
+vtkVolume* vtkRBFVolumeRepresentation::GetVolume()
+{
+  return this->Volume;
+}
+
+vtkVolumeProperty* vtkRBFVolumeRepresentation::GetVolumeProperty()
+{
+  return this->Property;
+}
+
+const char* vtkRBFVolumeRepresentation::GetRenderStatistics()
+{
+  return this->Mapper->GetStatistics()->GetSummary();
+}
+
+//----------------------------------------------------------------------------
+bool vtkRBFVolumeRepresentation::AddToView(vtkView* view)
+{
+  vtkPVRenderView* rview = vtkPVRenderView::SafeDownCast(view);
+  if (rview)
+  {
+    rview->GetRenderer()->AddActor(this->Volume);
+    return this->Superclass::AddToView(view);
+  }
+  return false;
+}
+
+//----------------------------------------------------------------------------
+bool vtkRBFVolumeRepresentation::RemoveFromView(vtkView* view)
+{
+  vtkPVRenderView* rview = vtkPVRenderView::SafeDownCast(view);
+  if (rview)
+  {
+    rview->GetRenderer()->RemoveActor(this->Volume);
+    return this->Superclass::RemoveFromView(view);
+  }
+  return false;
+}
+
+//----------------------------------------------------------------------------
+void vtkRBFVolumeRepresentation::SetVisibility(bool val)
+{
+  this->Volume->SetVisibility(val ? 1 : 0);
+  this->Superclass::SetVisibility(val);
+}
+
+//----------------------------------------------------------------------------
+vtkDataObject* vtkRBFVolumeRepresentation::GetRenderedDataObject(int port)
+{
+  if (this->ProcessedData)
+  {
+    return this->ProcessedData;
+  }
+  return this->Superclass::GetRenderedDataObject(port);
+}
+
+//----------------------------------------------------------------------------
+int vtkRBFVolumeRepresentation::FillInputPortInformation(int vtkNotUsed(port), vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
+  // No input on the client and on the render server of a client-server session.
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+//----------------------------------------------------------------------------
+int vtkRBFVolumeRepresentation::RequestData(vtkInformation* request,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  this->ProcessedData = nullptr;
+  if (inputVector[0]->GetNumberOfInformationObjects() == 1)
+  {
+    if (vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0))
+    {
+      this->ProcessedData = vtkRayMapperGatherPoints(input);
+    }
+  }
+  if (!this->ProcessedData)
+  {
+    this->ProcessedData = vtkSmartPointer<vtkPolyData>::New();
+  }
+  return this->Superclass::RequestData(request, inputVector, outputVector);
+}
+
+//----------------------------------------------------------------------------
+double vtkRBFVolumeRepresentation::GetLargestSupport(vtkPolyData* data) const
+{
+  double base = this->Radius;
+  if (this->UseRadiusArray && !this->RadiusArrayName.empty() && data)
+  {
+    vtkDataArray* array = data->GetPointData()->GetArray(this->RadiusArrayName.c_str());
+    if (array && array->GetNumberOfTuples() > 0)
+    {
+      double range[2];
+      array->GetFiniteRange(range, 0);
+      base = (range[0] <= range[1]) ? std::max(std::fabs(range[0]), std::fabs(range[1])) : 0.0;
+    }
+  }
+  const double support = std::fabs(base * this->RadiusScale) * this->Mapper->GetSigma();
+  return std::isfinite(support) ? support : 0.0;
+}
+
+//----------------------------------------------------------------------------
+int vtkRBFVolumeRepresentation::ProcessViewRequest(vtkInformationRequestKey* request_type,
+  vtkInformation* inInfo,
+  vtkInformation* outInfo)
+{
+  if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo))
+  {
+    return 0;
+  }
+
+  if (request_type == vtkPVView::REQUEST_UPDATE())
+  {
+    double bounds[6];
+    vtkMath::UninitializeBounds(bounds);
+    if (this->ProcessedData)
+    {
+      vtkPVView::SetPiece(inInfo, this, this->ProcessedData);
+      if (this->ProcessedData->GetNumberOfPoints() > 0)
+      {
+        this->ProcessedData->GetBounds(bounds);
+        // The field reaches Sigma radii beyond the points.
+        const double grow = this->GetLargestSupport(this->ProcessedData);
+        for (int i = 0; i < 3; ++i)
+        {
+          bounds[2 * i] -= grow;
+          bounds[2 * i + 1] += grow;
+        }
+      }
+    }
+    vtkNew<vtkMatrix4x4> matrix;
+    this->Volume->GetMatrix(matrix);
+    vtkPVRenderView::SetGeometryBounds(inInfo, this, bounds, matrix);
+  }
+  else if (request_type == vtkPVView::REQUEST_RENDER())
+  {
+    vtkPolyData* delivered = vtkPolyData::SafeDownCast(vtkPVView::GetDeliveredPiece(inInfo, this));
+    if (delivered)
+    {
+      this->Mapper->SetInputData(delivered);
+    }
+    else
+    {
+      vtkNew<vtkPolyData> empty;
+      this->Mapper->SetInputData(empty);
+    }
+    this->UpdateClassification();
+  }
+  return 1;
+}
+
+//----------------------------------------------------------------------------
+void vtkRBFVolumeRepresentation::UpdateClassification()
+{
+  const char* valueArray = nullptr;
+  vtkInformation* info = this->GetInputArrayInformation(0);
+  if (info && info->Has(vtkDataObject::FIELD_NAME()) &&
+      (!info->Has(vtkDataObject::FIELD_ASSOCIATION()) ||
+        info->Get(vtkDataObject::FIELD_ASSOCIATION()) == vtkDataObject::FIELD_ASSOCIATION_POINTS))
+  {
+    valueArray = info->Get(vtkDataObject::FIELD_NAME());
+  }
+  const bool mapped = valueArray && valueArray[0] && this->LookupTable;
+  this->Mapper->SetValueArrayName(mapped ? valueArray : nullptr);
+
+  // The first field's maps: ParaView's color map of the value array and its opacity map
+  // (the one the color map carries when no ScalarOpacityFunction was set).
+  vtkColorTransferFunction* color = vtkColorTransferFunction::SafeDownCast(this->LookupTable);
+  vtkPiecewiseFunction* opacity = this->ScalarOpacity;
+  if (!opacity)
+  {
+    if (auto* discretizable = vtkDiscretizableColorTransferFunction::SafeDownCast(color))
+    {
+      opacity = discretizable->GetScalarOpacityFunction();
+    }
+  }
+  if (!mapped || !color || !opacity)
+  {
+    if (mapped)
+    {
+      vtkWarningMacro(<< "The color map of '" << valueArray
+                      << "' is not a color transfer function with an opacity map; the solid "
+                         "color is used.");
+    }
+    this->Mapper->SetValueArrayName(nullptr);
+    color = this->SolidColor;
+    opacity = this->SolidOpacity;
+  }
+
+  for (int field = 0; field < 4; ++field)
+  {
+    vtkColorTransferFunction* fieldColor = color;
+    vtkPiecewiseFunction* fieldOpacity = opacity;
+    if (field > 0 && mapped)
+    {
+      auto* own = vtkDiscretizableColorTransferFunction::SafeDownCast(this->FieldLookupTables[field]);
+      if (own)
+      {
+        fieldColor = own;
+        if (own->GetScalarOpacityFunction())
+        {
+          fieldOpacity = own->GetScalarOpacityFunction();
+        }
+      }
+    }
+    this->Property->SetColor(field, fieldColor);
+    this->Property->SetScalarOpacity(field, fieldOpacity);
+    this->Property->SetScalarOpacityUnitDistance(field, this->ScalarOpacityUnitDistance);
+  }
+}
+
+//----------------------------------------------------------------------------
+void vtkRBFVolumeRepresentation::SetLookupTable(vtkScalarsToColors* lut)
+{
+  this->LookupTable = lut;
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::SetScalarOpacity(vtkPiecewiseFunction* opacity)
+{
+  this->ScalarOpacity = opacity;
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::SetScalarOpacityUnitDistance(double distance)
+{
+  if (!(distance > 0) || !std::isfinite(distance))
+  {
+    vtkWarningMacro(<< "ScalarOpacityUnitDistance must be positive (got " << distance
+                    << "); keeping " << this->ScalarOpacityUnitDistance << ".");
+    return;
+  }
+  this->ScalarOpacityUnitDistance = distance;
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::SetFieldLookupTable(int field, vtkScalarsToColors* lut)
+{
+  this->FieldLookupTables[field] = lut;
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::SelectFieldArray(int, int, int, int, const char* name)
+{
+  this->FieldArrayName = name && std::string(name) != "None" ? name : "";
+  this->Mapper->SetFieldArrayName(
+    this->FieldArrayName.empty() ? nullptr : this->FieldArrayName.c_str());
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+// The field.
+void vtkRBFVolumeRepresentation::SetKappa(double kappa)
+{
+  this->Mapper->SetKappa(kappa);
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::SetSigma(double sigma)
+{
+  this->Mapper->SetSigma(sigma);
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::SetSampleDistance(double distance)
+{
+  this->Mapper->SetSampleDistance(distance);
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::SetTerminationOpacity(double opacity)
+{
+  this->Mapper->SetTerminationOpacity(opacity);
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::UpdateRadiusParameters()
+{
+  this->Mapper->SetRadius(this->Radius);
+  this->Mapper->SetRadiusScale(this->RadiusScale);
+  const bool useArray = this->UseRadiusArray && !this->RadiusArrayName.empty();
+  this->Mapper->SetRadiusArrayName(useArray ? this->RadiusArrayName.c_str() : nullptr);
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::SetRadius(double radius)
+{
+  this->Radius = radius;
+  this->UpdateRadiusParameters();
+}
+
+void vtkRBFVolumeRepresentation::SetUseRadiusArray(bool use)
+{
+  this->UseRadiusArray = use;
+  this->UpdateRadiusParameters();
+}
+
+void vtkRBFVolumeRepresentation::SelectRadiusArray(int, int, int, int, const char* name)
+{
+  this->RadiusArrayName = name ? name : "";
+  this->UpdateRadiusParameters();
+}
+
+void vtkRBFVolumeRepresentation::SetRadiusScale(double scale)
+{
+  this->RadiusScale = scale;
+  this->UpdateRadiusParameters();
+}
+
+void vtkRBFVolumeRepresentation::SetMethod(int method)
+{
+  this->Mapper->SetMethod(method);
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::SetSamplesPerPass(int samples)
+{
+  this->Mapper->SetSamplesPerPass(samples);
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::SetPacketSize(int side)
+{
+  this->Mapper->SetPacketSize(side);
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::SetLeafSize(int particles)
+{
+  this->Mapper->SetLeafSize(particles);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+// Lighting and solid color.
+void vtkRBFVolumeRepresentation::SetShade(bool shade)
+{
+  this->Property->SetShade(shade ? 1 : 0);
+}
+
+void vtkRBFVolumeRepresentation::SetAmbient(double value)
+{
+  this->Property->SetAmbient(value);
+}
+
+void vtkRBFVolumeRepresentation::SetDiffuse(double value)
+{
+  this->Property->SetDiffuse(value);
+}
+
+void vtkRBFVolumeRepresentation::SetSpecular(double value)
+{
+  this->Property->SetSpecular(value);
+}
+
+void vtkRBFVolumeRepresentation::SetSpecularPower(double value)
+{
+  this->Property->SetSpecularPower(value);
+}
+
+void vtkRBFVolumeRepresentation::SetDiffuseColor(double r, double g, double b)
+{
+  this->DiffuseColor[0] = r;
+  this->DiffuseColor[1] = g;
+  this->DiffuseColor[2] = b;
+  this->SolidColor->RemoveAllPoints();
+  this->SolidColor->AddRGBPoint(0.0, r, g, b);
+  this->SolidColor->AddRGBPoint(1.0, r, g, b);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+// Forwarded to the volume.
+void vtkRBFVolumeRepresentation::SetOrientation(double x, double y, double z)
+{
+  this->Volume->SetOrientation(x, y, z);
+}
+
+void vtkRBFVolumeRepresentation::SetOrigin(double x, double y, double z)
+{
+  this->Volume->SetOrigin(x, y, z);
+}
+
+void vtkRBFVolumeRepresentation::SetPickable(int val)
+{
+  this->Volume->SetPickable(val);
+}
+
+void vtkRBFVolumeRepresentation::SetPosition(double x, double y, double z)
+{
+  this->Volume->SetPosition(x, y, z);
+}
+
+void vtkRBFVolumeRepresentation::SetScale(double x, double y, double z)
+{
+  this->Volume->SetScale(x, y, z);
+}
+
+void vtkRBFVolumeRepresentation::SetUserTransform(const double matrix[16])
+{
+  vtkNew<vtkMatrix4x4> m;
+  m->DeepCopy(matrix);
+  this->Volume->SetUserMatrix(m->IsIdentity() ? nullptr : m.Get());
+}

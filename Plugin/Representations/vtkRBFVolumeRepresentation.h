@@ -1,0 +1,200 @@
+/**
+ * @class   vtkRBFVolumeRepresentation
+ * @brief   ParaView representation "RBF Volume": the points of the data as a Gaussian RBF
+ *          field, volume rendered.
+ *
+ * Every point of the input (any vtkDataSet or composite of them; cells are ignored) is a
+ * particle whose Gaussian adds to a scalar field that vtkRBFVolumeMapper ray casts (Knoll
+ * et al. 2014):
+ *   Phi(x) = sum_i Kappa k_i exp(-|x - x_i|^2 / (2 r_i^2)),  truncated at Sigma r_i.
+ * k_i is the value of the color array (ColorArrayName, a point array), r_i is
+ * RadiusScale * (the radius array, or Radius).
+ *
+ * Classification uses ParaView's color map of the color array (LookupTable) and its opacity
+ * map (ScalarOpacityFunction), the editors every ParaView volume uses; ScalarOpacityUnitDistance
+ * is the distance over which the opacity map's opacity holds. With Shade on, the field's
+ * analytic gradient lights the samples with the view's lights (Ambient, Diffuse, Specular,
+ * SpecularPower). Without a color array every k_i is 1 and the field is shown in the solid
+ * DiffuseColor with an opacity rising linearly from 0 at Phi = 0 to 1 at Phi = 1.
+ *
+ * Multi-field classification: with a FieldArray (a categorical point array, e.g. atom
+ * types), its distinct values, in increasing order, split the particles into up to four
+ * fields. Field 1 uses the LookupTable and ScalarOpacityFunction; fields 2 to 4 use the
+ * color maps given as FieldLookupTable2 to FieldLookupTable4 (with their own opacity maps),
+ * or the first field's maps when none is given.
+ *
+ * Changing Kappa, Sigma, SampleDistance, the maps or the lights never rebuilds the BVH;
+ * only new data, new arrays or LeafSize do.
+ *
+ * Like the "Ray-Traced Spheres" representation, it is added by the plugin's XML as a
+ * sub-representation "RBF Volume" of ParaView's composite representations.
+ */
+
+#ifndef vtkRBFVolumeRepresentation_h
+#define vtkRBFVolumeRepresentation_h
+
+#include "RayMappersRepresentationsModule.h" // for export macro
+#include "vtkPVDataRepresentation.h"
+#include "vtkSmartPointer.h" // for vtkSmartPointer
+
+#include <string> // for std::string
+
+class vtkColorTransferFunction;
+class vtkPiecewiseFunction;
+class vtkPolyData;
+class vtkRBFVolumeMapper;
+class vtkScalarsToColors;
+class vtkVolume;
+class vtkVolumeProperty;
+
+class RAYMAPPERSREPRESENTATIONS_EXPORT vtkRBFVolumeRepresentation : public vtkPVDataRepresentation
+{
+public:
+  static vtkRBFVolumeRepresentation* New();
+  vtkTypeMacro(vtkRBFVolumeRepresentation, vtkPVDataRepresentation);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Data delivery and rendering passes of the view (see vtkPVDataRepresentation).
+   */
+  int ProcessViewRequest(vtkInformationRequestKey* request_type,
+    vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+
+  void SetVisibility(bool val) override;
+
+  /**
+   * The point polydata that is rendered (after RequestData), else the input.
+   */
+  vtkDataObject* GetRenderedDataObject(int port) override;
+
+  //***************************************************************************
+  // Classification.
+
+  /**
+   * Color map of the color array (a vtkColorTransferFunction, as ParaView's are).
+   */
+  void SetLookupTable(vtkScalarsToColors* lut);
+
+  /**
+   * Opacity map of the color array.
+   */
+  void SetScalarOpacity(vtkPiecewiseFunction* opacity);
+
+  /**
+   * Distance over which the opacity map's opacity holds (model units).
+   */
+  void SetScalarOpacityUnitDistance(double distance);
+
+  /**
+   * Color maps (with their own opacity maps) of fields 2, 3 and 4; null: the first field's.
+   */
+  void SetFieldLookupTable2(vtkScalarsToColors* lut) { this->SetFieldLookupTable(1, lut); }
+  void SetFieldLookupTable3(vtkScalarsToColors* lut) { this->SetFieldLookupTable(2, lut); }
+  void SetFieldLookupTable4(vtkScalarsToColors* lut) { this->SetFieldLookupTable(3, lut); }
+
+  /**
+   * The categorical point array that splits the particles into fields. The first four
+   * arguments are those of ParaView's array-selection properties and are ignored; empty or
+   * "None": one field.
+   */
+  void SelectFieldArray(int, int, int, int, const char* name);
+
+  //***************************************************************************
+  // The field (forwarded to vtkRBFVolumeMapper, see there).
+  void SetKappa(double kappa);
+  void SetSigma(double sigma);
+  void SetSampleDistance(double distance);
+  void SetTerminationOpacity(double opacity);
+  void SetRadius(double radius);
+  void SetUseRadiusArray(bool use);
+  void SelectRadiusArray(int, int, int, int, const char* name);
+  void SetRadiusScale(double scale);
+  void SetMethod(int method);
+  void SetSamplesPerPass(int samples);
+  void SetPacketSize(int side);
+  void SetLeafSize(int particles);
+
+  //***************************************************************************
+  // Lighting and solid color, forwarded to the volume property.
+  void SetShade(bool shade);
+  void SetAmbient(double value);
+  void SetDiffuse(double value);
+  void SetSpecular(double value);
+  void SetSpecularPower(double value);
+  void SetDiffuseColor(double r, double g, double b);
+
+  //***************************************************************************
+  // Forwarded to the volume.
+  void SetOrientation(double, double, double);
+  void SetOrigin(double, double, double);
+  void SetPickable(int val);
+  void SetPosition(double, double, double);
+  void SetScale(double, double, double);
+  void SetUserTransform(const double matrix[16]);
+
+  /**
+   * The mapper's statistics of the last render (phases, counters such as "builds", the
+   * cumulative number of BVH builds, and effects), one "kind name value" per line.
+   */
+  const char* GetRenderStatistics();
+
+  ///@{
+  /**
+   * The mapper, the volume and its property, for tests and C++ users.
+   */
+  vtkRBFVolumeMapper* GetMapper();
+  vtkVolume* GetVolume();
+  vtkVolumeProperty* GetVolumeProperty();
+  ///@}
+
+protected:
+  vtkRBFVolumeRepresentation();
+  ~vtkRBFVolumeRepresentation() override;
+
+  bool AddToView(vtkView* view) override;
+  bool RemoveFromView(vtkView* view) override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  void SetFieldLookupTable(int field, vtkScalarsToColors* lut);
+
+  /**
+   * Pushes the color array (the values k_i) to the mapper and fills the volume property's
+   * components from the color and opacity maps of the fields.
+   */
+  void UpdateClassification();
+  void UpdateRadiusParameters();
+
+  /**
+   * How far a particle's Gaussian reaches: Sigma * the largest radius (0 if unknown).
+   */
+  double GetLargestSupport(vtkPolyData* data) const;
+
+  vtkSmartPointer<vtkVolume> Volume;
+  vtkSmartPointer<vtkRBFVolumeMapper> Mapper;
+  vtkSmartPointer<vtkVolumeProperty> Property;
+  vtkSmartPointer<vtkPolyData> ProcessedData;
+
+  vtkSmartPointer<vtkScalarsToColors> LookupTable;
+  vtkSmartPointer<vtkPiecewiseFunction> ScalarOpacity;
+  vtkSmartPointer<vtkScalarsToColors> FieldLookupTables[4];
+  // The classification without a color array: DiffuseColor, opacity ramp on [0, 1].
+  vtkSmartPointer<vtkColorTransferFunction> SolidColor;
+  vtkSmartPointer<vtkPiecewiseFunction> SolidOpacity;
+  double DiffuseColor[3] = { 1, 1, 1 };
+  double ScalarOpacityUnitDistance = 1.0;
+
+  double Radius = 1.0;
+  double RadiusScale = 1.0;
+  bool UseRadiusArray = false;
+  std::string RadiusArrayName;
+  std::string FieldArrayName;
+
+private:
+  vtkRBFVolumeRepresentation(const vtkRBFVolumeRepresentation&) = delete;
+  void operator=(const vtkRBFVolumeRepresentation&) = delete;
+};
+
+#endif

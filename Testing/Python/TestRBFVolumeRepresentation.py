@@ -1,0 +1,338 @@
+"""pvpython: the "RBF Volume" representation of the RayMappers plugin.
+
+Drives the representation as a ParaView user would (lysozyme 2LYZ.pdb, the Gaussians'
+heights from the atomic numbers, ParaView's color and opacity maps) and checks:
+- "RBF Volume" is offered for polygonal data and for unstructured grids, with its panel's
+  properties;
+- the picture is the one vtkRBFVolumeMapper draws in a plain VTK pipeline with the same
+  particles, color map, opacity map, unit distance, radius, kappa and camera (so ParaView's
+  maps and the panel's values reach the mapper unchanged);
+- changing Kappa, Sigma, the sample distance or the opacity map redraws without rebuilding
+  the BVH (the mapper's build counter, read through the information property
+  RBFRenderStatistics); changing the leaf size rebuilds it once;
+- Shade computes gradients only when on (the mapper's "shading" effect);
+- multi-field classification: with atom_type as the field array and a fully transparent
+  color map for fields 2 to 4, the picture is that of the carbon atoms alone (an
+  unstructured grid of the carbons, shown with one field);
+- a hidden representation draws nothing; the image matches its baseline.
+
+usage: pvpython TestRBFVolumeRepresentation.py PLUGIN BUILD_DIR PDB BASELINE OUTPUT
+"""
+import os
+import sys
+
+from paraview.simple import (  # noqa: E402
+    ColorBy, CreateView, Delete, GetColorTransferFunction, GetOpacityTransferFunction,
+    Hide, LoadPlugin, PDBReader, Render, SaveScreenshot, SetActiveView, Show)
+from paraview import servermanager  # noqa: E402
+from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+
+REPRESENTATION = 'RBF Volume'
+BACKGROUND = [0.0, 0.0, 0.0]
+SIZE = [300, 300]
+
+failures = []
+
+
+def check(condition, message):
+    print(('ok    ' if condition else 'FAIL  ') + message)
+    if not condition:
+        failures.append(message)
+
+
+def pixels(png):
+    reader = vtkPNGReader()
+    reader.SetFileName(png)
+    reader.Update()
+    image = reader.GetOutput()
+    array = vtk_to_numpy(image.GetPointData().GetScalars())[:, :3].astype(float)
+    return array
+
+
+def screenshot(view, path):
+    Render(view)
+    SaveScreenshot(path, view, ImageResolution=SIZE, TransparentBackground=0)
+    return pixels(path)
+
+
+def statistics(rep):
+    """The mapper's statistics of the last render: {name: value} of counters and effects."""
+    rep.SMProxy.UpdatePropertyInformation()
+    text = rep.SMProxy.GetProperty('RBFRenderStatistics').GetElement(0)
+    values = {}
+    for line in text.splitlines():
+        kind, name, value = line.split()
+        values[name] = value if kind == 'effect' else float(value)
+    return values
+
+
+def rmse(a, b):
+    return float(((a - b) ** 2).mean() ** 0.5)
+
+
+def reference_image(data, view, lut, opacity, radius, kappa, unit, path):
+    """The same particles drawn by vtkRBFVolumeMapper in a plain VTK pipeline, with the
+    client-side objects of ParaView's maps and the view's camera."""
+    from vtkmodules import vtkRenderingOpenGL2  # noqa: F401
+    from vtkmodules.vtkRenderingCore import (
+        vtkRenderer, vtkRenderWindow, vtkVolume, vtkVolumeProperty, vtkWindowToImageFilter)
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    import raymappers
+
+    mapper = raymappers.vtkRBFVolumeMapper()
+    mapper.SetInputData(data)
+    mapper.SetValueArrayName('atom_type')
+    mapper.SetRadius(radius)
+    mapper.SetKappa(kappa)
+    prop = vtkVolumeProperty()
+    prop.SetColor(lut)
+    prop.SetScalarOpacity(opacity)
+    prop.SetScalarOpacityUnitDistance(unit)
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+    ren = vtkRenderer()
+    ren.SetBackground(BACKGROUND)
+    ren.AddVolume(volume)
+    # The view's camera (its clipping range too: the samples are spaced from the near plane).
+    source = view.GetActiveCamera()
+    camera = ren.GetActiveCamera()
+    camera.SetPosition(source.GetPosition())
+    camera.SetFocalPoint(source.GetFocalPoint())
+    camera.SetViewUp(source.GetViewUp())
+    camera.SetViewAngle(source.GetViewAngle())
+    camera.SetClippingRange(source.GetClippingRange())
+    win = vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetSize(SIZE)
+    win.AddRenderer(ren)
+    win.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(win)
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    writer = vtkPNGWriter()
+    writer.SetFileName(path)
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.Write()
+    win.Finalize()
+    return pixels(path)
+
+
+def carbon_atoms(data):
+    """The carbon atoms (atom_type 6) of the molecule as an unstructured grid of points
+    (no cells), in a trivial producer: the data of the "carbons alone" picture, and a
+    second dataset type for the representation."""
+    from paraview.simple import PVTrivialProducer
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    types = vtk_to_numpy(data.GetPointData().GetArray('atom_type'))
+    xyz = vtk_to_numpy(data.GetPoints().GetData())
+    keep = types == 6
+    points = vtkPoints()
+    points.SetData(numpy_to_vtk(xyz[keep].copy(), deep=True))
+    grid = vtkUnstructuredGrid()
+    grid.SetPoints(points)
+    array = numpy_to_vtk(types[keep].copy(), deep=True)
+    array.SetName('atom_type')
+    grid.GetPointData().AddArray(array)
+    producer = PVTrivialProducer()
+    producer.GetClientSideObject().SetOutput(grid)
+    producer.UpdatePipeline()
+    return producer
+
+
+def compare_with_baseline(output, baseline):
+    from vtkmodules.test import Testing
+    Testing.VTK_TEMP_DIR = os.path.dirname(os.path.abspath(output))
+    if not os.path.isfile(baseline):
+        print('FAIL  no baseline image %s; candidate written to %s' % (baseline, output))
+        return False
+    reader = vtkPNGReader()
+    reader.SetFileName(output)
+    reader.Update()
+    try:
+        Testing.compareImageWithSavedImage(reader, baseline, 0.15)
+    except RuntimeError as error:
+        print('FAIL  image differs from %s: %s' % (baseline, str(error).strip()))
+        return False
+    print('ok    image matches %s' % baseline)
+    return True
+
+
+def run_checks(view, source, stem, build_dir, output, baseline):
+    view.ViewSize = SIZE
+    view.OrientationAxesVisibility = 0
+    if view.GetProperty('UseFXAA') is not None:
+        view.UseFXAA = 0
+    if view.GetProperty('UseColorPaletteForBackground') is not None:
+        view.UseColorPaletteForBackground = 0
+    view.Background = BACKGROUND
+    SetActiveView(view)
+
+    rep = Show(source, view)
+    check(REPRESENTATION in rep.Representation.Available,
+          '"%s" is offered for %s' % (REPRESENTATION, rep.GetXMLName()))
+    rep.SetRepresentationType(REPRESENTATION)
+    for name in ('Kappa', 'Sigma', 'SampleDistance', 'RBFRadius', 'UseRBFRadiusArray',
+                 'RBFRadiusArray', 'RBFRadiusScale', 'FieldArray', 'FieldLookupTable2',
+                 'TerminationOpacity', 'Shade', 'ScalarOpacityFunction',
+                 'ScalarOpacityUnitDistance', 'LookupTable', 'ColorArrayName'):
+        check(rep.GetProperty(name) is not None, 'property %s exists' % name)
+
+    # Heights from the atomic numbers (an electron-density-like field), 1 A Gaussians.
+    ColorBy(rep, ('POINTS', 'atom_type'))
+    rep.SetScalarBarVisibility(view, False)
+    lut = GetColorTransferFunction('atom_type')
+    lut.ApplyPreset('Cool to Warm', True)
+    lut.RescaleTransferFunction(0.0, 20.0)
+    lut.AutomaticRescaleRangeMode = 'Never'
+    opacity = GetOpacityTransferFunction('atom_type')
+    opacity.Points = [0.0, 0.0, 0.5, 0.0, 20.0, 0.6, 0.5, 0.0]
+    opacity.RescaleTransferFunction(0.0, 20.0)
+    check(rep.ScalarOpacityFunction == opacity,
+          'coloring by an array gives the representation that array\'s opacity map')
+    rep.RBFRadius = 1.0
+    rep.ScalarOpacityUnitDistance = 2.0
+    rep.Kappa = 1.0
+    Render(view)
+    view.ResetCamera(False)
+    view.GetActiveCamera().Dolly(1.8)
+    Render(view)
+
+    image = screenshot(view, output)
+    covered = float((image.sum(axis=1) > 0).mean())
+    check(0.05 < covered < 0.9, 'the field covers part of the view (%.1f%%)' % (100 * covered))
+    stats = statistics(rep)
+    check(stats.get('builds') == 1, 'one BVH build for the first frame (%s)'
+          % stats.get('builds'))
+    check(stats.get('particles') == source.GetDataInformation().GetNumberOfPoints(),
+          'every atom is a particle (%s)' % stats.get('particles'))
+
+    # Same picture as the mapper in a plain VTK pipeline with the same maps and values.
+    sys.path.insert(0, os.path.join(build_dir, 'lib', 'python3', 'dist-packages'))
+    data = servermanager.Fetch(source)
+    reference = reference_image(data, view, lut.GetClientSideObject(),
+                                opacity.GetClientSideObject(), 1.0, 1.0, 2.0,
+                                stem + '-vtk-reference.png')
+    difference = rmse(image, reference)
+    check(difference < 1.0, 'the picture is the plain VTK mapper\'s (rmse %.3f of 255)'
+          % difference)
+
+    if not compare_with_baseline(output, baseline):
+        failures.append('baseline comparison')
+
+    # Interactive parameters redraw without a BVH build.
+    before = image
+    for name, value in (('Kappa', 3.0), ('Sigma', 3.0)):
+        setattr(rep, name, value)
+        changed = screenshot(view, stem + '-%s.png' % name.lower())
+        stats = statistics(rep)
+        check(stats.get('builds') == 1 and rmse(changed, before) > 0.5,
+              '%s = %g changes the picture (rmse %.2f) without a BVH build (builds %s)'
+              % (name, value, rmse(changed, before), stats.get('builds')))
+        before = changed
+    # A finer step than the default (half the radius) takes more samples; the opacity
+    # correction keeps the picture nearly the same.
+    samples = stats.get('samples')
+    rep.SampleDistance = 0.1
+    changed = screenshot(view, stem + '-step.png')
+    stats = statistics(rep)
+    check(stats.get('builds') == 1 and stats.get('samples') > 3 * samples
+          and rmse(changed, before) < 3.0,
+          'SampleDistance 0.1 takes %.1fx the samples, same picture up to rmse %.2f, no BVH '
+          'build' % (stats.get('samples') / samples, rmse(changed, before)))
+    before = changed
+    opacity.Points = [0.0, 0.0, 0.5, 0.0, 20.0, 1.0, 0.5, 0.0]
+    changed = screenshot(view, stem + '-opacity.png')
+    check(statistics(rep).get('builds') == 1 and rmse(changed, before) > 0.5,
+          'editing the opacity map changes the picture without a BVH build')
+    rep.LeafSize = 4
+    screenshot(view, stem + '-leaf.png')
+    check(statistics(rep).get('builds') == 2, 'changing the leaf size rebuilds the BVH once')
+    rep.Kappa, rep.Sigma, rep.SampleDistance = 1.0, 2.0, 0.0
+    opacity.Points = [0.0, 0.0, 0.5, 0.0, 20.0, 0.6, 0.5, 0.0]
+
+    # Shading: gradients only when on.
+    check(statistics(rep).get('shading') == 'off', 'no gradients without Shade')
+    rep.Shade = 1
+    shaded = screenshot(view, stem + '-shaded.png')
+    check(statistics(rep).get('shading') == 'on', 'Shade computes the gradients')
+    check(rmse(shaded, image) > 0.5, 'shading changes the picture (rmse %.2f)'
+          % rmse(shaded, image))
+    rep.Shade = 0
+
+    # Multi-field: carbon (6) is field 1; N, O, S (7, 8, 16) fields 2-4 get a transparent
+    # map: the picture is that of the carbons alone.
+    hidden_lut = GetColorTransferFunction('hidden_fields')
+    hidden_lut.RescaleTransferFunction(0.0, 20.0)
+    hidden_opacity = GetOpacityTransferFunction('hidden_fields')
+    hidden_opacity.Points = [0.0, 0.0, 0.5, 0.0, 20.0, 0.0, 0.5, 0.0]
+    hidden_opacity.RescaleTransferFunction(0.0, 20.0)
+    hidden_lut.ScalarOpacityFunction = hidden_opacity
+    # A fine step: the two pictures' samples start from different near planes.
+    rep.SampleDistance = 0.05
+    rep.FieldArray = ['POINTS', 'atom_type']
+    rep.FieldLookupTable2 = hidden_lut
+    rep.FieldLookupTable3 = hidden_lut
+    rep.FieldLookupTable4 = hidden_lut
+    fields = screenshot(view, stem + '-fields.png')
+    check(statistics(rep).get('fields') == 4, 'atom_type splits 2LYZ into 4 fields (%s)'
+          % statistics(rep).get('fields'))
+    check(statistics(rep).get('multi_field') == 'on', 'the multi-field effect runs')
+    Hide(source, view)
+    carbons = carbon_atoms(servermanager.Fetch(source))
+    carbon_rep = Show(carbons, view)
+    check(REPRESENTATION in carbon_rep.Representation.Available,
+          '"%s" is offered for %s' % (REPRESENTATION, carbon_rep.GetXMLName()))
+    carbon_rep.SetRepresentationType(REPRESENTATION)
+    ColorBy(carbon_rep, ('POINTS', 'atom_type'))
+    carbon_rep.SetScalarBarVisibility(view, False)
+    # ColorBy fits the maps to the carbons' values: give them back their common range.
+    lut.RescaleTransferFunction(0.0, 20.0)
+    opacity.RescaleTransferFunction(0.0, 20.0)
+    carbon_rep.RBFRadius = 1.0
+    carbon_rep.ScalarOpacityUnitDistance = 2.0
+    carbon_rep.SampleDistance = 0.05
+    alone = screenshot(view, stem + '-carbons.png')
+    check(rmse(fields, alone) < 1.0 and rmse(fields, image) > 2.0,
+          'fields 2-4 transparent: the picture of the carbons alone (rmse %.3f; %.2f to '
+          'all atoms)' % (rmse(fields, alone), rmse(fields, image)))
+    Hide(carbons, view)
+    Show(source, view)
+
+    # Hidden: nothing drawn.
+    Hide(source, view)
+    nothing = screenshot(view, stem + '-hidden.png')
+    check(float(nothing.max()) == 0.0, 'a hidden representation draws nothing')
+
+
+def main():
+    plugin, build_dir, pdb, baseline, output = sys.argv[1:6]
+    out_dir = os.path.dirname(os.path.abspath(output))
+    if out_dir == os.path.dirname(os.path.abspath(baseline)):
+        print('FAIL  OUTPUT must not be in the baseline folder')
+        return 2
+    os.makedirs(out_dir, exist_ok=True)
+    stem = os.path.splitext(os.path.abspath(output))[0]
+    LoadPlugin(plugin, remote=False, ns=globals())
+    source = PDBReader(FileName=pdb)
+    source.UpdatePipeline()
+    view = CreateView('RenderView')
+    try:
+        run_checks(view, source, stem, build_dir, output, baseline)
+    finally:
+        Delete(view)
+    if failures:
+        print('%d check(s) failed' % len(failures))
+        return 1
+    print('all checks passed')
+    return 0
+
+
+if __name__ == '__main__':
+    code = main()
+    if code:
+        sys.exit(code)
