@@ -12,11 +12,15 @@ add_library(RayMappersKernels STATIC
   ${CMAKE_CURRENT_LIST_DIR}/CGT/RaySphereLanes.cxx
   ${CMAKE_CURRENT_LIST_DIR}/CGT/SphereRenderer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/RBF/ParticleBVH.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFVolumeRenderer.cxx)
+  ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFVolumeRenderer.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/ZSweep/OpticalModel.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepMesh.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx)
 target_include_directories(RayMappersKernels PUBLIC
   ${CMAKE_CURRENT_LIST_DIR}/Common
   ${CMAKE_CURRENT_LIST_DIR}/CGT
-  ${CMAKE_CURRENT_LIST_DIR}/RBF)
+  ${CMAKE_CURRENT_LIST_DIR}/RBF
+  ${CMAKE_CURRENT_LIST_DIR}/ZSweep)
 target_link_libraries(RayMappersKernels PUBLIC embree TBB::tbb)
 target_compile_options(RayMappersKernels PRIVATE ${RAYMAPPERS_WARNINGS} -fopenmp-simd)
 if (RAYMAPPERS_NATIVE)

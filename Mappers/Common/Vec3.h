@@ -3,6 +3,7 @@
 #ifndef RayMappers_Vec3_h
 #define RayMappers_Vec3_h
 
+#include <algorithm>
 #include <cmath>
 
 namespace raymappers
@@ -65,6 +66,16 @@ inline Vec3<T> normalize(const Vec3<T>& a)
 {
   const T l = length(a);
   return l > T(0) ? a * (T(1) / l) : a;
+}
+template<typename T>
+inline Vec3<T> min(const Vec3<T>& a, const Vec3<T>& b)
+{
+  return Vec3<T>(std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z));
+}
+template<typename T>
+inline Vec3<T> max(const Vec3<T>& a, const Vec3<T>& b)
+{
+  return Vec3<T>(std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z));
 }
 template<typename T>
 inline bool isFinite(const Vec3<T>& a)

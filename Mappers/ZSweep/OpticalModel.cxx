@@ -1,0 +1,312 @@
+#include "OpticalModel.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace raymappers
+{
+
+namespace
+{
+// Gauss-Legendre rules on [-1, 1].
+constexpr double GL3x[3] = { -0.7745966692414834, 0.0, 0.7745966692414834 };
+constexpr double GL3w[3] = { 5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0 };
+constexpr double GL6x[6] = { -0.9324695142031521,
+  -0.6612093864662645,
+  -0.2386191860831969,
+  0.2386191860831969,
+  0.6612093864662645,
+  0.9324695142031521 };
+constexpr double GL6w[6] = { 0.1713244923791704,
+  0.3607615730481386,
+  0.4679139345726910,
+  0.4679139345726910,
+  0.3607615730481386,
+  0.1713244923791704 };
+
+// Beyond this optical depth the remaining light is below exp(-40) = 4e-18.
+constexpr double DepthCutoff = 40.0;
+
+// I1 = int_0^1 (1 - exp(-E(x))) dx and I2 = int_0^1 (exp(-E(x)) - exp(-E(1))) dx with
+// E(x) = A x + B x^2, written so that neither cancels when E is tiny (expm1):
+// G = 1 - I1 and 1 - T = I1 + I2.
+struct DepthIntegrals
+{
+  double oneMinusG = 0;
+  double gMinusT = 0;
+};
+
+DepthIntegrals depthIntegrals(double A, double B)
+{
+  DepthIntegrals out;
+  const double total = A + B;
+  if (!(total > 0))
+  {
+    return out;
+  }
+  // Integrate up to xmax, where E reaches the cutoff (E rises monotonically), and count
+  // the rest as fully absorbed (1 - e^-E = 1 there, e^-E - e^-E(1) = 0).
+  double xmax = 1.0;
+  if (total > DepthCutoff)
+  {
+    // Root of B x^2 + A x - 40 = 0 in (0, 1), in the form without cancellation.
+    xmax = 2.0 * DepthCutoff / (A + std::sqrt(std::max(0.0, A * A + 4.0 * B * DepthCutoff)));
+    xmax = std::clamp(xmax, 0.0, 1.0);
+  }
+  const double slope = std::max(A, A + 2.0 * B * xmax); // E' is affine: largest at an end
+  const double depth = xmax * slope;                    // bounds E's rise on [0, xmax]
+  const bool small = depth <= 0.05;
+  const int pieces = small ? 1 : std::clamp(static_cast<int>(std::ceil(depth)), 1, 64);
+  const double width = xmax / pieces;
+  for (int p = 0; p < pieces; ++p)
+  {
+    const double a = p * width;
+    const int n = small ? 3 : 6;
+    const double* xs = small ? GL3x : GL6x;
+    const double* ws = small ? GL3w : GL6w;
+    for (int k = 0; k < n; ++k)
+    {
+      const double x = a + 0.5 * width * (1.0 + xs[k]);
+      const double w = 0.5 * width * ws[k];
+      const double e = A * x + B * x * x;
+      out.oneMinusG += w * -std::expm1(-e);
+      // e^-E(x) - e^-E(1) = e^-E(x) (1 - e^-(E(1) - E(x))).
+      out.gMinusT += w * std::exp(-e) * -std::expm1(-(total - e));
+    }
+  }
+  out.oneMinusG += 1.0 - xmax;
+  return out;
+}
+} // namespace
+
+double gaussianDepthIntegral(double A, double B)
+{
+  return 1.0 - depthIntegrals(A, B).oneMinusG;
+}
+
+SegmentLight integrateLinearPiece(double tauA,
+  const double cA[3],
+  double tauB,
+  const double cB[3],
+  double l)
+{
+  SegmentLight out;
+  if (!(l > 0) || (tauA <= 0 && tauB <= 0))
+  {
+    return out;
+  }
+  // C = c_a - c_b T + (c_b - c_a) G = c_a (1 - G) + c_b (G - T).
+  const double A = tauA * l;
+  const double B = 0.5 * (tauB - tauA) * l;
+  const DepthIntegrals d = depthIntegrals(A, B);
+  out.transmittance = std::exp(-(A + B));
+  out.r = cA[0] * d.oneMinusG + cB[0] * d.gMinusT;
+  out.g = cA[1] * d.oneMinusG + cB[1] * d.gMinusT;
+  out.b = cA[2] * d.oneMinusG + cB[2] * d.gMinusT;
+  return out;
+}
+
+void compositeBehind(SegmentLight& front, const SegmentLight& back)
+{
+  front.r += front.transmittance * back.r;
+  front.g += front.transmittance * back.g;
+  front.b += front.transmittance * back.b;
+  front.transmittance *= back.transmittance;
+}
+
+void OpticalModel::assign(const std::vector<double>& s,
+  const std::vector<double>& rgb,
+  const std::vector<double>& opacity,
+  double unitDistance)
+{
+  Nodes.clear();
+  ZeroRun.clear();
+  const double u = unitDistance > 0 && std::isfinite(unitDistance) ? unitDistance : 1.0;
+  for (std::size_t j = 0; j < s.size(); ++j)
+  {
+    Node node;
+    node.s = s[j];
+    for (int c = 0; c < 3; ++c)
+    {
+      node.rgb[c] = std::clamp(rgb[3 * j + c], 0.0, 1.0);
+    }
+    const double a = std::clamp(std::isfinite(opacity[j]) ? opacity[j] : 0.0, 0.0, 1.0 - 1e-7);
+    node.tau = -std::log1p(-a) / u;
+    Nodes.push_back(node);
+  }
+  for (std::size_t j = 0; j + 1 < Nodes.size(); ++j)
+  {
+    ZeroRun.push_back(Nodes[j].tau == 0 && Nodes[j + 1].tau == 0);
+  }
+}
+
+void OpticalModel::evaluate(double s, double& tau, double rgb[3]) const
+{
+  if (s <= Nodes.front().s || Nodes.size() == 1)
+  {
+    const Node& n = Nodes.front();
+    tau = n.tau;
+    std::copy(n.rgb, n.rgb + 3, rgb);
+    return;
+  }
+  if (s >= Nodes.back().s)
+  {
+    const Node& n = Nodes.back();
+    tau = n.tau;
+    std::copy(n.rgb, n.rgb + 3, rgb);
+    return;
+  }
+  const auto it = std::upper_bound(
+    Nodes.begin(), Nodes.end(), s, [](double v, const Node& n) { return v < n.s; });
+  const Node& b = *it;
+  const Node& a = *(it - 1);
+  const double f = (b.s > a.s) ? (s - a.s) / (b.s - a.s) : 0.0;
+  tau = a.tau + f * (b.tau - a.tau);
+  for (int c = 0; c < 3; ++c)
+  {
+    rgb[c] = a.rgb[c] + f * (b.rgb[c] - a.rgb[c]);
+  }
+}
+
+bool OpticalModel::transparentBetween(double s0, double s1) const
+{
+  const double lo = std::min(s0, s1), hi = std::max(s0, s1);
+  double tau = 0, rgb[3];
+  evaluate(lo, tau, rgb);
+  if (tau > 0)
+  {
+    return false;
+  }
+  evaluate(hi, tau, rgb);
+  if (tau > 0)
+  {
+    return false;
+  }
+  // Every node strictly inside must be transparent too.
+  auto it = std::upper_bound(
+    Nodes.begin(), Nodes.end(), lo, [](double v, const Node& n) { return v < n.s; });
+  for (; it != Nodes.end() && it->s < hi; ++it)
+  {
+    if (it->tau > 0)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+SegmentLight OpticalModel::integrateHomogeneous(double s, double L) const
+{
+  SegmentLight out;
+  double tau = 0, c[3];
+  evaluate(s, tau, c);
+  if (!(L > 0) || !(tau > 0))
+  {
+    return out;
+  }
+  const double oneMinusT = -std::expm1(-tau * L);
+  out.transmittance = 1.0 - oneMinusT;
+  out.r = c[0] * oneMinusT;
+  out.g = c[1] * oneMinusT;
+  out.b = c[2] * oneMinusT;
+  return out;
+}
+
+SegmentLight OpticalModel::integrate(ZSweepIntegrator method, double s0, double s1, double L)
+  const
+{
+  switch (method)
+  {
+    case ZSweepIntegrator::Farias:
+      return integrateFarias(s0, s1, L);
+    case ZSweepIntegrator::Midpoint:
+      return integrateHomogeneous(0.5 * (s0 + s1), L);
+    case ZSweepIntegrator::Exact:
+      break;
+  }
+  return integrateExact(s0, s1, L);
+}
+
+SegmentLight OpticalModel::integrateExact(double s0, double s1, double L) const
+{
+  SegmentLight out;
+  if (!(L > 0))
+  {
+    return out;
+  }
+  if (s0 == s1)
+  {
+    return integrateHomogeneous(s0, L);
+  }
+  // Breakpoints: the nodes strictly between s0 and s1, in the order the ray meets them.
+  const double ds = s1 - s0;
+  double sa = s0;
+  double tauA = 0, cA[3];
+  evaluate(sa, tauA, cA);
+  auto piece = [&](double sb) {
+    double tauB = 0, cB[3];
+    evaluate(sb, tauB, cB);
+    const double l = L * ((sb - sa) / ds);
+    if (tauA > 0 || tauB > 0)
+    {
+      compositeBehind(out, integrateLinearPiece(tauA, cA, tauB, cB, l));
+    }
+    sa = sb;
+    tauA = tauB;
+    std::copy(cB, cB + 3, cA);
+  };
+  if (ds > 0)
+  {
+    auto it = std::upper_bound(
+      Nodes.begin(), Nodes.end(), s0, [](double v, const Node& n) { return v < n.s; });
+    for (; it != Nodes.end() && it->s < s1; ++it)
+    {
+      piece(it->s);
+    }
+  }
+  else
+  {
+    auto it = std::lower_bound(
+      Nodes.begin(), Nodes.end(), s0, [](const Node& n, double v) { return n.s < v; });
+    while (it != Nodes.begin())
+    {
+      --it;
+      if (it->s <= s1)
+      {
+        break;
+      }
+      piece(it->s);
+    }
+  }
+  piece(s1);
+  return out;
+}
+
+SegmentLight OpticalModel::integrateFarias(double s0, double s1, double L) const
+{
+  // Equations 6 and 7 for one segment (accumulated opacity 0 at its front), o = tau and
+  // emission density e = c tau:
+  //   O = (o_c + o_n) L / 2,
+  //   C = (e_c + e_n) L / 2 - (3 e_c o_c + 5 e_n o_c + e_c o_n + 3 e_n o_n) L^2 / 24.
+  SegmentLight out;
+  if (!(L > 0))
+  {
+    return out;
+  }
+  double oc = 0, on = 0, cc[3], cn[3];
+  evaluate(s0, oc, cc);
+  evaluate(s1, on, cn);
+  const double opacity = std::min(1.0, 0.5 * (oc + on) * L);
+  out.transmittance = 1.0 - opacity;
+  double* channel[3] = { &out.r, &out.g, &out.b };
+  for (int c = 0; c < 3; ++c)
+  {
+    const double ec = cc[c] * oc, en = cn[c] * on;
+    const double value = 0.5 * (ec + en) * L -
+      (3 * ec * oc + 5 * en * oc + ec * on + 3 * en * on) * L * L / 24.0;
+    *channel[c] = std::clamp(value, 0.0, opacity);
+  }
+  return out;
+}
+
+} // namespace raymappers

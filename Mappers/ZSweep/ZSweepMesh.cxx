@@ -1,0 +1,317 @@
+#include "ZSweepMesh.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+namespace raymappers
+{
+
+namespace
+{
+// VTK's local faces of each cell type.
+const ZSweepCellFaces TetraFaces = { 4,
+  { 3, 3, 3, 3, 0, 0 },
+  { { 0, 1, 3, 0 }, { 1, 2, 3, 0 }, { 2, 0, 3, 0 }, { 0, 2, 1, 0 }, {}, {} },
+  4 };
+const ZSweepCellFaces HexahedronFaces = { 6,
+  { 4, 4, 4, 4, 4, 4 },
+  { { 0, 4, 7, 3 }, { 1, 2, 6, 5 }, { 0, 1, 5, 4 }, { 3, 7, 6, 2 }, { 0, 3, 2, 1 }, { 4, 5, 6, 7 } },
+  8 };
+const ZSweepCellFaces WedgeFaces = { 5,
+  { 3, 3, 4, 4, 4, 0 },
+  { { 0, 1, 2, 0 }, { 3, 5, 4, 0 }, { 0, 3, 4, 1 }, { 1, 4, 5, 2 }, { 2, 5, 3, 0 }, {} },
+  6 };
+const ZSweepCellFaces PyramidFaces = { 5,
+  { 4, 3, 3, 3, 3, 0 },
+  { { 0, 3, 2, 1 }, { 0, 1, 4, 0 }, { 1, 2, 4, 0 }, { 2, 3, 4, 0 }, { 3, 0, 4, 0 }, {} },
+  5 };
+
+// Triangles a cell of each type yields (a quad gives two).
+int trianglesOf(ZSweepCellType type)
+{
+  const ZSweepCellFaces& f = cellFaces(type);
+  int n = 0;
+  for (int i = 0; i < f.count; ++i)
+  {
+    n += f.sizes[i] - 2;
+  }
+  return n;
+}
+
+// One cell's side of one triangle, keyed by the triangle's sorted vertex ids.
+struct SideRecord
+{
+  std::uint32_t key[3];
+  std::int32_t cell;
+  std::int32_t side; // +1: the cell is on the sorted triangle's normal side, -1: against it
+};
+
+bool keyLess(const SideRecord& a, const SideRecord& b)
+{
+  if (a.key[0] != b.key[0])
+  {
+    return a.key[0] < b.key[0];
+  }
+  if (a.key[1] != b.key[1])
+  {
+    return a.key[1] < b.key[1];
+  }
+  if (a.key[2] != b.key[2])
+  {
+    return a.key[2] < b.key[2];
+  }
+  return a.cell < b.cell;
+}
+
+bool sameKey(const SideRecord& a, const SideRecord& b)
+{
+  return a.key[0] == b.key[0] && a.key[1] == b.key[1] && a.key[2] == b.key[2];
+}
+} // namespace
+
+const ZSweepCellFaces& cellFaces(ZSweepCellType type)
+{
+  switch (type)
+  {
+    case ZSweepCellType::Hexahedron:
+      return HexahedronFaces;
+    case ZSweepCellType::Wedge:
+      return WedgeFaces;
+    case ZSweepCellType::Pyramid:
+      return PyramidFaces;
+    case ZSweepCellType::Tetra:
+      break;
+  }
+  return TetraFaces;
+}
+
+std::size_t ZSweepMesh::memoryBytes() const
+{
+  return Points.capacity() * sizeof(Vec3d) + Triangles.capacity() * sizeof(ZSweepTriangle) +
+    Scalars.capacity() * sizeof(double);
+}
+
+void ZSweepMesh::build(const ZSweepGrid& grid)
+{
+  Stats = Counts();
+  CellScalars = grid.cellScalars;
+  Scalars = grid.scalars;
+  const std::size_t numPoints = grid.points.size();
+  const std::size_t numCells = grid.cellTypes.size();
+  NumCells = numCells;
+
+  // Origin: the centre of the finite points' bounds; points become relative to it.
+  constexpr double big = std::numeric_limits<double>::max();
+  Vec3d lo(big, big, big), hi(-big, -big, -big);
+  for (const Vec3d& p : grid.points)
+  {
+    if (isFinite(p))
+    {
+      lo = min(lo, p);
+      hi = max(hi, p);
+    }
+  }
+  Origin = lo.x <= hi.x ? (lo + hi) * 0.5 : Vec3d(0, 0, 0);
+  Points.resize(numPoints);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, numPoints),
+    [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+      {
+        Points[i] = grid.points[i] - Origin;
+      }
+    });
+
+  // Where each cell's side records go (fixed per type).
+  std::vector<std::size_t> recordStart(numCells + 1, 0);
+  for (std::size_t c = 0; c < numCells; ++c)
+  {
+    recordStart[c + 1] = recordStart[c] + static_cast<std::size_t>(trianglesOf(grid.cellTypes[c]));
+  }
+  std::vector<SideRecord> records(recordStart[numCells]);
+  std::vector<char> used(numCells, 0);
+  std::atomic<std::size_t> badIndex{ 0 }, nonFinitePoint{ 0 }, nonFiniteScalar{ 0 },
+    zeroVolume{ 0 };
+
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, numCells),
+    [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t c = r.begin(); c != r.end(); ++c)
+      {
+        SideRecord* out = records.data() + recordStart[c];
+        const std::size_t slots = recordStart[c + 1] - recordStart[c];
+        for (std::size_t k = 0; k < slots; ++k)
+        {
+          out[k].cell = -1; // unused slot unless filled below
+        }
+        const ZSweepCellFaces& faces = cellFaces(grid.cellTypes[c]);
+        const std::int64_t begin = grid.cellOffsets[c];
+        if (grid.cellOffsets[c + 1] - begin != faces.vertices)
+        {
+          ++badIndex;
+          continue;
+        }
+        std::uint32_t ids[8];
+        bool ok = true;
+        for (int k = 0; k < faces.vertices && ok; ++k)
+        {
+          const std::int64_t id = grid.connectivity[static_cast<std::size_t>(begin + k)];
+          ok = id >= 0 && static_cast<std::size_t>(id) < numPoints;
+          ids[k] = ok ? static_cast<std::uint32_t>(id) : 0;
+        }
+        if (!ok)
+        {
+          ++badIndex;
+          continue;
+        }
+        Vec3d centroid(0, 0, 0), cmin(big, big, big), cmax(-big, -big, -big);
+        for (int k = 0; k < faces.vertices && ok; ++k)
+        {
+          const Vec3d& p = grid.points[ids[k]];
+          ok = isFinite(p);
+          centroid = centroid + Points[ids[k]];
+          cmin = min(cmin, Points[ids[k]]);
+          cmax = max(cmax, Points[ids[k]]);
+        }
+        if (!ok)
+        {
+          ++nonFinitePoint;
+          continue;
+        }
+        centroid = centroid * (1.0 / faces.vertices);
+        if (CellScalars)
+        {
+          ok = c < Scalars.size() && std::isfinite(Scalars[c]);
+        }
+        else
+        {
+          for (int k = 0; k < faces.vertices && ok; ++k)
+          {
+            ok = ids[k] < Scalars.size() && std::isfinite(Scalars[ids[k]]);
+          }
+        }
+        if (!ok)
+        {
+          ++nonFiniteScalar;
+          continue;
+        }
+        // Volume by the divergence theorem over the faces (fans from each face's first
+        // vertex), relative to the centroid; a cell of (numerically) zero volume adds
+        // nothing to any ray and is left out.
+        const double extent = length(cmax - cmin);
+        double volume = 0;
+        for (int f = 0; f < faces.count; ++f)
+        {
+          const Vec3d a = Points[ids[faces.local[f][0]]] - centroid;
+          for (int k = 1; k + 1 < faces.sizes[f]; ++k)
+          {
+            const Vec3d b = Points[ids[faces.local[f][k]]] - centroid;
+            const Vec3d d = Points[ids[faces.local[f][k + 1]]] - centroid;
+            volume += dot(a, cross(b, d)) / 6.0;
+          }
+        }
+        if (!(std::fabs(volume) > 1e-12 * extent * extent * extent))
+        {
+          ++zeroVolume;
+          continue;
+        }
+        used[c] = 1;
+        int slot = 0;
+        auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t d) {
+          std::uint32_t k[3] = { a, b, d };
+          std::sort(k, k + 3);
+          const Vec3d& p0 = Points[k[0]];
+          const Vec3d e1 = Points[k[1]] - p0, e2 = Points[k[2]] - p0;
+          const Vec3d n = cross(e1, e2);
+          const double s = dot(n, centroid - p0);
+          SideRecord& rec = out[slot++];
+          if (!(length(n) > 1e-12 * length(e1) * length(e2)) || s == 0)
+          {
+            return; // zero area (no pixel), or no side: the slot stays unused
+          }
+          std::copy(k, k + 3, rec.key);
+          rec.cell = static_cast<std::int32_t>(c);
+          rec.side = s > 0 ? 1 : -1;
+        };
+        for (int f = 0; f < faces.count; ++f)
+        {
+          const int* l = faces.local[f];
+          if (faces.sizes[f] == 3)
+          {
+            emit(ids[l[0]], ids[l[1]], ids[l[2]]);
+            continue;
+          }
+          // Quad: split along the diagonal through its smallest global id.
+          std::uint32_t q[4] = { ids[l[0]], ids[l[1]], ids[l[2]], ids[l[3]] };
+          const int m = static_cast<int>(std::min_element(q, q + 4) - q);
+          emit(q[m], q[(m + 1) % 4], q[(m + 2) % 4]);
+          emit(q[m], q[(m + 2) % 4], q[(m + 3) % 4]);
+        }
+      }
+    });
+  Stats.badIndex = badIndex;
+  Stats.nonFinitePoint = nonFinitePoint;
+  Stats.nonFiniteScalar = nonFiniteScalar;
+  Stats.zeroVolume = zeroVolume;
+  Stats.cellsUsed = static_cast<std::size_t>(std::count(used.begin(), used.end(), 1));
+
+  records.erase(std::remove_if(records.begin(), records.end(),
+                  [](const SideRecord& r) { return r.cell < 0; }),
+    records.end());
+  tbb::parallel_sort(records.begin(), records.end(), keyLess);
+
+  // One triangle per key, with the cells on its two sides.
+  Triangles.clear();
+  Triangles.reserve(records.size() / 2 + 16);
+  for (std::size_t i = 0; i < records.size();)
+  {
+    std::size_t j = i + 1;
+    while (j < records.size() && sameKey(records[i], records[j]))
+    {
+      ++j;
+    }
+    ZSweepTriangle t;
+    std::copy(records[i].key, records[i].key + 3, t.v);
+    t.front = -1;
+    t.back = -1;
+    for (std::size_t k = i; k < j; ++k)
+    {
+      std::int32_t& slot = records[k].side > 0 ? t.back : t.front;
+      if (slot < 0)
+      {
+        slot = records[k].cell;
+      }
+    }
+    if (j - i > 2 || (j - i == 2 && (t.front < 0 || t.back < 0)))
+    {
+      ++Stats.nonManifoldTriangles;
+    }
+    if (t.front < 0 || t.back < 0)
+    {
+      ++Stats.boundaryTriangles;
+    }
+    Triangles.push_back(t);
+    i = j;
+  }
+  Triangles.shrink_to_fit();
+
+  ScalarMin = std::numeric_limits<double>::max();
+  ScalarMax = -std::numeric_limits<double>::max();
+  for (const double s : Scalars)
+  {
+    if (std::isfinite(s))
+    {
+      ScalarMin = std::min(ScalarMin, s);
+      ScalarMax = std::max(ScalarMax, s);
+    }
+  }
+  if (ScalarMin > ScalarMax)
+  {
+    ScalarMin = ScalarMax = 0;
+  }
+}
+
+} // namespace raymappers

@@ -1,0 +1,563 @@
+#include "ZSweepRenderer.h"
+
+#include "RayCamera.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace raymappers
+{
+
+namespace
+{
+struct ProjectedVertex
+{
+  double x, y; // window position (pixels; pixel (i, j) has its centre at (i + .5, j + .5))
+  double d;    // window depth
+  double invW; // 1 / w_clip, for perspective-correct interpolation
+  bool valid;  // in front of the eye and not before the near plane
+};
+
+// A face crossing on a pixel's ray.
+struct Entry
+{
+  double t;   // distance along the pixel's ray
+  double s;   // scalar there (point data)
+  std::int32_t entered;
+  std::int32_t exited;
+};
+
+// Per-frame data of a binned triangle.
+struct TriangleKey
+{
+  double depth;         // window depth of its nearest vertex (the event)
+  std::uint32_t vertex; // that vertex
+  std::uint32_t triangle;
+};
+
+bool eventLess(const TriangleKey& a, const TriangleKey& b)
+{
+  if (a.depth != b.depth)
+  {
+    return a.depth < b.depth;
+  }
+  if (a.vertex != b.vertex)
+  {
+    return a.vertex < b.vertex;
+  }
+  return a.triangle < b.triangle;
+}
+
+// orient(u, v, p) = (v - u) x (p - u), positive when p is left of u -> v (y up).
+inline double orient(const ProjectedVertex& u, const ProjectedVertex& v, double px, double py)
+{
+  return (v.x - u.x) * (py - u.y) - (v.y - u.y) * (px - u.x);
+}
+
+// The edge function of u -> v evaluated with the endpoints in global-id order, so the two
+// triangles sharing the edge compute bit-identical values (then negated as needed).
+inline double edgeFunction(const ProjectedVertex& u,
+  std::uint32_t iu,
+  const ProjectedVertex& v,
+  std::uint32_t iv,
+  double px,
+  double py)
+{
+  return iu < iv ? orient(u, v, px, py) : -orient(v, u, px, py);
+}
+
+// Top-left rule for a counter-clockwise triangle (y up): a pixel centre exactly on an edge
+// belongs to the triangle when the edge goes down, or is horizontal and goes left. The
+// neighbour across the edge walks it the other way, so exactly one of the two owns it.
+inline bool ownsEdge(const ProjectedVertex& u, const ProjectedVertex& v)
+{
+  const double dy = v.y - u.y, dx = v.x - u.x;
+  return dy < 0 || (dy == 0 && dx < 0);
+}
+
+// Compositing state of one pixel of a tile.
+struct PixelState
+{
+  RayDepthMap map;
+  double tOpaque = std::numeric_limits<double>::infinity();
+  double prevT = 0;
+  double prevS = 0;
+  std::int32_t cell = -1; // the cell the ray is in after prevT (-1: outside)
+  bool done = false;
+  SegmentLight light;
+};
+
+struct TileWork
+{
+  std::vector<std::vector<Entry>> lists;
+  std::vector<PixelState> pixels;
+  std::vector<int> dirty; // pixels whose list is not empty
+  std::vector<char> isDirty;
+  std::int64_t entries = 0, flushes = 0, kGrowths = 0, segments = 0, transparentSegments = 0,
+               tieGroups = 0;
+  std::size_t maxList = 0;
+};
+} // namespace
+
+void renderZSweep(const ZSweepMesh& mesh,
+  const OpticalModel& optics,
+  const std::array<double, 16>& modelToClip,
+  const ZSweepParameters& params,
+  const float* opaqueDepth,
+  Frame& frame,
+  RenderStatistics& stats)
+{
+  const int W = frame.width, H = frame.height;
+  std::fill(frame.rgba.begin(), frame.rgba.end(), 0.f);
+  std::fill(frame.depth.begin(), frame.depth.end(), 1.f);
+  const bool cellData = mesh.cellScalars();
+  stats.setEffect("cell_data", cellData);
+  stats.setEffect("early_termination", params.terminationOpacity < 1.0);
+  const auto& points = mesh.points();
+  const auto& triangles = mesh.triangles();
+  const auto& scalars = mesh.scalars();
+  if (W <= 0 || H <= 0 || triangles.empty() || optics.empty())
+  {
+    return;
+  }
+  const RayCamera camera(modelToClip, W, H, mesh.origin());
+
+  // Origin-relative model -> clip: M T(origin).
+  std::array<double, 16> M = modelToClip;
+  const Vec3d o = mesh.origin();
+  for (int r = 0; r < 4; ++r)
+  {
+    M[4 * r + 3] += M[4 * r] * o.x + M[4 * r + 1] * o.y + M[4 * r + 2] * o.z;
+  }
+
+  // 1. Project the vertices.
+  std::vector<ProjectedVertex> proj(points.size());
+  {
+    ScopedPhase phase(stats, "project");
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+        {
+          const Vec3d& p = points[i];
+          double c[4];
+          for (int k = 0; k < 4; ++k)
+          {
+            c[k] = M[4 * k] * p.x + M[4 * k + 1] * p.y + M[4 * k + 2] * p.z + M[4 * k + 3];
+          }
+          ProjectedVertex& v = proj[i];
+          v.valid = c[3] > 0 && c[2] >= -c[3];
+          const double iw = c[3] != 0 ? 1.0 / c[3] : 0.0;
+          v.x = (c[0] * iw + 1.0) * 0.5 * W;
+          v.y = (c[1] * iw + 1.0) * 0.5 * H;
+          v.d = (c[2] * iw + 1.0) * 0.5;
+          v.invW = iw;
+        }
+      });
+  }
+
+  // 2. Bin the triangles into tiles; sort each tile's triangles into event order.
+  const int S = std::max(8, params.tileSize);
+  const int nx = (W + S - 1) / S, ny = (H + S - 1) / S;
+  std::vector<std::uint32_t> eventVertex(triangles.size());
+  std::vector<std::int32_t> box(4 * triangles.size()); // pixel bounds, x0 < 0: not drawn
+  std::vector<char> forward(triangles.size());          // the rays cross front -> back
+  std::vector<std::atomic<std::uint32_t>> tileCount(static_cast<std::size_t>(nx) * ny);
+  std::atomic<std::int64_t> nearClipped{ 0 };
+  {
+    ScopedPhase phase(stats, "bin");
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size()),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t f = r.begin(); f != r.end(); ++f)
+        {
+          const ZSweepTriangle& t = triangles[f];
+          const ProjectedVertex& a = proj[t.v[0]];
+          const ProjectedVertex& b = proj[t.v[1]];
+          const ProjectedVertex& c = proj[t.v[2]];
+          box[4 * f] = -1;
+          if (!a.valid || !b.valid || !c.valid)
+          {
+            ++nearClipped;
+            continue;
+          }
+          if (a.d > 1 && b.d > 1 && c.d > 1)
+          {
+            continue;
+          }
+          // Pixel centres i + 0.5 in [min x, max x].
+          const int x0 = std::max(0, static_cast<int>(std::ceil(std::min({ a.x, b.x, c.x }) - 0.5)));
+          const int x1 = std::min(W - 1, static_cast<int>(std::floor(std::max({ a.x, b.x, c.x }) - 0.5)));
+          const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({ a.y, b.y, c.y }) - 0.5)));
+          const int y1 = std::min(H - 1, static_cast<int>(std::floor(std::max({ a.y, b.y, c.y }) - 0.5)));
+          if (x0 > x1 || y0 > y1)
+          {
+            continue;
+          }
+          box[4 * f] = x0;
+          box[4 * f + 1] = y0;
+          box[4 * f + 2] = x1;
+          box[4 * f + 3] = y1;
+          std::uint32_t ev = t.v[0];
+          for (int k = 1; k < 3; ++k)
+          {
+            const std::uint32_t v = t.v[k];
+            if (proj[v].d < proj[ev].d || (proj[v].d == proj[ev].d && v < ev))
+            {
+              ev = v;
+            }
+          }
+          eventVertex[f] = ev;
+          // The side the rays cross from: constant over the triangle's plane, read from the
+          // ray through the projection's centroid.
+          const Ray ray = camera.primaryRay((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0);
+          const Vec3d& p0 = points[t.v[0]];
+          const Vec3d n = cross(points[t.v[1]] - p0, points[t.v[2]] - p0);
+          forward[f] = dot(Vec3d(ray.dir), n) > 0;
+          for (int ty = y0 / S; ty <= y1 / S; ++ty)
+          {
+            for (int tx = x0 / S; tx <= x1 / S; ++tx)
+            {
+              tileCount[static_cast<std::size_t>(ty) * nx + tx].fetch_add(1, std::memory_order_relaxed);
+            }
+          }
+        }
+      });
+  }
+  std::vector<std::size_t> tileStart(tileCount.size() + 1, 0);
+  for (std::size_t k = 0; k < tileCount.size(); ++k)
+  {
+    tileStart[k + 1] = tileStart[k] + tileCount[k].load();
+    tileCount[k].store(0);
+  }
+  std::vector<TriangleKey> binned(tileStart.back());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size()),
+    [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t f = r.begin(); f != r.end(); ++f)
+      {
+        if (box[4 * f] < 0)
+        {
+          continue;
+        }
+        const TriangleKey key{ proj[eventVertex[f]].d, eventVertex[f], static_cast<std::uint32_t>(f) };
+        for (int ty = box[4 * f + 1] / S; ty <= box[4 * f + 3] / S; ++ty)
+        {
+          for (int tx = box[4 * f] / S; tx <= box[4 * f + 2] / S; ++tx)
+          {
+            const std::size_t tile = static_cast<std::size_t>(ty) * nx + tx;
+            binned[tileStart[tile] + tileCount[tile].fetch_add(1, std::memory_order_relaxed)] = key;
+          }
+        }
+      }
+    });
+  tbb::parallel_for(std::size_t(0), tileCount.size(), [&](std::size_t tile) {
+    std::sort(binned.begin() + static_cast<std::ptrdiff_t>(tileStart[tile]),
+      binned.begin() + static_cast<std::ptrdiff_t>(tileStart[tile + 1]),
+      eventLess);
+  });
+
+  // Ties: crossings closer than this along a ray are one crossing (a shared vertex or edge).
+  double extent = 0;
+  for (const Vec3d& p : points)
+  {
+    extent = std::max(extent, std::max({ std::fabs(p.x), std::fabs(p.y), std::fabs(p.z) }));
+  }
+  const double tieT = 1e-9 * std::max(extent, 1e-300);
+  const double termination = std::clamp(params.terminationOpacity, 0.0, 1.0);
+  const int K0 = std::max(2, params.listThreshold);
+
+  // 3.-5. Sweep the tiles.
+  tbb::enumerable_thread_specific<TileWork> works;
+  ScopedPhase phase(stats, "sweep");
+  tbb::parallel_for(tbb::blocked_range<int>(0, nx * ny, 1), [&](const tbb::blocked_range<int>& range) {
+    TileWork& work = works.local();
+    for (int tileIndex = range.begin(); tileIndex != range.end(); ++tileIndex)
+    {
+      const int tx = tileIndex % nx, ty = tileIndex / nx;
+      const int X0 = tx * S, Y0 = ty * S;
+      const int TW = std::min(S, W - X0), TH = std::min(S, H - Y0);
+      const std::size_t numPixels = static_cast<std::size_t>(TW) * TH;
+      work.lists.resize(std::max(work.lists.size(), numPixels));
+      work.pixels.assign(numPixels, PixelState());
+      work.isDirty.assign(numPixels, 0);
+      work.dirty.clear();
+      for (int j = 0; j < TH; ++j)
+      {
+        for (int i = 0; i < TW; ++i)
+        {
+          PixelState& px = work.pixels[static_cast<std::size_t>(j) * TW + i];
+          px.map = camera.pixelDepthMap(X0 + i, Y0 + j);
+          if (opaqueDepth)
+          {
+            const float d = opaqueDepth[static_cast<std::size_t>(Y0 + j) * W + X0 + i];
+            if (d < 1.f)
+            {
+              px.tOpaque = px.map.distanceOf(d);
+            }
+          }
+        }
+      }
+
+      // Integrates the segment from the pixel's last crossing to t, which ends in entry e
+      // (s: its scalar).
+      auto segment = [&](PixelState& px, double t, double s) {
+        if (px.done)
+        {
+          return;
+        }
+        double tEnd = t, sEnd = s;
+        if (t > px.tOpaque)
+        {
+          // Opaque geometry ends the ray inside this segment.
+          tEnd = px.tOpaque;
+          sEnd = t > px.prevT ? px.prevS + (s - px.prevS) * (tEnd - px.prevT) / (t - px.prevT) : s;
+          px.done = true;
+        }
+        const double L = tEnd - px.prevT;
+        if (px.cell < 0 || !(L > 0))
+        {
+          return;
+        }
+        ++work.segments;
+        const double s0 = cellData ? scalars[static_cast<std::size_t>(px.cell)] : px.prevS;
+        const double s1 = cellData ? s0 : sEnd;
+        if (optics.transparentBetween(s0, s1))
+        {
+          ++work.transparentSegments;
+          return;
+        }
+        const SegmentLight seg = cellData ? optics.integrateHomogeneous(s0, L)
+                                          : optics.integrate(params.integrator, s0, s1, L);
+        compositeBehind(px.light, seg);
+        if (1.0 - px.light.transmittance >= termination)
+        {
+          px.done = true;
+        }
+      };
+
+      // Composites a pixel's list up to (not including) distance tLimit.
+      auto flushPixel = [&](std::size_t p, double tLimit) {
+        PixelState& px = work.pixels[p];
+        std::vector<Entry>& list = work.lists[p];
+        std::size_t i = 0;
+        while (i < list.size())
+        {
+          // The tie group starting at i: it must be final as a whole.
+          std::size_t j = i + 1;
+          while (j < list.size() && list[j].t - list[j - 1].t <= tieT)
+          {
+            ++j;
+          }
+          if (!(list[j - 1].t + tieT < tLimit))
+          {
+            break;
+          }
+          segment(px, list[i].t, list[i].s);
+          std::int32_t cell = list[j - 1].entered;
+          if (j - i > 1)
+          {
+            // The cell some member entered and no member left.
+            ++work.tieGroups;
+            for (std::size_t a = i; a < j; ++a)
+            {
+              bool left = false;
+              for (std::size_t b = i; b < j && !left; ++b)
+              {
+                left = list[b].exited == list[a].entered;
+              }
+              if (!left)
+              {
+                cell = list[a].entered;
+                break;
+              }
+            }
+          }
+          px.prevT = list[j - 1].t;
+          px.prevS = list[j - 1].s;
+          px.cell = cell;
+          i = j;
+        }
+        list.erase(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(i));
+        if (px.done)
+        {
+          list.clear();
+        }
+      };
+
+      auto flush = [&](double depthLimit) {
+        ++work.flushes;
+        std::size_t longest = 0;
+        std::size_t keep = 0;
+        for (std::size_t k = 0; k < work.dirty.size(); ++k)
+        {
+          const int p = work.dirty[k];
+          PixelState& px = work.pixels[static_cast<std::size_t>(p)];
+          const double tLimit = depthLimit >= 1.0 ? std::numeric_limits<double>::infinity()
+                                                  : px.map.distanceOf(depthLimit);
+          flushPixel(static_cast<std::size_t>(p), tLimit);
+          const std::size_t n = work.lists[static_cast<std::size_t>(p)].size();
+          longest = std::max(longest, n);
+          if (n > 0)
+          {
+            work.dirty[keep++] = p;
+          }
+          else
+          {
+            work.isDirty[static_cast<std::size_t>(p)] = 0;
+          }
+        }
+        work.dirty.resize(keep);
+        return longest;
+      };
+
+      std::size_t K = static_cast<std::size_t>(K0);
+      bool overK = false;
+      double zTarget = -std::numeric_limits<double>::infinity();
+      const std::size_t begin = tileStart[static_cast<std::size_t>(tileIndex)];
+      const std::size_t end = tileStart[static_cast<std::size_t>(tileIndex) + 1];
+      for (std::size_t e = begin; e < end;)
+      {
+        // The event: all triangles whose nearest vertex is this one.
+        std::size_t g = e + 1;
+        while (g < end && binned[g].vertex == binned[e].vertex)
+        {
+          ++g;
+        }
+        const double zv = binned[e].depth;
+        if (zv >= zTarget || overK)
+        {
+          const std::size_t longest = flush(zv);
+          overK = false;
+          if (longest > K)
+          {
+            K *= 2; // the lists cannot be flushed below K yet (section 4.2)
+            ++work.kGrowths;
+          }
+          zTarget = zv;
+          for (std::size_t k = e; k < g; ++k)
+          {
+            const ZSweepTriangle& t = triangles[binned[k].triangle];
+            zTarget = std::max({ zTarget, proj[t.v[0]].d, proj[t.v[1]].d, proj[t.v[2]].d });
+          }
+        }
+        for (std::size_t k = e; k < g; ++k)
+        {
+          const std::uint32_t f = binned[k].triangle;
+          const ZSweepTriangle& t = triangles[f];
+          std::uint32_t ia = t.v[0], ib = t.v[1], ic = t.v[2];
+          double area = orient(proj[ia], proj[ib], proj[ic].x, proj[ic].y);
+          if (area == 0)
+          {
+            continue; // seen edge on: covers no pixel centre
+          }
+          if (area < 0)
+          {
+            std::swap(ib, ic);
+            area = -area;
+          }
+          const ProjectedVertex &a = proj[ia], &b = proj[ib], &c = proj[ic];
+          const bool ownAB = ownsEdge(a, b), ownBC = ownsEdge(b, c), ownCA = ownsEdge(c, a);
+          const std::int32_t entered = forward[f] ? t.back : t.front;
+          const std::int32_t exited = forward[f] ? t.front : t.back;
+          const double sa = cellData ? 0.0 : scalars[ia], sb = cellData ? 0.0 : scalars[ib],
+                       sc = cellData ? 0.0 : scalars[ic];
+          const int x0 = std::max(box[4 * f], X0), x1 = std::min(box[4 * f + 2], X0 + TW - 1);
+          const int y0 = std::max(box[4 * f + 1], Y0), y1 = std::min(box[4 * f + 3], Y0 + TH - 1);
+          for (int y = y0; y <= y1; ++y)
+          {
+            const double py = y + 0.5;
+            for (int x = x0; x <= x1; ++x)
+            {
+              const double pxc = x + 0.5;
+              const double eBC = edgeFunction(b, ib, c, ic, pxc, py);
+              const double eCA = edgeFunction(c, ic, a, ia, pxc, py);
+              const double eAB = edgeFunction(a, ia, b, ib, pxc, py);
+              if ((eBC < 0 || (eBC == 0 && !ownBC)) || (eCA < 0 || (eCA == 0 && !ownCA)) ||
+                  (eAB < 0 || (eAB == 0 && !ownAB)))
+              {
+                continue;
+              }
+              const std::size_t p = static_cast<std::size_t>(y - Y0) * TW + (x - X0);
+              PixelState& pxs = work.pixels[p];
+              if (pxs.done)
+              {
+                continue;
+              }
+              // Barycentrics; depth is affine in the window, the scalar perspective-correct.
+              const double la = eBC / area, lb = eCA / area, lc = eAB / area;
+              const double d = la * a.d + lb * b.d + lc * c.d;
+              double s = 0;
+              if (!cellData)
+              {
+                const double wa = la * a.invW, wb = lb * b.invW, wc = lc * c.invW;
+                s = (wa * sa + wb * sb + wc * sc) / (wa + wb + wc);
+              }
+              const Entry entry{ pxs.map.distanceOf(d), s, entered, exited };
+              std::vector<Entry>& list = work.lists[p];
+              // Insertion from the back: the sweep order makes it almost always the end.
+              auto pos = list.end();
+              while (pos != list.begin() && (pos - 1)->t > entry.t)
+              {
+                --pos;
+              }
+              list.insert(pos, entry);
+              ++work.entries;
+              work.maxList = std::max(work.maxList, list.size());
+              overK = overK || list.size() > K;
+              if (!work.isDirty[p])
+              {
+                work.isDirty[p] = 1;
+                work.dirty.push_back(static_cast<int>(p));
+              }
+            }
+          }
+        }
+        e = g;
+      }
+      flush(2.0); // everything is final at the end of the sweep
+      for (int j = 0; j < TH; ++j)
+      {
+        for (int i = 0; i < TW; ++i)
+        {
+          const PixelState& px = work.pixels[static_cast<std::size_t>(j) * TW + i];
+          float* out = &frame.rgba[4 * frame.index(X0 + i, Y0 + j)];
+          out[0] = static_cast<float>(px.light.r);
+          out[1] = static_cast<float>(px.light.g);
+          out[2] = static_cast<float>(px.light.b);
+          out[3] = static_cast<float>(1.0 - px.light.transmittance);
+        }
+      }
+    }
+  });
+
+  std::int64_t entries = 0, flushes = 0, kGrowths = 0, segs = 0, transparent = 0, ties = 0;
+  std::size_t maxList = 0;
+  for (const TileWork& w : works)
+  {
+    entries += w.entries;
+    flushes += w.flushes;
+    kGrowths += w.kGrowths;
+    segs += w.segments;
+    transparent += w.transparentSegments;
+    ties += w.tieGroups;
+    maxList = std::max(maxList, w.maxList);
+  }
+  stats.addCounter("triangles", static_cast<std::int64_t>(triangles.size()));
+  stats.addCounter("binned_triangles", static_cast<std::int64_t>(binned.size()));
+  stats.addCounter("entries", entries);
+  stats.addCounter("flushes", flushes);
+  stats.addCounter("k_growths", kGrowths);
+  stats.addCounter("segments", segs);
+  stats.addCounter("transparent_segments", transparent);
+  stats.addCounter("near_clipped_triangles", nearClipped.load());
+  stats.addCounter("max_list", static_cast<std::int64_t>(maxList));
+  stats.addCounter("tie_groups", ties);
+}
+
+} // namespace raymappers

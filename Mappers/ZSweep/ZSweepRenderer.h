@@ -1,0 +1,65 @@
+// ZSweep volume rendering of an unstructured grid (Farias 2001, chapters 4 and 5).
+//
+// Per frame:
+// 1. The vertices are projected (window x, y, depth; 1/w for perspective-correct scalars).
+// 2. Every triangle of the mesh is binned into the screen tiles its projection touches
+//    (chapter 5: a tile sweeps only the faces in its shaft), and each tile's triangles are
+//    sorted by the depth of their nearest vertex: the sweep's event order (section 4.2).
+//    Each face is projected once per tile: the mesh stores every face once.
+// 3. Each tile (in parallel, TBB) sweeps its events: the triangles whose nearest vertex is
+//    the event vertex are scan converted exactly (pixel centres, a top-left fill rule whose
+//    edge functions are evaluated identically by both faces sharing an edge, so a ray
+//    through an edge or a vertex is counted once on each side of the surface it crosses);
+//    each covered pixel gets an entry (distance t along its ray, scalar, the cells on both
+//    sides) inserted from the back of its depth-sorted list.
+// 4. Delayed compositing (section 4.2): when the sweep reaches the z-target, or some list is
+//    longer than K, every list is composited up to the current sweep depth z_v, which is
+//    safe: a face not yet projected has its nearest vertex at or beyond z_v, so all its
+//    intersections are too. The z-target is then the farthest vertex of the faces just
+//    projected. When lists cannot shrink below K, K doubles (K, 2K, 4K ...).
+// 5. Compositing walks the entries in order: the segment between two entries lies in the
+//    cell the ray entered at the first (none: outside the grid, a cavity or a gap between
+//    parts) and is integrated with the optical model (point data: the scalar varies
+//    linearly, cell data: constant). Entries closer than a tie tolerance (a ray through a
+//    shared vertex or edge) form one crossing: the ray ends up in the cell that some
+//    member entered and no member left.
+// Opaque geometry (a window depth per pixel) ends the rays; a pixel stops collecting
+// entries once its opacity reaches the termination threshold.
+#ifndef RayMappers_ZSweepRenderer_h
+#define RayMappers_ZSweepRenderer_h
+
+#include "Frame.h"
+#include "OpticalModel.h"
+#include "RenderStatistics.h"
+#include "ZSweepMesh.h"
+
+#include <array>
+
+namespace raymappers
+{
+
+struct ZSweepParameters
+{
+  ZSweepIntegrator integrator = ZSweepIntegrator::Exact;
+  int tileSize = 64;
+  int listThreshold = 16;           // K
+  double terminationOpacity = 1.0;  // stop a pixel once its opacity reaches this
+};
+
+/// Renders `mesh` classified by `optics` into `frame` (premultiplied RGBA; the depth stays at
+/// the far plane). `modelToClip`: row-major 4x4 model (not origin-relative) to OpenGL clip
+/// coordinates; `opaqueDepth`, when not null, the window depth of opaque geometry per pixel
+/// (rows from the bottom). Counters: triangles, binned_triangles, entries, flushes,
+/// k_growths, segments, transparent_segments, near_clipped_triangles, max_list,
+/// tie_groups. Effects: cell_data, early_termination.
+void renderZSweep(const ZSweepMesh& mesh,
+  const OpticalModel& optics,
+  const std::array<double, 16>& modelToClip,
+  const ZSweepParameters& params,
+  const float* opaqueDepth,
+  Frame& frame,
+  RenderStatistics& stats);
+
+} // namespace raymappers
+
+#endif

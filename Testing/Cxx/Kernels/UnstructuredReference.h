@@ -1,0 +1,227 @@
+// An independent brute-force reference for unstructured-grid volume rendering, sharing no
+// code with the ZSweep kernels: for one ray (double precision) it intersects every
+// tetrahedron (clipping the ray by the four face planes), sorts the segments, and integrates
+// each one numerically: the transfer function's nodes split it, the optical depth of each
+// piece is integrated in closed form (tau is linear there) and the emitted light by
+// composite Simpson's rule with 512 intervals.
+//
+// The model it integrates (the one ZSweep renders): tau = -ln(1 - alpha)/u and the color are
+// linear in the scalar between the nodes; C = int c tau exp(-int tau).
+#ifndef RayMappers_Test_UnstructuredReference_h
+#define RayMappers_Test_UnstructuredReference_h
+
+#include "Vec3.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace raymappers::test
+{
+
+struct RefTetra
+{
+  std::array<Vec3d, 4> p;
+  std::array<double, 4> s; // point scalars (point data)
+  double cellScalar = 0;   // cell data
+};
+
+struct RefTransferFunction
+{
+  std::vector<double> s, rgb, alpha; // nodes
+  double unitDistance = 1;
+
+  void at(double v, double& tau, double c[3]) const
+  {
+    std::size_t k = 0;
+    double f = 0;
+    if (v <= s.front())
+    {
+      k = 0;
+    }
+    else if (v >= s.back())
+    {
+      k = s.size() - 1;
+    }
+    else
+    {
+      while (!(v >= s[k] && v <= s[k + 1]))
+      {
+        ++k;
+      }
+      f = (v - s[k]) / (s[k + 1] - s[k]);
+    }
+    auto tauOf = [&](std::size_t j) {
+      return -std::log(1.0 - std::min(alpha[j], 1.0 - 1e-7)) / unitDistance;
+    };
+    const std::size_t k1 = std::min(k + 1, s.size() - 1);
+    tau = tauOf(k) + f * (tauOf(k1) - tauOf(k));
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      c[ch] = rgb[3 * k + ch] + f * (rgb[3 * k1 + ch] - rgb[3 * k + ch]);
+    }
+  }
+};
+
+struct RefSegment
+{
+  double t0, t1, s0, s1;
+};
+
+/// The ray's part inside the tetrahedron, with the scalar at both ends (false: misses).
+inline bool clipToTetra(const RefTetra& tet,
+  const Vec3d& o,
+  const Vec3d& d,
+  bool cellData,
+  RefSegment& seg)
+{
+  double t0 = -1e300, t1 = 1e300;
+  // Face k is opposite vertex k; the plane's normal points towards vertex k (inside).
+  std::array<Vec3d, 4> n;
+  std::array<double, 4> c;
+  for (int k = 0; k < 4; ++k)
+  {
+    const Vec3d& a = tet.p[(k + 1) % 4];
+    const Vec3d& b = tet.p[(k + 2) % 4];
+    const Vec3d& e = tet.p[(k + 3) % 4];
+    Vec3d nk = cross(b - a, e - a);
+    if (dot(nk, tet.p[k] - a) < 0)
+    {
+      nk = nk * -1.0;
+    }
+    n[k] = nk;
+    c[k] = dot(nk, a);
+    // Inside: n.x >= c; along the ray n.o + t n.d >= c. A ray in the plane (a ray along a
+    // face shared by two cells) belongs to the side the normal's first non-zero component
+    // points to, so exactly one of the two cells counts it.
+    const double scale = length(nk);
+    const double nd = dot(nk, d), no = dot(nk, o) - c[k];
+    if (std::fabs(nd) <= 1e-12 * scale)
+    {
+      const double extent = length(b - a) + length(e - a);
+      const bool onPlane = std::fabs(no) <= 1e-12 * scale * extent;
+      const bool positive = nk.x != 0 ? nk.x > 0 : (nk.y != 0 ? nk.y > 0 : nk.z > 0);
+      if (onPlane ? !positive : no < 0)
+      {
+        return false;
+      }
+      continue;
+    }
+    const double t = -no / nd;
+    if (nd > 0)
+    {
+      t0 = std::max(t0, t);
+    }
+    else
+    {
+      t1 = std::min(t1, t);
+    }
+  }
+  if (!(t0 < t1))
+  {
+    return false;
+  }
+  auto scalarAt = [&](double t) {
+    if (cellData)
+    {
+      return tet.cellScalar;
+    }
+    const Vec3d x = o + d * t;
+    double v = 0;
+    for (int k = 0; k < 4; ++k)
+    {
+      v += tet.s[k] * (dot(n[k], x) - c[k]) / (dot(n[k], tet.p[k]) - c[k]);
+    }
+    return v;
+  };
+  seg = { t0, t1, scalarAt(t0), scalarAt(t1) };
+  return true;
+}
+
+/// Premultiplied RGBA of the ray o + t d (|d| = 1), t >= tMin, through the tetrahedra.
+inline std::array<double, 4> traceReference(const std::vector<RefTetra>& tets,
+  bool cellData,
+  const RefTransferFunction& tf,
+  const Vec3d& o,
+  const Vec3d& d,
+  double tMin)
+{
+  std::vector<RefSegment> segs;
+  for (const RefTetra& tet : tets)
+  {
+    RefSegment s;
+    if (clipToTetra(tet, o, d, cellData, s) && s.t1 > tMin)
+    {
+      if (s.t0 < tMin)
+      {
+        s.s0 = s.s0 + (s.s1 - s.s0) * (tMin - s.t0) / (s.t1 - s.t0);
+        s.t0 = tMin;
+      }
+      segs.push_back(s);
+    }
+  }
+  std::sort(segs.begin(), segs.end(), [](const RefSegment& a, const RefSegment& b) {
+    return a.t0 < b.t0;
+  });
+  double rgb[3] = { 0, 0, 0 }, T = 1;
+  for (const RefSegment& seg : segs)
+  {
+    // Pieces between the transfer function's nodes.
+    std::vector<double> cuts = { seg.s0 };
+    const double lo = std::min(seg.s0, seg.s1), hi = std::max(seg.s0, seg.s1);
+    std::vector<double> inner;
+    for (const double v : tf.s)
+    {
+      if (v > lo && v < hi)
+      {
+        inner.push_back(v);
+      }
+    }
+    if (seg.s1 < seg.s0)
+    {
+      std::reverse(inner.begin(), inner.end());
+    }
+    cuts.insert(cuts.end(), inner.begin(), inner.end());
+    cuts.push_back(seg.s1);
+    const double L = seg.t1 - seg.t0;
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
+    {
+      const double l = seg.s1 == seg.s0 ? L : L * (cuts[k + 1] - cuts[k]) / (seg.s1 - seg.s0);
+      if (!(l > 0))
+      {
+        continue;
+      }
+      double ta, tb, ca[3], cb[3];
+      tf.at(cuts[k], ta, ca);
+      tf.at(cuts[k + 1], tb, cb);
+      // On the piece (x in [0, l]): tau = ta + (tb - ta) x / l, depth E(x) in closed form.
+      auto depth = [&](double x) { return ta * x + 0.5 * (tb - ta) * x * x / l; };
+      const int n = 512;
+      const double h = l / n;
+      double acc[3] = { 0, 0, 0 };
+      for (int i = 0; i <= n; ++i)
+      {
+        const double x = i * h;
+        const double w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+        const double tau = ta + (tb - ta) * x / l;
+        const double att = std::exp(-depth(x));
+        for (int ch = 0; ch < 3; ++ch)
+        {
+          const double c = ca[ch] + (cb[ch] - ca[ch]) * x / l;
+          acc[ch] += w * c * tau * att;
+        }
+      }
+      for (int ch = 0; ch < 3; ++ch)
+      {
+        rgb[ch] += T * acc[ch] * h / 3.0;
+      }
+      T *= std::exp(-depth(l));
+    }
+  }
+  return { rgb[0], rgb[1], rgb[2], 1.0 - T };
+}
+
+} // namespace raymappers::test
+
+#endif
