@@ -58,11 +58,14 @@ ModelTransform GatherModelTransform(vtkProp3D* prop)
   return t;
 }
 
-raymappers::RayCamera GatherCamera(vtkRenderer* ren,
+std::array<double, 16> GatherModelToClip(vtkRenderer* ren,
   const ModelTransform& model,
-  const raymappers::Vec3d& origin)
+  int& width,
+  int& height)
 {
-  int width = 0, height = 0, x0 = 0, y0 = 0;
+  int x0 = 0, y0 = 0;
+  width = 0;
+  height = 0;
   ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
   std::array<double, 16> worldToClip;
   auto* glCamera = vtkOpenGLCamera::SafeDownCast(ren->GetActiveCamera());
@@ -101,6 +104,15 @@ raymappers::RayCamera GatherCamera(vtkRenderer* ren,
       modelToClip[4 * r + c] = s;
     }
   }
+  return modelToClip;
+}
+
+raymappers::RayCamera GatherCamera(vtkRenderer* ren,
+  const ModelTransform& model,
+  const raymappers::Vec3d& origin)
+{
+  int width = 0, height = 0;
+  const std::array<double, 16> modelToClip = GatherModelToClip(ren, model, width, height);
   return raymappers::RayCamera(modelToClip, width, height, origin);
 }
 

@@ -11,6 +11,7 @@
 
 #include "vtkDataArray.h" // for TupleReader
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -67,6 +68,14 @@ struct ModelTransform
   bool identity = true;
 };
 RAYMAPPERSMAPPERS_EXPORT ModelTransform GatherModelTransform(vtkProp3D* prop);
+
+/// Model-to-clip matrix (row-major, model coordinates not origin-relative) of the
+/// renderer's tiled viewport for a prop, and that viewport's size. Uses the same
+/// world-to-clip matrix as VTK's OpenGL mappers.
+RAYMAPPERSMAPPERS_EXPORT std::array<double, 16> GatherModelToClip(vtkRenderer* ren,
+  const ModelTransform& model,
+  int& width,
+  int& height);
 
 /// Camera for the rays of the renderer's tiled viewport, in the prop's model coordinates,
 /// with float coordinates relative to `origin` (model space). Uses the same world-to-clip

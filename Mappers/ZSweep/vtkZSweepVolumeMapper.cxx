@@ -1,0 +1,352 @@
+#include "vtkZSweepVolumeMapper.h"
+
+#include "Frame.h"
+#include "OpticalModel.h"
+#include "RenderStatistics.h"
+#include "ZSweepMesh.h"
+#include "ZSweepRenderer.h"
+#include "vtkRayMapperFrameDrawer.h"
+#include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperStatistics.h"
+
+#include "vtkCellType.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkDataArray.h"
+#include "vtkIdList.h"
+#include "vtkObjectFactory.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPoints.h"
+#include "vtkRenderer.h"
+#include "vtkUnstructuredGridBase.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <vector>
+
+vtkStandardNewMacro(vtkZSweepVolumeMapper);
+
+struct vtkZSweepVolumeMapper::Internals
+{
+  raymappers::ZSweepMesh Mesh;
+  raymappers::Frame Frame;
+  vtkRayMapperFrameDrawer Drawer;
+  vtkNew<vtkRayMapperStatistics> Statistics;
+  std::int64_t Builds = 0;
+
+  // What the mesh was built from.
+  bool HasMesh = false;
+  vtkMTimeType BuiltInputTime = 0;
+  vtkDataArray* BuiltScalars = nullptr;
+  vtkMTimeType BuiltScalarsTime = 0;
+  int BuiltCellFlag = -1;
+};
+
+namespace
+{
+// The optical model of component 0 of a volume property: the color and opacity functions'
+// nodes (their union), refined where VTK does not interpolate linearly between nodes (color
+// spaces other than RGB, midpoints and sharpness) so that the piecewise-linear model follows
+// what VTK's own mappers show.
+raymappers::OpticalModel buildOptics(vtkVolumeProperty* property, double lo, double hi)
+{
+  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
+  const bool rgb = property->GetColorChannels(0) == 3;
+  vtkColorTransferFunction* color = rgb ? property->GetRGBTransferFunction(0) : nullptr;
+  vtkPiecewiseFunction* gray = rgb ? nullptr : property->GetGrayTransferFunction(0);
+
+  std::set<double> positions;
+  bool refine = false;
+  double node[6];
+  for (int i = 0; i < opacity->GetSize(); ++i)
+  {
+    opacity->GetNodeValue(i, node);
+    positions.insert(node[0]);
+    refine = refine || node[2] != 0.5 || node[3] != 0.0;
+  }
+  if (color)
+  {
+    refine = refine || color->GetColorSpace() != VTK_CTF_RGB;
+    for (int i = 0; i < color->GetSize(); ++i)
+    {
+      color->GetNodeValue(i, node);
+      positions.insert(node[0]);
+      refine = refine || node[4] != 0.5 || node[5] != 0.0;
+    }
+  }
+  else
+  {
+    for (int i = 0; i < gray->GetSize(); ++i)
+    {
+      gray->GetNodeValue(i, node);
+      positions.insert(node[0]);
+      refine = refine || node[2] != 0.5 || node[3] != 0.0;
+    }
+  }
+  if (positions.empty())
+  {
+    positions = { lo, hi };
+  }
+  std::vector<double> s(positions.begin(), positions.end());
+  if (refine && s.size() > 1)
+  {
+    constexpr int Steps = 16;
+    std::vector<double> fine;
+    for (std::size_t k = 0; k + 1 < s.size(); ++k)
+    {
+      for (int q = 0; q < Steps; ++q)
+      {
+        fine.push_back(s[k] + (s[k + 1] - s[k]) * q / Steps);
+      }
+    }
+    fine.push_back(s.back());
+    s = fine;
+  }
+  std::vector<double> colors(3 * s.size()), alphas(s.size());
+  for (std::size_t k = 0; k < s.size(); ++k)
+  {
+    if (color)
+    {
+      color->GetColor(s[k], &colors[3 * k]);
+    }
+    else
+    {
+      colors[3 * k] = colors[3 * k + 1] = colors[3 * k + 2] = gray->GetValue(s[k]);
+    }
+    alphas[k] = opacity->GetValue(s[k]);
+  }
+  raymappers::OpticalModel optics;
+  optics.assign(s, colors, alphas, property->GetScalarOpacityUnitDistance(0));
+  return optics;
+}
+}
+
+vtkZSweepVolumeMapper::vtkZSweepVolumeMapper()
+  : Impl(new Internals)
+{
+}
+
+vtkZSweepVolumeMapper::~vtkZSweepVolumeMapper() = default;
+
+vtkRayMapperStatistics* vtkZSweepVolumeMapper::GetStatistics()
+{
+  return Impl->Statistics;
+}
+
+void vtkZSweepVolumeMapper::ReleaseGraphicsResources(vtkWindow* win)
+{
+  Impl->Drawer.ReleaseGraphicsResources(win);
+}
+
+bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
+{
+  int cellFlag = 0;
+  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(input,
+    this->ScalarMode,
+    this->ArrayAccessMode,
+    this->ArrayId,
+    this->ArrayName,
+    cellFlag);
+  if (!scalars || scalars->GetNumberOfTuples() == 0)
+  {
+    vtkErrorMacro(<< "The input has no scalars to render: give it point or cell scalars, or "
+                     "choose an array with SelectScalarArray and SetScalarMode.");
+    return false;
+  }
+  if (Impl->HasMesh && Impl->BuiltInputTime == input->GetMTime() &&
+      Impl->BuiltScalars == scalars && Impl->BuiltScalarsTime == scalars->GetMTime() &&
+      Impl->BuiltCellFlag == cellFlag)
+  {
+    return true;
+  }
+
+  raymappers::ZSweepGrid grid;
+  grid.cellScalars = cellFlag == 1;
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  grid.points.resize(static_cast<std::size_t>(numPoints));
+  double x[3];
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    input->GetPoint(i, x);
+    grid.points[static_cast<std::size_t>(i)] = raymappers::Vec3d(x[0], x[1], x[2]);
+  }
+  const vtkIdType numCells = input->GetNumberOfCells();
+  grid.cellOffsets.push_back(0);
+  vtkNew<vtkIdList> ids;
+  std::size_t unsupported = 0, notVolumetric = 0;
+  std::vector<vtkIdType> keptCells;
+  for (vtkIdType c = 0; c < numCells; ++c)
+  {
+    const int type = input->GetCellType(c);
+    raymappers::ZSweepCellType zt;
+    switch (type)
+    {
+      case VTK_TETRA:
+        zt = raymappers::ZSweepCellType::Tetra;
+        break;
+      case VTK_HEXAHEDRON:
+      case VTK_VOXEL:
+        zt = raymappers::ZSweepCellType::Hexahedron;
+        break;
+      case VTK_WEDGE:
+        zt = raymappers::ZSweepCellType::Wedge;
+        break;
+      case VTK_PYRAMID:
+        zt = raymappers::ZSweepCellType::Pyramid;
+        break;
+      default:
+        ++(vtkCellTypes::GetDimension(static_cast<unsigned char>(type)) == 3 ? unsupported
+                                                                               : notVolumetric);
+        continue;
+    }
+    input->GetCellPoints(c, ids);
+    const vtkIdType n = ids->GetNumberOfIds();
+    if (type == VTK_VOXEL && n == 8)
+    {
+      // A voxel's points go in x-fastest order; the hexahedron's go around each face.
+      const vtkIdType order[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
+      for (const vtkIdType k : order)
+      {
+        grid.connectivity.push_back(ids->GetId(k));
+      }
+    }
+    else
+    {
+      for (vtkIdType k = 0; k < n; ++k)
+      {
+        grid.connectivity.push_back(ids->GetId(k));
+      }
+    }
+    grid.cellTypes.push_back(zt);
+    grid.cellOffsets.push_back(static_cast<std::int64_t>(grid.connectivity.size()));
+    keptCells.push_back(c);
+  }
+  const vtkRayMapperRenderHelpers::TupleReader reader(scalars);
+  if (grid.cellScalars)
+  {
+    grid.scalars.resize(keptCells.size());
+    for (std::size_t k = 0; k < keptCells.size(); ++k)
+    {
+      grid.scalars[k] = static_cast<vtkIdType>(keptCells[k]) < scalars->GetNumberOfTuples()
+        ? reader.get(static_cast<std::size_t>(keptCells[k]), 0)
+        : std::nan("");
+    }
+  }
+  else
+  {
+    grid.scalars.resize(static_cast<std::size_t>(numPoints));
+    const vtkIdType available = std::min(numPoints, scalars->GetNumberOfTuples());
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      grid.scalars[static_cast<std::size_t>(i)] =
+        i < available ? reader.get(static_cast<std::size_t>(i), 0) : std::nan("");
+    }
+  }
+  Impl->Mesh.build(grid);
+  ++Impl->Builds;
+
+  const auto& counts = Impl->Mesh.counts();
+  if (unsupported)
+  {
+    vtkWarningMacro(<< unsupported
+                    << " cells of unsupported types (quadratic, polyhedral or other 3D "
+                       "cells) were skipped; tetrahedra, hexahedra, voxels, wedges and "
+                       "pyramids are rendered.");
+  }
+  if (notVolumetric)
+  {
+    vtkWarningMacro(<< notVolumetric << " cells of dimension below 3 were ignored.");
+  }
+  if (counts.badIndex)
+  {
+    vtkWarningMacro(<< counts.badIndex << " cells with a point index out of range were skipped.");
+  }
+  if (counts.nonFinitePoint)
+  {
+    vtkWarningMacro(<< counts.nonFinitePoint
+                    << " cells with a NaN or infinite point coordinate were skipped.");
+  }
+  if (counts.nonFiniteScalar)
+  {
+    vtkWarningMacro(<< counts.nonFiniteScalar << " cells with a NaN or infinite scalar ('"
+                    << (scalars->GetName() ? scalars->GetName() : "") << "') were skipped.");
+  }
+  if (counts.zeroVolume)
+  {
+    vtkWarningMacro(<< counts.zeroVolume << " cells of zero volume were skipped.");
+  }
+  Impl->HasMesh = true;
+  Impl->BuiltInputTime = input->GetMTime();
+  Impl->BuiltScalars = scalars;
+  Impl->BuiltScalarsTime = scalars->GetMTime();
+  Impl->BuiltCellFlag = cellFlag;
+  return true;
+}
+
+void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+{
+  raymappers::RenderStatistics stats;
+  vtkUnstructuredGridBase* input = this->GetInput();
+  if (!input || input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0)
+  {
+    Impl->Statistics->Set(stats);
+    return;
+  }
+  {
+    raymappers::ScopedPhase phase(stats, "mesh");
+    if (!this->UpdateMesh(input))
+    {
+      Impl->Statistics->Set(stats);
+      return;
+    }
+  }
+  stats.addCounter("builds", Impl->Builds);
+  stats.addCounter("cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsUsed));
+  stats.addCounter("mesh_bytes", static_cast<std::int64_t>(Impl->Mesh.memoryBytes()));
+
+  vtkVolumeProperty* property = vol->GetProperty();
+  const raymappers::OpticalModel optics =
+    buildOptics(property, Impl->Mesh.scalarMin(), Impl->Mesh.scalarMax());
+
+  const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(vol);
+  int width = 0, height = 0;
+  const std::array<double, 16> modelToClip =
+    vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
+  std::vector<float> depth;
+  int dw = 0, dh = 0;
+  const bool haveDepth = vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
+    dw == width && dh == height;
+
+  raymappers::ZSweepParameters params;
+  params.integrator = this->Integrator == VTK_ZSWEEP_INTEGRATOR_FARIAS
+    ? raymappers::ZSweepIntegrator::Farias
+    : (this->Integrator == VTK_ZSWEEP_INTEGRATOR_MIDPOINT ? raymappers::ZSweepIntegrator::Midpoint
+                                                          : raymappers::ZSweepIntegrator::Exact);
+  params.tileSize = this->TileSize;
+  params.listThreshold = this->ListThreshold;
+  params.terminationOpacity = this->TerminationOpacity;
+  Impl->Frame.resize(width, height);
+  raymappers::renderZSweep(Impl->Mesh,
+    optics,
+    modelToClip,
+    params,
+    haveDepth ? depth.data() : nullptr,
+    Impl->Frame,
+    stats);
+  {
+    raymappers::ScopedPhase phase(stats, "draw");
+    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied);
+  }
+  Impl->Statistics->Set(stats);
+}
+
+void vtkZSweepVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Integrator: " << this->Integrator << "\n";
+  os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "ListThreshold: " << this->ListThreshold << "\n";
+  os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";
+}

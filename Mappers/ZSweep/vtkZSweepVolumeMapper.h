@@ -1,0 +1,113 @@
+/**
+ * @class   vtkZSweepVolumeMapper
+ * @brief   Exact volume rendering of unstructured grids by a sweep plane (Farias's ZSweep),
+ *          in parallel screen tiles, with native hexahedra, wedges and pyramids.
+ *
+ * Renders the tetrahedra, hexahedra, voxels, wedges and pyramids of a
+ * vtkUnstructuredGridBase, mixed in one grid, without tetrahedralizing it, with the
+ * vtkVolumeProperty of the vtkVolume (component 0's color and scalar opacity functions and
+ * its ScalarOpacityUnitDistance). The scalar is chosen as for every VTK volume mapper
+ * (ScalarMode, SelectScalarArray; component 0): point data varies linearly along a ray
+ * inside a cell (exact for tetrahedra; for the other cells, between the triangles of their
+ * faces, each quad split along the diagonal through its smallest point id), cell data is
+ * constant in a cell.
+ *
+ * The method (Farias 2001, chapters 4 and 5): the faces are swept in depth order of their
+ * nearest vertex, scan converted exactly into per-pixel lists, and composited in delayed
+ * stages (a z-target and a list-size threshold K that doubles when needed), in screen
+ * tiles in parallel. Integrator EXACT (default) integrates the emission-absorption model
+ * exactly for transfer functions that are piecewise linear in extinction and color between
+ * their nodes; FARIAS uses the dissertation's second-order closed form; MIDPOINT a constant
+ * segment. Details in Mappers/ZSweep/ZSweepRenderer.h and OpticalModel.h.
+ *
+ * Opaque geometry drawn before the volume stops the rays. Cells with a bad point index, a
+ * non-finite point or scalar, or zero volume, and cells of other types (quadratic cells,
+ * polyhedra, prisms of more sides) are skipped with one warning each kind.
+ *
+ * GetStatistics() reports the phases, counters and effects of the last render.
+ */
+#ifndef vtkZSweepVolumeMapper_h
+#define vtkZSweepVolumeMapper_h
+
+#include "RayMappersMappersModule.h" // for export macro
+#include "vtkUnstructuredGridVolumeMapper.h"
+
+#include <memory> // for std::unique_ptr
+
+class vtkRayMapperStatistics;
+
+#define VTK_ZSWEEP_INTEGRATOR_EXACT 0
+#define VTK_ZSWEEP_INTEGRATOR_FARIAS 1
+#define VTK_ZSWEEP_INTEGRATOR_MIDPOINT 2
+
+class RAYMAPPERSMAPPERS_EXPORT vtkZSweepVolumeMapper : public vtkUnstructuredGridVolumeMapper
+{
+public:
+  static vtkZSweepVolumeMapper* New();
+  vtkTypeMacro(vtkZSweepVolumeMapper, vtkUnstructuredGridVolumeMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /**
+   * How a segment between two face crossings is integrated: EXACT (default), FARIAS (the
+   * dissertation's second-order formula) or MIDPOINT. Cell data always uses the exact
+   * homogeneous formula.
+   */
+  vtkSetClampMacro(Integrator, int, VTK_ZSWEEP_INTEGRATOR_EXACT, VTK_ZSWEEP_INTEGRATOR_MIDPOINT);
+  vtkGetMacro(Integrator, int);
+  ///@}
+
+  ///@{
+  /**
+   * Side of the screen tiles swept in parallel (8 to 1024, default 64).
+   */
+  vtkSetClampMacro(TileSize, int, 8, 1024);
+  vtkGetMacro(TileSize, int);
+  ///@}
+
+  ///@{
+  /**
+   * The list-size threshold K of delayed compositing (2 to 4096, default 16).
+   */
+  vtkSetClampMacro(ListThreshold, int, 2, 4096);
+  vtkGetMacro(ListThreshold, int);
+  ///@}
+
+  ///@{
+  /**
+   * A pixel stops once its opacity reaches this (default 1: never early, exact).
+   */
+  vtkSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
+  vtkGetMacro(TerminationOpacity, double);
+  ///@}
+
+  /**
+   * Statistics of the last render.
+   */
+  vtkRayMapperStatistics* GetStatistics();
+
+  void Render(vtkRenderer* ren, vtkVolume* vol) override;
+  void ReleaseGraphicsResources(vtkWindow* win) override;
+
+protected:
+  vtkZSweepVolumeMapper();
+  ~vtkZSweepVolumeMapper() override;
+
+  int Integrator = VTK_ZSWEEP_INTEGRATOR_EXACT;
+  int TileSize = 64;
+  int ListThreshold = 16;
+  double TerminationOpacity = 1.0;
+
+private:
+  vtkZSweepVolumeMapper(const vtkZSweepVolumeMapper&) = delete;
+  void operator=(const vtkZSweepVolumeMapper&) = delete;
+
+  /// Rebuilds the mesh when the input, the scalar selection or the scalars changed.
+  /// Returns false (with an error) when there is no scalar to render.
+  bool UpdateMesh(vtkUnstructuredGridBase* input);
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
