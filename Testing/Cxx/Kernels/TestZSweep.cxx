@@ -327,7 +327,8 @@ double smoothField(const Vec3d& p)
 TEST(ZSweepOptics, GaussianDepthIntegralMatchesQuadrature)
 {
   // G(A, B) = int_0^1 exp(-A x - B x^2) dx against composite Simpson with 20000 intervals.
-  const double cases[][2] = { { 0, 0 }, { 1e-9, 0 }, { 0.3, 0 }, { 0.3, 0.2 }, { 2, -0.9 },
+  const double cases[][2] = { { 0, 0 }, { 1e-9, 0 }, { 0.02, 0.01 }, { 0.045, -0.02 }, { 0, 0.024 },
+    { 0.3, 0 }, { 0.3, 0.2 }, { 2, -0.9 },
     { 5, 3 }, { 0, 12 }, { 50, -20 }, { 300, 100 }, { 1e-6, 1e-6 }, { 80, -39.9 } };
   for (const auto& c : cases)
   {
