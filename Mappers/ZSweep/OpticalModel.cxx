@@ -1,6 +1,7 @@
 #include "OpticalModel.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace raymappers
@@ -39,6 +40,28 @@ struct DepthIntegrals
 // remainder is below 0.05^6 / 720 = 2e-11 of a segment's light), without exp.
 constexpr double SeriesDepth = 0.05;
 
+// (-1)^(n+1) / n! and the series' coefficients (-1)^(n+1) C(n, j) / (n! (n + j + 1)) for
+// n = 1..5, j = 0..n, in that order.
+constexpr std::array<double, 6> InverseFactorial = { 0, 1.0, -1.0 / 2, 1.0 / 6, -1.0 / 24,
+  1.0 / 120 };
+constexpr std::array<double, 20> makeSeriesCoefficients()
+{
+  std::array<double, 20> c{};
+  int k = 0;
+  for (int n = 1; n <= 5; ++n)
+  {
+    double binomial = 1;
+    for (int j = 0; j <= n; ++j)
+    {
+      c[static_cast<std::size_t>(k++)] =
+        InverseFactorial[static_cast<std::size_t>(n)] * binomial / (n + j + 1);
+      binomial = binomial * (n - j) / (j + 1);
+    }
+  }
+  return c;
+}
+constexpr std::array<double, 20> SeriesCoefficients = makeSeriesCoefficients();
+
 DepthIntegrals depthIntegrals(double A, double B)
 {
   DepthIntegrals out;
@@ -58,20 +81,16 @@ DepthIntegrals depthIntegrals(double A, double B)
       aPow[k] = aPow[k - 1] * A;
       bPow[k] = bPow[k - 1] * B;
     }
-    double oneMinusG = 0, oneMinusT = 0, factorial = 1, sign = 1, totalPower = 1;
+    double oneMinusG = 0, oneMinusT = 0, totalPower = 1;
+    const double* c = SeriesCoefficients.data();
     for (int n = 1; n <= 5; ++n)
     {
-      factorial *= n;
       totalPower *= total;
-      double moment = 0, binomial = 1;
       for (int j = 0; j <= n; ++j)
       {
-        moment += binomial * aPow[n - j] * bPow[j] / (n + j + 1);
-        binomial = binomial * (n - j) / (j + 1);
+        oneMinusG += *c++ * aPow[n - j] * bPow[j];
       }
-      oneMinusG += sign * moment / factorial;
-      oneMinusT += sign * totalPower / factorial;
-      sign = -sign;
+      oneMinusT += InverseFactorial[n] * totalPower;
     }
     out.oneMinusG = oneMinusG;
     out.gMinusT = oneMinusT - oneMinusG;
@@ -136,21 +155,12 @@ SegmentLight integrateLinearPiece(double tauA,
   return out;
 }
 
-void compositeBehind(SegmentLight& front, const SegmentLight& back)
-{
-  front.r += front.transmittance * back.r;
-  front.g += front.transmittance * back.g;
-  front.b += front.transmittance * back.b;
-  front.transmittance *= back.transmittance;
-}
-
 void OpticalModel::assign(const std::vector<double>& s,
   const std::vector<double>& rgb,
   const std::vector<double>& opacity,
   double unitDistance)
 {
   Nodes.clear();
-  ZeroRun.clear();
   const double u = unitDistance > 0 && std::isfinite(unitDistance) ? unitDistance : 1.0;
   for (std::size_t j = 0; j < s.size(); ++j)
   {
@@ -164,32 +174,43 @@ void OpticalModel::assign(const std::vector<double>& s,
     node.tau = -std::log1p(-a) / u;
     Nodes.push_back(node);
   }
-  for (std::size_t j = 0; j + 1 < Nodes.size(); ++j)
+  OpaqueBefore.assign(Nodes.size() + 1, 0);
+  for (std::size_t j = 0; j < Nodes.size(); ++j)
   {
-    ZeroRun.push_back(Nodes[j].tau == 0 && Nodes[j + 1].tau == 0);
+    OpaqueBefore[j + 1] = OpaqueBefore[j] + (Nodes[j].tau > 0);
   }
 }
 
-void OpticalModel::evaluate(double s, double& tau, double rgb[3]) const
+int OpticalModel::intervalOf(double s) const
 {
-  if (s <= Nodes.front().s || Nodes.size() == 1)
+  // Few nodes (the usual transfer function): a linear scan beats a binary search.
+  const int n = static_cast<int>(Nodes.size());
+  if (n <= 8)
   {
-    const Node& n = Nodes.front();
-    tau = n.tau;
-    std::copy(n.rgb, n.rgb + 3, rgb);
-    return;
-  }
-  if (s >= Nodes.back().s)
-  {
-    const Node& n = Nodes.back();
-    tau = n.tau;
-    std::copy(n.rgb, n.rgb + 3, rgb);
-    return;
+    int k = -1;
+    while (k + 1 < n && Nodes[static_cast<std::size_t>(k + 1)].s <= s)
+    {
+      ++k;
+    }
+    return k;
   }
   const auto it = std::upper_bound(
-    Nodes.begin(), Nodes.end(), s, [](double v, const Node& n) { return v < n.s; });
-  const Node& b = *it;
-  const Node& a = *(it - 1);
+    Nodes.begin(), Nodes.end(), s, [](double v, const Node& node) { return v < node.s; });
+  return static_cast<int>(it - Nodes.begin()) - 1;
+}
+
+void OpticalModel::valueIn(int k, double s, double& tau, double rgb[3]) const
+{
+  const int last = static_cast<int>(Nodes.size()) - 1;
+  if (k < 0 || k >= last)
+  {
+    const Node& n = Nodes[k < 0 ? 0 : static_cast<std::size_t>(last)];
+    tau = n.tau;
+    std::copy(n.rgb, n.rgb + 3, rgb);
+    return;
+  }
+  const Node& a = Nodes[static_cast<std::size_t>(k)];
+  const Node& b = Nodes[static_cast<std::size_t>(k) + 1];
   const double f = (b.s > a.s) ? (s - a.s) / (b.s - a.s) : 0.0;
   tau = a.tau + f * (b.tau - a.tau);
   for (int c = 0; c < 3; ++c)
@@ -198,31 +219,33 @@ void OpticalModel::evaluate(double s, double& tau, double rgb[3]) const
   }
 }
 
+void OpticalModel::evaluate(double s, double& tau, double rgb[3]) const
+{
+  valueIn(intervalOf(s), s, tau, rgb);
+}
+
+bool OpticalModel::transparentOver(int k0, double s0, int k1, double s1) const
+{
+  double tau = 0, rgb[3];
+  valueIn(k0, s0, tau, rgb);
+  if (tau > 0)
+  {
+    return false;
+  }
+  valueIn(k1, s1, tau, rgb);
+  if (tau > 0)
+  {
+    return false;
+  }
+  // The nodes strictly between must be transparent too: no opaque node among
+  // min(k0, k1) + 1 .. max(k0, k1).
+  const int lo = std::min(k0, k1) + 1, hi = std::max(k0, k1);
+  return lo > hi || OpaqueBefore[static_cast<std::size_t>(hi) + 1] == OpaqueBefore[static_cast<std::size_t>(lo)];
+}
+
 bool OpticalModel::transparentBetween(double s0, double s1) const
 {
-  const double lo = std::min(s0, s1), hi = std::max(s0, s1);
-  double tau = 0, rgb[3];
-  evaluate(lo, tau, rgb);
-  if (tau > 0)
-  {
-    return false;
-  }
-  evaluate(hi, tau, rgb);
-  if (tau > 0)
-  {
-    return false;
-  }
-  // Every node strictly inside must be transparent too.
-  auto it = std::upper_bound(
-    Nodes.begin(), Nodes.end(), lo, [](double v, const Node& n) { return v < n.s; });
-  for (; it != Nodes.end() && it->s < hi; ++it)
-  {
-    if (it->tau > 0)
-    {
-      return false;
-    }
-  }
-  return true;
+  return transparentOver(intervalOf(s0), s0, intervalOf(s1), s1);
 }
 
 SegmentLight OpticalModel::integrateHomogeneous(double s, double L) const
@@ -245,16 +268,16 @@ SegmentLight OpticalModel::integrateHomogeneous(double s, double L) const
 SegmentLight OpticalModel::integrate(ZSweepIntegrator method, double s0, double s1, double L)
   const
 {
-  switch (method)
+  if (method == ZSweepIntegrator::Exact)
   {
-    case ZSweepIntegrator::Farias:
-      return integrateFarias(s0, s1, L);
-    case ZSweepIntegrator::Midpoint:
-      return integrateHomogeneous(0.5 * (s0 + s1), L);
-    case ZSweepIntegrator::Exact:
-      break;
+    return integrateExact(s0, s1, L); // skips transparent scalar ranges itself
   }
-  return integrateExact(s0, s1, L);
+  if (transparentBetween(s0, s1))
+  {
+    return SegmentLight();
+  }
+  return method == ZSweepIntegrator::Farias ? integrateFarias(s0, s1, L)
+                                            : integrateHomogeneous(0.5 * (s0 + s1), L);
 }
 
 SegmentLight OpticalModel::integrateExact(double s0, double s1, double L) const
@@ -264,18 +287,20 @@ SegmentLight OpticalModel::integrateExact(double s0, double s1, double L) const
   {
     return out;
   }
+  const int k0 = intervalOf(s0), k1 = intervalOf(s1);
+  if (transparentOver(k0, s0, k1, s1))
+  {
+    return out;
+  }
   if (s0 == s1)
   {
     return integrateHomogeneous(s0, L);
   }
-  // Breakpoints: the nodes strictly between s0 and s1, in the order the ray meets them.
+  // Pieces between the nodes the ray meets strictly between s0 and s1, in its order.
   const double ds = s1 - s0;
-  double sa = s0;
-  double tauA = 0, cA[3];
-  evaluate(sa, tauA, cA);
-  auto piece = [&](double sb) {
-    double tauB = 0, cB[3];
-    evaluate(sb, tauB, cB);
+  double sa = s0, tauA = 0, cA[3];
+  valueIn(k0, s0, tauA, cA);
+  auto piece = [&](double sb, double tauB, const double cB[3]) {
     const double l = L * ((sb - sa) / ds);
     if (tauA > 0 || tauB > 0)
     {
@@ -287,28 +312,29 @@ SegmentLight OpticalModel::integrateExact(double s0, double s1, double L) const
   };
   if (ds > 0)
   {
-    auto it = std::upper_bound(
-      Nodes.begin(), Nodes.end(), s0, [](double v, const Node& n) { return v < n.s; });
-    for (; it != Nodes.end() && it->s < s1; ++it)
+    for (int k = k0 + 1; k <= k1; ++k)
     {
-      piece(it->s);
+      const Node& n = Nodes[static_cast<std::size_t>(k)];
+      if (n.s > s0 && n.s < s1)
+      {
+        piece(n.s, n.tau, n.rgb);
+      }
     }
   }
   else
   {
-    auto it = std::lower_bound(
-      Nodes.begin(), Nodes.end(), s0, [](const Node& n, double v) { return n.s < v; });
-    while (it != Nodes.begin())
+    for (int k = k0; k > k1; --k)
     {
-      --it;
-      if (it->s <= s1)
+      const Node& n = Nodes[static_cast<std::size_t>(k)];
+      if (n.s < s0 && n.s > s1)
       {
-        break;
+        piece(n.s, n.tau, n.rgb);
       }
-      piece(it->s);
     }
   }
-  piece(s1);
+  double tauB = 0, cB[3];
+  valueIn(k1, s1, tauB, cB);
+  piece(s1, tauB, cB);
   return out;
 }
 

@@ -83,9 +83,16 @@ private:
   SegmentLight integrateExact(double s0, double s1, double L) const;
   SegmentLight integrateFarias(double s0, double s1, double L) const;
 
+  /// The interval of s: k with s_k <= s < s_{k+1}; -1 below the first node, the last
+  /// index at or above the last node.
+  int intervalOf(double s) const;
+  /// tau and color at s inside interval k (the end node's outside the nodes).
+  void valueIn(int k, double s, double& tau, double rgb[3]) const;
+  bool transparentOver(int k0, double s0, int k1, double s1) const;
+
   std::vector<Node> Nodes;
-  // ZeroRun[j]: whether tau is zero on [s_j, s_{j+1}] (both ends zero); for skipping.
-  std::vector<char> ZeroRun;
+  // OpaqueBefore[j]: how many of the first j nodes have tau > 0 (for skipping).
+  std::vector<int> OpaqueBefore;
 };
 
 /// G(A, B) = int_0^1 exp(-A x - B x^2) dx for A >= 0, A + 2B >= 0 (see above).
@@ -100,7 +107,13 @@ SegmentLight integrateLinearPiece(double tauA,
   double l);
 
 /// Front-to-back: light = front then back.
-void compositeBehind(SegmentLight& front, const SegmentLight& back);
+inline void compositeBehind(SegmentLight& front, const SegmentLight& back)
+{
+  front.r += front.transmittance * back.r;
+  front.g += front.transmittance * back.g;
+  front.b += front.transmittance * back.b;
+  front.transmittance *= back.transmittance;
+}
 
 } // namespace raymappers
 

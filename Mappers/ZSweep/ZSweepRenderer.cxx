@@ -327,13 +327,13 @@ void renderZSweep(const ZSweepMesh& mesh,
         ++work.segments;
         const double s0 = cellData ? scalars[static_cast<std::size_t>(px.cell)] : px.prevS;
         const double s1 = cellData ? s0 : sEnd;
-        if (optics.transparentBetween(s0, s1))
-        {
-          ++work.transparentSegments;
-          return;
-        }
         const SegmentLight seg = cellData ? optics.integrateHomogeneous(s0, L)
                                           : optics.integrate(params.integrator, s0, s1, L);
+        if (seg.transmittance == 1.0 && seg.r == 0.0 && seg.g == 0.0 && seg.b == 0.0)
+        {
+          ++work.transparentSegments; // no opacity over the segment's scalars
+          return;
+        }
         compositeBehind(px.light, seg);
         if (1.0 - px.light.transmittance >= termination)
         {

@@ -92,6 +92,7 @@ void PrintTable(const std::vector<Row>& rows);
 /// The suites.
 std::vector<Row> RunSpheres(const Options& opt);
 std::vector<Row> RunRBF(const Options& opt);
+std::vector<Row> RunZSweep(const Options& opt);
 
 } // namespace bench
 

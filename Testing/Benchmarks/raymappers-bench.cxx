@@ -31,7 +31,7 @@ int Usage()
 {
   std::cerr << "usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] "
                "[--csv FILE] [--images DIR] [--generated DIR] [--only METHOD:SETTING ...]\n"
-               "suites: spheres, rbf (zsweep, sph arrive with their mappers)\n";
+               "suites: spheres, rbf, zsweep (sph arrives with its mapper)\n";
   return 2;
 }
 }
@@ -112,7 +112,11 @@ int main(int argc, char* argv[])
   {
     rows = RunRBF(opt);
   }
-  else if (opt.suite == "zsweep" || opt.suite == "sph")
+  else if (opt.suite == "zsweep")
+  {
+    rows = RunZSweep(opt);
+  }
+  else if (opt.suite == "sph")
   {
     std::cerr << "raymappers-bench: the '" << opt.suite
               << "' suite is not available in this version: its mapper has not landed yet.\n";

@@ -761,3 +761,37 @@ TEST(ZSweepImage, BadCellsLeaveTheRestOfThePictureAndNoNaN)
     ASSERT_TRUE(std::isfinite(v));
   }
 }
+
+TEST(ZSweepReference, GridCandidatesGiveTheSameRaysAsAllCells)
+{
+  // The bench's reference walks a grid of the cells: it must see every cell a ray meets.
+  Lattice L;
+  L.n = 5;
+  L.jitter = 0.3;
+  const ZSweepGrid g = tetLattice(L, smoothField);
+  const std::vector<RefTetra> tets = referenceTetra(g);
+  const ReferenceTetraGrid grid(tets);
+  const RefTransferFunction tf = testTransferFunction();
+  TestCamera cam;
+  cam.eye = { 2.9, -1.7, 3.6 };
+  cam.at = { 0.1, 0.2, -0.1 };
+  std::vector<std::size_t> candidates;
+  double worst = 0;
+  for (int j = 0; j < cam.height; j += 3)
+  {
+    for (int i = 0; i < cam.width; i += 3)
+    {
+      Vec3d o, d;
+      double tMin;
+      cam.ray(i, j, o, d, tMin);
+      grid.candidates(o, d, tMin, candidates);
+      const auto all = traceReference(tets, false, tf, o, d, tMin, nullptr, 64);
+      const auto some = traceReference(tets, false, tf, o, d, tMin, &candidates, 64);
+      for (int c = 0; c < 4; ++c)
+      {
+        worst = std::max(worst, std::fabs(all[static_cast<std::size_t>(c)] - some[static_cast<std::size_t>(c)]));
+      }
+    }
+  }
+  EXPECT_EQ(worst, 0.0);
+}

@@ -3,7 +3,8 @@
 // tetrahedron (clipping the ray by the four face planes), sorts the segments, and integrates
 // each one numerically: the transfer function's nodes split it, the optical depth of each
 // piece is integrated in closed form (tau is linear there) and the emitted light by
-// composite Simpson's rule with 512 intervals.
+// composite Simpson's rule (512 intervals by default). For large grids a uniform grid of
+// the tetrahedra's bounding boxes gives each ray its candidates (ReferenceTetraGrid).
 //
 // The model it integrates (the one ZSweep renders): tau = -ln(1 - alpha)/u and the color are
 // linear in the scalar between the nodes; C = int c tau exp(-int tau).
@@ -139,17 +140,23 @@ inline bool clipToTetra(const RefTetra& tet,
   return true;
 }
 
-/// Premultiplied RGBA of the ray o + t d (|d| = 1), t >= tMin, through the tetrahedra.
+/// Premultiplied RGBA of the ray o + t d (|d| = 1), t >= tMin, through the tetrahedra
+/// `candidates` (indices into `tets`; all of them when null); Simpson's rule with
+/// `intervals` (even) intervals per piece.
 inline std::array<double, 4> traceReference(const std::vector<RefTetra>& tets,
   bool cellData,
   const RefTransferFunction& tf,
   const Vec3d& o,
   const Vec3d& d,
-  double tMin)
+  double tMin,
+  const std::vector<std::size_t>* candidates = nullptr,
+  int intervals = 512)
 {
   std::vector<RefSegment> segs;
-  for (const RefTetra& tet : tets)
+  const std::size_t count = candidates ? candidates->size() : tets.size();
+  for (std::size_t q = 0; q < count; ++q)
   {
+    const RefTetra& tet = tets[candidates ? (*candidates)[q] : q];
     RefSegment s;
     if (clipToTetra(tet, o, d, cellData, s) && s.t1 > tMin)
     {
@@ -197,7 +204,7 @@ inline std::array<double, 4> traceReference(const std::vector<RefTetra>& tets,
       tf.at(cuts[k + 1], tb, cb);
       // On the piece (x in [0, l]): tau = ta + (tb - ta) x / l, depth E(x) in closed form.
       auto depth = [&](double x) { return ta * x + 0.5 * (tb - ta) * x * x / l; };
-      const int n = 512;
+      const int n = intervals;
       const double h = l / n;
       double acc[3] = { 0, 0, 0 };
       for (int i = 0; i <= n; ++i)
@@ -221,6 +228,142 @@ inline std::array<double, 4> traceReference(const std::vector<RefTetra>& tets,
   }
   return { rgb[0], rgb[1], rgb[2], 1.0 - T };
 }
+
+/// The tetrahedra binned by bounding box into a uniform grid, walked along a ray (3D DDA)
+/// to collect the candidates the ray may cross.
+class ReferenceTetraGrid
+{
+public:
+  explicit ReferenceTetraGrid(const std::vector<RefTetra>& tets)
+  {
+    Lo = Vec3d(1e300, 1e300, 1e300);
+    Hi = Vec3d(-1e300, -1e300, -1e300);
+    for (const RefTetra& t : tets)
+    {
+      for (const Vec3d& p : t.p)
+      {
+        Lo = min(Lo, p);
+        Hi = max(Hi, p);
+      }
+    }
+    const int n = std::clamp(static_cast<int>(std::cbrt(static_cast<double>(tets.size()))), 1, 200);
+    Res = { n, n, n };
+    const Vec3d size = Hi - Lo;
+    Cell = Vec3d(std::max(size.x, 1e-300) / n, std::max(size.y, 1e-300) / n,
+      std::max(size.z, 1e-300) / n);
+    std::vector<std::size_t> count(static_cast<std::size_t>(n) * n * n + 1, 0);
+    auto each = [&](const RefTetra& t, auto&& fn) {
+      Vec3d lo = t.p[0], hi = t.p[0];
+      for (const Vec3d& p : t.p)
+      {
+        lo = min(lo, p);
+        hi = max(hi, p);
+      }
+      const auto a = cellOf(lo), b = cellOf(hi);
+      for (int k = a[2]; k <= b[2]; ++k)
+        for (int j = a[1]; j <= b[1]; ++j)
+          for (int i = a[0]; i <= b[0]; ++i)
+            fn(index(i, j, k));
+    };
+    for (const RefTetra& t : tets)
+    {
+      each(t, [&](std::size_t c) { ++count[c + 1]; });
+    }
+    for (std::size_t c = 1; c < count.size(); ++c)
+    {
+      count[c] += count[c - 1];
+    }
+    Start = count;
+    Items.resize(count.back());
+    for (std::size_t q = 0; q < tets.size(); ++q)
+    {
+      each(tets[q], [&](std::size_t c) { Items[count[c]++] = q; });
+    }
+  }
+
+  /// The tetrahedra whose boxes share a grid cell with the ray o + t d, t >= tMin.
+  void candidates(const Vec3d& o, const Vec3d& d, double tMin, std::vector<std::size_t>& out) const
+  {
+    out.clear();
+    double t0 = tMin, t1 = 1e300;
+    const double od[3] = { o.x, o.y, o.z }, dd[3] = { d.x, d.y, d.z };
+    const double lo[3] = { Lo.x, Lo.y, Lo.z }, hi[3] = { Hi.x, Hi.y, Hi.z };
+    for (int a = 0; a < 3; ++a)
+    {
+      if (dd[a] == 0)
+      {
+        if (od[a] < lo[a] || od[a] > hi[a])
+        {
+          return;
+        }
+        continue;
+      }
+      double ta = (lo[a] - od[a]) / dd[a], tb = (hi[a] - od[a]) / dd[a];
+      if (ta > tb)
+      {
+        std::swap(ta, tb);
+      }
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+    }
+    if (!(t0 <= t1))
+    {
+      return;
+    }
+    // Walk the cells the ray crosses between t0 and t1 (3D DDA).
+    const Vec3d start = o + d * t0;
+    auto c = cellOf(start);
+    const double cs[3] = { Cell.x, Cell.y, Cell.z };
+    int step[3];
+    double next[3], delta[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      step[a] = dd[a] > 0 ? 1 : -1;
+      const double boundary = lo[a] + (c[a] + (dd[a] > 0 ? 1 : 0)) * cs[a];
+      next[a] = dd[a] != 0 ? (boundary - od[a]) / dd[a] : 1e300;
+      delta[a] = dd[a] != 0 ? cs[a] / std::fabs(dd[a]) : 1e300;
+    }
+    while (true)
+    {
+      const std::size_t cell = index(c[0], c[1], c[2]);
+      out.insert(out.end(), Items.begin() + static_cast<std::ptrdiff_t>(Start[cell]),
+        Items.begin() + static_cast<std::ptrdiff_t>(Start[cell + 1]));
+      const int a = next[0] < next[1] ? (next[0] < next[2] ? 0 : 2) : (next[1] < next[2] ? 1 : 2);
+      if (next[a] > t1)
+      {
+        break;
+      }
+      c[a] += step[a];
+      if (c[a] < 0 || c[a] >= Res[a])
+      {
+        break;
+      }
+      next[a] += delta[a];
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+
+private:
+  std::array<int, 3> cellOf(const Vec3d& p) const
+  {
+    const double v[3] = { (p.x - Lo.x) / Cell.x, (p.y - Lo.y) / Cell.y, (p.z - Lo.z) / Cell.z };
+    std::array<int, 3> c;
+    for (int a = 0; a < 3; ++a)
+    {
+      c[a] = std::clamp(static_cast<int>(std::floor(v[a])), 0, Res[a] - 1);
+    }
+    return c;
+  }
+  std::size_t index(int i, int j, int k) const
+  {
+    return (static_cast<std::size_t>(k) * Res[1] + j) * Res[0] + i;
+  }
+
+  Vec3d Lo, Hi, Cell;
+  std::array<int, 3> Res;
+  std::vector<std::size_t> Start, Items;
+};
 
 } // namespace raymappers::test
 
