@@ -62,26 +62,55 @@ inline double orient(const ProjectedVertex& u, const ProjectedVertex& v, double 
   return (v.x - u.x) * (py - u.y) - (v.y - u.y) * (px - u.x);
 }
 
-// The edge function of u -> v evaluated with the endpoints in global-id order, so the two
-// triangles sharing the edge compute bit-identical values (then negated as needed).
-inline double edgeFunction(const ProjectedVertex& u,
-  std::uint32_t iu,
-  const ProjectedVertex& v,
-  std::uint32_t iv,
-  double px,
-  double py)
+// The edge function of u -> v of a counter-clockwise triangle (positive inside):
+//   E(p) = orient(u, v, p) = (v - u) x (p - u),
+// evaluated with the endpoints in global-id order (and negated as needed), so that the two
+// triangles sharing the edge compute bit-identical values. Along a pixel row the part in y
+// is computed once: E = sign (row - dy (px - ux)), row = dx (py - uy).
+//
+// Top-left rule (y up): a pixel centre exactly on the edge belongs to the triangle when
+// the edge goes down, or is horizontal and goes left; the neighbour across the edge walks
+// it the other way, so exactly one of the two owns it.
+struct EdgeEquation
 {
-  return iu < iv ? orient(u, v, px, py) : -orient(v, u, px, py);
-}
+  double ux, uy, dx, dy, sign;
+  bool owned;
 
-// Top-left rule for a counter-clockwise triangle (y up): a pixel centre exactly on an edge
-// belongs to the triangle when the edge goes down, or is horizontal and goes left. The
-// neighbour across the edge walks it the other way, so exactly one of the two owns it.
-inline bool ownsEdge(const ProjectedVertex& u, const ProjectedVertex& v)
-{
-  const double dy = v.y - u.y, dx = v.x - u.x;
-  return dy < 0 || (dy == 0 && dx < 0);
-}
+  EdgeEquation(const ProjectedVertex& u, std::uint32_t iu, const ProjectedVertex& v, std::uint32_t iv)
+  {
+    const ProjectedVertex& p = iu < iv ? u : v;
+    const ProjectedVertex& q = iu < iv ? v : u;
+    ux = p.x;
+    uy = p.y;
+    dx = q.x - p.x;
+    dy = q.y - p.y;
+    sign = iu < iv ? 1.0 : -1.0;
+    const double ey = v.y - u.y, ex = v.x - u.x;
+    owned = ey < 0 || (ey == 0 && ex < 0);
+  }
+  double row(double py) const { return dx * (py - uy); }
+  double at(double rowTerm, double px) const { return sign * (rowTerm - dy * (px - ux)); }
+  bool inside(double e) const { return e > 0 || (e == 0 && owned); }
+  // Narrows [lo, hi] to where E >= 0 along the row (in real x; empty when E < 0 all along).
+  void narrow(double rowTerm, double& lo, double& hi, bool& empty) const
+  {
+    const double m = -sign * dy; // E = sign row + m (px - ux)
+    if (m == 0)
+    {
+      empty = empty || sign * rowTerm < 0;
+      return;
+    }
+    const double bound = ux - sign * rowTerm / m;
+    if (m > 0)
+    {
+      lo = std::max(lo, bound);
+    }
+    else
+    {
+      hi = std::min(hi, bound);
+    }
+  }
+};
 
 // Compositing state of one pixel of a tile.
 struct PixelState
@@ -462,7 +491,9 @@ void renderZSweep(const ZSweepMesh& mesh,
             area = -area;
           }
           const ProjectedVertex &a = proj[ia], &b = proj[ib], &c = proj[ic];
-          const bool ownAB = ownsEdge(a, b), ownBC = ownsEdge(b, c), ownCA = ownsEdge(c, a);
+          const EdgeEquation edges[3] = { EdgeEquation(b, ib, c, ic), EdgeEquation(c, ic, a, ia),
+            EdgeEquation(a, ia, b, ib) };
+          const double invArea = 1.0 / area;
           const std::int32_t entered = forward[f] ? t.back : t.front;
           const std::int32_t exited = forward[f] ? t.front : t.back;
           const double sa = cellData ? 0.0 : scalars[ia], sb = cellData ? 0.0 : scalars[ib],
@@ -472,14 +503,29 @@ void renderZSweep(const ZSweepMesh& mesh,
           for (int y = y0; y <= y1; ++y)
           {
             const double py = y + 0.5;
-            for (int x = x0; x <= x1; ++x)
+            double rows[3];
+            // The row's span inside all three edges, widened by a pixel: the exact test
+            // below decides each pixel.
+            double lo = x0, hi = x1;
+            bool empty = false;
+            for (int q = 0; q < 3; ++q)
+            {
+              rows[q] = edges[q].row(py);
+              edges[q].narrow(rows[q], lo, hi, empty);
+            }
+            if (empty)
+            {
+              continue;
+            }
+            const int xs = std::max(x0, static_cast<int>(std::floor(lo - 0.5)) - 1);
+            const int xe = std::min(x1, static_cast<int>(std::ceil(hi - 0.5)) + 1);
+            for (int x = xs; x <= xe; ++x)
             {
               const double pxc = x + 0.5;
-              const double eBC = edgeFunction(b, ib, c, ic, pxc, py);
-              const double eCA = edgeFunction(c, ic, a, ia, pxc, py);
-              const double eAB = edgeFunction(a, ia, b, ib, pxc, py);
-              if ((eBC < 0 || (eBC == 0 && !ownBC)) || (eCA < 0 || (eCA == 0 && !ownCA)) ||
-                  (eAB < 0 || (eAB == 0 && !ownAB)))
+              const double eBC = edges[0].at(rows[0], pxc);
+              const double eCA = edges[1].at(rows[1], pxc);
+              const double eAB = edges[2].at(rows[2], pxc);
+              if (!edges[0].inside(eBC) || !edges[1].inside(eCA) || !edges[2].inside(eAB))
               {
                 continue;
               }
@@ -490,7 +536,7 @@ void renderZSweep(const ZSweepMesh& mesh,
                 continue;
               }
               // Barycentrics; depth is affine in the window, the scalar perspective-correct.
-              const double la = eBC / area, lb = eCA / area, lc = eAB / area;
+              const double la = eBC * invArea, lb = eCA * invArea, lc = eAB * invArea;
               const double d = la * a.d + lb * b.d + lc * c.d;
               double s = 0;
               if (!cellData)
@@ -500,11 +546,13 @@ void renderZSweep(const ZSweepMesh& mesh,
               }
               const Entry entry{ pxs.map.distanceOf(d), s, entered, exited };
               std::vector<Entry>& list = work.lists[p];
-              // Insertion from the back: the sweep order makes it almost always the end.
+              // Usually the sweep order puts the entry at the end (section 4.2); when it does
+              // not, pending entries beyond it are found by bisection.
               auto pos = list.end();
-              while (pos != list.begin() && (pos - 1)->t > entry.t)
+              if (!list.empty() && list.back().t > entry.t)
               {
-                --pos;
+                pos = std::upper_bound(list.begin(), list.end(), entry.t,
+                  [](double v, const Entry& en) { return v < en.t; });
               }
               list.insert(pos, entry);
               ++work.entries;

@@ -1,0 +1,296 @@
+#include "vtkZSweepVolumeRepresentation.h"
+
+#include "vtkAppendFilter.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataSet.h"
+#include "vtkDiscretizableColorTransferFunction.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPVRenderView.h"
+#include "vtkPVView.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkRayMapperStatistics.h"
+#include "vtkRenderer.h"
+#include "vtkUnstructuredGrid.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+#include "vtkZSweepVolumeMapper.h"
+
+#include <cmath>
+
+vtkStandardNewMacro(vtkZSweepVolumeRepresentation);
+
+//----------------------------------------------------------------------------
+vtkZSweepVolumeRepresentation::vtkZSweepVolumeRepresentation()
+{
+  this->Mapper = vtkSmartPointer<vtkZSweepVolumeMapper>::New();
+  this->Property = vtkSmartPointer<vtkVolumeProperty>::New();
+  this->Volume = vtkSmartPointer<vtkVolume>::New();
+  this->Volume->SetMapper(this->Mapper);
+  this->Volume->SetProperty(this->Property);
+}
+
+vtkZSweepVolumeRepresentation::~vtkZSweepVolumeRepresentation() = default;
+
+void vtkZSweepVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ProcessedData: " << this->ProcessedData.Get() << "\n";
+}
+
+vtkZSweepVolumeMapper* vtkZSweepVolumeRepresentation::GetMapper()
+{
+  return this->Mapper;
+}
+
+vtkVolume* vtkZSweepVolumeRepresentation::GetVolume()
+{
+  return this->Volume;
+}
+
+const char* vtkZSweepVolumeRepresentation::GetRenderStatistics()
+{
+  return this->Mapper->GetStatistics()->GetSummary();
+}
+
+//----------------------------------------------------------------------------
+bool vtkZSweepVolumeRepresentation::AddToView(vtkView* view)
+{
+  if (auto* rview = vtkPVRenderView::SafeDownCast(view))
+  {
+    rview->GetRenderer()->AddActor(this->Volume);
+    return this->Superclass::AddToView(view);
+  }
+  return false;
+}
+
+bool vtkZSweepVolumeRepresentation::RemoveFromView(vtkView* view)
+{
+  if (auto* rview = vtkPVRenderView::SafeDownCast(view))
+  {
+    rview->GetRenderer()->RemoveActor(this->Volume);
+    return this->Superclass::RemoveFromView(view);
+  }
+  return false;
+}
+
+void vtkZSweepVolumeRepresentation::SetVisibility(bool val)
+{
+  this->Volume->SetVisibility(val ? 1 : 0);
+  this->Superclass::SetVisibility(val);
+}
+
+vtkDataObject* vtkZSweepVolumeRepresentation::GetRenderedDataObject(int port)
+{
+  return this->ProcessedData ? this->ProcessedData.Get()
+                             : this->Superclass::GetRenderedDataObject(port);
+}
+
+int vtkZSweepVolumeRepresentation::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
+  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  return 1;
+}
+
+//----------------------------------------------------------------------------
+int vtkZSweepVolumeRepresentation::RequestData(vtkInformation* request,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  this->ProcessedData = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  if (inputVector[0]->GetNumberOfInformationObjects() == 1)
+  {
+    vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0);
+    auto* grid = vtkUnstructuredGrid::SafeDownCast(input);
+    if (grid)
+    {
+      this->ProcessedData->ShallowCopy(grid);
+    }
+    else if (input)
+    {
+      // Structured grids, image data and composites: their cells as they are (hexahedra,
+      // voxels ...), never split into tetrahedra.
+      vtkNew<vtkAppendFilter> append;
+      if (auto* composite = vtkCompositeDataSet::SafeDownCast(input))
+      {
+        for (vtkDataSet* ds : vtkCompositeDataSet::GetDataSets<vtkDataSet>(composite))
+        {
+          append->AddInputData(ds);
+        }
+      }
+      else
+      {
+        append->AddInputData(input);
+      }
+      if (append->GetNumberOfInputConnections(0) > 0)
+      {
+        append->Update();
+        this->ProcessedData->ShallowCopy(append->GetOutput());
+      }
+    }
+  }
+  return this->Superclass::RequestData(request, inputVector, outputVector);
+}
+
+//----------------------------------------------------------------------------
+int vtkZSweepVolumeRepresentation::ProcessViewRequest(vtkInformationRequestKey* request_type,
+  vtkInformation* inInfo,
+  vtkInformation* outInfo)
+{
+  if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo))
+  {
+    return 0;
+  }
+  if (request_type == vtkPVView::REQUEST_UPDATE())
+  {
+    double bounds[6];
+    vtkMath::UninitializeBounds(bounds);
+    if (this->ProcessedData)
+    {
+      vtkPVView::SetPiece(inInfo, this, this->ProcessedData);
+      if (this->ProcessedData->GetNumberOfPoints() > 0)
+      {
+        this->ProcessedData->GetBounds(bounds);
+      }
+    }
+    vtkNew<vtkMatrix4x4> matrix;
+    this->Volume->GetMatrix(matrix);
+    vtkPVRenderView::SetGeometryBounds(inInfo, this, bounds, matrix);
+  }
+  else if (request_type == vtkPVView::REQUEST_RENDER())
+  {
+    auto* delivered = vtkUnstructuredGrid::SafeDownCast(vtkPVView::GetDeliveredPiece(inInfo, this));
+    if (delivered)
+    {
+      this->Mapper->SetInputData(delivered);
+    }
+    else
+    {
+      vtkNew<vtkUnstructuredGrid> empty;
+      this->Mapper->SetInputData(empty);
+    }
+    this->UpdateClassification();
+  }
+  return 1;
+}
+
+//----------------------------------------------------------------------------
+void vtkZSweepVolumeRepresentation::UpdateClassification()
+{
+  vtkInformation* info = this->GetInputArrayInformation(0);
+  const char* name = info && info->Has(vtkDataObject::FIELD_NAME())
+    ? info->Get(vtkDataObject::FIELD_NAME())
+    : nullptr;
+  const int association = info && info->Has(vtkDataObject::FIELD_ASSOCIATION())
+    ? info->Get(vtkDataObject::FIELD_ASSOCIATION())
+    : vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  this->Mapper->SelectScalarArray(name);
+  this->Mapper->SetScalarMode(association == vtkDataObject::FIELD_ASSOCIATION_CELLS
+      ? VTK_SCALAR_MODE_USE_CELL_FIELD_DATA
+      : VTK_SCALAR_MODE_USE_POINT_FIELD_DATA);
+
+  auto* color = vtkColorTransferFunction::SafeDownCast(this->LookupTable);
+  vtkPiecewiseFunction* opacity = this->ScalarOpacity;
+  if (!opacity)
+  {
+    if (auto* discretizable = vtkDiscretizableColorTransferFunction::SafeDownCast(color))
+    {
+      opacity = discretizable->GetScalarOpacityFunction();
+    }
+  }
+  if (color)
+  {
+    this->Property->SetColor(color);
+  }
+  if (opacity)
+  {
+    this->Property->SetScalarOpacity(opacity);
+  }
+}
+
+void vtkZSweepVolumeRepresentation::SetLookupTable(vtkScalarsToColors* lut)
+{
+  this->LookupTable = lut;
+  this->Modified();
+}
+
+void vtkZSweepVolumeRepresentation::SetScalarOpacity(vtkPiecewiseFunction* opacity)
+{
+  this->ScalarOpacity = opacity;
+  this->Modified();
+}
+
+void vtkZSweepVolumeRepresentation::SetScalarOpacityUnitDistance(double distance)
+{
+  if (!(distance > 0) || !std::isfinite(distance))
+  {
+    vtkWarningMacro(<< "ScalarOpacityUnitDistance must be positive (got " << distance << ").");
+    return;
+  }
+  this->Property->SetScalarOpacityUnitDistance(distance);
+  this->Modified();
+}
+
+void vtkZSweepVolumeRepresentation::SetIntegrator(int integrator)
+{
+  this->Mapper->SetIntegrator(integrator);
+  this->Modified();
+}
+
+void vtkZSweepVolumeRepresentation::SetTileSize(int size)
+{
+  this->Mapper->SetTileSize(size);
+  this->Modified();
+}
+
+void vtkZSweepVolumeRepresentation::SetListThreshold(int k)
+{
+  this->Mapper->SetListThreshold(k);
+  this->Modified();
+}
+
+void vtkZSweepVolumeRepresentation::SetTerminationOpacity(double opacity)
+{
+  this->Mapper->SetTerminationOpacity(opacity);
+  this->Modified();
+}
+
+//----------------------------------------------------------------------------
+void vtkZSweepVolumeRepresentation::SetOrientation(double x, double y, double z)
+{
+  this->Volume->SetOrientation(x, y, z);
+}
+
+void vtkZSweepVolumeRepresentation::SetOrigin(double x, double y, double z)
+{
+  this->Volume->SetOrigin(x, y, z);
+}
+
+void vtkZSweepVolumeRepresentation::SetPickable(int val)
+{
+  this->Volume->SetPickable(val);
+}
+
+void vtkZSweepVolumeRepresentation::SetPosition(double x, double y, double z)
+{
+  this->Volume->SetPosition(x, y, z);
+}
+
+void vtkZSweepVolumeRepresentation::SetScale(double x, double y, double z)
+{
+  this->Volume->SetScale(x, y, z);
+}
+
+void vtkZSweepVolumeRepresentation::SetUserTransform(const double matrix[16])
+{
+  vtkNew<vtkMatrix4x4> m;
+  m->DeepCopy(matrix);
+  this->Volume->SetUserMatrix(m->IsIdentity() ? nullptr : m.Get());
+}

@@ -1,0 +1,101 @@
+/**
+ * @class   vtkZSweepVolumeRepresentation
+ * @brief   ParaView representation "Z-Sweep Volume": exact volume rendering of the cells
+ *          of a grid by vtkZSweepVolumeMapper, without tetrahedralizing it.
+ *
+ * The input (an unstructured or structured grid, or a composite of them such as an Exodus
+ * or PLOT3D reader's output) is gathered into one vtkUnstructuredGrid that keeps its
+ * hexahedra, wedges and pyramids (structured grids give hexahedra, image data voxels), and
+ * rendered with the color array's color map (LookupTable) and opacity map
+ * (ScalarOpacityFunction) over ScalarOpacityUnitDistance, point or cell data.
+ *
+ * Its own properties: the integrator (exact, the dissertation's formula, midpoint), the
+ * tile size, the list threshold K and the early-termination opacity. The mapper's
+ * statistics of the last render are an information property (ZSweepRenderStatistics).
+ */
+
+#ifndef vtkZSweepVolumeRepresentation_h
+#define vtkZSweepVolumeRepresentation_h
+
+#include "RayMappersRepresentationsModule.h" // for export macro
+#include "vtkPVDataRepresentation.h"
+#include "vtkSmartPointer.h" // for vtkSmartPointer
+
+class vtkPiecewiseFunction;
+class vtkScalarsToColors;
+class vtkUnstructuredGrid;
+class vtkVolume;
+class vtkVolumeProperty;
+class vtkZSweepVolumeMapper;
+
+class RAYMAPPERSREPRESENTATIONS_EXPORT vtkZSweepVolumeRepresentation : public vtkPVDataRepresentation
+{
+public:
+  static vtkZSweepVolumeRepresentation* New();
+  vtkTypeMacro(vtkZSweepVolumeRepresentation, vtkPVDataRepresentation);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  int ProcessViewRequest(vtkInformationRequestKey* request_type,
+    vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+  void SetVisibility(bool val) override;
+  vtkDataObject* GetRenderedDataObject(int port) override;
+
+  //***************************************************************************
+  // Classification.
+  void SetLookupTable(vtkScalarsToColors* lut);
+  void SetScalarOpacity(vtkPiecewiseFunction* opacity);
+  void SetScalarOpacityUnitDistance(double distance);
+
+  //***************************************************************************
+  // Forwarded to vtkZSweepVolumeMapper (see there).
+  void SetIntegrator(int integrator);
+  void SetTileSize(int size);
+  void SetListThreshold(int k);
+  void SetTerminationOpacity(double opacity);
+
+  /**
+   * The mapper's statistics of the last render, one "kind name value" per line.
+   */
+  const char* GetRenderStatistics();
+
+  //***************************************************************************
+  // Forwarded to the volume.
+  void SetOrientation(double, double, double);
+  void SetOrigin(double, double, double);
+  void SetPickable(int val);
+  void SetPosition(double, double, double);
+  void SetScale(double, double, double);
+  void SetUserTransform(const double matrix[16]);
+
+  vtkZSweepVolumeMapper* GetMapper();
+  vtkVolume* GetVolume();
+
+protected:
+  vtkZSweepVolumeRepresentation();
+  ~vtkZSweepVolumeRepresentation() override;
+
+  bool AddToView(vtkView* view) override;
+  bool RemoveFromView(vtkView* view) override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  /**
+   * Selects the color array (point or cell data) on the mapper and hands the color and
+   * opacity maps to the volume property.
+   */
+  void UpdateClassification();
+
+  vtkSmartPointer<vtkVolume> Volume;
+  vtkSmartPointer<vtkZSweepVolumeMapper> Mapper;
+  vtkSmartPointer<vtkVolumeProperty> Property;
+  vtkSmartPointer<vtkUnstructuredGrid> ProcessedData;
+  vtkSmartPointer<vtkScalarsToColors> LookupTable;
+  vtkSmartPointer<vtkPiecewiseFunction> ScalarOpacity;
+
+private:
+  vtkZSweepVolumeRepresentation(const vtkZSweepVolumeRepresentation&) = delete;
+  void operator=(const vtkZSweepVolumeRepresentation&) = delete;
+};
+
+#endif

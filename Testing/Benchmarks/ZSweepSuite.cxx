@@ -1,0 +1,433 @@
+// The zsweep suite: vtkZSweepVolumeMapper (zsweep: the exact integrator, the dissertation's
+// formula, the midpoint rule, tile sizes and list thresholds, native hexahedra) against the
+// mappers a VTK or ParaView user has for unstructured grids: VTK's ZSweep
+// (vtk-zsweep, vtkUnstructuredGridVolumeZSweepMapper), the Bunyk ray caster (vtk-bunyk,
+// vtkUnstructuredGridVolumeRayCastMapper) and projected tetrahedra (vtk-projected-tetra,
+// vtkProjectedTetrahedraMapper, on the OpenGL driver), all on the same tetrahedra and view.
+// The error columns compare with an independent brute-force reference (Testing/Cxx/Kernels/
+// UnstructuredReference.h: every tetrahedron a ray meets clipped in double precision, each
+// segment integrated numerically), rendered over the same white background.
+//
+// Data: the Blunt Fin and the Combustion Chamber (PLOT3D, density), disk_out_ref.ex2
+// (Temp) and a tetrahedralized wavelet (vtkRTAnalyticSource, extent +-20: 320,000
+// tetrahedra); --data takes PLOT3D xyz files (the q file beside it), Exodus or VTK files.
+// Three views each: far, side and close.
+#include "../Cxx/Kernels/UnstructuredReference.h"
+#include "BenchData.h"
+#include "BenchRun.h"
+#include "vtkRayMapperStatistics.h"
+#include "vtkZSweepVolumeMapper.h"
+
+#include "vtkAppendFilter.h"
+#include "vtkCamera.h"
+#include "vtkCellType.h"
+#include "vtkColorTransferFunction.h"
+#include "vtkCompositeDataSet.h"
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkDataSetTriangleFilter.h"
+#include "vtkExodusIIReader.h"
+#include "vtkIdList.h"
+#include "vtkImageData.h"
+#include "vtkMatrix4x4.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkMultiBlockPLOT3DReader.h"
+#include "vtkNew.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkProjectedTetrahedraMapper.h"
+#include "vtkRTAnalyticSource.h"
+#include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+#include "vtkUnstructuredGridReader.h"
+#include "vtkUnstructuredGridVolumeRayCastMapper.h"
+#include "vtkUnstructuredGridVolumeZSweepMapper.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+#include "vtkXMLUnstructuredGridReader.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+namespace bench
+{
+
+namespace
+{
+struct Grid
+{
+  std::string name;
+  vtkSmartPointer<vtkUnstructuredGrid> tetra;
+  vtkSmartPointer<vtkUnstructuredGrid> native; // hexahedra or voxels; null when tetrahedra
+};
+
+vtkSmartPointer<vtkUnstructuredGrid> ToUnstructured(vtkDataObject* data, bool tetrahedralize)
+{
+  vtkNew<vtkAppendFilter> append;
+  if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
+  {
+    for (vtkDataSet* ds : vtkCompositeDataSet::GetDataSets<vtkDataSet>(composite))
+    {
+      append->AddInputData(ds);
+    }
+  }
+  else
+  {
+    append->AddInputData(data);
+  }
+  append->MergePointsOn();
+  append->Update();
+  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  if (!tetrahedralize)
+  {
+    out->ShallowCopy(append->GetOutput());
+    return out;
+  }
+  vtkNew<vtkDataSetTriangleFilter> tetra;
+  tetra->SetInputData(append->GetOutput());
+  tetra->TetrahedraOnlyOn();
+  tetra->Update();
+  out->ShallowCopy(tetra->GetOutput());
+  return out;
+}
+
+Grid Load(const std::string& file)
+{
+  Grid g;
+  vtkSmartPointer<vtkDataObject> data;
+  std::string scalars;
+  if (file == "wavelet")
+  {
+    vtkNew<vtkRTAnalyticSource> wavelet;
+    wavelet->SetWholeExtent(-20, 20, -20, 20, -20, 20);
+    wavelet->Update();
+    data = wavelet->GetOutput();
+    scalars = "RTData";
+    g.name = "wavelet";
+  }
+  else if (file.size() > 7 && file.compare(file.size() - 7, 7, "xyz.bin") == 0)
+  {
+    vtkNew<vtkMultiBlockPLOT3DReader> reader;
+    reader->SetXYZFileName(file.c_str());
+    reader->SetQFileName((file.substr(0, file.size() - 7) + "q.bin").c_str());
+    reader->SetScalarFunctionNumber(100);
+    reader->Update();
+    data = reader->GetOutput()->GetBlock(0);
+    scalars = "Density";
+    g.name = BaseName(file.substr(0, file.size() - 7));
+  }
+  else if (file.find(".ex2") != std::string::npos || file.find(".exo") != std::string::npos)
+  {
+    vtkNew<vtkExodusIIReader> reader;
+    reader->SetFileName(file.c_str());
+    reader->UpdateInformation();
+    reader->SetAllArrayStatus(vtkExodusIIReader::NODAL, 1);
+    reader->Update();
+    data = reader->GetOutput();
+    scalars = "Temp";
+    g.name = BaseName(file);
+  }
+  else
+  {
+    data = ReadAny(file);
+    g.name = BaseName(file);
+  }
+  if (!data)
+  {
+    return g;
+  }
+  g.tetra = ToUnstructured(data, true);
+  auto native = ToUnstructured(data, false);
+  bool allTetra = true;
+  for (vtkIdType c = 0; c < native->GetNumberOfCells() && allTetra; ++c)
+  {
+    allTetra = native->GetCellType(c) == VTK_TETRA;
+  }
+  if (!allTetra)
+  {
+    g.native = native;
+  }
+  for (vtkUnstructuredGrid* u : { g.tetra.Get(), g.native.Get() })
+  {
+    if (u && !scalars.empty())
+    {
+      u->GetPointData()->SetActiveScalars(scalars.c_str());
+    }
+  }
+  return g;
+}
+
+// Blue - green - red over the scalar range, opacity rising to 0.3 per `unit`.
+vtkSmartPointer<vtkVolumeProperty> MakeProperty(const double range[2], double unit)
+{
+  auto property = vtkSmartPointer<vtkVolumeProperty>::New();
+  vtkNew<vtkColorTransferFunction> color;
+  color->AddRGBPoint(range[0], 0.2, 0.2, 1.0);
+  color->AddRGBPoint(0.5 * (range[0] + range[1]), 0.2, 1.0, 0.2);
+  color->AddRGBPoint(range[1], 1.0, 0.2, 0.2);
+  vtkNew<vtkPiecewiseFunction> opacity;
+  opacity->AddPoint(range[0], 0.02);
+  opacity->AddPoint(range[1], 0.3);
+  property->SetColor(color);
+  property->SetScalarOpacity(opacity);
+  property->SetScalarOpacityUnitDistance(unit);
+  return property;
+}
+
+// The brute-force reference image (RGB, 0..255, over white) of the tetrahedra for the
+// camera `view` sets, with rays from VTK's composite projection matrix.
+vtkSmartPointer<vtkImageData> ReferenceImage(const Options& opt,
+  vtkUnstructuredGrid* tetra,
+  vtkVolumeProperty* property,
+  const std::function<void(vtkCamera*)>& view,
+  double& ms)
+{
+  const double t0 = Now();
+  std::vector<raymappers::test::RefTetra> tets;
+  vtkDataArray* s = tetra->GetPointData()->GetScalars();
+  vtkNew<vtkIdList> ids;
+  double p[3];
+  for (vtkIdType c = 0; c < tetra->GetNumberOfCells(); ++c)
+  {
+    tetra->GetCellPoints(c, ids);
+    raymappers::test::RefTetra t;
+    for (int k = 0; k < 4; ++k)
+    {
+      tetra->GetPoint(ids->GetId(k), p);
+      t.p[static_cast<std::size_t>(k)] = raymappers::Vec3d(p[0], p[1], p[2]);
+      t.s[static_cast<std::size_t>(k)] = s->GetComponent(ids->GetId(k), 0);
+    }
+    tets.push_back(t);
+  }
+  const raymappers::test::ReferenceTetraGrid grid(tets);
+  raymappers::test::RefTransferFunction tf;
+  vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
+  vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
+  double node[6];
+  std::vector<double> xs;
+  for (int i = 0; i < color->GetSize(); ++i)
+  {
+    color->GetNodeValue(i, node);
+    xs.push_back(node[0]);
+  }
+  for (int i = 0; i < opacity->GetSize(); ++i)
+  {
+    opacity->GetNodeValue(i, node);
+    xs.push_back(node[0]);
+  }
+  std::sort(xs.begin(), xs.end());
+  xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
+  for (const double x : xs)
+  {
+    double rgb[3];
+    color->GetColor(x, rgb);
+    tf.s.push_back(x);
+    tf.rgb.insert(tf.rgb.end(), rgb, rgb + 3);
+    tf.alpha.push_back(opacity->GetValue(x));
+  }
+  tf.unitDistance = property->GetScalarOpacityUnitDistance(0);
+
+  // The camera, as the harness sets it up (view, then the clipping range from the data).
+  vtkNew<vtkRenderer> ren;
+  vtkNew<vtkVolume> volume;
+  vtkNew<vtkUnstructuredGridVolumeRayCastMapper> boundsOnly;
+  boundsOnly->SetInputData(tetra);
+  volume->SetMapper(boundsOnly);
+  ren->AddVolume(volume);
+  view(ren->GetActiveCamera());
+  ren->ResetCameraClippingRange();
+  const double aspect = double(opt.width) / opt.height;
+  vtkNew<vtkMatrix4x4> inverse;
+  inverse->DeepCopy(ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(aspect, -1, 1));
+  inverse->Invert();
+
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(opt.width, opt.height, 1);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
+  auto* out = static_cast<unsigned char*>(image->GetScalarPointer());
+  tbb::parallel_for(0, opt.height, [&](int j) {
+    std::vector<std::size_t> candidates;
+    for (int i = 0; i < opt.width; ++i)
+    {
+      const double x = 2.0 * (i + 0.5) / opt.width - 1.0, y = 2.0 * (j + 0.5) / opt.height - 1.0;
+      double nearP[4] = { x, y, -1, 1 }, farP[4] = { x, y, 1, 1 }, a[4], b[4];
+      inverse->MultiplyPoint(nearP, a);
+      inverse->MultiplyPoint(farP, b);
+      const raymappers::Vec3d o(a[0] / a[3], a[1] / a[3], a[2] / a[3]);
+      const raymappers::Vec3d e(b[0] / b[3], b[1] / b[3], b[2] / b[3]);
+      const raymappers::Vec3d d = raymappers::normalize(e - o);
+      grid.candidates(o, d, 0.0, candidates);
+      const auto rgba = raymappers::test::traceReference(tets, false, tf, o, d, 0.0, &candidates, 32);
+      unsigned char* px = out + 3 * (static_cast<std::size_t>(j) * opt.width + i);
+      for (int c = 0; c < 3; ++c)
+      {
+        const double v = rgba[static_cast<std::size_t>(c)] + (1.0 - rgba[3]); // over white
+        px[c] = static_cast<unsigned char>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0));
+      }
+    }
+  });
+  ms = Now() - t0;
+  return image;
+}
+} // namespace
+
+std::vector<Row> RunZSweep(const Options& opt)
+{
+  std::vector<Row> rows;
+  std::vector<std::string> files = opt.data;
+  if (files.empty())
+  {
+    const std::string dataDir = std::string(RAYMAPPERS_SOURCE_DIR) + "/Data/";
+    files = { dataDir + "bluntfinxyz.bin", dataDir + "combxyz.bin", dataDir + "disk_out_ref.ex2",
+      "wavelet" };
+  }
+  WarmUp(opt);
+  for (const std::string& file : files)
+  {
+    const Grid g = Load(file);
+    if (!g.tetra || g.tetra->GetNumberOfCells() == 0 || !g.tetra->GetPointData()->GetScalars())
+    {
+      std::cerr << "zsweep: cannot read a grid with scalars from " << file << "\n";
+      continue;
+    }
+    double range[2], b[6];
+    g.tetra->GetPointData()->GetScalars()->GetRange(range);
+    g.tetra->GetBounds(b);
+    const double diag = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
+      (b[5] - b[4]) * (b[5] - b[4]));
+    auto property = MakeProperty(range, 0.05 * diag);
+    const long long cells = g.tetra->GetNumberOfCells();
+    std::cout << g.name << ": " << cells << " tetrahedra"
+              << (g.native ? ", " + std::to_string(g.native->GetNumberOfCells()) + " native cells"
+                           : std::string())
+              << "\n";
+
+    for (const std::string view : { "far", "side", "close" })
+    {
+      auto camera = [&](vtkCamera* cam) {
+        const double c[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+        cam->SetFocalPoint(c);
+        cam->SetViewUp(0, 1, 0);
+        cam->SetViewAngle(30);
+        if (view == "side")
+        {
+          cam->SetPosition(c[0] + 2.0 * diag, c[1] + 0.3 * diag, c[2] + 0.2 * diag);
+        }
+        else
+        {
+          cam->SetPosition(c[0] + 0.9 * diag, c[1] + 0.6 * diag, c[2] + 1.6 * diag);
+        }
+        if (view == "close")
+        {
+          cam->Zoom(2.5);
+        }
+      };
+      const std::string dataset = g.name + "-" + view;
+
+      // The reference image, always (the error columns need it).
+      double referenceMs = 0;
+      const vtkSmartPointer<vtkImageData> reference =
+        ReferenceImage(opt, g.tetra, property, camera, referenceMs);
+      {
+        Result r;
+        r.row = Row{ "zsweep", dataset, "reference", "brute-force;double;simpson-32",
+          opt.width, opt.height, cells, 0, referenceMs, -1, -1, 0 };
+        r.image = reference;
+        Record(opt, r, rows);
+      }
+
+      vtkSmartPointer<vtkZSweepVolumeMapper> ours;
+      auto zsweep = [&](vtkUnstructuredGrid* grid, int integrator, int tile, int K) {
+        return [&, grid, integrator, tile, K](vtkRenderer* ren) {
+          ours = vtkSmartPointer<vtkZSweepVolumeMapper>::New();
+          ours->SetInputData(grid);
+          ours->SetIntegrator(integrator);
+          ours->SetTileSize(tile);
+          ours->SetListThreshold(K);
+          vtkNew<vtkVolume> volume;
+          volume->SetMapper(ours);
+          volume->SetProperty(property);
+          ren->AddVolume(volume);
+        };
+      };
+      auto detail = [&]() {
+        vtkRayMapperStatistics* st = ours->GetStatistics();
+        std::ostringstream s;
+        s << "mesh " << st->GetPhaseTime("mesh") << " ms (" << st->GetCounter("mesh_bytes") / 1048576.0
+          << " MB), project " << st->GetPhaseTime("project") << " ms, bin " << st->GetPhaseTime("bin")
+          << " ms, sweep " << st->GetPhaseTime("sweep") << " ms; entries " << st->GetCounter("entries")
+          << ", segments " << st->GetCounter("segments") << ", max list "
+          << st->GetCounter("max_list") << ", K growths " << st->GetCounter("k_growths");
+        return s.str();
+      };
+      auto vtkMapper = [&](vtkUnstructuredGridVolumeMapper* mapper) {
+        return [&, mapper](vtkRenderer* ren) {
+          mapper->SetInputData(g.tetra);
+          vtkNew<vtkVolume> volume;
+          volume->SetMapper(mapper);
+          volume->SetProperty(property);
+          ren->AddVolume(volume);
+        };
+      };
+
+      std::vector<Method> methods;
+      methods.push_back({ "zsweep", "exact", zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, 64, 16),
+        nullptr, nullptr, detail });
+      if (g.native)
+      {
+        methods.push_back({ "zsweep", "native-cells;exact",
+          zsweep(g.native, VTK_ZSWEEP_INTEGRATOR_EXACT, 64, 16), nullptr, nullptr, detail });
+      }
+      methods.push_back({ "zsweep", "farias", zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_FARIAS, 64, 16),
+        nullptr, nullptr, detail });
+      methods.push_back({ "zsweep", "midpoint",
+        zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_MIDPOINT, 64, 16), nullptr, nullptr, detail });
+      if (view == "far")
+      {
+        for (const int tile : { 32, 128 })
+        {
+          methods.push_back({ "zsweep", "tile=" + std::to_string(tile),
+            zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, tile, 16), nullptr, nullptr, detail });
+        }
+        for (const int K : { 4, 64 })
+        {
+          methods.push_back({ "zsweep", "K=" + std::to_string(K),
+            zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, 64, K), nullptr, nullptr, detail });
+        }
+      }
+      vtkNew<vtkUnstructuredGridVolumeZSweepMapper> vtkZSweep;
+      vtkNew<vtkUnstructuredGridVolumeRayCastMapper> bunyk;
+      vtkNew<vtkProjectedTetrahedraMapper> projected;
+      methods.push_back({ "vtk-zsweep", "default", vtkMapper(vtkZSweep), nullptr, nullptr, nullptr });
+      methods.back().repeat = 1;
+      methods.push_back({ "vtk-bunyk", "default", vtkMapper(bunyk), nullptr, nullptr, nullptr });
+      methods.push_back(
+        { "vtk-projected-tetra", "default", vtkMapper(projected), nullptr, nullptr, nullptr });
+
+      for (const Method& m : methods)
+      {
+        if (!Selected(opt, m))
+        {
+          continue;
+        }
+        Result r = Measure(opt, m, camera);
+        r.row.suite = "zsweep";
+        r.row.dataset = dataset;
+        r.row.items = m.setting.find("native") != std::string::npos
+          ? g.native->GetNumberOfCells()
+          : cells;
+        Compare(r.image, reference, r.row.rmse, r.row.maxErr);
+        Record(opt, r, rows);
+      }
+    }
+  }
+  return rows;
+}
+
+} // namespace bench

@@ -1,0 +1,246 @@
+"""pvpython: the "Z-Sweep Volume" representation of the RayMappers plugin on NASA's Blunt Fin.
+
+Drives the representation as a ParaView user would (PLOT3D reader, density, ParaView's color
+and opacity maps) and checks:
+- "Z-Sweep Volume" is offered for the structured grid, with its panel's properties;
+- the grid is rendered as its 37,479 native hexahedra (never tetrahedralized);
+- the picture is the one vtkZSweepVolumeMapper draws in a plain VTK pipeline with the same
+  hexahedra, maps, unit distance and camera;
+- the list threshold K changes the work (K grows), not the picture; the dissertation's
+  integrator gives nearly the same picture;
+- cell data (the density moved to the cells) renders with the cell-data path;
+- a hidden representation draws nothing; the image matches its baseline.
+
+usage: pvpython TestZSweepVolumeRepresentation.py PLUGIN BUILD_DIR DATA_DIR BASELINE OUTPUT
+"""
+import os
+import sys
+
+from paraview.simple import (  # noqa: E402
+    ColorBy, CreateView, Delete, GetColorTransferFunction, GetOpacityTransferFunction, Hide,
+    LoadPlugin, PLOT3DReader, PointDatatoCellData, Render, SaveScreenshot, SetActiveView, Show)
+from paraview import servermanager  # noqa: E402
+from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+
+REPRESENTATION = 'Z-Sweep Volume'
+BACKGROUND = [0.0, 0.0, 0.0]
+SIZE = [300, 300]
+failures = []
+
+
+def check(condition, message):
+    print(('ok    ' if condition else 'FAIL  ') + message)
+    if not condition:
+        failures.append(message)
+
+
+def pixels(png):
+    reader = vtkPNGReader()
+    reader.SetFileName(png)
+    reader.Update()
+    return vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3].astype(float)
+
+
+def screenshot(view, path):
+    Render(view)
+    SaveScreenshot(path, view, ImageResolution=SIZE, TransparentBackground=0)
+    return pixels(path)
+
+
+def statistics(rep):
+    rep.SMProxy.UpdatePropertyInformation()
+    text = rep.SMProxy.GetProperty('ZSweepRenderStatistics').GetElement(0)
+    values = {}
+    for line in text.splitlines():
+        kind, name, value = line.split()
+        values[name] = value if kind == 'effect' else float(value)
+    return values
+
+
+def rmse(a, b):
+    return float(((a - b) ** 2).mean() ** 0.5)
+
+
+def plain_vtk_image(grid, view, lut, opacity, unit, path):
+    """The same hexahedra drawn by vtkZSweepVolumeMapper in a plain VTK pipeline with the
+    client-side objects of ParaView's maps and the view's camera."""
+    from vtkmodules import vtkRenderingOpenGL2  # noqa: F401
+    from vtkmodules.vtkRenderingCore import (
+        vtkRenderer, vtkRenderWindow, vtkVolume, vtkVolumeProperty, vtkWindowToImageFilter)
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    import raymappers
+
+    from vtkmodules.vtkFiltersCore import vtkAppendFilter
+    hexahedra = vtkAppendFilter()  # the structured grid's cells as an unstructured grid
+    hexahedra.SetInputData(grid)
+    hexahedra.Update()
+    mapper = raymappers.vtkZSweepVolumeMapper()
+    mapper.SetInputData(hexahedra.GetOutput())
+    mapper.SetScalarModeToUsePointFieldData()
+    mapper.SelectScalarArray('Density')
+    prop = vtkVolumeProperty()
+    prop.SetColor(lut)
+    prop.SetScalarOpacity(opacity)
+    prop.SetScalarOpacityUnitDistance(unit)
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+    ren = vtkRenderer()
+    ren.SetBackground(BACKGROUND)
+    ren.AddVolume(volume)
+    source = view.GetActiveCamera()
+    camera = ren.GetActiveCamera()
+    camera.SetPosition(source.GetPosition())
+    camera.SetFocalPoint(source.GetFocalPoint())
+    camera.SetViewUp(source.GetViewUp())
+    camera.SetViewAngle(source.GetViewAngle())
+    camera.SetClippingRange(source.GetClippingRange())
+    win = vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetSize(SIZE)
+    win.AddRenderer(ren)
+    win.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(win)
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    writer = vtkPNGWriter()
+    writer.SetFileName(path)
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.Write()
+    win.Finalize()
+    return pixels(path), mapper.GetStatistics().GetCounter('cells')
+
+
+def compare_with_baseline(output, baseline):
+    from vtkmodules.test import Testing
+    Testing.VTK_TEMP_DIR = os.path.dirname(os.path.abspath(output))
+    if not os.path.isfile(baseline):
+        print('FAIL  no baseline image %s; candidate written to %s' % (baseline, output))
+        return False
+    reader = vtkPNGReader()
+    reader.SetFileName(output)
+    reader.Update()
+    try:
+        Testing.compareImageWithSavedImage(reader, baseline, 0.15)
+    except RuntimeError as error:
+        print('FAIL  image differs from %s: %s' % (baseline, str(error).strip()))
+        return False
+    print('ok    image matches %s' % baseline)
+    return True
+
+
+def run_checks(view, source, stem, build_dir, output, baseline):
+    view.ViewSize = SIZE
+    view.OrientationAxesVisibility = 0
+    if view.GetProperty('UseFXAA') is not None:
+        view.UseFXAA = 0
+    if view.GetProperty('UseColorPaletteForBackground') is not None:
+        view.UseColorPaletteForBackground = 0
+    view.Background = BACKGROUND
+    SetActiveView(view)
+
+    rep = Show(source, view)
+    check(REPRESENTATION in rep.Representation.Available,
+          '"%s" is offered for %s' % (REPRESENTATION, rep.GetXMLName()))
+    rep.SetRepresentationType(REPRESENTATION)
+    for name in ('ZSweepIntegrator', 'ZSweepTileSize', 'ZSweepListThreshold',
+                 'ZSweepTerminationOpacity', 'ScalarOpacityFunction',
+                 'ScalarOpacityUnitDistance', 'LookupTable', 'ColorArrayName'):
+        check(rep.GetProperty(name) is not None, 'property %s exists' % name)
+
+    ColorBy(rep, ('POINTS', 'Density'))
+    rep.SetScalarBarVisibility(view, False)
+    lut = GetColorTransferFunction('Density')
+    lut.ApplyPreset('Cool to Warm', True)
+    lut.RescaleTransferFunction(0.19, 4.98)
+    lut.AutomaticRescaleRangeMode = 'Never'
+    opacity = GetOpacityTransferFunction('Density')
+    opacity.Points = [0.19, 0.0, 0.5, 0.0, 4.98, 0.5, 0.5, 0.0]
+    check(rep.ScalarOpacityFunction == opacity, 'the representation uses the opacity map')
+    rep.ScalarOpacityUnitDistance = 1.0
+    Render(view)
+    view.ResetCamera(False)
+    view.GetActiveCamera().Azimuth(30)
+    view.GetActiveCamera().Elevation(20)
+    view.GetActiveCamera().Dolly(1.3)
+    Render(view)
+
+    image = screenshot(view, output)
+    covered = float((image.sum(axis=1) > 0).mean())
+    check(0.1 < covered < 0.95, 'the grid covers part of the view (%.1f%%)' % (100 * covered))
+    stats = statistics(rep)
+    check(stats.get('cells') == 37479, 'rendered as its 37,479 native hexahedra (%s cells)'
+          % stats.get('cells'))
+
+    sys.path.insert(0, os.path.join(build_dir, 'lib', 'python3', 'dist-packages'))
+    grid = servermanager.Fetch(source).GetBlock(0)
+    reference, cells = plain_vtk_image(grid, view, lut.GetClientSideObject(),
+                                       opacity.GetClientSideObject(), 1.0,
+                                       stem + '-vtk-reference.png')
+    check(cells == 37479 and rmse(image, reference) < 1.0,
+          'the picture is the plain VTK mapper\'s (rmse %.3f of 255)' % rmse(image, reference))
+    if not compare_with_baseline(output, baseline):
+        failures.append('baseline comparison')
+
+    rep.ZSweepListThreshold = 2
+    small = screenshot(view, stem + '-k2.png')
+    check(statistics(rep).get('k_growths') > 0 and rmse(small, image) < 0.5,
+          'K = 2: K grows (%d times), same picture (rmse %.3f)'
+          % (statistics(rep).get('k_growths'), rmse(small, image)))
+    rep.ZSweepListThreshold = 16
+    rep.ZSweepIntegrator = 'Farias (second order)'
+    farias = screenshot(view, stem + '-farias.png')
+    check(0 < rmse(farias, image) < 8.0,
+          'the dissertation\'s integrator: nearly the same picture (rmse %.2f)'
+          % rmse(farias, image))
+    rep.ZSweepIntegrator = 'Exact'
+
+    # Cell data: the density averaged to the cells.
+    Hide(source, view)
+    cells_source = PointDatatoCellData(Input=source)
+    cell_rep = Show(cells_source, view)
+    cell_rep.SetRepresentationType(REPRESENTATION)
+    ColorBy(cell_rep, ('CELLS', 'Density'))
+    cell_rep.SetScalarBarVisibility(view, False)
+    lut.RescaleTransferFunction(0.19, 4.98)
+    opacity.RescaleTransferFunction(0.19, 4.98)
+    cell_rep.ScalarOpacityUnitDistance = 1.0
+    cell_image = screenshot(view, stem + '-cells.png')
+    check(statistics(cell_rep).get('cell_data') == 'on' and rmse(cell_image, image) < 12.0,
+          'cell data: the cell path, a similar picture (rmse %.2f)' % rmse(cell_image, image))
+    Hide(cells_source, view)
+
+    nothing = screenshot(view, stem + '-hidden.png')
+    check(float(nothing.max()) == 0.0, 'a hidden representation draws nothing')
+
+
+def main():
+    plugin, build_dir, data_dir, baseline, output = sys.argv[1:6]
+    out_dir = os.path.dirname(os.path.abspath(output))
+    if out_dir == os.path.dirname(os.path.abspath(baseline)):
+        print('FAIL  OUTPUT must not be in the baseline folder')
+        return 2
+    os.makedirs(out_dir, exist_ok=True)
+    stem = os.path.splitext(os.path.abspath(output))[0]
+    LoadPlugin(plugin, remote=False, ns=globals())
+    source = PLOT3DReader(FileName=os.path.join(data_dir, 'bluntfinxyz.bin'),
+                          QFileName=[os.path.join(data_dir, 'bluntfinq.bin')])
+    source.UpdatePipeline()
+    view = CreateView('RenderView')
+    try:
+        run_checks(view, source, stem, build_dir, output, baseline)
+    finally:
+        Delete(view)
+    if failures:
+        print('%d check(s) failed' % len(failures))
+        return 1
+    print('all checks passed')
+    return 0
+
+
+if __name__ == '__main__':
+    code = main()
+    if code:
+        sys.exit(code)
