@@ -69,6 +69,18 @@ struct Grid
 
 vtkSmartPointer<vtkUnstructuredGrid> ToUnstructured(vtkDataObject* data, bool tetrahedralize)
 {
+  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  if (tetrahedralize && !vtkCompositeDataSet::SafeDownCast(data))
+  {
+    // Structured grids and images split each hexahedron into 5 tetrahedra (187,395 for the
+    // Blunt Fin, as in the dissertation; 320,000 for the wavelet).
+    vtkNew<vtkDataSetTriangleFilter> tetra;
+    tetra->SetInputData(data);
+    tetra->TetrahedraOnlyOn();
+    tetra->Update();
+    out->ShallowCopy(tetra->GetOutput());
+    return out;
+  }
   vtkNew<vtkAppendFilter> append;
   if (auto* composite = vtkCompositeDataSet::SafeDownCast(data))
   {
@@ -83,7 +95,6 @@ vtkSmartPointer<vtkUnstructuredGrid> ToUnstructured(vtkDataObject* data, bool te
   }
   append->MergePointsOn();
   append->Update();
-  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
   if (!tetrahedralize)
   {
     out->ShallowCopy(append->GetOutput());
