@@ -15,6 +15,7 @@ add_library(RayMappersKernels STATIC
   ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFVolumeRenderer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/OpticalModel.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepMesh.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepNearPlane.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx)
 target_include_directories(RayMappersKernels PUBLIC
   ${CMAKE_CURRENT_LIST_DIR}/Common

@@ -1,6 +1,7 @@
 #include "ZSweepRenderer.h"
 
 #include "RayCamera.h"
+#include "ZSweepNearPlane.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -18,13 +19,6 @@ namespace raymappers
 
 namespace
 {
-struct ProjectedVertex
-{
-  double x, y; // window position (pixels; pixel (i, j) has its centre at (i + .5, j + .5))
-  double d;    // window depth
-  double invW; // 1 / w_clip, for perspective-correct interpolation
-  bool valid;  // in front of the eye and not before the near plane
-};
 
 // A face crossing on a pixel's ray.
 struct Entry
@@ -76,7 +70,7 @@ struct EdgeEquation
   double ux, uy, dx, dy, sign;
   bool owned;
 
-  EdgeEquation(const ProjectedVertex& u, std::uint32_t iu, const ProjectedVertex& v, std::uint32_t iv)
+  EdgeEquation(const ProjectedVertex& u, std::uint64_t iu, const ProjectedVertex& v, std::uint64_t iv)
   {
     const ProjectedVertex& p = iu < iv ? u : v;
     const ProjectedVertex& q = iu < iv ? v : u;
@@ -199,7 +193,7 @@ void renderZSweep(const ZSweepMesh& mesh,
   std::vector<std::int32_t> box(4 * triangles.size()); // pixel bounds, x0 < 0: not drawn
   std::vector<char> forward(triangles.size());          // the rays cross front -> back
   std::vector<std::atomic<std::uint32_t>> tileCount(static_cast<std::size_t>(nx) * ny);
-  std::atomic<std::int64_t> nearClipped{ 0 };
+  std::vector<char> crosses(triangles.size(), 0); // across the near plane
   {
     ScopedPhase phase(stats, "bin");
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size()),
@@ -213,7 +207,17 @@ void renderZSweep(const ZSweepMesh& mesh,
           box[4 * f] = -1;
           if (!a.valid || !b.valid || !c.valid)
           {
-            ++nearClipped;
+            if (a.valid || b.valid || c.valid)
+            {
+              // Across the near plane: clipped below. The rays cross its plane from the
+              // same side everywhere; read it through a vertex beyond the near plane.
+              const ProjectedVertex& in = a.valid ? a : (b.valid ? b : c);
+              const Ray ray = camera.primaryRay(in.x, in.y);
+              const Vec3d& p0 = points[t.v[0]];
+              const Vec3d n = cross(points[t.v[1]] - p0, points[t.v[2]] - p0);
+              forward[f] = dot(Vec3d(ray.dir), n) > 0;
+              crosses[f] = 1;
+            }
             continue;
           }
           if (a.d > 1 && b.d > 1 && c.d > 1)
@@ -290,6 +294,53 @@ void renderZSweep(const ZSweepMesh& mesh,
       binned.begin() + static_cast<std::ptrdiff_t>(tileStart[tile + 1]),
       eventLess);
   });
+
+  // The faces across the near plane, clipped, and the caps of the cells they bound (a
+  // camera close to or inside the grid), binned into per-tile lists in event order.
+  std::vector<std::uint32_t> crossing;
+  for (std::size_t f = 0; f < triangles.size(); ++f)
+  {
+    if (crosses[f])
+    {
+      crossing.push_back(static_cast<std::uint32_t>(f));
+    }
+  }
+  std::vector<DrawTriangle> extras;
+  std::size_t openCaps = 0;
+  std::vector<std::vector<std::uint32_t>> tileExtras(tileCount.size());
+  std::vector<std::array<int, 4>> extraBox;
+  std::vector<double> extraEvent;
+  if (!crossing.empty())
+  {
+    ScopedPhase nearPhase(stats, "near_plane");
+    openCaps = nearPlaneTriangles(mesh, M, W, H, crossing, forward, extras);
+    for (std::size_t e = 0; e < extras.size(); ++e)
+    {
+      const auto& v = extras[e].v;
+      const int x0 = std::max(0, static_cast<int>(std::ceil(std::min({ v[0].x, v[1].x, v[2].x }) - 0.5)));
+      const int x1 = std::min(W - 1, static_cast<int>(std::floor(std::max({ v[0].x, v[1].x, v[2].x }) - 0.5)));
+      const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({ v[0].y, v[1].y, v[2].y }) - 0.5)));
+      const int y1 = std::min(H - 1, static_cast<int>(std::floor(std::max({ v[0].y, v[1].y, v[2].y }) - 0.5)));
+      extraBox.push_back({ x0, y0, x1, y1 });
+      extraEvent.push_back(std::min({ v[0].d, v[1].d, v[2].d }));
+      if (x0 > x1 || y0 > y1)
+      {
+        continue;
+      }
+      for (int ty = y0 / S; ty <= y1 / S; ++ty)
+      {
+        for (int tx = x0 / S; tx <= x1 / S; ++tx)
+        {
+          tileExtras[static_cast<std::size_t>(ty) * nx + tx].push_back(static_cast<std::uint32_t>(e));
+        }
+      }
+    }
+    for (auto& list : tileExtras)
+    {
+      std::stable_sort(list.begin(), list.end(),
+        [&](std::uint32_t a, std::uint32_t b) { return extraEvent[a] < extraEvent[b]; });
+    }
+  }
 
   // Ties: crossings closer than this along a ray are one crossing (a shared vertex or edge).
   double extent = 0;
@@ -447,18 +498,101 @@ void renderZSweep(const ZSweepMesh& mesh,
 
       std::size_t K = static_cast<std::size_t>(K0);
       bool overK = false;
-      double zTarget = -std::numeric_limits<double>::infinity();
-      const std::size_t begin = tileStart[static_cast<std::size_t>(tileIndex)];
-      const std::size_t end = tileStart[static_cast<std::size_t>(tileIndex) + 1];
-      for (std::size_t e = begin; e < end;)
-      {
-        // The event: all triangles whose nearest vertex is this one.
-        std::size_t g = e + 1;
-        while (g < end && binned[g].vertex == binned[e].vertex)
+
+      // Scan converts one triangle into the tile's pixel lists (keys: the vertices' ids,
+      // for the shared-edge fill rule; bounds: its pixel box).
+      auto rasterize = [&](const ProjectedVertex* va, std::uint64_t ka, double sa,
+                         const ProjectedVertex* vb, std::uint64_t kb, double sb,
+                         const ProjectedVertex* vc, std::uint64_t kc, double sc,
+                         std::int32_t entered, std::int32_t exited, const int bounds[4]) {
+        double area = orient(*va, *vb, vc->x, vc->y);
+        if (area == 0)
         {
-          ++g;
+          return; // seen edge on: covers no pixel centre
         }
-        const double zv = binned[e].depth;
+        if (area < 0)
+        {
+          std::swap(vb, vc);
+          std::swap(kb, kc);
+          std::swap(sb, sc);
+          area = -area;
+        }
+        const ProjectedVertex &a = *va, &b = *vb, &c = *vc;
+        const EdgeEquation edges[3] = { EdgeEquation(b, kb, c, kc), EdgeEquation(c, kc, a, ka),
+          EdgeEquation(a, ka, b, kb) };
+        const double invArea = 1.0 / area;
+        const int x0 = std::max(bounds[0], X0), x1 = std::min(bounds[2], X0 + TW - 1);
+        const int y0 = std::max(bounds[1], Y0), y1 = std::min(bounds[3], Y0 + TH - 1);
+        for (int y = y0; y <= y1; ++y)
+        {
+          const double py = y + 0.5;
+          double rows[3];
+          // The row's span inside all three edges, widened by a pixel: the exact test below
+          // decides each pixel.
+          double lo = x0, hi = x1;
+          bool empty = false;
+          for (int q = 0; q < 3; ++q)
+          {
+            rows[q] = edges[q].row(py);
+            edges[q].narrow(rows[q], lo, hi, empty);
+          }
+          if (empty)
+          {
+            continue;
+          }
+          const int xs = std::max(x0, static_cast<int>(std::floor(lo - 0.5)) - 1);
+          const int xe = std::min(x1, static_cast<int>(std::ceil(hi - 0.5)) + 1);
+          for (int xi = xs; xi <= xe; ++xi)
+          {
+            const double pxc = xi + 0.5;
+            const double eBC = edges[0].at(rows[0], pxc);
+            const double eCA = edges[1].at(rows[1], pxc);
+            const double eAB = edges[2].at(rows[2], pxc);
+            if (!edges[0].inside(eBC) || !edges[1].inside(eCA) || !edges[2].inside(eAB))
+            {
+              continue;
+            }
+            const std::size_t p = static_cast<std::size_t>(y - Y0) * TW + (xi - X0);
+            PixelState& pxs = work.pixels[p];
+            if (pxs.done)
+            {
+              continue;
+            }
+            // Barycentrics; depth is affine in the window, the scalar perspective-correct.
+            const double la = eBC * invArea, lb = eCA * invArea, lc = eAB * invArea;
+            const double d = la * a.d + lb * b.d + lc * c.d;
+            double s = 0;
+            if (!cellData)
+            {
+              const double wa = la * a.invW, wb = lb * b.invW, wc = lc * c.invW;
+              s = (wa * sa + wb * sb + wc * sc) / (wa + wb + wc);
+            }
+            const Entry entry{ pxs.map.distanceOf(d), s, entered, exited };
+            std::vector<Entry>& list = work.lists[p];
+            // Usually the sweep order puts the entry at the end (section 4.2); when it does
+            // not, pending entries beyond it are found by bisection.
+            auto pos = list.end();
+            if (!list.empty() && list.back().t > entry.t)
+            {
+              pos = std::upper_bound(list.begin(), list.end(), entry.t,
+                [](double v, const Entry& en) { return v < en.t; });
+            }
+            list.insert(pos, entry);
+            ++work.entries;
+            work.maxList = std::max(work.maxList, list.size());
+            overK = overK || list.size() > K;
+            if (!work.isDirty[p])
+            {
+              work.isDirty[p] = 1;
+              work.dirty.push_back(static_cast<int>(p));
+            }
+          }
+        }
+      };
+
+      // Delayed compositing before an event at depth zv whose triangles reach zFar.
+      double zTarget = -std::numeric_limits<double>::infinity();
+      auto beforeEvent = [&](double zv, double zFar) {
         if (zv >= zTarget || overK)
         {
           const std::size_t longest = flush(zv);
@@ -468,103 +602,47 @@ void renderZSweep(const ZSweepMesh& mesh,
             K *= 2; // the lists cannot be flushed below K yet (section 4.2)
             ++work.kGrowths;
           }
-          zTarget = zv;
-          for (std::size_t k = e; k < g; ++k)
-          {
-            const ZSweepTriangle& t = triangles[binned[k].triangle];
-            zTarget = std::max({ zTarget, proj[t.v[0]].d, proj[t.v[1]].d, proj[t.v[2]].d });
-          }
+          zTarget = std::max(zv, zFar);
         }
+      };
+
+      // The events of the mesh's triangles and of the near-plane triangles, merged in order.
+      const std::size_t begin = tileStart[static_cast<std::size_t>(tileIndex)];
+      const std::size_t end = tileStart[static_cast<std::size_t>(tileIndex) + 1];
+      const std::vector<std::uint32_t>& near = tileExtras[static_cast<std::size_t>(tileIndex)];
+      std::size_t e = begin, n = 0;
+      while (e < end || n < near.size())
+      {
+        if (n < near.size() && (e >= end || extraEvent[near[n]] <= binned[e].depth))
+        {
+          const DrawTriangle& t = extras[near[n]];
+          beforeEvent(extraEvent[near[n]], std::max({ t.v[0].d, t.v[1].d, t.v[2].d }));
+          rasterize(&t.v[0], t.key[0], t.s[0], &t.v[1], t.key[1], t.s[1], &t.v[2], t.key[2],
+            t.s[2], t.entered, t.exited, extraBox[near[n]].data());
+          ++n;
+          continue;
+        }
+        // The event: all triangles whose nearest vertex is this one.
+        std::size_t g = e + 1;
+        while (g < end && binned[g].vertex == binned[e].vertex)
+        {
+          ++g;
+        }
+        double zFar = binned[e].depth;
+        for (std::size_t k = e; k < g; ++k)
+        {
+          const ZSweepTriangle& t = triangles[binned[k].triangle];
+          zFar = std::max({ zFar, proj[t.v[0]].d, proj[t.v[1]].d, proj[t.v[2]].d });
+        }
+        beforeEvent(binned[e].depth, zFar);
         for (std::size_t k = e; k < g; ++k)
         {
           const std::uint32_t f = binned[k].triangle;
           const ZSweepTriangle& t = triangles[f];
-          std::uint32_t ia = t.v[0], ib = t.v[1], ic = t.v[2];
-          double area = orient(proj[ia], proj[ib], proj[ic].x, proj[ic].y);
-          if (area == 0)
-          {
-            continue; // seen edge on: covers no pixel centre
-          }
-          if (area < 0)
-          {
-            std::swap(ib, ic);
-            area = -area;
-          }
-          const ProjectedVertex &a = proj[ia], &b = proj[ib], &c = proj[ic];
-          const EdgeEquation edges[3] = { EdgeEquation(b, ib, c, ic), EdgeEquation(c, ic, a, ia),
-            EdgeEquation(a, ia, b, ib) };
-          const double invArea = 1.0 / area;
-          const std::int32_t entered = forward[f] ? t.back : t.front;
-          const std::int32_t exited = forward[f] ? t.front : t.back;
-          const double sa = cellData ? 0.0 : scalars[ia], sb = cellData ? 0.0 : scalars[ib],
-                       sc = cellData ? 0.0 : scalars[ic];
-          const int x0 = std::max(box[4 * f], X0), x1 = std::min(box[4 * f + 2], X0 + TW - 1);
-          const int y0 = std::max(box[4 * f + 1], Y0), y1 = std::min(box[4 * f + 3], Y0 + TH - 1);
-          for (int y = y0; y <= y1; ++y)
-          {
-            const double py = y + 0.5;
-            double rows[3];
-            // The row's span inside all three edges, widened by a pixel: the exact test
-            // below decides each pixel.
-            double lo = x0, hi = x1;
-            bool empty = false;
-            for (int q = 0; q < 3; ++q)
-            {
-              rows[q] = edges[q].row(py);
-              edges[q].narrow(rows[q], lo, hi, empty);
-            }
-            if (empty)
-            {
-              continue;
-            }
-            const int xs = std::max(x0, static_cast<int>(std::floor(lo - 0.5)) - 1);
-            const int xe = std::min(x1, static_cast<int>(std::ceil(hi - 0.5)) + 1);
-            for (int x = xs; x <= xe; ++x)
-            {
-              const double pxc = x + 0.5;
-              const double eBC = edges[0].at(rows[0], pxc);
-              const double eCA = edges[1].at(rows[1], pxc);
-              const double eAB = edges[2].at(rows[2], pxc);
-              if (!edges[0].inside(eBC) || !edges[1].inside(eCA) || !edges[2].inside(eAB))
-              {
-                continue;
-              }
-              const std::size_t p = static_cast<std::size_t>(y - Y0) * TW + (x - X0);
-              PixelState& pxs = work.pixels[p];
-              if (pxs.done)
-              {
-                continue;
-              }
-              // Barycentrics; depth is affine in the window, the scalar perspective-correct.
-              const double la = eBC * invArea, lb = eCA * invArea, lc = eAB * invArea;
-              const double d = la * a.d + lb * b.d + lc * c.d;
-              double s = 0;
-              if (!cellData)
-              {
-                const double wa = la * a.invW, wb = lb * b.invW, wc = lc * c.invW;
-                s = (wa * sa + wb * sb + wc * sc) / (wa + wb + wc);
-              }
-              const Entry entry{ pxs.map.distanceOf(d), s, entered, exited };
-              std::vector<Entry>& list = work.lists[p];
-              // Usually the sweep order puts the entry at the end (section 4.2); when it does
-              // not, pending entries beyond it are found by bisection.
-              auto pos = list.end();
-              if (!list.empty() && list.back().t > entry.t)
-              {
-                pos = std::upper_bound(list.begin(), list.end(), entry.t,
-                  [](double v, const Entry& en) { return v < en.t; });
-              }
-              list.insert(pos, entry);
-              ++work.entries;
-              work.maxList = std::max(work.maxList, list.size());
-              overK = overK || list.size() > K;
-              if (!work.isDirty[p])
-              {
-                work.isDirty[p] = 1;
-                work.dirty.push_back(static_cast<int>(p));
-              }
-            }
-          }
+          const std::uint32_t ia = t.v[0], ib = t.v[1], ic = t.v[2];
+          rasterize(&proj[ia], ia, cellData ? 0.0 : scalars[ia], &proj[ib], ib,
+            cellData ? 0.0 : scalars[ib], &proj[ic], ic, cellData ? 0.0 : scalars[ic],
+            forward[f] ? t.back : t.front, forward[f] ? t.front : t.back, &box[4 * f]);
         }
         e = g;
       }
@@ -603,7 +681,8 @@ void renderZSweep(const ZSweepMesh& mesh,
   stats.addCounter("k_growths", kGrowths);
   stats.addCounter("segments", segs);
   stats.addCounter("transparent_segments", transparent);
-  stats.addCounter("near_clipped_triangles", nearClipped.load());
+  stats.addCounter("near_plane_triangles", static_cast<std::int64_t>(extras.size()));
+  stats.addCounter("open_caps", static_cast<std::int64_t>(openCaps));
   stats.addCounter("max_list", static_cast<std::int64_t>(maxList));
   stats.addCounter("tie_groups", ties);
 }

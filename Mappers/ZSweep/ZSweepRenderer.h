@@ -23,8 +23,10 @@
 //    linearly, cell data: constant). Entries closer than a tie tolerance (a ray through a
 //    shared vertex or edge) form one crossing: the ray ends up in the cell that some
 //    member entered and no member left.
-// Opaque geometry (a window depth per pixel) ends the rays; a pixel stops collecting
-// entries once its opacity reaches the termination threshold.
+// A camera close to or inside the grid: faces across the near plane are clipped and the
+// cells across it get caps (ZSweepNearPlane.h). Opaque geometry (a window depth per pixel)
+// ends the rays; a pixel stops collecting entries once its opacity reaches the termination
+// threshold.
 #ifndef RayMappers_ZSweepRenderer_h
 #define RayMappers_ZSweepRenderer_h
 
@@ -50,8 +52,8 @@ struct ZSweepParameters
 /// the far plane). `modelToClip`: row-major 4x4 model (not origin-relative) to OpenGL clip
 /// coordinates; `opaqueDepth`, when not null, the window depth of opaque geometry per pixel
 /// (rows from the bottom). Counters: triangles, binned_triangles, entries, flushes,
-/// k_growths, segments, transparent_segments, near_clipped_triangles, max_list,
-/// tie_groups. Effects: cell_data, early_termination.
+/// k_growths, segments, transparent_segments, near_plane_triangles (clipped faces and
+/// caps), open_caps, max_list, tie_groups. Effects: cell_data, early_termination.
 void renderZSweep(const ZSweepMesh& mesh,
   const OpticalModel& optics,
   const std::array<double, 16>& modelToClip,

@@ -795,3 +795,42 @@ TEST(ZSweepReference, GridCandidatesGiveTheSameRaysAsAllCells)
   }
   EXPECT_EQ(worst, 0.0);
 }
+
+TEST(ZSweepImage, CameraInsideTheGridMatchesTheReference)
+{
+  // The eye inside the grid: the near plane cuts cells; each ray starts in the cell its
+  // cap belongs to. Also the eye outside with the near plane cutting the grid.
+  Lattice L;
+  L.n = 5;
+  L.lo = { -1.25, -1.25, -1.25 };
+  L.jitter = 0.2;
+  for (const bool cellData : { false, true })
+  {
+    ZSweepGrid g = tetLattice(L, smoothField);
+    if (cellData)
+    {
+      g.cellScalars = true;
+      g.scalars.clear();
+      for (std::size_t c = 0; c < g.cellTypes.size(); ++c)
+      {
+        g.scalars.push_back(0.2 + 0.6 * double(c % 7) / 6.0);
+      }
+    }
+    const RefTransferFunction tf = testTransferFunction();
+    for (const auto& eye : { Vec3d(0.13, 0.21, 0.37), Vec3d(0.4, -0.3, 1.3) })
+    {
+      TestCamera cam;
+      cam.eye = eye;
+      cam.at = { 1.0, 0.45, -0.2 };
+      cam.fovy = 70;
+      cam.nearD = 0.3;
+      const Image im = sweep(g, tf, cam);
+      int covered = 0;
+      EXPECT_LT(maxErrorToReference(im, g, tf, cam, &covered), 1e-5)
+        << "cell data " << cellData << " eye " << eye.x;
+      EXPECT_GT(covered, 1500);
+      EXPECT_GT(im.stats.counter("near_plane_triangles"), 0);
+      EXPECT_EQ(im.stats.counter("open_caps"), 0);
+    }
+  }
+}
