@@ -1,6 +1,7 @@
 #include "vtkZSweepVolumeMapper.h"
 
 #include "Frame.h"
+#include "FrameResample.h"
 #include "OpticalModel.h"
 #include "RenderStatistics.h"
 #include "ZSweepMesh.h"
@@ -16,7 +17,9 @@
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPoints.h"
+#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkTimerLog.h"
 #include "vtkUnstructuredGridBase.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -35,6 +38,8 @@ struct vtkZSweepVolumeMapper::Internals
   vtkRayMapperFrameDrawer Drawer;
   vtkNew<vtkRayMapperStatistics> Statistics;
   std::int64_t Builds = 0;
+  double LastFullFrameSeconds = 0; // of the last full-resolution render (0: none yet)
+  raymappers::Frame Coarse;        // the reduced frame of a time-critical render
 
   // What the mesh was built from.
   bool HasMesh = false;
@@ -327,14 +332,49 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.tileSize = this->TileSize;
   params.listThreshold = this->ListThreshold;
   params.terminationOpacity = this->TerminationOpacity;
+  // Time-critical rendering: p x p fewer rays when the last full frame overran the budget.
+  // Interactive renders are those VTK asks at least 1 frame per second of (an
+  // interactor's DesiredUpdateRate while the user moves the camera; StillUpdateRate after).
+  int p = this->Subsampling;
+  if (p == 0)
+  {
+    const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
+    const double budget = this->FrameBudget > 0 ? this->FrameBudget : (rate > 0 ? 1.0 / rate : 0);
+    p = 1;
+    if (rate >= 1.0 && budget > 0 && Impl->LastFullFrameSeconds > budget)
+    {
+      p = std::clamp(static_cast<int>(std::ceil(std::sqrt(Impl->LastFullFrameSeconds / budget))), 1, 9);
+    }
+  }
+  stats.addCounter("subsampling", p);
   Impl->Frame.resize(width, height);
-  raymappers::renderZSweep(Impl->Mesh,
-    optics,
-    modelToClip,
-    params,
-    haveDepth ? depth.data() : nullptr,
-    Impl->Frame,
-    stats);
+  const double start = vtkTimerLog::GetUniversalTime();
+  if (p == 1)
+  {
+    raymappers::renderZSweep(Impl->Mesh,
+      optics,
+      modelToClip,
+      params,
+      haveDepth ? depth.data() : nullptr,
+      Impl->Frame,
+      stats);
+    Impl->LastFullFrameSeconds = vtkTimerLog::GetUniversalTime() - start;
+  }
+  else
+  {
+    const int cw = raymappers::reducedSize(width, p), ch = raymappers::reducedSize(height, p);
+    Impl->Coarse.resize(cw, ch);
+    const std::vector<float> coarseDepth =
+      haveDepth ? raymappers::sampleDepth(depth, width, height, cw, ch) : std::vector<float>();
+    raymappers::renderZSweep(Impl->Mesh,
+      optics,
+      modelToClip,
+      params,
+      haveDepth ? coarseDepth.data() : nullptr,
+      Impl->Coarse,
+      stats);
+    raymappers::enlarge(Impl->Coarse, Impl->Frame);
+  }
   {
     raymappers::ScopedPhase phase(stats, "draw");
     Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied);
@@ -349,4 +389,6 @@ void vtkZSweepVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TileSize: " << this->TileSize << "\n";
   os << indent << "ListThreshold: " << this->ListThreshold << "\n";
   os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";
+  os << indent << "Subsampling: " << this->Subsampling << "\n";
+  os << indent << "FrameBudget: " << this->FrameBudget << "\n";
 }

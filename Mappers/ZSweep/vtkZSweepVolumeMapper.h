@@ -81,8 +81,24 @@ public:
   vtkGetMacro(TerminationOpacity, double);
   ///@}
 
+  ///@{
   /**
-   * Statistics of the last render.
+   * Time-critical rendering (Farias 2001, chapter 3): with Subsampling 0 (default), during
+   * interactive renders (the render window's DesiredUpdateRate at least 1 frame per second,
+   * as an interactor sets it while the camera moves), when the last full-resolution frame
+   * took longer than the frame budget, the mapper renders p x p fewer rays
+   * (p = ceil(sqrt(last time / budget)), at most 9) and enlarges the image; still renders
+   * give the exact image. FrameBudget in seconds; 0 (default): 1 / DesiredUpdateRate.
+   * Subsampling 1 to 9 fixes p (1: always the full image).
+   */
+  vtkSetClampMacro(Subsampling, int, 0, 9);
+  vtkGetMacro(Subsampling, int);
+  vtkSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(FrameBudget, double);
+  ///@}
+
+  /**
+   * Statistics of the last render (counter "subsampling": the p used).
    */
   vtkRayMapperStatistics* GetStatistics();
 
@@ -97,6 +113,8 @@ protected:
   int TileSize = 64;
   int ListThreshold = 16;
   double TerminationOpacity = 1.0;
+  int Subsampling = 0;
+  double FrameBudget = 0.0;
 
 private:
   vtkZSweepVolumeMapper(const vtkZSweepVolumeMapper&) = delete;

@@ -262,6 +262,18 @@ void vtkZSweepVolumeRepresentation::SetTerminationOpacity(double opacity)
   this->Modified();
 }
 
+void vtkZSweepVolumeRepresentation::SetSubsampling(int p)
+{
+  this->Mapper->SetSubsampling(p);
+  this->Modified();
+}
+
+void vtkZSweepVolumeRepresentation::SetFrameBudget(double seconds)
+{
+  this->Mapper->SetFrameBudget(seconds);
+  this->Modified();
+}
+
 //----------------------------------------------------------------------------
 void vtkZSweepVolumeRepresentation::SetOrientation(double x, double y, double z)
 {

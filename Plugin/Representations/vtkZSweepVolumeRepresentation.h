@@ -53,6 +53,8 @@ public:
   void SetTileSize(int size);
   void SetListThreshold(int k);
   void SetTerminationOpacity(double opacity);
+  void SetSubsampling(int p);
+  void SetFrameBudget(double seconds);
 
   /**
    * The mapper's statistics of the last render, one "kind name value" per line.

@@ -8,6 +8,8 @@ and opacity maps) and checks:
   hexahedra, maps, unit distance and camera;
 - the list threshold K changes the work (K grows), not the picture; the dissertation's
   integrator gives nearly the same picture;
+- time-critical rendering: an interactive render over the frame budget is subsampled, the
+  still render after it is exact;
 - cell data (the density moved to the cells) renders with the cell-data path;
 - a hidden representation draws nothing; the image matches its baseline.
 
@@ -146,7 +148,8 @@ def run_checks(view, source, stem, build_dir, output, baseline):
           '"%s" is offered for %s' % (REPRESENTATION, rep.GetXMLName()))
     rep.SetRepresentationType(REPRESENTATION)
     for name in ('ZSweepIntegrator', 'ZSweepTileSize', 'ZSweepListThreshold',
-                 'ZSweepTerminationOpacity', 'ScalarOpacityFunction',
+                 'ZSweepTerminationOpacity', 'ZSweepSubsampling', 'ZSweepFrameBudget',
+                 'ScalarOpacityFunction',
                  'ScalarOpacityUnitDistance', 'LookupTable', 'ColorArrayName'):
         check(rep.GetProperty(name) is not None, 'property %s exists' % name)
 
@@ -196,6 +199,17 @@ def run_checks(view, source, stem, build_dir, output, baseline):
           'the dissertation\'s integrator: nearly the same picture (rmse %.2f)'
           % rmse(farias, image))
     rep.ZSweepIntegrator = 'Exact'
+
+    # Time-critical rendering: while the camera moves (ParaView's interactive render) the
+    # frame over budget is subsampled; the still render after it is exact again.
+    rep.ZSweepFrameBudget = 1e-6
+    view.SMProxy.InteractiveRender()
+    check(statistics(rep).get('subsampling') == 9,
+          'interactive render over budget: subsampled (p = %s)' % statistics(rep).get('subsampling'))
+    still = screenshot(view, stem + '-still.png')
+    check(statistics(rep).get('subsampling') == 1 and rmse(still, image) < 1e-9,
+          'the still render after it: the exact picture')
+    rep.ZSweepFrameBudget = 0
 
     # Cell data: the density averaged to the cells.
     Hide(source, view)

@@ -2,8 +2,9 @@
 // the tetrahedralized grid's picture agrees with VTK's own ray caster
 // (vtkUnstructuredGridVolumeRayCastMapper, Bunyk et al.) on the same tetrahedra; the native
 // hexahedra give nearly the same picture; an opaque sphere inside stops the rays as it does
-// for VTK's ray caster; a new transfer function redraws without rebuilding the mesh; the
-// picture matches the baseline.
+// for VTK's ray caster; a new transfer function redraws without rebuilding the mesh;
+// time-critical subsampling approximates the picture and refines back to it; the picture
+// matches the baseline.
 //
 // usage: TestZSweepVolumeMapper -D <dir with bluntfinxyz.bin, bluntfinq.bin> -T <tmp> -V <png>
 #include "RenderingTestHelpers.h"
@@ -173,6 +174,26 @@ int TestZSweepVolumeMapper(int argc, char* argv[])
   check(zsweep->GetStatistics()->GetCounter("builds") == builds && Compare(edited, ours).mean > 1,
     "editing the opacity function redraws without rebuilding the mesh");
   opacity->RemovePoint(0.5 * (range[0] + range[1]));
+
+  // Time-critical rendering: p x p fewer rays, enlarged; a budget the last full frame
+  // overran chooses p, an ample one gives the exact image back.
+  zsweep->SetSubsampling(2);
+  const auto reduced = show(zsweep, tetra->GetOutput());
+  const Difference toReduced = Compare(reduced, ours);
+  std::printf("subsampling 2: to the full image mean %.3f, 99th percentile %.0f\n",
+    toReduced.mean, toReduced.p99);
+  check(zsweep->GetStatistics()->GetCounter("subsampling") == 2 && toReduced.mean > 0 &&
+      toReduced.mean < 2.0,
+    "subsampling 2: a close approximation of the full image");
+  zsweep->SetSubsampling(0);
+  win->SetDesiredUpdateRate(1e9); // an interactive render with a 1 ns budget
+  show(zsweep, tetra->GetOutput());
+  check(zsweep->GetStatistics()->GetCounter("subsampling") == 9,
+    "interactive, the last full frame over budget: the coarsest image (p = 9)");
+  win->SetDesiredUpdateRate(0.0001); // a still render
+  const auto refined = show(zsweep, tetra->GetOutput());
+  check(zsweep->GetStatistics()->GetCounter("subsampling") == 1 && refined == ours,
+    "a still render: the exact image again");
 
   // The tetrahedralization leaves slivers of zero volume: skipped with one warning.
   check(events.Errors == 0, "no error");
