@@ -17,7 +17,6 @@
 #include "vtkRBFVolumeMapper.h"
 #include "vtkRayMapperStatistics.h"
 #include "vtkRayMapperGatherPoints.h"
-#include "vtkRenderer.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -33,6 +32,7 @@ vtkRBFVolumeRepresentation::vtkRBFVolumeRepresentation()
   this->Property = vtkSmartPointer<vtkVolumeProperty>::New();
   this->Volume = vtkSmartPointer<vtkVolume>::New();
   this->Volume->SetMapper(this->Mapper);
+  this->SetProp(this->Volume, false);
   this->Volume->SetProperty(this->Property);
   // One component per field: field m is classified with component m.
   this->Property->IndependentComponentsOn();
@@ -83,37 +83,6 @@ const char* vtkRBFVolumeRepresentation::GetRenderStatistics()
 }
 
 //----------------------------------------------------------------------------
-bool vtkRBFVolumeRepresentation::AddToView(vtkView* view)
-{
-  vtkPVRenderView* rview = vtkPVRenderView::SafeDownCast(view);
-  if (rview)
-  {
-    rview->GetRenderer()->AddActor(this->Volume);
-    return this->Superclass::AddToView(view);
-  }
-  return false;
-}
-
-//----------------------------------------------------------------------------
-bool vtkRBFVolumeRepresentation::RemoveFromView(vtkView* view)
-{
-  vtkPVRenderView* rview = vtkPVRenderView::SafeDownCast(view);
-  if (rview)
-  {
-    rview->GetRenderer()->RemoveActor(this->Volume);
-    return this->Superclass::RemoveFromView(view);
-  }
-  return false;
-}
-
-//----------------------------------------------------------------------------
-void vtkRBFVolumeRepresentation::SetVisibility(bool val)
-{
-  this->Volume->SetVisibility(val ? 1 : 0);
-  this->Superclass::SetVisibility(val);
-}
-
-//----------------------------------------------------------------------------
 vtkDataObject* vtkRBFVolumeRepresentation::GetRenderedDataObject(int port)
 {
   if (this->ProcessedData)
@@ -121,16 +90,6 @@ vtkDataObject* vtkRBFVolumeRepresentation::GetRenderedDataObject(int port)
     return this->ProcessedData;
   }
   return this->Superclass::GetRenderedDataObject(port);
-}
-
-//----------------------------------------------------------------------------
-int vtkRBFVolumeRepresentation::FillInputPortInformation(int vtkNotUsed(port), vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
-  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
-  // No input on the client and on the render server of a client-server session.
-  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  return 1;
 }
 
 //----------------------------------------------------------------------------
@@ -443,34 +402,3 @@ void vtkRBFVolumeRepresentation::SetDiffuseColor(double r, double g, double b)
 
 //----------------------------------------------------------------------------
 // Forwarded to the volume.
-void vtkRBFVolumeRepresentation::SetOrientation(double x, double y, double z)
-{
-  this->Volume->SetOrientation(x, y, z);
-}
-
-void vtkRBFVolumeRepresentation::SetOrigin(double x, double y, double z)
-{
-  this->Volume->SetOrigin(x, y, z);
-}
-
-void vtkRBFVolumeRepresentation::SetPickable(int val)
-{
-  this->Volume->SetPickable(val);
-}
-
-void vtkRBFVolumeRepresentation::SetPosition(double x, double y, double z)
-{
-  this->Volume->SetPosition(x, y, z);
-}
-
-void vtkRBFVolumeRepresentation::SetScale(double x, double y, double z)
-{
-  this->Volume->SetScale(x, y, z);
-}
-
-void vtkRBFVolumeRepresentation::SetUserTransform(const double matrix[16])
-{
-  vtkNew<vtkMatrix4x4> m;
-  m->DeepCopy(matrix);
-  this->Volume->SetUserMatrix(m->IsIdentity() ? nullptr : m.Get());
-}

@@ -34,7 +34,7 @@
 #define vtkRBFVolumeRepresentation_h
 
 #include "RayMappersRepresentationsModule.h" // for export macro
-#include "vtkPVDataRepresentation.h"
+#include "vtkRayMapperPropRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
 #include <string> // for std::string
@@ -47,11 +47,11 @@ class vtkScalarsToColors;
 class vtkVolume;
 class vtkVolumeProperty;
 
-class RAYMAPPERSREPRESENTATIONS_EXPORT vtkRBFVolumeRepresentation : public vtkPVDataRepresentation
+class RAYMAPPERSREPRESENTATIONS_EXPORT vtkRBFVolumeRepresentation : public vtkRayMapperPropRepresentation
 {
 public:
   static vtkRBFVolumeRepresentation* New();
-  vtkTypeMacro(vtkRBFVolumeRepresentation, vtkPVDataRepresentation);
+  vtkTypeMacro(vtkRBFVolumeRepresentation, vtkRayMapperPropRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**
@@ -61,7 +61,6 @@ public:
     vtkInformation* inInfo,
     vtkInformation* outInfo) override;
 
-  void SetVisibility(bool val) override;
 
   /**
    * The point polydata that is rendered (after RequestData), else the input.
@@ -124,15 +123,6 @@ public:
   void SetSpecularPower(double value);
   void SetDiffuseColor(double r, double g, double b);
 
-  //***************************************************************************
-  // Forwarded to the volume.
-  void SetOrientation(double, double, double);
-  void SetOrigin(double, double, double);
-  void SetPickable(int val);
-  void SetPosition(double, double, double);
-  void SetScale(double, double, double);
-  void SetUserTransform(const double matrix[16]);
-
   /**
    * The mapper's statistics of the last render (phases, counters such as "builds", the
    * cumulative number of BVH builds, and effects), one "kind name value" per line.
@@ -152,10 +142,6 @@ protected:
   vtkRBFVolumeRepresentation();
   ~vtkRBFVolumeRepresentation() override;
 
-  bool AddToView(vtkView* view) override;
-  bool RemoveFromView(vtkView* view) override;
-
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   void SetFieldLookupTable(int field, vtkScalarsToColors* lut);

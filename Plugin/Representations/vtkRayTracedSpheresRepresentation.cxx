@@ -16,7 +16,6 @@
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
 #include "vtkRayMapperGatherPoints.h"
-#include "vtkRenderer.h"
 #include "vtkScalarsToColors.h"
 
 #include <algorithm>
@@ -31,6 +30,7 @@ vtkRayTracedSpheresRepresentation::vtkRayTracedSpheresRepresentation()
   this->Mapper = vtkSmartPointer<vtkCGTSphereMapper>::New();
   this->Actor = vtkSmartPointer<vtkActor>::New();
   this->Actor->SetMapper(this->Mapper);
+  this->SetProp(this->Actor, true);
   // vtkCGTSphereMapper draws an opaque frame that writes depth: it must run in the
   // opaque pass even when Opacity < 1 or the lookup table maps opacity (a translucent
   // actor would be drawn by ParaView's depth peeling, which the mapper does not support).
@@ -69,39 +69,6 @@ vtkActor* vtkRayTracedSpheresRepresentation::GetActor()
 }
 
 //----------------------------------------------------------------------------
-bool vtkRayTracedSpheresRepresentation::AddToView(vtkView* view)
-{
-  vtkPVRenderView* rview = vtkPVRenderView::SafeDownCast(view);
-  if (rview)
-  {
-    rview->GetRenderer()->AddActor(this->Actor);
-    rview->RegisterPropForHardwareSelection(this, this->Actor);
-    return this->Superclass::AddToView(view);
-  }
-  return false;
-}
-
-//----------------------------------------------------------------------------
-bool vtkRayTracedSpheresRepresentation::RemoveFromView(vtkView* view)
-{
-  vtkPVRenderView* rview = vtkPVRenderView::SafeDownCast(view);
-  if (rview)
-  {
-    rview->GetRenderer()->RemoveActor(this->Actor);
-    rview->UnRegisterPropForHardwareSelection(this, this->Actor);
-    return this->Superclass::RemoveFromView(view);
-  }
-  return false;
-}
-
-//----------------------------------------------------------------------------
-void vtkRayTracedSpheresRepresentation::SetVisibility(bool val)
-{
-  this->Actor->SetVisibility(val ? 1 : 0);
-  this->Superclass::SetVisibility(val);
-}
-
-//----------------------------------------------------------------------------
 vtkDataObject* vtkRayTracedSpheresRepresentation::GetRenderedDataObject(int port)
 {
   if (this->ProcessedData)
@@ -109,18 +76,6 @@ vtkDataObject* vtkRayTracedSpheresRepresentation::GetRenderedDataObject(int port
     return this->ProcessedData;
   }
   return this->Superclass::GetRenderedDataObject(port);
-}
-
-//----------------------------------------------------------------------------
-int vtkRayTracedSpheresRepresentation::FillInputPortInformation(int vtkNotUsed(port),
-  vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
-  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
-  // Representations have no input on the client (client-server) and on the render
-  // server (client-render-server): the input must be optional.
-  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  return 1;
 }
 
 //----------------------------------------------------------------------------
@@ -428,45 +383,6 @@ void vtkRayTracedSpheresRepresentation::SetRadiusScale(double scale)
 
 //----------------------------------------------------------------------------
 // Forwarded to the actor.
-void vtkRayTracedSpheresRepresentation::SetOrientation(double x, double y, double z)
-{
-  this->Actor->SetOrientation(x, y, z);
-}
-
-void vtkRayTracedSpheresRepresentation::SetOrigin(double x, double y, double z)
-{
-  this->Actor->SetOrigin(x, y, z);
-}
-
-void vtkRayTracedSpheresRepresentation::SetPickable(int val)
-{
-  this->Actor->SetPickable(val);
-}
-
-void vtkRayTracedSpheresRepresentation::SetPosition(double x, double y, double z)
-{
-  this->Actor->SetPosition(x, y, z);
-}
-
-void vtkRayTracedSpheresRepresentation::SetScale(double x, double y, double z)
-{
-  this->Actor->SetScale(x, y, z);
-}
-
-void vtkRayTracedSpheresRepresentation::SetUserTransform(const double matrix[16])
-{
-  vtkNew<vtkMatrix4x4> m;
-  m->DeepCopy(matrix);
-  if (m->IsIdentity())
-  {
-    this->Actor->SetUserMatrix(nullptr);
-  }
-  else
-  {
-    this->Actor->SetUserMatrix(m);
-  }
-}
-
 //----------------------------------------------------------------------------
 // Forwarded to the actor's property.
 void vtkRayTracedSpheresRepresentation::SetAmbient(double val)

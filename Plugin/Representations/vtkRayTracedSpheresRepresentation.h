@@ -33,7 +33,7 @@
 #define vtkRayTracedSpheresRepresentation_h
 
 #include "RayMappersRepresentationsModule.h" // for export macro
-#include "vtkPVDataRepresentation.h"
+#include "vtkRayMapperPropRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
 #include <string> // for std::string
@@ -44,11 +44,11 @@ class vtkPolyData;
 class vtkScalarsToColors;
 
 class RAYMAPPERSREPRESENTATIONS_EXPORT vtkRayTracedSpheresRepresentation
-  : public vtkPVDataRepresentation
+  : public vtkRayMapperPropRepresentation
 {
 public:
   static vtkRayTracedSpheresRepresentation* New();
-  vtkTypeMacro(vtkRayTracedSpheresRepresentation, vtkPVDataRepresentation);
+  vtkTypeMacro(vtkRayTracedSpheresRepresentation, vtkRayMapperPropRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**
@@ -60,10 +60,6 @@ public:
     vtkInformation* inInfo,
     vtkInformation* outInfo) override;
 
-  /**
-   * Shows or hides the spheres.
-   */
-  void SetVisibility(bool val) override;
 
   /**
    * The point polydata that is rendered (after RequestData), else the input.
@@ -146,15 +142,6 @@ public:
   void SetRange4(double minimum, double maximum) { this->SetRangeBounds(3, minimum, maximum); }
 
   //***************************************************************************
-  // Forwarded to the actor.
-  virtual void SetOrientation(double, double, double);
-  virtual void SetOrigin(double, double, double);
-  virtual void SetPickable(int val);
-  virtual void SetPosition(double, double, double);
-  virtual void SetScale(double, double, double);
-  virtual void SetUserTransform(const double matrix[16]);
-
-  //***************************************************************************
   // Forwarded to the actor's vtkProperty.
   virtual void SetAmbient(double);
   virtual void SetDiffuse(double);
@@ -177,10 +164,6 @@ protected:
   vtkRayTracedSpheresRepresentation();
   ~vtkRayTracedSpheresRepresentation() override;
 
-  bool AddToView(vtkView* view) override;
-  bool RemoveFromView(vtkView* view) override;
-
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   /**

@@ -15,7 +15,6 @@
 #include "vtkPVView.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkRayMapperStatistics.h"
-#include "vtkRenderer.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -32,6 +31,7 @@ vtkZSweepVolumeRepresentation::vtkZSweepVolumeRepresentation()
   this->Property = vtkSmartPointer<vtkVolumeProperty>::New();
   this->Volume = vtkSmartPointer<vtkVolume>::New();
   this->Volume->SetMapper(this->Mapper);
+  this->SetProp(this->Volume, false);
   this->Volume->SetProperty(this->Property);
 }
 
@@ -58,45 +58,10 @@ const char* vtkZSweepVolumeRepresentation::GetRenderStatistics()
   return this->Mapper->GetStatistics()->GetSummary();
 }
 
-//----------------------------------------------------------------------------
-bool vtkZSweepVolumeRepresentation::AddToView(vtkView* view)
-{
-  if (auto* rview = vtkPVRenderView::SafeDownCast(view))
-  {
-    rview->GetRenderer()->AddActor(this->Volume);
-    return this->Superclass::AddToView(view);
-  }
-  return false;
-}
-
-bool vtkZSweepVolumeRepresentation::RemoveFromView(vtkView* view)
-{
-  if (auto* rview = vtkPVRenderView::SafeDownCast(view))
-  {
-    rview->GetRenderer()->RemoveActor(this->Volume);
-    return this->Superclass::RemoveFromView(view);
-  }
-  return false;
-}
-
-void vtkZSweepVolumeRepresentation::SetVisibility(bool val)
-{
-  this->Volume->SetVisibility(val ? 1 : 0);
-  this->Superclass::SetVisibility(val);
-}
-
 vtkDataObject* vtkZSweepVolumeRepresentation::GetRenderedDataObject(int port)
 {
   return this->ProcessedData ? this->ProcessedData.Get()
                              : this->Superclass::GetRenderedDataObject(port);
-}
-
-int vtkZSweepVolumeRepresentation::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
-  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkCompositeDataSet");
-  info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
-  return 1;
 }
 
 //----------------------------------------------------------------------------
@@ -274,35 +239,3 @@ void vtkZSweepVolumeRepresentation::SetFrameBudget(double seconds)
   this->Modified();
 }
 
-//----------------------------------------------------------------------------
-void vtkZSweepVolumeRepresentation::SetOrientation(double x, double y, double z)
-{
-  this->Volume->SetOrientation(x, y, z);
-}
-
-void vtkZSweepVolumeRepresentation::SetOrigin(double x, double y, double z)
-{
-  this->Volume->SetOrigin(x, y, z);
-}
-
-void vtkZSweepVolumeRepresentation::SetPickable(int val)
-{
-  this->Volume->SetPickable(val);
-}
-
-void vtkZSweepVolumeRepresentation::SetPosition(double x, double y, double z)
-{
-  this->Volume->SetPosition(x, y, z);
-}
-
-void vtkZSweepVolumeRepresentation::SetScale(double x, double y, double z)
-{
-  this->Volume->SetScale(x, y, z);
-}
-
-void vtkZSweepVolumeRepresentation::SetUserTransform(const double matrix[16])
-{
-  vtkNew<vtkMatrix4x4> m;
-  m->DeepCopy(matrix);
-  this->Volume->SetUserMatrix(m->IsIdentity() ? nullptr : m.Get());
-}

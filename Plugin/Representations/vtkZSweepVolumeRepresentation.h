@@ -18,7 +18,7 @@
 #define vtkZSweepVolumeRepresentation_h
 
 #include "RayMappersRepresentationsModule.h" // for export macro
-#include "vtkPVDataRepresentation.h"
+#include "vtkRayMapperPropRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
 class vtkPiecewiseFunction;
@@ -28,17 +28,16 @@ class vtkVolume;
 class vtkVolumeProperty;
 class vtkZSweepVolumeMapper;
 
-class RAYMAPPERSREPRESENTATIONS_EXPORT vtkZSweepVolumeRepresentation : public vtkPVDataRepresentation
+class RAYMAPPERSREPRESENTATIONS_EXPORT vtkZSweepVolumeRepresentation : public vtkRayMapperPropRepresentation
 {
 public:
   static vtkZSweepVolumeRepresentation* New();
-  vtkTypeMacro(vtkZSweepVolumeRepresentation, vtkPVDataRepresentation);
+  vtkTypeMacro(vtkZSweepVolumeRepresentation, vtkRayMapperPropRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   int ProcessViewRequest(vtkInformationRequestKey* request_type,
     vtkInformation* inInfo,
     vtkInformation* outInfo) override;
-  void SetVisibility(bool val) override;
   vtkDataObject* GetRenderedDataObject(int port) override;
 
   //***************************************************************************
@@ -61,15 +60,6 @@ public:
    */
   const char* GetRenderStatistics();
 
-  //***************************************************************************
-  // Forwarded to the volume.
-  void SetOrientation(double, double, double);
-  void SetOrigin(double, double, double);
-  void SetPickable(int val);
-  void SetPosition(double, double, double);
-  void SetScale(double, double, double);
-  void SetUserTransform(const double matrix[16]);
-
   vtkZSweepVolumeMapper* GetMapper();
   vtkVolume* GetVolume();
 
@@ -77,9 +67,6 @@ protected:
   vtkZSweepVolumeRepresentation();
   ~vtkZSweepVolumeRepresentation() override;
 
-  bool AddToView(vtkView* view) override;
-  bool RemoveFromView(vtkView* view) override;
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   /**
