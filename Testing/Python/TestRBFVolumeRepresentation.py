@@ -25,59 +25,33 @@ from paraview.simple import (  # noqa: E402
     ColorBy, CreateView, Delete, GetColorTransferFunction, GetOpacityTransferFunction,
     Hide, LoadPlugin, PDBReader, Render, SaveScreenshot, SetActiveView, Show)
 from paraview import servermanager  # noqa: E402
-from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from raymappers_testing import (  # noqa: E402
+    check, compare_with_baseline, copy_camera, failures, finish, render_to_png, rmse)
+import raymappers_testing  # noqa: E402
 
 REPRESENTATION = 'RBF Volume'
 BACKGROUND = [0.0, 0.0, 0.0]
 SIZE = [300, 300]
 
-failures = []
 
 
-def check(condition, message):
-    print(('ok    ' if condition else 'FAIL  ') + message)
-    if not condition:
-        failures.append(message)
 
 
-def pixels(png):
-    reader = vtkPNGReader()
-    reader.SetFileName(png)
-    reader.Update()
-    image = reader.GetOutput()
-    array = vtk_to_numpy(image.GetPointData().GetScalars())[:, :3].astype(float)
-    return array
 
 
-def screenshot(view, path):
-    Render(view)
-    SaveScreenshot(path, view, ImageResolution=SIZE, TransparentBackground=0)
-    return pixels(path)
 
 
-def statistics(rep):
-    """The mapper's statistics of the last render: {name: value} of counters and effects."""
-    rep.SMProxy.UpdatePropertyInformation()
-    text = rep.SMProxy.GetProperty('RBFRenderStatistics').GetElement(0)
-    values = {}
-    for line in text.splitlines():
-        kind, name, value = line.split()
-        values[name] = value if kind == 'effect' else float(value)
-    return values
 
 
-def rmse(a, b):
-    return float(((a - b) ** 2).mean() ** 0.5)
 
 
 def reference_image(data, view, lut, opacity, radius, kappa, unit, path):
     """The same particles drawn by vtkRBFVolumeMapper in a plain VTK pipeline, with the
     client-side objects of ParaView's maps and the view's camera."""
-    from vtkmodules import vtkRenderingOpenGL2  # noqa: F401
-    from vtkmodules.vtkRenderingCore import (
-        vtkRenderer, vtkRenderWindow, vtkVolume, vtkVolumeProperty, vtkWindowToImageFilter)
-    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkVolume, vtkVolumeProperty
     import raymappers
 
     mapper = raymappers.vtkRBFVolumeMapper()
@@ -95,29 +69,9 @@ def reference_image(data, view, lut, opacity, radius, kappa, unit, path):
     ren = vtkRenderer()
     ren.SetBackground(BACKGROUND)
     ren.AddVolume(volume)
-    # The view's camera (its clipping range too: the samples are spaced from the near plane).
-    source = view.GetActiveCamera()
-    camera = ren.GetActiveCamera()
-    camera.SetPosition(source.GetPosition())
-    camera.SetFocalPoint(source.GetFocalPoint())
-    camera.SetViewUp(source.GetViewUp())
-    camera.SetViewAngle(source.GetViewAngle())
-    camera.SetClippingRange(source.GetClippingRange())
-    win = vtkRenderWindow()
-    win.SetOffScreenRendering(1)
-    win.SetSize(SIZE)
-    win.AddRenderer(ren)
-    win.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(win)
-    grab.ReadFrontBufferOff()
-    grab.Update()
-    writer = vtkPNGWriter()
-    writer.SetFileName(path)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
-    win.Finalize()
-    return pixels(path)
+    # The view's camera, its clipping range too: the samples are spaced from the near plane.
+    copy_camera(view, ren)
+    return render_to_png(ren, SIZE, path)
 
 
 def carbon_atoms(data):
@@ -144,22 +98,14 @@ def carbon_atoms(data):
     return producer
 
 
-def compare_with_baseline(output, baseline):
-    from vtkmodules.test import Testing
-    Testing.VTK_TEMP_DIR = os.path.dirname(os.path.abspath(output))
-    if not os.path.isfile(baseline):
-        print('FAIL  no baseline image %s; candidate written to %s' % (baseline, output))
-        return False
-    reader = vtkPNGReader()
-    reader.SetFileName(output)
-    reader.Update()
-    try:
-        Testing.compareImageWithSavedImage(reader, baseline, 0.15)
-    except RuntimeError as error:
-        print('FAIL  image differs from %s: %s' % (baseline, str(error).strip()))
-        return False
-    print('ok    image matches %s' % baseline)
-    return True
+
+
+def shot(view, path):
+    return raymappers_testing.screenshot(view, path, SIZE)
+
+
+def statistics(rep):
+    return raymappers_testing.statistics(rep, 'RBFRenderStatistics')
 
 
 def run_checks(view, source, stem, build_dir, output, baseline):
@@ -202,7 +148,7 @@ def run_checks(view, source, stem, build_dir, output, baseline):
     view.GetActiveCamera().Dolly(1.8)
     Render(view)
 
-    image = screenshot(view, output)
+    image = shot(view, output)
     covered = float((image.sum(axis=1) > 0).mean())
     check(0.05 < covered < 0.9, 'the field covers part of the view (%.1f%%)' % (100 * covered))
     stats = statistics(rep)
@@ -228,7 +174,7 @@ def run_checks(view, source, stem, build_dir, output, baseline):
     before = image
     for name, value in (('Kappa', 3.0), ('Sigma', 3.0)):
         setattr(rep, name, value)
-        changed = screenshot(view, stem + '-%s.png' % name.lower())
+        changed = shot(view, stem + '-%s.png' % name.lower())
         stats = statistics(rep)
         check(stats.get('builds') == 1 and rmse(changed, before) > 0.5,
               '%s = %g changes the picture (rmse %.2f) without a BVH build (builds %s)'
@@ -238,7 +184,7 @@ def run_checks(view, source, stem, build_dir, output, baseline):
     # correction keeps the picture nearly the same.
     samples = stats.get('samples')
     rep.SampleDistance = 0.1
-    changed = screenshot(view, stem + '-step.png')
+    changed = shot(view, stem + '-step.png')
     stats = statistics(rep)
     check(stats.get('builds') == 1 and stats.get('samples') > 3 * samples
           and rmse(changed, before) < 3.0,
@@ -246,11 +192,11 @@ def run_checks(view, source, stem, build_dir, output, baseline):
           'build' % (stats.get('samples') / samples, rmse(changed, before)))
     before = changed
     opacity.Points = [0.0, 0.0, 0.5, 0.0, 20.0, 1.0, 0.5, 0.0]
-    changed = screenshot(view, stem + '-opacity.png')
+    changed = shot(view, stem + '-opacity.png')
     check(statistics(rep).get('builds') == 1 and rmse(changed, before) > 0.5,
           'editing the opacity map changes the picture without a BVH build')
     rep.LeafSize = 4
-    screenshot(view, stem + '-leaf.png')
+    shot(view, stem + '-leaf.png')
     check(statistics(rep).get('builds') == 2, 'changing the leaf size rebuilds the BVH once')
     rep.Kappa, rep.Sigma, rep.SampleDistance = 1.0, 2.0, 0.0
     opacity.Points = [0.0, 0.0, 0.5, 0.0, 20.0, 0.6, 0.5, 0.0]
@@ -258,7 +204,7 @@ def run_checks(view, source, stem, build_dir, output, baseline):
     # Shading: gradients only when on.
     check(statistics(rep).get('shading') == 'off', 'no gradients without Shade')
     rep.Shade = 1
-    shaded = screenshot(view, stem + '-shaded.png')
+    shaded = shot(view, stem + '-shaded.png')
     check(statistics(rep).get('shading') == 'on', 'Shade computes the gradients')
     check(rmse(shaded, image) > 0.5, 'shading changes the picture (rmse %.2f)'
           % rmse(shaded, image))
@@ -278,7 +224,7 @@ def run_checks(view, source, stem, build_dir, output, baseline):
     rep.FieldLookupTable2 = hidden_lut
     rep.FieldLookupTable3 = hidden_lut
     rep.FieldLookupTable4 = hidden_lut
-    fields = screenshot(view, stem + '-fields.png')
+    fields = shot(view, stem + '-fields.png')
     check(statistics(rep).get('fields') == 4, 'atom_type splits 2LYZ into 4 fields (%s)'
           % statistics(rep).get('fields'))
     check(statistics(rep).get('multi_field') == 'on', 'the multi-field effect runs')
@@ -296,7 +242,7 @@ def run_checks(view, source, stem, build_dir, output, baseline):
     carbon_rep.RBFRadius = 1.0
     carbon_rep.ScalarOpacityUnitDistance = 2.0
     carbon_rep.SampleDistance = 0.05
-    alone = screenshot(view, stem + '-carbons.png')
+    alone = shot(view, stem + '-carbons.png')
     check(rmse(fields, alone) < 1.0 and rmse(fields, image) > 2.0,
           'fields 2-4 transparent: the picture of the carbons alone (rmse %.3f; %.2f to '
           'all atoms)' % (rmse(fields, alone), rmse(fields, image)))
@@ -305,7 +251,7 @@ def run_checks(view, source, stem, build_dir, output, baseline):
 
     # Hidden: nothing drawn.
     Hide(source, view)
-    nothing = screenshot(view, stem + '-hidden.png')
+    nothing = shot(view, stem + '-hidden.png')
     check(float(nothing.max()) == 0.0, 'a hidden representation draws nothing')
 
 
@@ -325,11 +271,7 @@ def main():
         run_checks(view, source, stem, build_dir, output, baseline)
     finally:
         Delete(view)
-    if failures:
-        print('%d check(s) failed' % len(failures))
-        return 1
-    print('all checks passed')
-    return 0
+    return finish()
 
 
 if __name__ == '__main__':

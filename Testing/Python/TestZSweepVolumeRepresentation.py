@@ -22,58 +22,34 @@ from paraview.simple import (  # noqa: E402
     ColorBy, CreateView, Delete, GetColorTransferFunction, GetOpacityTransferFunction, Hide,
     LoadPlugin, PLOT3DReader, PointDatatoCellData, Render, SaveScreenshot, SetActiveView, Show)
 from paraview import servermanager  # noqa: E402
-from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
-from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from raymappers_testing import (  # noqa: E402
+    check, compare_with_baseline, copy_camera, failures, finish, render_to_png, rmse)
+import raymappers_testing  # noqa: E402
 
 REPRESENTATION = 'Z-Sweep Volume'
 BACKGROUND = [0.0, 0.0, 0.0]
 SIZE = [300, 300]
-failures = []
 
 
-def check(condition, message):
-    print(('ok    ' if condition else 'FAIL  ') + message)
-    if not condition:
-        failures.append(message)
 
 
-def pixels(png):
-    reader = vtkPNGReader()
-    reader.SetFileName(png)
-    reader.Update()
-    return vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3].astype(float)
 
 
-def screenshot(view, path):
-    Render(view)
-    SaveScreenshot(path, view, ImageResolution=SIZE, TransparentBackground=0)
-    return pixels(path)
 
 
-def statistics(rep):
-    rep.SMProxy.UpdatePropertyInformation()
-    text = rep.SMProxy.GetProperty('ZSweepRenderStatistics').GetElement(0)
-    values = {}
-    for line in text.splitlines():
-        kind, name, value = line.split()
-        values[name] = value if kind == 'effect' else float(value)
-    return values
 
 
-def rmse(a, b):
-    return float(((a - b) ** 2).mean() ** 0.5)
 
 
 def plain_vtk_image(grid, view, lut, opacity, unit, path):
     """The same hexahedra drawn by vtkZSweepVolumeMapper in a plain VTK pipeline with the
     client-side objects of ParaView's maps and the view's camera."""
-    from vtkmodules import vtkRenderingOpenGL2  # noqa: F401
-    from vtkmodules.vtkRenderingCore import (
-        vtkRenderer, vtkRenderWindow, vtkVolume, vtkVolumeProperty, vtkWindowToImageFilter)
-    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.vtkFiltersCore import vtkAppendFilter
+    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkVolume, vtkVolumeProperty
     import raymappers
 
-    from vtkmodules.vtkFiltersCore import vtkAppendFilter
     hexahedra = vtkAppendFilter()  # the structured grid's cells as an unstructured grid
     hexahedra.SetInputData(grid)
     hexahedra.Update()
@@ -91,46 +67,16 @@ def plain_vtk_image(grid, view, lut, opacity, unit, path):
     ren = vtkRenderer()
     ren.SetBackground(BACKGROUND)
     ren.AddVolume(volume)
-    source = view.GetActiveCamera()
-    camera = ren.GetActiveCamera()
-    camera.SetPosition(source.GetPosition())
-    camera.SetFocalPoint(source.GetFocalPoint())
-    camera.SetViewUp(source.GetViewUp())
-    camera.SetViewAngle(source.GetViewAngle())
-    camera.SetClippingRange(source.GetClippingRange())
-    win = vtkRenderWindow()
-    win.SetOffScreenRendering(1)
-    win.SetSize(SIZE)
-    win.AddRenderer(ren)
-    win.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(win)
-    grab.ReadFrontBufferOff()
-    grab.Update()
-    writer = vtkPNGWriter()
-    writer.SetFileName(path)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
-    win.Finalize()
-    return pixels(path), mapper.GetStatistics().GetCounter('cells')
+    copy_camera(view, ren)
+    return render_to_png(ren, SIZE, path), mapper.GetStatistics().GetCounter('cells')
 
 
-def compare_with_baseline(output, baseline):
-    from vtkmodules.test import Testing
-    Testing.VTK_TEMP_DIR = os.path.dirname(os.path.abspath(output))
-    if not os.path.isfile(baseline):
-        print('FAIL  no baseline image %s; candidate written to %s' % (baseline, output))
-        return False
-    reader = vtkPNGReader()
-    reader.SetFileName(output)
-    reader.Update()
-    try:
-        Testing.compareImageWithSavedImage(reader, baseline, 0.15)
-    except RuntimeError as error:
-        print('FAIL  image differs from %s: %s' % (baseline, str(error).strip()))
-        return False
-    print('ok    image matches %s' % baseline)
-    return True
+def shot(view, path):
+    return raymappers_testing.screenshot(view, path, SIZE)
+
+
+def statistics(rep):
+    return raymappers_testing.statistics(rep, 'ZSweepRenderStatistics')
 
 
 def run_checks(view, source, stem, build_dir, output, baseline):
@@ -170,7 +116,7 @@ def run_checks(view, source, stem, build_dir, output, baseline):
     view.GetActiveCamera().Dolly(1.3)
     Render(view)
 
-    image = screenshot(view, output)
+    image = shot(view, output)
     covered = float((image.sum(axis=1) > 0).mean())
     check(0.1 < covered < 0.95, 'the grid covers part of the view (%.1f%%)' % (100 * covered))
     stats = statistics(rep)
@@ -188,13 +134,13 @@ def run_checks(view, source, stem, build_dir, output, baseline):
         failures.append('baseline comparison')
 
     rep.ZSweepListThreshold = 2
-    small = screenshot(view, stem + '-k2.png')
+    small = shot(view, stem + '-k2.png')
     check(statistics(rep).get('k_growths') > 0 and rmse(small, image) < 0.5,
           'K = 2: K grows (%d times), same picture (rmse %.3f)'
           % (statistics(rep).get('k_growths'), rmse(small, image)))
     rep.ZSweepListThreshold = 16
     rep.ZSweepIntegrator = 'Farias (second order)'
-    farias = screenshot(view, stem + '-farias.png')
+    farias = shot(view, stem + '-farias.png')
     check(0 < rmse(farias, image) < 8.0,
           'the dissertation\'s integrator: nearly the same picture (rmse %.2f)'
           % rmse(farias, image))
@@ -206,7 +152,7 @@ def run_checks(view, source, stem, build_dir, output, baseline):
     view.SMProxy.InteractiveRender()
     check(statistics(rep).get('subsampling') == 9,
           'interactive render over budget: subsampled (p = %s)' % statistics(rep).get('subsampling'))
-    still = screenshot(view, stem + '-still.png')
+    still = shot(view, stem + '-still.png')
     check(statistics(rep).get('subsampling') == 1 and rmse(still, image) < 1e-9,
           'the still render after it: the exact picture')
     rep.ZSweepFrameBudget = 0
@@ -221,12 +167,12 @@ def run_checks(view, source, stem, build_dir, output, baseline):
     lut.RescaleTransferFunction(0.19, 4.98)
     opacity.RescaleTransferFunction(0.19, 4.98)
     cell_rep.ScalarOpacityUnitDistance = 1.0
-    cell_image = screenshot(view, stem + '-cells.png')
+    cell_image = shot(view, stem + '-cells.png')
     check(statistics(cell_rep).get('cell_data') == 'on' and rmse(cell_image, image) < 12.0,
           'cell data: the cell path, a similar picture (rmse %.2f)' % rmse(cell_image, image))
     Hide(cells_source, view)
 
-    nothing = screenshot(view, stem + '-hidden.png')
+    nothing = shot(view, stem + '-hidden.png')
     check(float(nothing.max()) == 0.0, 'a hidden representation draws nothing')
 
 
@@ -247,11 +193,7 @@ def main():
         run_checks(view, source, stem, build_dir, output, baseline)
     finally:
         Delete(view)
-    if failures:
-        print('%d check(s) failed' % len(failures))
-        return 1
-    print('all checks passed')
-    return 0
+    return finish()
 
 
 if __name__ == '__main__':

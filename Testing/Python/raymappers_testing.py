@@ -1,0 +1,106 @@
+"""What the pvpython tests of the RayMappers representations share: a check log, reading
+screenshots, a representation's statistics, and VTK's baseline comparison."""
+import os
+
+from vtkmodules.vtkIOImage import vtkPNGReader
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+failures = []
+
+
+def check(condition, message):
+    print(('ok    ' if condition else 'FAIL  ') + message)
+    if not condition:
+        failures.append(message)
+
+
+def pixels(png):
+    """RGB of a PNG as an (n, 3) float array."""
+    reader = vtkPNGReader()
+    reader.SetFileName(png)
+    reader.Update()
+    return vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3].astype(float)
+
+
+def screenshot(view, path, size):
+    from paraview.simple import Render, SaveScreenshot
+    Render(view)
+    SaveScreenshot(path, view, ImageResolution=size, TransparentBackground=0)
+    return pixels(path)
+
+
+def rmse(a, b):
+    return float(((a - b) ** 2).mean() ** 0.5)
+
+
+def statistics(rep, name):
+    """The mapper's statistics of the last render, from the information property `name`:
+    {counter or phase: value, effect: 'on' | 'off'}."""
+    rep.SMProxy.UpdatePropertyInformation()
+    text = rep.SMProxy.GetProperty(name).GetElement(0)
+    values = {}
+    for line in text.splitlines():
+        kind, key, value = line.split()
+        values[key] = value if kind == 'effect' else float(value)
+    return values
+
+
+def copy_camera(view, renderer):
+    """The view's camera (clipping range included) on a plain VTK renderer."""
+    source = view.GetActiveCamera()
+    camera = renderer.GetActiveCamera()
+    camera.SetPosition(source.GetPosition())
+    camera.SetFocalPoint(source.GetFocalPoint())
+    camera.SetViewUp(source.GetViewUp())
+    camera.SetViewAngle(source.GetViewAngle())
+    camera.SetClippingRange(source.GetClippingRange())
+
+
+def render_to_png(renderer, size, path):
+    """Renders a plain VTK renderer off screen into a PNG; returns its pixels."""
+    from vtkmodules import vtkRenderingOpenGL2  # noqa: F401
+    from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkWindowToImageFilter
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    win = vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetSize(size)
+    win.AddRenderer(renderer)
+    win.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(win)
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    writer = vtkPNGWriter()
+    writer.SetFileName(path)
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.Write()
+    win.Finalize()
+    return pixels(path)
+
+
+def compare_with_baseline(output, baseline, threshold=0.15):
+    """VTK's image regression comparison (the one ParaView's Python tests use)."""
+    from vtkmodules.test import Testing
+    Testing.VTK_TEMP_DIR = os.path.dirname(os.path.abspath(output))
+    if not os.path.isfile(baseline):
+        print('FAIL  no baseline image %s; candidate written to %s' % (baseline, output))
+        return False
+    reader = vtkPNGReader()
+    reader.SetFileName(output)
+    reader.Update()
+    try:
+        Testing.compareImageWithSavedImage(reader, baseline, threshold)
+    except RuntimeError as error:
+        print('FAIL  image differs from %s: %s' % (baseline, str(error).strip()))
+        return False
+    print('ok    image matches %s (threshold %g)' % (baseline, threshold))
+    return True
+
+
+def finish():
+    """Exit code: 0 when every check passed."""
+    if failures:
+        print('%d check(s) failed' % len(failures))
+        return 1
+    print('all checks passed')
+    return 0
