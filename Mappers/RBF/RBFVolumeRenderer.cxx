@@ -1,5 +1,6 @@
 #include "RBFVolumeRenderer.h"
 
+#include "FastExp.h"
 #include "TileScheduler.h"
 
 #include <algorithm>
@@ -118,28 +119,86 @@ struct Classifier
   }
 };
 
-// Whether the ray o + t d (inv = 1/d per axis) meets the box grown by `grow` for some t in
-// [t0, t1]. A zero direction component gives an infinite inverse; the NaN of 0 * inf then
-// drops out of the min/max, which keeps the test conservative.
-inline bool slabsHit(const Vec3f& o,
-  const Vec3f& inv,
+// The rays of a packet in structure-of-arrays form, so that a particle or a node is tested
+// against all of them in SIMD lanes (section 5.3: "a packet is simply a varying Ray").
+// Lanes are padded to a multiple of 16 (the widest SIMD width); a padding lane, like a ray
+// without samples in the pass, has an empty interval and an empty sample range.
+constexpr int MaxPacketRays = MaxRBFPacketSide * MaxRBFPacketSide;
+constexpr int LaneMultiple = 16;
+// Samples a particle deposits into one ray's buffer row at a time (one SIMD vector).
+constexpr int DepositBlock = 8;
+
+struct PacketLanes
+{
+  alignas(64) float ox[MaxPacketRays];
+  alignas(64) float oy[MaxPacketRays];
+  alignas(64) float oz[MaxPacketRays];
+  alignas(64) float dx[MaxPacketRays];
+  alignas(64) float dy[MaxPacketRays];
+  alignas(64) float dz[MaxPacketRays];
+  alignas(64) float ix[MaxPacketRays]; // 1 / d per axis
+  alignas(64) float iy[MaxPacketRays];
+  alignas(64) float iz[MaxPacketRays];
+  // This pass: the t interval of the ray's samples (empty: t0 > t1) and their indices
+  // relative to the pass's first sample, [first, last] (empty: first > last).
+  alignas(64) float t0[MaxPacketRays];
+  alignas(64) float t1[MaxPacketRays];
+  alignas(64) std::int32_t first[MaxPacketRays];
+  alignas(64) std::int32_t last[MaxPacketRays];
+  // For the particle being deposited: b = f.d, h^2, and the samples in its support
+  // [ka, kb] (pass-relative, empty when the ray misses the support).
+  alignas(64) float b[MaxPacketRays];
+  alignas(64) float h2[MaxPacketRays];
+  alignas(64) std::int32_t ka[MaxPacketRays];
+  alignas(64) std::int32_t kb[MaxPacketRays];
+};
+
+// One slab of the ray-box test: [t0, t1] shrinks to where the ray is between l and h on
+// this axis (inv = 1 / d). A zero direction component gives an infinite inverse; the NaN
+// of 0 * inf then drops out of the comparisons, which keeps the test conservative.
+inline void clipToSlab(float l, float h, float o, float inv, float& t0, float& t1)
+{
+  const float ta = (l - o) * inv, tb = (h - o) * inv;
+  const bool swap = ta > tb;
+  const float near = swap ? tb : ta, far = swap ? ta : tb;
+  t0 = t0 < near ? near : t0;
+  t1 = far < t1 ? far : t1;
+}
+
+// Whether some ray of the packet meets the box grown by `grow` within its pass interval
+// (every lane at once, no early exit: a SIMD test of 16 rays costs about one of a ray).
+inline bool packetMeetsBox(const PacketLanes& P,
+  int lanes,
   const float lo[3],
   const float hi[3],
-  float grow,
-  float t0,
-  float t1)
+  float grow)
 {
-  for (int a = 0; a < 3; ++a)
+  const float lx = lo[0] - grow, ly = lo[1] - grow, lz = lo[2] - grow;
+  const float hx = hi[0] + grow, hy = hi[1] + grow, hz = hi[2] + grow;
+  int hit = 0;
+#pragma omp simd reduction(| : hit)
+  for (int r = 0; r < lanes; ++r)
   {
-    float ta = (lo[a] - grow - o[a]) * inv[a], tb = (hi[a] + grow - o[a]) * inv[a];
-    if (ta > tb)
-    {
-      std::swap(ta, tb);
-    }
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
+    float t0 = P.t0[r], t1 = P.t1[r];
+    clipToSlab(lx, hx, P.ox[r], P.ix[r], t0, t1);
+    clipToSlab(ly, hy, P.oy[r], P.iy[r], t0, t1);
+    clipToSlab(lz, hz, P.oz[r], P.iz[r], t0, t1);
+    hit |= t0 <= t1;
   }
-  return t0 <= t1;
+  return hit != 0;
+}
+
+// ceil(q) and floor(q) for q in [-2^31, 2^31) (callers clamp first): std::ceil and
+// std::floor would keep the loop from vectorizing (without -fno-trapping-math).
+inline std::int32_t ceilToInt(float q)
+{
+  const std::int32_t c = static_cast<std::int32_t>(q); // towards zero
+  return c + (static_cast<float>(c) < q);
+}
+inline std::int32_t floorToInt(float q)
+{
+  const std::int32_t c = static_cast<std::int32_t>(q);
+  return c - (static_cast<float>(c) > q);
 }
 
 // The sample range [k0, k1] of a ray: t in [tEnter, tExit] with t = k dt.
@@ -353,21 +412,29 @@ void renderRBF(const RBFParticles& particles,
       params.tileSize,
       [&](const Tile& tile)
       {
-        constexpr int MaxRays = MaxRBFPacketSide * MaxRBFPacketSide;
         std::int64_t tileRays = 0, tilePackets = 0, tilePasses = 0, tileSamples = 0, tileVisits = 0,
                      tileDeposits = 0, tileTerminated = 0;
-        // The packet's sample buffer: K samples per ray, numFields values each (and the
-        // gradient of their sum when shading), reused for every pass.
-        std::vector<float> phiBuf(static_cast<std::size_t>(MaxRays) * K * MaxRBFFields);
-        std::vector<float> gradBuf(grads ? static_cast<std::size_t>(MaxRays) * K * 3 : 0);
+        const int maxRays = side * side;
+        // The packet's sample buffer, one row of `stride` samples per field and ray (and
+        // per gradient component and ray when shading), reused for every pass. A row has
+        // room for a deposit block starting at its last sample.
+        const int stride = (K + DepositBlock - 1 + LaneMultiple - 1) / LaneMultiple * LaneMultiple;
+        std::vector<float> phiBuf(static_cast<std::size_t>(numFields) * maxRays * stride);
+        std::vector<float> gradBuf(grads ? static_cast<std::size_t>(3) * maxRays * stride : 0);
+        auto phiRow = [&](int m, int r)
+        { return &phiBuf[(static_cast<std::size_t>(m) * maxRays + r) * stride]; };
+        auto gradRow = [&](int axis, int r)
+        { return &gradBuf[(static_cast<std::size_t>(axis) * maxRays + r) * stride]; };
+        std::vector<float> tPass(stride); // t of the pass's samples
         std::vector<std::uint32_t> stack;
         stack.reserve(128);
-        Ray ray[MaxRays];
-        Vec3f invDir[MaxRays];
-        SampleRange range[MaxRays];
-        RayAccumulator acc[MaxRays];
-        bool active[MaxRays];
-        int pi[MaxRays], pj[MaxRays];
+        PacketLanes P;
+        Ray ray[MaxPacketRays];
+        SampleRange range[MaxPacketRays];
+        RayAccumulator acc[MaxPacketRays];
+        bool active[MaxPacketRays];
+        int pi[MaxPacketRays], pj[MaxPacketRays];
+        std::int32_t touchedFirst[MaxPacketRays], touchedLast[MaxPacketRays];
         for (int by = tile.y0; by < tile.y1; by += side)
         {
           for (int bx = tile.x0; bx < tile.x1; bx += side)
@@ -396,9 +463,24 @@ void renderRBF(const RBFParticles& particles,
             }
             tileRays += n;
             ++tilePackets;
-            for (int r = 0; r < n; ++r)
+            const int lanes = (n + LaneMultiple - 1) / LaneMultiple * LaneMultiple;
+            for (int r = 0; r < lanes; ++r)
             {
-              invDir[r] = Vec3f(1.f / ray[r].dir.x, 1.f / ray[r].dir.y, 1.f / ray[r].dir.z);
+              const bool real = r < n;
+              const Vec3f o = real ? ray[r].org : Vec3f(), d = real ? ray[r].dir : Vec3f();
+              P.ox[r] = o.x;
+              P.oy[r] = o.y;
+              P.oz[r] = o.z;
+              P.dx[r] = d.x;
+              P.dy[r] = d.y;
+              P.dz[r] = d.z;
+              P.ix[r] = real ? 1.f / d.x : 0.f;
+              P.iy[r] = real ? 1.f / d.y : 0.f;
+              P.iz[r] = real ? 1.f / d.z : 0.f;
+              P.t0[r] = 1.f;
+              P.t1[r] = 0.f;
+              P.first[r] = K;
+              P.last[r] = -1;
             }
             // Passes of K samples (section 4.2) until every ray is opaque or done.
             for (std::int64_t s0 = kFirst; s0 <= kLast; s0 += K)
@@ -419,22 +501,29 @@ void renderRBF(const RBFParticles& particles,
                 continue;
               }
               ++tilePasses;
-              // This pass's samples of each ray [passFirst, passLast] (empty for rays not
-              // in it) and their t interval.
-              std::int64_t passFirst[MaxRays], passLast[MaxRays];
-              // The samples of the pass some particle reached, per ray.
-              std::int64_t touchedFirst[MaxRays], touchedLast[MaxRays];
-              float segT0[MaxRays], segT1[MaxRays];
+              // This pass's samples of each ray and their t interval; the samples of the
+              // pass some particle reached, per ray.
               for (int r = 0; r < n; ++r)
               {
                 const bool in = active[r] && range[r].k0 <= s1;
-                passFirst[r] = in ? std::max(s0, range[r].k0) : 1;
-                passLast[r] = in ? std::min(s1, range[r].k1) : 0;
-                touchedFirst[r] = std::numeric_limits<std::int64_t>::max();
-                touchedLast[r] = std::numeric_limits<std::int64_t>::min();
-                segT0[r] = in ? static_cast<float>(passFirst[r]) * dt : 1.f;
-                segT1[r] = in ? static_cast<float>(passLast[r]) * dt : 0.f;
+                const std::int64_t passFirst = std::max(s0, range[r].k0);
+                const std::int64_t passLast = std::min(s1, range[r].k1);
+                P.first[r] = in ? static_cast<std::int32_t>(passFirst - s0) : K;
+                P.last[r] = in ? static_cast<std::int32_t>(passLast - s0) : -1;
+                P.t0[r] = in ? static_cast<float>(passFirst) * dt : 1.f;
+                P.t1[r] = in ? static_cast<float>(passLast) * dt : 0.f;
+                touchedFirst[r] = K;
+                touchedLast[r] = -1;
               }
+              for (int k = 0; k < stride; ++k)
+              {
+                tPass[k] = static_cast<float>(s0 + k) * dt;
+              }
+              // (Locals, not the captured references: read through a reference, the SIMD
+              // loops below would gather them from memory in every lane.)
+              const float step = dt, s0f = static_cast<float>(s0);
+              const std::int32_t slots = K;
+              const float lastSlot = static_cast<float>(K);
               // Coherent BVH traversal: a node is entered when any ray's pass interval
               // meets its box grown by sigma r_max.
               stack.assign(1, 0u);
@@ -443,14 +532,7 @@ void renderRBF(const RBFParticles& particles,
                 const BVHNode& node = nodes[stack.back()];
                 stack.pop_back();
                 ++tileVisits;
-                const float grow = sigma * node.rMax;
-                bool any = false;
-                for (int r = 0; r < n && !any; ++r)
-                {
-                  any = segT0[r] <= segT1[r] &&
-                        slabsHit(ray[r].org, invDir[r], node.lo, node.hi, grow, segT0[r], segT1[r]);
-                }
-                if (!any)
+                if (!packetMeetsBox(P, lanes, node.lo, node.hi, sigma * node.rMax))
                 {
                   continue;
                 }
@@ -465,32 +547,46 @@ void renderRBF(const RBFParticles& particles,
                   const Vec3f c = particles.centers[p];
                   const float rad = particles.radii[p];
                   const float R = sigma * rad;
+                  const float R2 = R * R;
                   const float inv2r2 = 0.5f / (rad * rad);
+                  // Every ray at once: h^2, and the samples inside the support,
+                  // t = k dt in [-b - w, -b + w], w = sqrt(R^2 - h^2), as indices
+                  // relative to the pass (clamped to the pass and the ray's samples).
+                  int any = 0;
+#pragma omp simd reduction(| : any)
+                  for (int r = 0; r < lanes; ++r)
+                  {
+                    const float fx = P.ox[r] - c.x, fy = P.oy[r] - c.y, fz = P.oz[r] - c.z;
+                    const float b = fx * P.dx[r] + fy * P.dy[r] + fz * P.dz[r];
+                    const float lx = fx - P.dx[r] * b, ly = fy - P.dy[r] * b,
+                                lz = fz - P.dz[r] * b;
+                    const float h2 = lx * lx + ly * ly + lz * lz;
+                    const float w = std::sqrt(h2 < R2 ? R2 - h2 : 0.f);
+                    float qa = (-b - w) / step - s0f, qb = (-b + w) / step - s0f;
+                    // (Clamped for the conversion to int, with one select each: a nested
+                    // one keeps the loop from vectorizing.)
+                    qa = qa < -1.f ? -1.f : qa;
+                    qa = qa > lastSlot ? lastSlot : qa;
+                    qb = qb < -1.f ? -1.f : qb;
+                    qb = qb > lastSlot ? lastSlot : qb;
+                    const std::int32_t ka = std::max(P.first[r], ceilToInt(qa));
+                    const std::int32_t kb = std::min(P.last[r], floorToInt(qb));
+                    const bool in = h2 <= R2 && ka <= kb;
+                    P.b[r] = b;
+                    P.h2[r] = h2;
+                    P.ka[r] = in ? ka : slots;
+                    P.kb[r] = in ? kb : -1;
+                    any |= in;
+                  }
+                  if (!any)
+                  {
+                    continue;
+                  }
                   const float amp = kappa * particles.values[p];
                   const int field = particles.fields[p];
-                  const float gamma = std::exp(-dt * dt * 2.f * inv2r2);
                   for (int r = 0; r < n; ++r)
                   {
-                    if (passFirst[r] > passLast[r])
-                    {
-                      continue;
-                    }
-                    const Vec3f f = ray[r].org - c;
-                    const Vec3f& d = ray[r].dir;
-                    const float b = dot(f, d);
-                    const Vec3f l = f - d * b;
-                    const float h2 = dot(l, l);
-                    if (h2 > R * R)
-                    {
-                      continue;
-                    }
-                    // The samples inside the support, t = k dt in [-b - w, -b + w], kept
-                    // in index space (clamped to the pass and to the ray's own samples).
-                    const float w = std::sqrt(R * R - h2);
-                    const std::int64_t ka =
-                      std::max(passFirst[r], static_cast<std::int64_t>(std::ceil((-b - w) / dt)));
-                    const std::int64_t kb =
-                      std::min(passLast[r], static_cast<std::int64_t>(std::floor((-b + w) / dt)));
+                    const std::int32_t ka = P.ka[r], kb = P.kb[r];
                     if (ka > kb)
                     {
                       continue;
@@ -498,34 +594,41 @@ void renderRBF(const RBFParticles& particles,
                     ++tileDeposits;
                     touchedFirst[r] = std::min(touchedFirst[r], ka);
                     touchedLast[r] = std::max(touchedLast[r], kb);
-                    const float u0 = static_cast<float>(ka) * dt + b;
-                    float g = amp * std::exp(-(u0 * u0 + h2) * inv2r2);
-                    float rho = std::exp(-(2.f * u0 * dt + dt * dt) * inv2r2);
-                    float* phi =
-                      &phiBuf[(static_cast<std::size_t>(r) * K + (ka - s0)) * MaxRBFFields + field];
-                    const int count = static_cast<int>(kb - ka + 1);
-                    if (!grads)
+                    // The Gaussian at each sample, g = kappa k_i exp(-(u^2 + h^2) / 2r^2)
+                    // with u = t + b (section 3.1), a block of samples per SIMD vector.
+                    const float b = P.b[r], h2 = P.h2[r];
+                    float* phi = phiRow(field, r);
+                    for (std::int32_t k0 = ka; k0 <= kb; k0 += DepositBlock)
                     {
-                      for (int k = 0; k < count; ++k)
+#pragma omp simd
+                      for (int l = 0; l < DepositBlock; ++l)
                       {
-                        phi[k * MaxRBFFields] += g;
-                        g *= rho;
-                        rho *= gamma;
+                        const std::int32_t k = k0 + l;
+                        const float u = tPass[k] + b;
+                        const float g = amp * fastExp(-(u * u + h2) * inv2r2);
+                        phi[k] += k <= kb ? g : 0.f;
                       }
                     }
-                    else
+                    if (grads)
                     {
-                      float* gr = &gradBuf[(static_cast<std::size_t>(r) * K + (ka - s0)) * 3];
-                      const float s = -2.f * inv2r2; // -1 / r^2
-                      for (int k = 0; k < count; ++k)
+                      // Equation 4: grad phi = -phi (x - x_i) / r^2, x - x_i = f + t d.
+                      const float s = -2.f * inv2r2;
+                      const float fx = P.ox[r] - c.x, fy = P.oy[r] - c.y, fz = P.oz[r] - c.z;
+                      const float dx = P.dx[r], dy = P.dy[r], dz = P.dz[r];
+                      float *gx = gradRow(0, r), *gy = gradRow(1, r), *gz = gradRow(2, r);
+                      for (std::int32_t k0 = ka; k0 <= kb; k0 += DepositBlock)
                       {
-                        const float t = static_cast<float>(ka + k) * dt;
-                        phi[k * MaxRBFFields] += g;
-                        gr[3 * k] += s * g * (f.x + t * d.x);
-                        gr[3 * k + 1] += s * g * (f.y + t * d.y);
-                        gr[3 * k + 2] += s * g * (f.z + t * d.z);
-                        g *= rho;
-                        rho *= gamma;
+#pragma omp simd
+                        for (int l = 0; l < DepositBlock; ++l)
+                        {
+                          const std::int32_t k = k0 + l;
+                          const float t = tPass[k], u = t + b;
+                          const float g = amp * fastExp(-(u * u + h2) * inv2r2);
+                          const float sg = k <= kb ? s * g : 0.f;
+                          gx[k] += sg * (fx + t * dx);
+                          gy[k] += sg * (fy + t * dy);
+                          gz[k] += sg * (fz + t * dz);
+                        }
                       }
                     }
                   }
@@ -536,18 +639,26 @@ void renderRBF(const RBFParticles& particles,
               for (int r = 0; r < n; ++r)
               {
                 // With a clear empty field only the reached samples can add anything.
-                const std::int64_t first = emptyIsClear ? touchedFirst[r] : passFirst[r];
-                const std::int64_t last = emptyIsClear ? touchedLast[r] : passLast[r];
-                for (std::int64_t k = first; k <= last; ++k)
+                const std::int32_t first = emptyIsClear ? touchedFirst[r] : P.first[r];
+                const std::int32_t last = emptyIsClear ? touchedLast[r] : P.last[r];
+                for (std::int32_t k = first; k <= last; ++k)
                 {
-                  const std::size_t slot = static_cast<std::size_t>(r) * K + (k - s0);
+                  float phi[MaxRBFFields] = { 0, 0, 0, 0 };
+                  for (int m = 0; m < numFields; ++m)
+                  {
+                    phi[m] = phiRow(m, r)[k];
+                  }
+                  float grad[3] = { 0, 0, 0 };
+                  if (grads)
+                  {
+                    for (int axis = 0; axis < 3; ++axis)
+                    {
+                      grad[axis] = gradRow(axis, r)[k];
+                    }
+                  }
                   ++tileSamples;
-                  classifier.blend(&phiBuf[slot * MaxRBFFields],
-                    grads ? &gradBuf[slot * 3] : nullptr,
-                    ray[r].org,
-                    ray[r].dir,
-                    static_cast<float>(k) * dt,
-                    acc[r]);
+                  classifier.blend(
+                    phi, grads ? grad : nullptr, ray[r].org, ray[r].dir, tPass[k], acc[r]);
                   if (acc[r].a >= threshold)
                   {
                     active[r] = false;
@@ -559,13 +670,14 @@ void renderRBF(const RBFParticles& particles,
                 // Leave the buffer zero for the next pass: only the reached samples changed.
                 if (touchedFirst[r] <= touchedLast[r])
                 {
-                  const std::size_t a = static_cast<std::size_t>(r) * K + (touchedFirst[r] - s0);
-                  const std::size_t b = static_cast<std::size_t>(r) * K + (touchedLast[r] - s0) + 1;
-                  std::fill(
-                    phiBuf.begin() + a * MaxRBFFields, phiBuf.begin() + b * MaxRBFFields, 0.f);
-                  if (grads)
+                  for (int m = 0; m < numFields; ++m)
                   {
-                    std::fill(gradBuf.begin() + a * 3, gradBuf.begin() + b * 3, 0.f);
+                    std::fill(phiRow(m, r) + touchedFirst[r], phiRow(m, r) + touchedLast[r] + 1, 0.f);
+                  }
+                  for (int axis = 0; grads && axis < 3; ++axis)
+                  {
+                    std::fill(
+                      gradRow(axis, r) + touchedFirst[r], gradRow(axis, r) + touchedLast[r] + 1, 0.f);
                   }
                 }
               }
