@@ -13,29 +13,59 @@ namespace raymappers
 
 namespace
 {
-// The transfer function of each field with its opacities corrected for the step dt
-// (1 - (1 - alpha)^(dt / unit distance)), sampled as the original table.
-std::vector<TransferFunctionTable> correctForStep(const std::vector<TransferFunctionTable>& fields,
-  double dt)
+// The transfer function of a field with its opacities corrected for the step dt
+// (1 - (1 - alpha)^(dt / unit distance)), sampled as the original table and looked up in
+// float as TransferFunctionTable::lookup does in double (linear interpolation between the
+// samples, clamped to the range).
+struct StepTable
 {
-  std::vector<TransferFunctionTable> out;
+  std::vector<float> rgba; // n >= 1 samples (an empty table becomes transparent black)
+  float lo = 0.f;
+  float scale = 0.f; // (n - 1) / (hi - lo), 0 for a constant table
+
+  /// Writes the RGBA of value v (not NaN) into c.
+  void lookup(float v, float c[4]) const
+  {
+    const int n = static_cast<int>(rgba.size() / 4);
+    const float xMax = static_cast<float>(n - 1);
+    float x = (v - lo) * scale;
+    x = x < 0.f ? 0.f : x;
+    x = x > xMax ? xMax : x;
+    const int k = std::min(static_cast<int>(x), std::max(n - 2, 0));
+    const float f = n > 1 ? x - static_cast<float>(k) : 0.f;
+    const float* a = &rgba[4 * static_cast<std::size_t>(k)];
+    const float* b = n > 1 ? a + 4 : a;
+    for (int i = 0; i < 4; ++i)
+    {
+      c[i] = a[i] + f * (b[i] - a[i]);
+    }
+  }
+};
+
+std::vector<StepTable> correctForStep(const std::vector<TransferFunctionTable>& fields, double dt)
+{
+  std::vector<StepTable> out;
   for (const TransferFunctionTable& tf : fields)
   {
     const int n = tf.size();
-    std::vector<float> rgba(4 * static_cast<std::size_t>(n));
+    StepTable t;
+    t.rgba.assign(4 * static_cast<std::size_t>(std::max(n, 1)), 0.f);
     for (int k = 0; k < n; ++k)
     {
       const double v =
         n > 1 ? tf.rangeMin() + (tf.rangeMax() - tf.rangeMin()) * k / (n - 1) : tf.rangeMin();
       const auto c = tf.lookup(v);
-      rgba[4 * k] = c[0];
-      rgba[4 * k + 1] = c[1];
-      rgba[4 * k + 2] = c[2];
-      rgba[4 * k + 3] =
+      t.rgba[4 * k] = c[0];
+      t.rgba[4 * k + 1] = c[1];
+      t.rgba[4 * k + 2] = c[2];
+      t.rgba[4 * k + 3] =
         static_cast<float>(TransferFunctionTable::correctOpacity(c[3], dt, tf.unitDistance()));
     }
-    out.emplace_back();
-    out.back().assign(std::move(rgba), tf.rangeMin(), tf.rangeMax(), tf.unitDistance());
+    t.lo = static_cast<float>(tf.rangeMin());
+    t.scale = n > 1 && tf.rangeMax() > tf.rangeMin()
+                ? static_cast<float>((n - 1) / (tf.rangeMax() - tf.rangeMin()))
+                : 0.f;
+    out.push_back(std::move(t));
   }
   return out;
 }
@@ -56,7 +86,7 @@ struct RayAccumulator
 // Everything a sample's classification needs.
 struct Classifier
 {
-  const std::vector<TransferFunctionTable>* tables;
+  const std::vector<StepTable>* tables; // per field (missing fields use the last table)
   const RBFRenderParameters* params;
   Vec3d origin;
   int numFields;
@@ -64,58 +94,69 @@ struct Classifier
 
   /// Blends the sample at t of ray (o, d) with field values phi[] and field-sum gradient
   /// grad (used only when shading) into acc, sequentially per field (section 5.5).
-  void blend(const float* phi,
+  inline void blend(const float* phi,
     const float* grad,
     const Vec3f& o,
     const Vec3f& d,
     float t,
     RayAccumulator& acc) const
   {
-    const std::vector<TransferFunctionTable>& tf = *tables;
+    const std::vector<StepTable>& tf = *tables;
     for (int m = 0; m < numFields; ++m)
     {
-      const TransferFunctionTable& table = tf[std::min<std::size_t>(m, tf.size() - 1)];
-      const auto c = table.lookup(phi[m]);
+      if (std::isnan(phi[m]))
+      {
+        continue; // classified as transparent black
+      }
+      float c[4];
+      tf[std::min<std::size_t>(m, tf.size() - 1)].lookup(phi[m], c);
       const float alpha = c[3];
       if (!(alpha > 0.f))
       {
         continue;
       }
-      float cr = c[0], cg = c[1], cb = c[2];
       if (params->shade && grad)
       {
-        const Vec3d gm(grad[0], grad[1], grad[2]);
-        const double len = length(gm);
-        if (len > 0 && std::isfinite(len))
-        {
-          // The surface normal points down the gradient (out of the denser region).
-          Vec3d n = mul3(params->normalToWorld, 3, gm * (-1.0 / len));
-          const double nl = length(n);
-          n = n * (1.0 / nl);
-          const Vec3d pRel = Vec3d(o) + Vec3d(d) * static_cast<double>(t);
-          const Vec3d pModel = pRel + origin;
-          const double* M = params->modelToWorld;
-          const Vec3d pw(M[0] * pModel.x + M[1] * pModel.y + M[2] * pModel.z + M[3],
-            M[4] * pModel.x + M[5] * pModel.y + M[6] * pModel.z + M[7],
-            M[8] * pModel.x + M[9] * pModel.y + M[10] * pModel.z + M[11]);
-          Vec3d dw = mul3(params->modelToWorld, 4, Vec3d(d));
-          dw = dw * (1.0 / length(dw));
-          if (dot(n, dw) > 0)
-          {
-            n = -n; // two-sided: light the side facing the viewer
-          }
-          const Vec3d s = shade(params->lights, params->material, Vec3d(cr, cg, cb), pw, n, -dw);
-          cr = static_cast<float>(std::clamp(s.x, 0.0, 1.0));
-          cg = static_cast<float>(std::clamp(s.y, 0.0, 1.0));
-          cb = static_cast<float>(std::clamp(s.z, 0.0, 1.0));
-        }
+        shadeColor(grad, o, d, t, c);
       }
       const float w = (1.f - acc.a) * alpha;
-      acc.r += w * cr;
-      acc.g += w * cg;
-      acc.b += w * cb;
+      acc.r += w * c[0];
+      acc.g += w * c[1];
+      acc.b += w * c[2];
       acc.a += w;
     }
+  }
+
+  /// Replaces the colour c[0..2] with its shaded colour at the sample (a separate function,
+  /// so that the unshaded blend stays small enough to inline).
+  void shadeColor(const float* grad, const Vec3f& o, const Vec3f& d, float t, float c[4]) const
+  {
+    const Vec3d gm(grad[0], grad[1], grad[2]);
+    const double len = length(gm);
+    if (!(len > 0) || !std::isfinite(len))
+    {
+      return;
+    }
+    // The surface normal points down the gradient (out of the denser region).
+    Vec3d n = mul3(params->normalToWorld, 3, gm * (-1.0 / len));
+    const double nl = length(n);
+    n = n * (1.0 / nl);
+    const Vec3d pRel = Vec3d(o) + Vec3d(d) * static_cast<double>(t);
+    const Vec3d pModel = pRel + origin;
+    const double* M = params->modelToWorld;
+    const Vec3d pw(M[0] * pModel.x + M[1] * pModel.y + M[2] * pModel.z + M[3],
+      M[4] * pModel.x + M[5] * pModel.y + M[6] * pModel.z + M[7],
+      M[8] * pModel.x + M[9] * pModel.y + M[10] * pModel.z + M[11]);
+    Vec3d dw = mul3(params->modelToWorld, 4, Vec3d(d));
+    dw = dw * (1.0 / length(dw));
+    if (dot(n, dw) > 0)
+    {
+      n = -n; // two-sided: light the side facing the viewer
+    }
+    const Vec3d s = shade(params->lights, params->material, Vec3d(c[0], c[1], c[2]), pw, n, -dw);
+    c[0] = static_cast<float>(std::clamp(s.x, 0.0, 1.0));
+    c[1] = static_cast<float>(std::clamp(s.y, 0.0, 1.0));
+    c[2] = static_cast<float>(std::clamp(s.z, 0.0, 1.0));
   }
 };
 
@@ -272,10 +313,15 @@ void renderRBF(const RBFParticles& particles,
   const float sigma = static_cast<float>(std::max(0.0, params.sigma));
   const float threshold = static_cast<float>(std::clamp(params.terminationOpacity, 0.0, 1.0));
   const bool grads = params.shade;
-  const std::vector<TransferFunctionTable> tables = correctForStep(fields, dtD);
+  const std::vector<StepTable> tables = correctForStep(fields, dtD);
   const bool emptyIsClear = std::all_of(tables.begin(),
     tables.end(),
-    [](const TransferFunctionTable& t) { return t.lookup(0.0)[3] == 0.f; });
+    [](const StepTable& t)
+    {
+      float c[4];
+      t.lookup(0.f, c);
+      return c[3] == 0.f;
+    });
   stats.setEffect("empty_space_skipping", emptyIsClear);
   const Classifier classifier{ &tables, &params, particles.origin, numFields, emptyIsClear };
   const std::vector<BVHNode>& nodes = bvh.nodes();
@@ -641,6 +687,7 @@ void renderRBF(const RBFParticles& particles,
                 // With a clear empty field only the reached samples can add anything.
                 const std::int32_t first = emptyIsClear ? touchedFirst[r] : P.first[r];
                 const std::int32_t last = emptyIsClear ? touchedLast[r] : P.last[r];
+                RayAccumulator sum = acc[r]; // (a local: blending is one long chain per ray)
                 for (std::int32_t k = first; k <= last; ++k)
                 {
                   float phi[MaxRBFFields] = { 0, 0, 0, 0 };
@@ -658,14 +705,15 @@ void renderRBF(const RBFParticles& particles,
                   }
                   ++tileSamples;
                   classifier.blend(
-                    phi, grads ? grad : nullptr, ray[r].org, ray[r].dir, tPass[k], acc[r]);
-                  if (acc[r].a >= threshold)
+                    phi, grads ? grad : nullptr, ray[r].org, ray[r].dir, tPass[k], sum);
+                  if (sum.a >= threshold)
                   {
                     active[r] = false;
                     ++tileTerminated;
                     break;
                   }
                 }
+                acc[r] = sum;
                 stillActive += active[r];
                 // Leave the buffer zero for the next pass: only the reached samples changed.
                 if (touchedFirst[r] <= touchedLast[r])
