@@ -17,28 +17,39 @@ namespace
 // (1 - (1 - alpha)^(dt / unit distance)), sampled as the original table and looked up in
 // float as TransferFunctionTable::lookup does in double (linear interpolation between the
 // samples, clamped to the range).
+struct RGBA
+{
+  float r, g, b, a;
+};
+
 struct StepTable
 {
-  std::vector<float> rgba; // n >= 1 samples (an empty table becomes transparent black)
+  // n >= 2 samples: a constant table holds its sample twice, an empty one transparent black.
+  std::vector<float> rgba;
   float lo = 0.f;
   float scale = 0.f; // (n - 1) / (hi - lo), 0 for a constant table
 
-  /// Writes the RGBA of value v (not NaN) into c.
-  void lookup(float v, float c[4]) const
+  int size() const { return static_cast<int>(rgba.size() / 4); }
+
+  /// The RGBA of value v (not NaN).
+  RGBA lookup(float v) const { return lookupIn(rgba.data(), size(), v); }
+
+  /// The lookup on this table's n samples at `table`, written for SIMD lanes (selects,
+  /// integer indices, a value returned: what the vectorizer turns into gathers).
+  RGBA lookupIn(const float* table, int n, float v) const
   {
-    const int n = static_cast<int>(rgba.size() / 4);
     const float xMax = static_cast<float>(n - 1);
     float x = (v - lo) * scale;
     x = x < 0.f ? 0.f : x;
     x = x > xMax ? xMax : x;
-    const int k = std::min(static_cast<int>(x), std::max(n - 2, 0));
-    const float f = n > 1 ? x - static_cast<float>(k) : 0.f;
-    const float* a = &rgba[4 * static_cast<std::size_t>(k)];
-    const float* b = n > 1 ? a + 4 : a;
-    for (int i = 0; i < 4; ++i)
-    {
-      c[i] = a[i] + f * (b[i] - a[i]);
-    }
+    std::int32_t k = static_cast<std::int32_t>(x);
+    k = k > n - 2 ? n - 2 : k;
+    const float f = x - static_cast<float>(k);
+    const std::int32_t j = 4 * k;
+    return { table[j] + f * (table[j + 4] - table[j]),
+      table[j + 1] + f * (table[j + 5] - table[j + 1]),
+      table[j + 2] + f * (table[j + 6] - table[j + 2]),
+      table[j + 3] + f * (table[j + 7] - table[j + 3]) };
   }
 };
 
@@ -49,7 +60,7 @@ std::vector<StepTable> correctForStep(const std::vector<TransferFunctionTable>& 
   {
     const int n = tf.size();
     StepTable t;
-    t.rgba.assign(4 * static_cast<std::size_t>(std::max(n, 1)), 0.f);
+    t.rgba.assign(4 * static_cast<std::size_t>(std::max(n, 2)), 0.f);
     for (int k = 0; k < n; ++k)
     {
       const double v =
@@ -60,6 +71,10 @@ std::vector<StepTable> correctForStep(const std::vector<TransferFunctionTable>& 
       t.rgba[4 * k + 2] = c[2];
       t.rgba[4 * k + 3] =
         static_cast<float>(TransferFunctionTable::correctOpacity(c[3], dt, tf.unitDistance()));
+    }
+    if (n == 1)
+    {
+      std::copy(t.rgba.begin(), t.rgba.begin() + 4, t.rgba.begin() + 4);
     }
     t.lo = static_cast<float>(tf.rangeMin());
     t.scale = n > 1 && tf.rangeMax() > tf.rangeMin()
@@ -108,10 +123,8 @@ struct Classifier
       {
         continue; // classified as transparent black
       }
-      float c[4];
-      tf[std::min<std::size_t>(m, tf.size() - 1)].lookup(phi[m], c);
-      const float alpha = c[3];
-      if (!(alpha > 0.f))
+      RGBA c = tf[std::min<std::size_t>(m, tf.size() - 1)].lookup(phi[m]);
+      if (!(c.a > 0.f))
       {
         continue;
       }
@@ -119,17 +132,17 @@ struct Classifier
       {
         shadeColor(grad, o, d, t, c);
       }
-      const float w = (1.f - acc.a) * alpha;
-      acc.r += w * c[0];
-      acc.g += w * c[1];
-      acc.b += w * c[2];
+      const float w = (1.f - acc.a) * c.a;
+      acc.r += w * c.r;
+      acc.g += w * c.g;
+      acc.b += w * c.b;
       acc.a += w;
     }
   }
 
-  /// Replaces the colour c[0..2] with its shaded colour at the sample (a separate function,
-  /// so that the unshaded blend stays small enough to inline).
-  void shadeColor(const float* grad, const Vec3f& o, const Vec3f& d, float t, float c[4]) const
+  /// Replaces the colour of c with its shaded colour at the sample (a separate function, so
+  /// that the unshaded blend stays small enough to inline).
+  void shadeColor(const float* grad, const Vec3f& o, const Vec3f& d, float t, RGBA& c) const
   {
     const Vec3d gm(grad[0], grad[1], grad[2]);
     const double len = length(gm);
@@ -153,10 +166,10 @@ struct Classifier
     {
       n = -n; // two-sided: light the side facing the viewer
     }
-    const Vec3d s = shade(params->lights, params->material, Vec3d(c[0], c[1], c[2]), pw, n, -dw);
-    c[0] = static_cast<float>(std::clamp(s.x, 0.0, 1.0));
-    c[1] = static_cast<float>(std::clamp(s.y, 0.0, 1.0));
-    c[2] = static_cast<float>(std::clamp(s.z, 0.0, 1.0));
+    const Vec3d s = shade(params->lights, params->material, Vec3d(c.r, c.g, c.b), pw, n, -dw);
+    c.r = static_cast<float>(std::clamp(s.x, 0.0, 1.0));
+    c.g = static_cast<float>(std::clamp(s.y, 0.0, 1.0));
+    c.b = static_cast<float>(std::clamp(s.z, 0.0, 1.0));
   }
 };
 
@@ -192,7 +205,88 @@ struct PacketLanes
   alignas(64) float h2[MaxPacketRays];
   alignas(64) std::int32_t ka[MaxPacketRays];
   alignas(64) std::int32_t kb[MaxPacketRays];
+  // Front-to-back state (premultiplied colour and opacity), and for the pass's
+  // integration the samples to blend [from, to] and whether the ray is still open.
+  alignas(64) float cr[MaxPacketRays];
+  alignas(64) float cg[MaxPacketRays];
+  alignas(64) float cb[MaxPacketRays];
+  alignas(64) float ca[MaxPacketRays];
+  alignas(64) std::int32_t from[MaxPacketRays];
+  alignas(64) std::int32_t to[MaxPacketRays];
+  alignas(64) std::int32_t open[MaxPacketRays];
 };
+
+// Integrates a pass's buffer front to back for the n rays of the packet at once, without
+// shading (section 5.3: "all samples for the packet are integrated, iterating using a
+// uniform t variable spanning minimum and maximum sample positions"): ray r blends its
+// samples [from[r], to[r]] while open[r], with the arithmetic of Classifier::blend, and
+// closes when its opacity reaches the threshold. phi(m, r) is the buffer row of field m and
+// ray r. Returns the samples blended; the rays closed are added to `terminated`.
+template<typename RowFn>
+std::int64_t integrateLanes(const std::vector<StepTable>& tables,
+  int numFields,
+  RowFn phi,
+  int n,
+  float threshold,
+  PacketLanes& P,
+  std::int64_t& terminated)
+{
+  std::int32_t kLo = std::numeric_limits<std::int32_t>::max(), kHi = -1;
+  for (int r = 0; r < n; ++r)
+  {
+    if (P.open[r] && P.from[r] <= P.to[r])
+    {
+      kLo = std::min(kLo, P.from[r]);
+      kHi = std::max(kHi, P.to[r]);
+    }
+  }
+  // The buffer as one pointer and strides, for the SIMD loop.
+  const float* base = phi(0, 0);
+  const int rayStride = n > 1 ? static_cast<int>(phi(0, 1) - base) : 0; // (int: a SIMD gather)
+  const std::ptrdiff_t fieldStride = numFields > 1 ? phi(1, 0) - base : 0;
+  std::int64_t blended = 0, closed = 0;
+  for (std::int32_t k = kLo; k <= kHi; ++k)
+  {
+    for (int m = 0; m < numFields; ++m)
+    {
+      const StepTable& table = tables[std::min<std::size_t>(m, tables.size() - 1)];
+      const float* rgba = table.rgba.data();
+      const int size = table.size();
+      const float* column = base + m * fieldStride + k;
+#pragma omp simd
+      for (int r = 0; r < n; ++r)
+      {
+        const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
+        const float v = column[r * rayStride]; // (a row every ray has: no masked load)
+        const bool valid = on & (v == v);        // NaN: transparent black
+        const RGBA c = table.lookupIn(rgba, size, valid ? v : 0.f);
+        const float w = (1.f - P.ca[r]) * c.a;
+        const bool add = valid & (c.a > 0.f);
+        P.cr[r] = add ? P.cr[r] + w * c.r : P.cr[r];
+        P.cg[r] = add ? P.cg[r] + w * c.g : P.cg[r];
+        P.cb[r] = add ? P.cb[r] + w * c.b : P.cb[r];
+        P.ca[r] = add ? P.ca[r] + w : P.ca[r];
+      }
+    }
+    int stillOpen = 0;
+#pragma omp simd reduction(+ : blended, closed, stillOpen)
+    for (int r = 0; r < n; ++r)
+    {
+      const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
+      const bool stop = on & (P.ca[r] >= threshold);
+      blended += on;
+      closed += stop;
+      P.open[r] = stop ? 0 : P.open[r];
+      stillOpen += (P.open[r] != 0) & (P.to[r] > k);
+    }
+    if (stillOpen == 0)
+    {
+      break;
+    }
+  }
+  terminated += closed;
+  return blended;
+}
 
 // One slab of the ray-box test: [t0, t1] shrinks to where the ray is between l and h on
 // this axis (inv = 1 / d). A zero direction component gives an infinite inverse; the NaN
@@ -316,12 +410,7 @@ void renderRBF(const RBFParticles& particles,
   const std::vector<StepTable> tables = correctForStep(fields, dtD);
   const bool emptyIsClear = std::all_of(tables.begin(),
     tables.end(),
-    [](const StepTable& t)
-    {
-      float c[4];
-      t.lookup(0.f, c);
-      return c[3] == 0.f;
-    });
+    [](const StepTable& t) { return t.lookup(0.f).a == 0.f; });
   stats.setEffect("empty_space_skipping", emptyIsClear);
   const Classifier classifier{ &tables, &params, particles.origin, numFields, emptyIsClear };
   const std::vector<BVHNode>& nodes = bvh.nodes();
@@ -477,7 +566,6 @@ void renderRBF(const RBFParticles& particles,
         PacketLanes P;
         Ray ray[MaxPacketRays];
         SampleRange range[MaxPacketRays];
-        RayAccumulator acc[MaxPacketRays];
         bool active[MaxPacketRays];
         int pi[MaxPacketRays], pj[MaxPacketRays];
         std::int32_t touchedFirst[MaxPacketRays], touchedLast[MaxPacketRays];
@@ -498,7 +586,7 @@ void renderRBF(const RBFParticles& particles,
               pi[n] = i;
               pj[n] = j;
               setUp(i, j, ray[n], range[n]);
-              acc[n] = RayAccumulator();
+              P.cr[n] = P.cg[n] = P.cb[n] = P.ca[n] = 0.f;
               active[n] = range[n].k0 <= range[n].k1;
               if (active[n])
               {
@@ -681,39 +769,50 @@ void renderRBF(const RBFParticles& particles,
                 }
               }
               // Integrate the buffer front to back (section 4.1, step 5).
-              int stillActive = 0;
               for (int r = 0; r < n; ++r)
               {
                 // With a clear empty field only the reached samples can add anything.
-                const std::int32_t first = emptyIsClear ? touchedFirst[r] : P.first[r];
-                const std::int32_t last = emptyIsClear ? touchedLast[r] : P.last[r];
-                RayAccumulator sum = acc[r]; // (a local: blending is one long chain per ray)
-                for (std::int32_t k = first; k <= last; ++k)
+                P.from[r] = emptyIsClear ? touchedFirst[r] : P.first[r];
+                P.to[r] = emptyIsClear ? touchedLast[r] : P.last[r];
+                P.open[r] = active[r];
+              }
+              if (!grads)
+              {
+                tileSamples +=
+                  integrateLanes(tables, numFields, phiRow, n, threshold, P, tileTerminated);
+              }
+              else
+              {
+                // Shading: ray by ray, through the classifier.
+                for (int r = 0; r < n; ++r)
                 {
-                  float phi[MaxRBFFields] = { 0, 0, 0, 0 };
-                  for (int m = 0; m < numFields; ++m)
+                  RayAccumulator sum{ P.cr[r], P.cg[r], P.cb[r], P.ca[r] };
+                  for (std::int32_t k = P.from[r]; P.open[r] && k <= P.to[r]; ++k)
                   {
-                    phi[m] = phiRow(m, r)[k];
-                  }
-                  float grad[3] = { 0, 0, 0 };
-                  if (grads)
-                  {
-                    for (int axis = 0; axis < 3; ++axis)
+                    float phi[MaxRBFFields] = { 0, 0, 0, 0 };
+                    for (int m = 0; m < numFields; ++m)
                     {
-                      grad[axis] = gradRow(axis, r)[k];
+                      phi[m] = phiRow(m, r)[k];
+                    }
+                    const float grad[3] = { gradRow(0, r)[k], gradRow(1, r)[k], gradRow(2, r)[k] };
+                    ++tileSamples;
+                    classifier.blend(phi, grad, ray[r].org, ray[r].dir, tPass[k], sum);
+                    if (sum.a >= threshold)
+                    {
+                      P.open[r] = 0;
+                      ++tileTerminated;
                     }
                   }
-                  ++tileSamples;
-                  classifier.blend(
-                    phi, grads ? grad : nullptr, ray[r].org, ray[r].dir, tPass[k], sum);
-                  if (sum.a >= threshold)
-                  {
-                    active[r] = false;
-                    ++tileTerminated;
-                    break;
-                  }
+                  P.cr[r] = sum.r;
+                  P.cg[r] = sum.g;
+                  P.cb[r] = sum.b;
+                  P.ca[r] = sum.a;
                 }
-                acc[r] = sum;
+              }
+              int stillActive = 0;
+              for (int r = 0; r < n; ++r)
+              {
+                active[r] = P.open[r] != 0;
                 stillActive += active[r];
                 // Leave the buffer zero for the next pass: only the reached samples changed.
                 if (touchedFirst[r] <= touchedLast[r])
@@ -736,7 +835,7 @@ void renderRBF(const RBFParticles& particles,
             }
             for (int r = 0; r < n; ++r)
             {
-              store(pi[r], pj[r], acc[r]);
+              store(pi[r], pj[r], RayAccumulator{ P.cr[r], P.cg[r], P.cb[r], P.ca[r] });
             }
           }
         }
