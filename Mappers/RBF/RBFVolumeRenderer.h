@@ -46,7 +46,7 @@ struct RBFRenderParameters
   double sampleDistance = 0.1; // dt (model units), > 0
   double terminationOpacity = 0.99;
   int samplesPerPass = 32; // K
-  int packetSide = 4;      // packets of side x side rays
+  int packetSide = 8;      // packets of side x side rays
   int tileSize = 32;
   bool direct = false; // the direct (gathering) method instead of the coherent one
   // Shading with the gradient (off: emission and absorption only).
