@@ -258,7 +258,7 @@ std::int64_t integrateLanes(const std::vector<StepTable>& tables,
       {
         const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
         const float v = column[r * rayStride]; // (a row every ray has: no masked load)
-        const bool valid = on & (v == v);        // NaN: transparent black
+        const bool valid = on & (v == v);      // NaN: transparent black
         const RGBA c = table.lookupIn(rgba, size, valid ? v : 0.f);
         const float w = (1.f - P.ca[r]) * c.a;
         const bool add = valid & (c.a > 0.f);
@@ -408,9 +408,8 @@ void renderRBF(const RBFParticles& particles,
   const float threshold = static_cast<float>(std::clamp(params.terminationOpacity, 0.0, 1.0));
   const bool grads = params.shade;
   const std::vector<StepTable> tables = correctForStep(fields, dtD);
-  const bool emptyIsClear = std::all_of(tables.begin(),
-    tables.end(),
-    [](const StepTable& t) { return t.lookup(0.f).a == 0.f; });
+  const bool emptyIsClear = std::all_of(
+    tables.begin(), tables.end(), [](const StepTable& t) { return t.lookup(0.f).a == 0.f; });
   stats.setEffect("empty_space_skipping", emptyIsClear);
   const Classifier classifier{ &tables, &params, particles.origin, numFields, emptyIsClear };
   const std::vector<BVHNode>& nodes = bvh.nodes();
@@ -692,8 +691,7 @@ void renderRBF(const RBFParticles& particles,
                   {
                     const float fx = P.ox[r] - c.x, fy = P.oy[r] - c.y, fz = P.oz[r] - c.z;
                     const float b = fx * P.dx[r] + fy * P.dy[r] + fz * P.dz[r];
-                    const float lx = fx - P.dx[r] * b, ly = fy - P.dy[r] * b,
-                                lz = fz - P.dz[r] * b;
+                    const float lx = fx - P.dx[r] * b, ly = fy - P.dy[r] * b, lz = fz - P.dz[r] * b;
                     const float h2 = lx * lx + ly * ly + lz * lz;
                     const float w = std::sqrt(h2 < R2 ? R2 - h2 : 0.f);
                     float qa = (-b - w) / step - s0f, qb = (-b + w) / step - s0f;
@@ -819,12 +817,14 @@ void renderRBF(const RBFParticles& particles,
                 {
                   for (int m = 0; m < numFields; ++m)
                   {
-                    std::fill(phiRow(m, r) + touchedFirst[r], phiRow(m, r) + touchedLast[r] + 1, 0.f);
+                    std::fill(
+                      phiRow(m, r) + touchedFirst[r], phiRow(m, r) + touchedLast[r] + 1, 0.f);
                   }
                   for (int axis = 0; grads && axis < 3; ++axis)
                   {
-                    std::fill(
-                      gradRow(axis, r) + touchedFirst[r], gradRow(axis, r) + touchedLast[r] + 1, 0.f);
+                    std::fill(gradRow(axis, r) + touchedFirst[r],
+                      gradRow(axis, r) + touchedLast[r] + 1,
+                      0.f);
                   }
                 }
               }
