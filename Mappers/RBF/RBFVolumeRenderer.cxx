@@ -685,6 +685,8 @@ void renderRBF(const RBFParticles& particles,
                   // Every ray at once: h^2, and the samples inside the support,
                   // t = k dt in [-b - w, -b + w], w = sqrt(R^2 - h^2), as indices
                   // relative to the pass (clamped to the pass and the ray's samples).
+                  // (t / dt - s0 is exact near the pass while sample indices stay below
+                  // 2^24, as t = k dt itself needs.)
                   int any = 0;
 #pragma omp simd reduction(| : any)
                   for (int r = 0; r < lanes; ++r)
