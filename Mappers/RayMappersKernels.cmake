@@ -23,7 +23,10 @@ target_include_directories(RayMappersKernels PUBLIC
   ${CMAKE_CURRENT_LIST_DIR}/RBF
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep)
 target_link_libraries(RayMappersKernels PUBLIC embree TBB::tbb)
-target_compile_options(RayMappersKernels PRIVATE ${RAYMAPPERS_WARNINGS} -fopenmp-simd)
+# -fopenmp-simd: the `#pragma omp simd` loops over a packet's rays. -fno-math-errno: a
+# std::sqrt that may set errno is a call the vectorizer cannot put in SIMD lanes (no kernel
+# reads errno).
+target_compile_options(RayMappersKernels PRIVATE ${RAYMAPPERS_WARNINGS} -fopenmp-simd -fno-math-errno)
 if (RAYMAPPERS_NATIVE)
   target_compile_options(RayMappersKernels PRIVATE -march=native)
 endif ()

@@ -1,5 +1,6 @@
 #include "RBFVolumeRenderer.h"
 
+#include "FastExp.h"
 #include "TileScheduler.h"
 
 #include <algorithm>
@@ -12,29 +13,74 @@ namespace raymappers
 
 namespace
 {
-// The transfer function of each field with its opacities corrected for the step dt
-// (1 - (1 - alpha)^(dt / unit distance)), sampled as the original table.
-std::vector<TransferFunctionTable> correctForStep(const std::vector<TransferFunctionTable>& fields,
-  double dt)
+// The transfer function of a field with its opacities corrected for the step dt
+// (1 - (1 - alpha)^(dt / unit distance)), sampled as the original table and looked up in
+// float as TransferFunctionTable::lookup does in double (linear interpolation between the
+// samples, clamped to the range).
+struct RGBA
 {
-  std::vector<TransferFunctionTable> out;
+  float r, g, b, a;
+};
+
+struct StepTable
+{
+  // n >= 2 samples: a constant table holds its sample twice, an empty one transparent black.
+  std::vector<float> rgba;
+  float lo = 0.f;
+  float scale = 0.f; // (n - 1) / (hi - lo), 0 for a constant table
+
+  int size() const { return static_cast<int>(rgba.size() / 4); }
+
+  /// The RGBA of value v (not NaN).
+  RGBA lookup(float v) const { return lookupIn(rgba.data(), size(), v); }
+
+  /// The lookup on this table's n samples at `table`, written for SIMD lanes (selects,
+  /// integer indices, a value returned: what the vectorizer turns into gathers).
+  RGBA lookupIn(const float* table, int n, float v) const
+  {
+    const float xMax = static_cast<float>(n - 1);
+    float x = (v - lo) * scale;
+    x = x < 0.f ? 0.f : x;
+    x = x > xMax ? xMax : x;
+    std::int32_t k = static_cast<std::int32_t>(x);
+    k = k > n - 2 ? n - 2 : k;
+    const float f = x - static_cast<float>(k);
+    const std::int32_t j = 4 * k;
+    return { table[j] + f * (table[j + 4] - table[j]),
+      table[j + 1] + f * (table[j + 5] - table[j + 1]),
+      table[j + 2] + f * (table[j + 6] - table[j + 2]),
+      table[j + 3] + f * (table[j + 7] - table[j + 3]) };
+  }
+};
+
+std::vector<StepTable> correctForStep(const std::vector<TransferFunctionTable>& fields, double dt)
+{
+  std::vector<StepTable> out;
   for (const TransferFunctionTable& tf : fields)
   {
     const int n = tf.size();
-    std::vector<float> rgba(4 * static_cast<std::size_t>(n));
+    StepTable t;
+    t.rgba.assign(4 * static_cast<std::size_t>(std::max(n, 2)), 0.f);
     for (int k = 0; k < n; ++k)
     {
       const double v =
         n > 1 ? tf.rangeMin() + (tf.rangeMax() - tf.rangeMin()) * k / (n - 1) : tf.rangeMin();
       const auto c = tf.lookup(v);
-      rgba[4 * k] = c[0];
-      rgba[4 * k + 1] = c[1];
-      rgba[4 * k + 2] = c[2];
-      rgba[4 * k + 3] =
+      t.rgba[4 * k] = c[0];
+      t.rgba[4 * k + 1] = c[1];
+      t.rgba[4 * k + 2] = c[2];
+      t.rgba[4 * k + 3] =
         static_cast<float>(TransferFunctionTable::correctOpacity(c[3], dt, tf.unitDistance()));
     }
-    out.emplace_back();
-    out.back().assign(std::move(rgba), tf.rangeMin(), tf.rangeMax(), tf.unitDistance());
+    if (n == 1)
+    {
+      std::copy(t.rgba.begin(), t.rgba.begin() + 4, t.rgba.begin() + 4);
+    }
+    t.lo = static_cast<float>(tf.rangeMin());
+    t.scale = n > 1 && tf.rangeMax() > tf.rangeMin()
+                ? static_cast<float>((n - 1) / (tf.rangeMax() - tf.rangeMin()))
+                : 0.f;
+    out.push_back(std::move(t));
   }
   return out;
 }
@@ -55,7 +101,7 @@ struct RayAccumulator
 // Everything a sample's classification needs.
 struct Classifier
 {
-  const std::vector<TransferFunctionTable>* tables;
+  const std::vector<StepTable>* tables; // per field (missing fields use the last table)
   const RBFRenderParameters* params;
   Vec3d origin;
   int numFields;
@@ -63,83 +109,231 @@ struct Classifier
 
   /// Blends the sample at t of ray (o, d) with field values phi[] and field-sum gradient
   /// grad (used only when shading) into acc, sequentially per field (section 5.5).
-  void blend(const float* phi,
+  inline void blend(const float* phi,
     const float* grad,
     const Vec3f& o,
     const Vec3f& d,
     float t,
     RayAccumulator& acc) const
   {
-    const std::vector<TransferFunctionTable>& tf = *tables;
+    const std::vector<StepTable>& tf = *tables;
     for (int m = 0; m < numFields; ++m)
     {
-      const TransferFunctionTable& table = tf[std::min<std::size_t>(m, tf.size() - 1)];
-      const auto c = table.lookup(phi[m]);
-      const float alpha = c[3];
-      if (!(alpha > 0.f))
+      if (std::isnan(phi[m]))
+      {
+        continue; // classified as transparent black
+      }
+      RGBA c = tf[std::min<std::size_t>(m, tf.size() - 1)].lookup(phi[m]);
+      if (!(c.a > 0.f))
       {
         continue;
       }
-      float cr = c[0], cg = c[1], cb = c[2];
       if (params->shade && grad)
       {
-        const Vec3d gm(grad[0], grad[1], grad[2]);
-        const double len = length(gm);
-        if (len > 0 && std::isfinite(len))
-        {
-          // The surface normal points down the gradient (out of the denser region).
-          Vec3d n = mul3(params->normalToWorld, 3, gm * (-1.0 / len));
-          const double nl = length(n);
-          n = n * (1.0 / nl);
-          const Vec3d pRel = Vec3d(o) + Vec3d(d) * static_cast<double>(t);
-          const Vec3d pModel = pRel + origin;
-          const double* M = params->modelToWorld;
-          const Vec3d pw(M[0] * pModel.x + M[1] * pModel.y + M[2] * pModel.z + M[3],
-            M[4] * pModel.x + M[5] * pModel.y + M[6] * pModel.z + M[7],
-            M[8] * pModel.x + M[9] * pModel.y + M[10] * pModel.z + M[11]);
-          Vec3d dw = mul3(params->modelToWorld, 4, Vec3d(d));
-          dw = dw * (1.0 / length(dw));
-          if (dot(n, dw) > 0)
-          {
-            n = -n; // two-sided: light the side facing the viewer
-          }
-          const Vec3d s = shade(params->lights, params->material, Vec3d(cr, cg, cb), pw, n, -dw);
-          cr = static_cast<float>(std::clamp(s.x, 0.0, 1.0));
-          cg = static_cast<float>(std::clamp(s.y, 0.0, 1.0));
-          cb = static_cast<float>(std::clamp(s.z, 0.0, 1.0));
-        }
+        shadeColor(grad, o, d, t, c);
       }
-      const float w = (1.f - acc.a) * alpha;
-      acc.r += w * cr;
-      acc.g += w * cg;
-      acc.b += w * cb;
+      const float w = (1.f - acc.a) * c.a;
+      acc.r += w * c.r;
+      acc.g += w * c.g;
+      acc.b += w * c.b;
       acc.a += w;
     }
   }
+
+  /// Replaces the colour of c with its shaded colour at the sample (a separate function, so
+  /// that the unshaded blend stays small enough to inline).
+  void shadeColor(const float* grad, const Vec3f& o, const Vec3f& d, float t, RGBA& c) const
+  {
+    const Vec3d gm(grad[0], grad[1], grad[2]);
+    const double len = length(gm);
+    if (!(len > 0) || !std::isfinite(len))
+    {
+      return;
+    }
+    // The surface normal points down the gradient (out of the denser region).
+    Vec3d n = mul3(params->normalToWorld, 3, gm * (-1.0 / len));
+    const double nl = length(n);
+    n = n * (1.0 / nl);
+    const Vec3d pRel = Vec3d(o) + Vec3d(d) * static_cast<double>(t);
+    const Vec3d pModel = pRel + origin;
+    const double* M = params->modelToWorld;
+    const Vec3d pw(M[0] * pModel.x + M[1] * pModel.y + M[2] * pModel.z + M[3],
+      M[4] * pModel.x + M[5] * pModel.y + M[6] * pModel.z + M[7],
+      M[8] * pModel.x + M[9] * pModel.y + M[10] * pModel.z + M[11]);
+    Vec3d dw = mul3(params->modelToWorld, 4, Vec3d(d));
+    dw = dw * (1.0 / length(dw));
+    if (dot(n, dw) > 0)
+    {
+      n = -n; // two-sided: light the side facing the viewer
+    }
+    const Vec3d s = shade(params->lights, params->material, Vec3d(c.r, c.g, c.b), pw, n, -dw);
+    c.r = static_cast<float>(std::clamp(s.x, 0.0, 1.0));
+    c.g = static_cast<float>(std::clamp(s.y, 0.0, 1.0));
+    c.b = static_cast<float>(std::clamp(s.z, 0.0, 1.0));
+  }
 };
 
-// Whether the ray o + t d (inv = 1/d per axis) meets the box grown by `grow` for some t in
-// [t0, t1]. A zero direction component gives an infinite inverse; the NaN of 0 * inf then
-// drops out of the min/max, which keeps the test conservative.
-inline bool slabsHit(const Vec3f& o,
-  const Vec3f& inv,
+// The rays of a packet in structure-of-arrays form, so that a particle or a node is tested
+// against all of them in SIMD lanes (section 5.3: "a packet is simply a varying Ray").
+// Lanes are padded to a multiple of 16 (the widest SIMD width); a padding lane, like a ray
+// without samples in the pass, has an empty interval and an empty sample range.
+constexpr int MaxPacketRays = MaxRBFPacketSide * MaxRBFPacketSide;
+constexpr int LaneMultiple = 16;
+// Samples a particle deposits into one ray's buffer row at a time (one SIMD vector).
+constexpr int DepositBlock = 8;
+
+struct PacketLanes
+{
+  alignas(64) float ox[MaxPacketRays];
+  alignas(64) float oy[MaxPacketRays];
+  alignas(64) float oz[MaxPacketRays];
+  alignas(64) float dx[MaxPacketRays];
+  alignas(64) float dy[MaxPacketRays];
+  alignas(64) float dz[MaxPacketRays];
+  alignas(64) float ix[MaxPacketRays]; // 1 / d per axis
+  alignas(64) float iy[MaxPacketRays];
+  alignas(64) float iz[MaxPacketRays];
+  // This pass: the t interval of the ray's samples (empty: t0 > t1) and their indices
+  // relative to the pass's first sample, [first, last] (empty: first > last).
+  alignas(64) float t0[MaxPacketRays];
+  alignas(64) float t1[MaxPacketRays];
+  alignas(64) std::int32_t first[MaxPacketRays];
+  alignas(64) std::int32_t last[MaxPacketRays];
+  // For the particle being deposited: b = f.d, h^2, and the samples in its support
+  // [ka, kb] (pass-relative, empty when the ray misses the support).
+  alignas(64) float b[MaxPacketRays];
+  alignas(64) float h2[MaxPacketRays];
+  alignas(64) std::int32_t ka[MaxPacketRays];
+  alignas(64) std::int32_t kb[MaxPacketRays];
+  // Front-to-back state (premultiplied colour and opacity), and for the pass's
+  // integration the samples to blend [from, to] and whether the ray is still open.
+  alignas(64) float cr[MaxPacketRays];
+  alignas(64) float cg[MaxPacketRays];
+  alignas(64) float cb[MaxPacketRays];
+  alignas(64) float ca[MaxPacketRays];
+  alignas(64) std::int32_t from[MaxPacketRays];
+  alignas(64) std::int32_t to[MaxPacketRays];
+  alignas(64) std::int32_t open[MaxPacketRays];
+};
+
+// Integrates a pass's buffer front to back for the n rays of the packet at once, without
+// shading (section 5.3: "all samples for the packet are integrated, iterating using a
+// uniform t variable spanning minimum and maximum sample positions"): ray r blends its
+// samples [from[r], to[r]] while open[r], with the arithmetic of Classifier::blend, and
+// closes when its opacity reaches the threshold. phi(m, r) is the buffer row of field m and
+// ray r. Returns the samples blended; the rays closed are added to `terminated`.
+template<typename RowFn>
+std::int64_t integrateLanes(const std::vector<StepTable>& tables,
+  int numFields,
+  RowFn phi,
+  int n,
+  float threshold,
+  PacketLanes& P,
+  std::int64_t& terminated)
+{
+  std::int32_t kLo = std::numeric_limits<std::int32_t>::max(), kHi = -1;
+  for (int r = 0; r < n; ++r)
+  {
+    if (P.open[r] && P.from[r] <= P.to[r])
+    {
+      kLo = std::min(kLo, P.from[r]);
+      kHi = std::max(kHi, P.to[r]);
+    }
+  }
+  // The buffer as one pointer and strides, for the SIMD loop.
+  const float* base = phi(0, 0);
+  const int rayStride = n > 1 ? static_cast<int>(phi(0, 1) - base) : 0; // (int: a SIMD gather)
+  const std::ptrdiff_t fieldStride = numFields > 1 ? phi(1, 0) - base : 0;
+  std::int64_t blended = 0, closed = 0;
+  for (std::int32_t k = kLo; k <= kHi; ++k)
+  {
+    for (int m = 0; m < numFields; ++m)
+    {
+      const StepTable& table = tables[std::min<std::size_t>(m, tables.size() - 1)];
+      const float* rgba = table.rgba.data();
+      const int size = table.size();
+      const float* column = base + m * fieldStride + k;
+#pragma omp simd
+      for (int r = 0; r < n; ++r)
+      {
+        const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
+        const float v = column[r * rayStride]; // (a row every ray has: no masked load)
+        const bool valid = on & (v == v);      // NaN: transparent black
+        const RGBA c = table.lookupIn(rgba, size, valid ? v : 0.f);
+        const float w = (1.f - P.ca[r]) * c.a;
+        const bool add = valid & (c.a > 0.f);
+        P.cr[r] = add ? P.cr[r] + w * c.r : P.cr[r];
+        P.cg[r] = add ? P.cg[r] + w * c.g : P.cg[r];
+        P.cb[r] = add ? P.cb[r] + w * c.b : P.cb[r];
+        P.ca[r] = add ? P.ca[r] + w : P.ca[r];
+      }
+    }
+    int stillOpen = 0;
+#pragma omp simd reduction(+ : blended, closed, stillOpen)
+    for (int r = 0; r < n; ++r)
+    {
+      const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
+      const bool stop = on & (P.ca[r] >= threshold);
+      blended += on;
+      closed += stop;
+      P.open[r] = stop ? 0 : P.open[r];
+      stillOpen += (P.open[r] != 0) & (P.to[r] > k);
+    }
+    if (stillOpen == 0)
+    {
+      break;
+    }
+  }
+  terminated += closed;
+  return blended;
+}
+
+// One slab of the ray-box test: [t0, t1] shrinks to where the ray is between l and h on
+// this axis (inv = 1 / d). A zero direction component gives an infinite inverse; the NaN
+// of 0 * inf then drops out of the comparisons, which keeps the test conservative.
+inline void clipToSlab(float l, float h, float o, float inv, float& t0, float& t1)
+{
+  const float ta = (l - o) * inv, tb = (h - o) * inv;
+  const bool swap = ta > tb;
+  const float near = swap ? tb : ta, far = swap ? ta : tb;
+  t0 = t0 < near ? near : t0;
+  t1 = far < t1 ? far : t1;
+}
+
+// Whether some ray of the packet meets the box grown by `grow` within its pass interval
+// (every lane at once, no early exit: a SIMD test of 16 rays costs about one of a ray).
+inline bool packetMeetsBox(const PacketLanes& P,
+  int lanes,
   const float lo[3],
   const float hi[3],
-  float grow,
-  float t0,
-  float t1)
+  float grow)
 {
-  for (int a = 0; a < 3; ++a)
+  const float lx = lo[0] - grow, ly = lo[1] - grow, lz = lo[2] - grow;
+  const float hx = hi[0] + grow, hy = hi[1] + grow, hz = hi[2] + grow;
+  int hit = 0;
+#pragma omp simd reduction(| : hit)
+  for (int r = 0; r < lanes; ++r)
   {
-    float ta = (lo[a] - grow - o[a]) * inv[a], tb = (hi[a] + grow - o[a]) * inv[a];
-    if (ta > tb)
-    {
-      std::swap(ta, tb);
-    }
-    t0 = std::max(t0, ta);
-    t1 = std::min(t1, tb);
+    float t0 = P.t0[r], t1 = P.t1[r];
+    clipToSlab(lx, hx, P.ox[r], P.ix[r], t0, t1);
+    clipToSlab(ly, hy, P.oy[r], P.iy[r], t0, t1);
+    clipToSlab(lz, hz, P.oz[r], P.iz[r], t0, t1);
+    hit |= t0 <= t1;
   }
-  return t0 <= t1;
+  return hit != 0;
+}
+
+// ceil(q) and floor(q) for q in [-2^31, 2^31) (callers clamp first): std::ceil and
+// std::floor would keep the loop from vectorizing (without -fno-trapping-math).
+inline std::int32_t ceilToInt(float q)
+{
+  const std::int32_t c = static_cast<std::int32_t>(q); // towards zero
+  return c + (static_cast<float>(c) < q);
+}
+inline std::int32_t floorToInt(float q)
+{
+  const std::int32_t c = static_cast<std::int32_t>(q);
+  return c - (static_cast<float>(c) > q);
 }
 
 // The sample range [k0, k1] of a ray: t in [tEnter, tExit] with t = k dt.
@@ -213,10 +407,9 @@ void renderRBF(const RBFParticles& particles,
   const float sigma = static_cast<float>(std::max(0.0, params.sigma));
   const float threshold = static_cast<float>(std::clamp(params.terminationOpacity, 0.0, 1.0));
   const bool grads = params.shade;
-  const std::vector<TransferFunctionTable> tables = correctForStep(fields, dtD);
-  const bool emptyIsClear = std::all_of(tables.begin(),
-    tables.end(),
-    [](const TransferFunctionTable& t) { return t.lookup(0.0)[3] == 0.f; });
+  const std::vector<StepTable> tables = correctForStep(fields, dtD);
+  const bool emptyIsClear = std::all_of(
+    tables.begin(), tables.end(), [](const StepTable& t) { return t.lookup(0.f).a == 0.f; });
   stats.setEffect("empty_space_skipping", emptyIsClear);
   const Classifier classifier{ &tables, &params, particles.origin, numFields, emptyIsClear };
   const std::vector<BVHNode>& nodes = bvh.nodes();
@@ -353,21 +546,28 @@ void renderRBF(const RBFParticles& particles,
       params.tileSize,
       [&](const Tile& tile)
       {
-        constexpr int MaxRays = MaxRBFPacketSide * MaxRBFPacketSide;
         std::int64_t tileRays = 0, tilePackets = 0, tilePasses = 0, tileSamples = 0, tileVisits = 0,
                      tileDeposits = 0, tileTerminated = 0;
-        // The packet's sample buffer: K samples per ray, numFields values each (and the
-        // gradient of their sum when shading), reused for every pass.
-        std::vector<float> phiBuf(static_cast<std::size_t>(MaxRays) * K * MaxRBFFields);
-        std::vector<float> gradBuf(grads ? static_cast<std::size_t>(MaxRays) * K * 3 : 0);
+        const int maxRays = side * side;
+        // The packet's sample buffer, one row of `stride` samples per field and ray (and
+        // per gradient component and ray when shading), reused for every pass. A row has
+        // room for a deposit block starting at its last sample.
+        const int stride = (K + DepositBlock - 1 + LaneMultiple - 1) / LaneMultiple * LaneMultiple;
+        std::vector<float> phiBuf(static_cast<std::size_t>(numFields) * maxRays * stride);
+        std::vector<float> gradBuf(grads ? static_cast<std::size_t>(3) * maxRays * stride : 0);
+        auto phiRow = [&](int m, int r)
+        { return &phiBuf[(static_cast<std::size_t>(m) * maxRays + r) * stride]; };
+        auto gradRow = [&](int axis, int r)
+        { return &gradBuf[(static_cast<std::size_t>(axis) * maxRays + r) * stride]; };
+        std::vector<float> tPass(stride); // t of the pass's samples
         std::vector<std::uint32_t> stack;
         stack.reserve(128);
-        Ray ray[MaxRays];
-        Vec3f invDir[MaxRays];
-        SampleRange range[MaxRays];
-        RayAccumulator acc[MaxRays];
-        bool active[MaxRays];
-        int pi[MaxRays], pj[MaxRays];
+        PacketLanes P;
+        Ray ray[MaxPacketRays];
+        SampleRange range[MaxPacketRays];
+        bool active[MaxPacketRays];
+        int pi[MaxPacketRays], pj[MaxPacketRays];
+        std::int32_t touchedFirst[MaxPacketRays], touchedLast[MaxPacketRays];
         for (int by = tile.y0; by < tile.y1; by += side)
         {
           for (int bx = tile.x0; bx < tile.x1; bx += side)
@@ -385,7 +585,7 @@ void renderRBF(const RBFParticles& particles,
               pi[n] = i;
               pj[n] = j;
               setUp(i, j, ray[n], range[n]);
-              acc[n] = RayAccumulator();
+              P.cr[n] = P.cg[n] = P.cb[n] = P.ca[n] = 0.f;
               active[n] = range[n].k0 <= range[n].k1;
               if (active[n])
               {
@@ -396,9 +596,24 @@ void renderRBF(const RBFParticles& particles,
             }
             tileRays += n;
             ++tilePackets;
-            for (int r = 0; r < n; ++r)
+            const int lanes = (n + LaneMultiple - 1) / LaneMultiple * LaneMultiple;
+            for (int r = 0; r < lanes; ++r)
             {
-              invDir[r] = Vec3f(1.f / ray[r].dir.x, 1.f / ray[r].dir.y, 1.f / ray[r].dir.z);
+              const bool real = r < n;
+              const Vec3f o = real ? ray[r].org : Vec3f(), d = real ? ray[r].dir : Vec3f();
+              P.ox[r] = o.x;
+              P.oy[r] = o.y;
+              P.oz[r] = o.z;
+              P.dx[r] = d.x;
+              P.dy[r] = d.y;
+              P.dz[r] = d.z;
+              P.ix[r] = real ? 1.f / d.x : 0.f;
+              P.iy[r] = real ? 1.f / d.y : 0.f;
+              P.iz[r] = real ? 1.f / d.z : 0.f;
+              P.t0[r] = 1.f;
+              P.t1[r] = 0.f;
+              P.first[r] = K;
+              P.last[r] = -1;
             }
             // Passes of K samples (section 4.2) until every ray is opaque or done.
             for (std::int64_t s0 = kFirst; s0 <= kLast; s0 += K)
@@ -419,22 +634,29 @@ void renderRBF(const RBFParticles& particles,
                 continue;
               }
               ++tilePasses;
-              // This pass's samples of each ray [passFirst, passLast] (empty for rays not
-              // in it) and their t interval.
-              std::int64_t passFirst[MaxRays], passLast[MaxRays];
-              // The samples of the pass some particle reached, per ray.
-              std::int64_t touchedFirst[MaxRays], touchedLast[MaxRays];
-              float segT0[MaxRays], segT1[MaxRays];
+              // This pass's samples of each ray and their t interval; the samples of the
+              // pass some particle reached, per ray.
               for (int r = 0; r < n; ++r)
               {
                 const bool in = active[r] && range[r].k0 <= s1;
-                passFirst[r] = in ? std::max(s0, range[r].k0) : 1;
-                passLast[r] = in ? std::min(s1, range[r].k1) : 0;
-                touchedFirst[r] = std::numeric_limits<std::int64_t>::max();
-                touchedLast[r] = std::numeric_limits<std::int64_t>::min();
-                segT0[r] = in ? static_cast<float>(passFirst[r]) * dt : 1.f;
-                segT1[r] = in ? static_cast<float>(passLast[r]) * dt : 0.f;
+                const std::int64_t passFirst = std::max(s0, range[r].k0);
+                const std::int64_t passLast = std::min(s1, range[r].k1);
+                P.first[r] = in ? static_cast<std::int32_t>(passFirst - s0) : K;
+                P.last[r] = in ? static_cast<std::int32_t>(passLast - s0) : -1;
+                P.t0[r] = in ? static_cast<float>(passFirst) * dt : 1.f;
+                P.t1[r] = in ? static_cast<float>(passLast) * dt : 0.f;
+                touchedFirst[r] = K;
+                touchedLast[r] = -1;
               }
+              for (int k = 0; k < stride; ++k)
+              {
+                tPass[k] = static_cast<float>(s0 + k) * dt;
+              }
+              // (Locals, not the captured references: read through a reference, the SIMD
+              // loops below would gather them from memory in every lane.)
+              const float step = dt, s0f = static_cast<float>(s0);
+              const std::int32_t slots = K;
+              const float lastSlot = static_cast<float>(K);
               // Coherent BVH traversal: a node is entered when any ray's pass interval
               // meets its box grown by sigma r_max.
               stack.assign(1, 0u);
@@ -443,14 +665,7 @@ void renderRBF(const RBFParticles& particles,
                 const BVHNode& node = nodes[stack.back()];
                 stack.pop_back();
                 ++tileVisits;
-                const float grow = sigma * node.rMax;
-                bool any = false;
-                for (int r = 0; r < n && !any; ++r)
-                {
-                  any = segT0[r] <= segT1[r] &&
-                        slabsHit(ray[r].org, invDir[r], node.lo, node.hi, grow, segT0[r], segT1[r]);
-                }
-                if (!any)
+                if (!packetMeetsBox(P, lanes, node.lo, node.hi, sigma * node.rMax))
                 {
                   continue;
                 }
@@ -465,32 +680,47 @@ void renderRBF(const RBFParticles& particles,
                   const Vec3f c = particles.centers[p];
                   const float rad = particles.radii[p];
                   const float R = sigma * rad;
+                  const float R2 = R * R;
                   const float inv2r2 = 0.5f / (rad * rad);
+                  // Every ray at once: h^2, and the samples inside the support,
+                  // t = k dt in [-b - w, -b + w], w = sqrt(R^2 - h^2), as indices
+                  // relative to the pass (clamped to the pass and the ray's samples).
+                  // (t / dt - s0 is exact near the pass while sample indices stay below
+                  // 2^24, as t = k dt itself needs.)
+                  int any = 0;
+#pragma omp simd reduction(| : any)
+                  for (int r = 0; r < lanes; ++r)
+                  {
+                    const float fx = P.ox[r] - c.x, fy = P.oy[r] - c.y, fz = P.oz[r] - c.z;
+                    const float b = fx * P.dx[r] + fy * P.dy[r] + fz * P.dz[r];
+                    const float lx = fx - P.dx[r] * b, ly = fy - P.dy[r] * b, lz = fz - P.dz[r] * b;
+                    const float h2 = lx * lx + ly * ly + lz * lz;
+                    const float w = std::sqrt(h2 < R2 ? R2 - h2 : 0.f);
+                    float qa = (-b - w) / step - s0f, qb = (-b + w) / step - s0f;
+                    // (Clamped for the conversion to int, with one select each: a nested
+                    // one keeps the loop from vectorizing.)
+                    qa = qa < -1.f ? -1.f : qa;
+                    qa = qa > lastSlot ? lastSlot : qa;
+                    qb = qb < -1.f ? -1.f : qb;
+                    qb = qb > lastSlot ? lastSlot : qb;
+                    const std::int32_t ka = std::max(P.first[r], ceilToInt(qa));
+                    const std::int32_t kb = std::min(P.last[r], floorToInt(qb));
+                    const bool in = h2 <= R2 && ka <= kb;
+                    P.b[r] = b;
+                    P.h2[r] = h2;
+                    P.ka[r] = in ? ka : slots;
+                    P.kb[r] = in ? kb : -1;
+                    any |= in;
+                  }
+                  if (!any)
+                  {
+                    continue;
+                  }
                   const float amp = kappa * particles.values[p];
                   const int field = particles.fields[p];
-                  const float gamma = std::exp(-dt * dt * 2.f * inv2r2);
                   for (int r = 0; r < n; ++r)
                   {
-                    if (passFirst[r] > passLast[r])
-                    {
-                      continue;
-                    }
-                    const Vec3f f = ray[r].org - c;
-                    const Vec3f& d = ray[r].dir;
-                    const float b = dot(f, d);
-                    const Vec3f l = f - d * b;
-                    const float h2 = dot(l, l);
-                    if (h2 > R * R)
-                    {
-                      continue;
-                    }
-                    // The samples inside the support, t = k dt in [-b - w, -b + w], kept
-                    // in index space (clamped to the pass and to the ray's own samples).
-                    const float w = std::sqrt(R * R - h2);
-                    const std::int64_t ka =
-                      std::max(passFirst[r], static_cast<std::int64_t>(std::ceil((-b - w) / dt)));
-                    const std::int64_t kb =
-                      std::min(passLast[r], static_cast<std::int64_t>(std::floor((-b + w) / dt)));
+                    const std::int32_t ka = P.ka[r], kb = P.kb[r];
                     if (ka > kb)
                     {
                       continue;
@@ -498,74 +728,105 @@ void renderRBF(const RBFParticles& particles,
                     ++tileDeposits;
                     touchedFirst[r] = std::min(touchedFirst[r], ka);
                     touchedLast[r] = std::max(touchedLast[r], kb);
-                    const float u0 = static_cast<float>(ka) * dt + b;
-                    float g = amp * std::exp(-(u0 * u0 + h2) * inv2r2);
-                    float rho = std::exp(-(2.f * u0 * dt + dt * dt) * inv2r2);
-                    float* phi =
-                      &phiBuf[(static_cast<std::size_t>(r) * K + (ka - s0)) * MaxRBFFields + field];
-                    const int count = static_cast<int>(kb - ka + 1);
-                    if (!grads)
+                    // The Gaussian at each sample, g = kappa k_i exp(-(u^2 + h^2) / 2r^2)
+                    // with u = t + b (section 3.1), a block of samples per SIMD vector.
+                    const float b = P.b[r], h2 = P.h2[r];
+                    float* phi = phiRow(field, r);
+                    for (std::int32_t k0 = ka; k0 <= kb; k0 += DepositBlock)
                     {
-                      for (int k = 0; k < count; ++k)
+#pragma omp simd
+                      for (int l = 0; l < DepositBlock; ++l)
                       {
-                        phi[k * MaxRBFFields] += g;
-                        g *= rho;
-                        rho *= gamma;
+                        const std::int32_t k = k0 + l;
+                        const float u = tPass[k] + b;
+                        const float g = amp * fastExp(-(u * u + h2) * inv2r2);
+                        phi[k] += k <= kb ? g : 0.f;
                       }
                     }
-                    else
+                    if (grads)
                     {
-                      float* gr = &gradBuf[(static_cast<std::size_t>(r) * K + (ka - s0)) * 3];
-                      const float s = -2.f * inv2r2; // -1 / r^2
-                      for (int k = 0; k < count; ++k)
+                      // Equation 4: grad phi = -phi (x - x_i) / r^2, x - x_i = f + t d.
+                      const float s = -2.f * inv2r2;
+                      const float fx = P.ox[r] - c.x, fy = P.oy[r] - c.y, fz = P.oz[r] - c.z;
+                      const float dx = P.dx[r], dy = P.dy[r], dz = P.dz[r];
+                      float *gx = gradRow(0, r), *gy = gradRow(1, r), *gz = gradRow(2, r);
+                      for (std::int32_t k0 = ka; k0 <= kb; k0 += DepositBlock)
                       {
-                        const float t = static_cast<float>(ka + k) * dt;
-                        phi[k * MaxRBFFields] += g;
-                        gr[3 * k] += s * g * (f.x + t * d.x);
-                        gr[3 * k + 1] += s * g * (f.y + t * d.y);
-                        gr[3 * k + 2] += s * g * (f.z + t * d.z);
-                        g *= rho;
-                        rho *= gamma;
+#pragma omp simd
+                        for (int l = 0; l < DepositBlock; ++l)
+                        {
+                          const std::int32_t k = k0 + l;
+                          const float t = tPass[k], u = t + b;
+                          const float g = amp * fastExp(-(u * u + h2) * inv2r2);
+                          const float sg = k <= kb ? s * g : 0.f;
+                          gx[k] += sg * (fx + t * dx);
+                          gy[k] += sg * (fy + t * dy);
+                          gz[k] += sg * (fz + t * dz);
+                        }
                       }
                     }
                   }
                 }
               }
               // Integrate the buffer front to back (section 4.1, step 5).
-              int stillActive = 0;
               for (int r = 0; r < n; ++r)
               {
                 // With a clear empty field only the reached samples can add anything.
-                const std::int64_t first = emptyIsClear ? touchedFirst[r] : passFirst[r];
-                const std::int64_t last = emptyIsClear ? touchedLast[r] : passLast[r];
-                for (std::int64_t k = first; k <= last; ++k)
+                P.from[r] = emptyIsClear ? touchedFirst[r] : P.first[r];
+                P.to[r] = emptyIsClear ? touchedLast[r] : P.last[r];
+                P.open[r] = active[r];
+              }
+              if (!grads)
+              {
+                tileSamples +=
+                  integrateLanes(tables, numFields, phiRow, n, threshold, P, tileTerminated);
+              }
+              else
+              {
+                // Shading: ray by ray, through the classifier.
+                for (int r = 0; r < n; ++r)
                 {
-                  const std::size_t slot = static_cast<std::size_t>(r) * K + (k - s0);
-                  ++tileSamples;
-                  classifier.blend(&phiBuf[slot * MaxRBFFields],
-                    grads ? &gradBuf[slot * 3] : nullptr,
-                    ray[r].org,
-                    ray[r].dir,
-                    static_cast<float>(k) * dt,
-                    acc[r]);
-                  if (acc[r].a >= threshold)
+                  RayAccumulator sum{ P.cr[r], P.cg[r], P.cb[r], P.ca[r] };
+                  for (std::int32_t k = P.from[r]; P.open[r] && k <= P.to[r]; ++k)
                   {
-                    active[r] = false;
-                    ++tileTerminated;
-                    break;
+                    float phi[MaxRBFFields] = { 0, 0, 0, 0 };
+                    for (int m = 0; m < numFields; ++m)
+                    {
+                      phi[m] = phiRow(m, r)[k];
+                    }
+                    const float grad[3] = { gradRow(0, r)[k], gradRow(1, r)[k], gradRow(2, r)[k] };
+                    ++tileSamples;
+                    classifier.blend(phi, grad, ray[r].org, ray[r].dir, tPass[k], sum);
+                    if (sum.a >= threshold)
+                    {
+                      P.open[r] = 0;
+                      ++tileTerminated;
+                    }
                   }
+                  P.cr[r] = sum.r;
+                  P.cg[r] = sum.g;
+                  P.cb[r] = sum.b;
+                  P.ca[r] = sum.a;
                 }
+              }
+              int stillActive = 0;
+              for (int r = 0; r < n; ++r)
+              {
+                active[r] = P.open[r] != 0;
                 stillActive += active[r];
                 // Leave the buffer zero for the next pass: only the reached samples changed.
                 if (touchedFirst[r] <= touchedLast[r])
                 {
-                  const std::size_t a = static_cast<std::size_t>(r) * K + (touchedFirst[r] - s0);
-                  const std::size_t b = static_cast<std::size_t>(r) * K + (touchedLast[r] - s0) + 1;
-                  std::fill(
-                    phiBuf.begin() + a * MaxRBFFields, phiBuf.begin() + b * MaxRBFFields, 0.f);
-                  if (grads)
+                  for (int m = 0; m < numFields; ++m)
                   {
-                    std::fill(gradBuf.begin() + a * 3, gradBuf.begin() + b * 3, 0.f);
+                    std::fill(
+                      phiRow(m, r) + touchedFirst[r], phiRow(m, r) + touchedLast[r] + 1, 0.f);
+                  }
+                  for (int axis = 0; grads && axis < 3; ++axis)
+                  {
+                    std::fill(gradRow(axis, r) + touchedFirst[r],
+                      gradRow(axis, r) + touchedLast[r] + 1,
+                      0.f);
                   }
                 }
               }
@@ -576,7 +837,7 @@ void renderRBF(const RBFParticles& particles,
             }
             for (int r = 0; r < n; ++r)
             {
-              store(pi[r], pj[r], acc[r]);
+              store(pi[r], pj[r], RayAccumulator{ P.cr[r], P.cg[r], P.cb[r], P.ca[r] });
             }
           }
         }

@@ -7,15 +7,16 @@
 // Coherent method (section 4): rays go in square packets; the samples of a packet are
 // taken in passes of K samples per ray (section 4.2). In a pass the packet walks the BVH
 // once, nodes grown by sigma r_max, and every particle of a leaf adds its Gaussian to each
-// buffered sample of each ray within its support (section 4.1, steps 4-5). Along a ray the
-// Gaussian at equally spaced samples is a product recurrence: with u = t + b (b = f.d,
-// f = o - x_i) and h^2 the squared distance from x_i to the ray's line,
-//   g(t) = kappa k_i exp(-(u^2 + h^2) / 2r^2),  g(t + dt) = g(t) rho,  rho <- rho gamma,
-//   rho_0 = exp(-(2 u_0 dt + dt^2) / 2r^2),  gamma = exp(-dt^2 / r^2),
-// so three exponentials per particle and ray serve all its samples. The buffer is then
-// integrated, and the packet stops when every ray's opacity reaches the termination
-// threshold. Gradients (equation 4, for the Gaussian above grad phi = -phi (x - x_i)/r^2)
-// are accumulated only when shading is on.
+// buffered sample of each ray within its support (section 4.1, steps 4-5). The packet's
+// rays sit in SIMD lanes (section 5.3): a node's slabs and a particle's support are tested
+// against all of them at once. With u = t + b (b = f.d, f = o - x_i) and h^2 the squared
+// distance from x_i to the ray's line,
+//   g(t) = kappa k_i exp(-(u^2 + h^2) / 2r^2)   for t = k dt in [-b - w, -b + w],
+//   w = sqrt(sigma^2 r^2 - h^2),
+// evaluated for a block of a ray's samples per SIMD vector with a polynomial exp
+// (FastExp.h). The buffer is then integrated, and the packet stops when every ray's
+// opacity reaches the termination threshold. Gradients (equation 4, for the Gaussian above
+// grad phi = -phi (x - x_i)/r^2) are accumulated only when shading is on.
 //
 // Direct method (section 3.3, the reference): every sample gathers the particles whose
 // support holds it through the same BVH, one point query per sample.
@@ -45,7 +46,7 @@ struct RBFRenderParameters
   double sampleDistance = 0.1; // dt (model units), > 0
   double terminationOpacity = 0.99;
   int samplesPerPass = 32; // K
-  int packetSide = 4;      // packets of side x side rays
+  int packetSide = 8;      // packets of side x side rays
   int tileSize = 32;
   bool direct = false; // the direct (gathering) method instead of the coherent one
   // Shading with the gradient (off: emission and absorption only).

@@ -120,7 +120,7 @@ public:
   ///@{
   /**
    * Samples per ray and pass of the packet's buffer (the paper's K, 1 to 256; default 32),
-   * rays per packet side (1 to 8; default 4: 16 rays), particles per BVH leaf (1 to 64;
+   * rays per packet side (1 to 8; default 8: 64 rays), particles per BVH leaf (1 to 64;
    * default 8; changing it rebuilds the BVH) and screen tile size (default 32).
    */
   vtkSetClampMacro(SamplesPerPass, int, 1, 256);
@@ -168,7 +168,7 @@ protected:
   char* FieldArrayName = nullptr;
   double TerminationOpacity = 0.99;
   int SamplesPerPass = 32;
-  int PacketSize = 4;
+  int PacketSize = 8;
   int LeafSize = 8;
   int TileSize = 32;
   int Method = VTK_RBF_METHOD_COHERENT;

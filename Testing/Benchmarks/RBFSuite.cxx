@@ -274,7 +274,7 @@ std::vector<Row> RunRBF(const Options& opt)
                          double sigma = 2.0,
                          double termination = 0.99,
                          int leaf = 8,
-                         int packet = 4,
+                         int packet = 8,
                          int perPass = 32)
       {
         Method m{ name,
@@ -317,7 +317,7 @@ std::vector<Row> RunRBF(const Options& opt)
           methods.push_back(
             ourMethod("rbf", "leaf=" + std::to_string(leaf), 0, dt, 2.0, 0.99, leaf));
         }
-        for (const int packet : { 2, 8 })
+        for (const int packet : { 2, 4 })
         {
           methods.push_back(
             ourMethod("rbf", "packet=" + std::to_string(packet), 0, dt, 2.0, 0.99, 8, packet));
@@ -325,7 +325,7 @@ std::vector<Row> RunRBF(const Options& opt)
         for (const int perPass : { 16, 64 })
         {
           methods.push_back(
-            ourMethod("rbf", "K=" + std::to_string(perPass), 0, dt, 2.0, 0.99, 8, 4, perPass));
+            ourMethod("rbf", "K=" + std::to_string(perPass), 0, dt, 2.0, 0.99, 8, 8, perPass));
         }
       }
       // Resampling onto a grid: VTK's Gaussian kernel exp(-(s d / R)^2) with R = sigma r and

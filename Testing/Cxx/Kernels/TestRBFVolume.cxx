@@ -1,7 +1,8 @@
 // RBF volume ray casting (Knoll et al. 2014) against closed forms and an independent
 // brute-force reference: a per-pixel ray march in double precision that sums every
-// particle at every sample (no BVH, no packets, no recurrence).
+// particle at every sample (no BVH, no packets, std::exp in double).
 #include "CameraFixtures.h"
+#include "FastExp.h"
 #include "ParticleBVH.h"
 #include "RBFVolumeRenderer.h"
 
@@ -452,6 +453,28 @@ TEST(RBFVolumeHardCases, EmptyInputAndOpaqueGeometry)
   RenderStatistics stats;
   renderRBF(s, bvh, cam, params, tf, depth.data(), f, stats);
   EXPECT_EQ(coverage(f), 0.0);
+}
+
+// The coherent method's Gaussians take exp of -(u^2 + h^2) / 2r^2 in [-sigma^2 / 2, 0]
+// (any sigma): relative error 1e-6 against std::exp on [-87, 0] (and up to 88), a tiny
+// positive value below.
+TEST(RBFVolume, FastExpMatchesStdExp)
+{
+  double worst = 0;
+  for (int i = 0; i <= 2000000; ++i)
+  {
+    const float x = -87.f + 175.f * static_cast<float>(i) / 2000000.f;
+    const double e = std::exp(static_cast<double>(x));
+    worst = std::max(worst, std::fabs(fastExp(x) - e) / e);
+  }
+  EXPECT_LT(worst, 1e-6);
+  for (const float x : { 0.f, -0.f, -1e-30f, -0.5f, -2.f, -8.f, -1800.f })
+  {
+    EXPECT_NEAR(fastExp(x), std::exp(x), 1e-6 * std::exp(x) + 1e-37) << x;
+  }
+  EXPECT_EQ(fastExp(0.f), 1.f);
+  EXPECT_GT(fastExp(-1e4f), 0.f);
+  EXPECT_LT(fastExp(-1e4f), 2e-38f);
 }
 
 TEST(ParticleBVH, EveryParticleInOneLeafInsideItsBounds)
