@@ -9,7 +9,11 @@ namespace raymappers
 
 namespace
 {
-// The 6-point Gauss-Legendre rule on [-1, 1].
+// The 4- and 6-point Gauss-Legendre rules on [-1, 1].
+constexpr double GL4x[4] = { -0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+  0.8611363115940526 };
+constexpr double GL4w[4] = { 0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+  0.3478548451374538 };
 constexpr double GL6x[6] = { -0.9324695142031521,
   -0.6612093864662645,
   -0.2386191860831969,
@@ -36,10 +40,13 @@ struct DepthIntegrals
   double transmittance = 1;
 };
 
-// Below this optical depth the integrals come from their Taylor series (8 terms: the
-// remainder is below 0.1^9 / 9! = 3e-15 of a segment's light), without exp.
+// Below this optical depth the integrals come from their Taylor series, without exp: n
+// terms leave a remainder below depth^(n+1) / (n+1)!, at most 1e-14 for a depth up to
+// SeriesLimit[n] = (1e-14 (n+1)!)^(1 / (n+1)); 8 terms reach 0.115.
 constexpr double SeriesDepth = 0.1;
 constexpr int SeriesTerms = 8;
+constexpr double SeriesLimit[SeriesTerms + 1] = { 0, 1.414e-7, 3.914e-5, 6.999e-4, 4.128e-3,
+  1.389e-2, 3.380e-2, 6.694e-2, 0.1153 };
 
 // (-1)^(n+1) / n! and the series' coefficients (-1)^(n+1) C(n, j) / (n! (n + j + 1)) for
 // n = 1..8, j = 0..n, in that order.
@@ -77,15 +84,20 @@ DepthIntegrals depthIntegrals(double A, double B)
   {
     // 1 - e^-E = sum_n (-1)^(n+1) E^n / n!, and int_0^1 E^n dx = sum_j C(n, j) A^(n-j) B^j
     // / (n + j + 1); likewise 1 - T from E(1) = A + B.
+    int terms = 1;
+    while (slope > SeriesLimit[terms])
+    {
+      ++terms;
+    }
     double aPow[SeriesTerms + 1] = { 1, A }, bPow[SeriesTerms + 1] = { 1, B };
-    for (int k = 2; k <= SeriesTerms; ++k)
+    for (int k = 2; k <= terms; ++k)
     {
       aPow[k] = aPow[k - 1] * A;
       bPow[k] = bPow[k - 1] * B;
     }
     double oneMinusG = 0, oneMinusT = 0, totalPower = 1;
     const double* c = SeriesCoefficients.data();
-    for (int n = 1; n <= SeriesTerms; ++n)
+    for (int n = 1; n <= terms; ++n)
     {
       totalPower *= total;
       for (int j = 0; j <= n; ++j)
@@ -109,16 +121,22 @@ DepthIntegrals depthIntegrals(double A, double B)
     xmax = std::clamp(xmax, 0.0, 1.0);
   }
   const double depth = xmax * std::max(A, A + 2.0 * B * xmax); // bounds E's rise on [0, xmax]
-  const int pieces = std::clamp(static_cast<int>(std::ceil(depth)), 1, 64);
+  // 4 points while the depth is at most 0.5, else 6 points on pieces of depth at most 1
+  // (relative error about 1e-12 either way).
+  const bool shallow = depth <= 0.5;
+  const int pieces = shallow ? 1 : std::clamp(static_cast<int>(std::ceil(depth)), 1, 64);
+  const int nodes = shallow ? 4 : 6;
+  const double* xs = shallow ? GL4x : GL6x;
+  const double* ws = shallow ? GL4w : GL6w;
   const double width = xmax / pieces;
   out.transmittance = std::exp(-total);
   for (int p = 0; p < pieces; ++p)
   {
     const double a = p * width;
-    for (int k = 0; k < 6; ++k)
+    for (int k = 0; k < nodes; ++k)
     {
-      const double x = a + 0.5 * width * (1.0 + GL6x[k]);
-      const double w = 0.5 * width * GL6w[k];
+      const double x = a + 0.5 * width * (1.0 + xs[k]);
+      const double w = 0.5 * width * ws[k];
       // Here E > 0.1 somewhere, so 1 - e^-E loses at most a few digits of 16 where E is
       // small: one exp per node.
       const double attenuation = std::exp(-(A * x + B * x * x));
