@@ -27,6 +27,7 @@ struct Options
   std::string images;
   std::string generated = RAYMAPPERS_GENERATED_DIR;
   std::vector<std::string> only; // run only methods whose "method:setting" contains one
+  int threads = 0;               // TBB threads; 0: all cores
 };
 
 struct Row

@@ -9,18 +9,23 @@
 //
 // usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] [--csv FILE]
 //                               [--images DIR] [--generated DIR] [--only TEXT ...]
+//                               [--threads N]
 // --only runs just the methods whose "method:setting" contains TEXT (and the references).
+// --threads limits TBB (our mappers' parallel work) to N threads, for parallel efficiency.
 // build_ms of our mapper is the median over --repeat rebuilds after the data is marked
 // modified (a new time step), and the breakdown is printed.
 #include "BenchRun.h"
 
 #include "vtksys/SystemTools.hxx"
 
+#include <tbb/global_control.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <string>
 
 using namespace bench;
@@ -30,7 +35,8 @@ namespace
 int Usage()
 {
   std::cerr << "usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] "
-               "[--csv FILE] [--images DIR] [--generated DIR] [--only METHOD:SETTING ...]\n"
+               "[--csv FILE] [--images DIR] [--generated DIR] [--only METHOD:SETTING ...] "
+               "[--threads N]\n"
                "suites: spheres, rbf, zsweep (sph arrives with its mapper)\n";
   return 2;
 }
@@ -91,6 +97,10 @@ int main(int argc, char* argv[])
     {
       opt.generated = next();
     }
+    else if (a == "--threads")
+    {
+      opt.threads = std::max(1, std::atoi(next().c_str()));
+    }
     else
     {
       std::cerr << "unknown option " << a << "\n";
@@ -102,6 +112,12 @@ int main(int argc, char* argv[])
   {
     std::ofstream out(opt.csv); // the header; each suite appends its rows as it measures
     out << CsvHeader << "\n";
+  }
+  std::unique_ptr<tbb::global_control> threads;
+  if (opt.threads > 0)
+  {
+    threads = std::make_unique<tbb::global_control>(
+      tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(opt.threads));
   }
   std::vector<Row> rows;
   if (opt.suite == "spheres")
