@@ -47,6 +47,7 @@ struct vtkZSweepVolumeMapper::Internals
   vtkDataArray* BuiltScalars = nullptr;
   vtkMTimeType BuiltScalarsTime = 0;
   int BuiltCellFlag = -1;
+  vtkMTimeType ReportedNoScalarsTime = 0;
 };
 
 namespace
@@ -156,8 +157,14 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
     cellFlag);
   if (!scalars || scalars->GetNumberOfTuples() == 0)
   {
-    vtkErrorMacro(<< "The input has no scalars to render: give it point or cell scalars, or "
-                     "choose an array with SelectScalarArray and SetScalarMode.");
+    // Once per input and selection, not on every render.
+    if (Impl->ReportedNoScalarsTime < std::max(input->GetMTime(), this->GetMTime()))
+    {
+      vtkErrorMacro(<< "The input has no scalars to render: give it point or cell scalars, or "
+                       "choose an array with SelectScalarArray and SetScalarMode.");
+      Impl->ReportedNoScalarsTime = std::max(input->GetMTime(), this->GetMTime());
+    }
+    Impl->HasMesh = false;
     return false;
   }
   if (Impl->HasMesh && Impl->BuiltInputTime == input->GetMTime() &&
