@@ -5,12 +5,8 @@
 #include "vtkDiscretizableColorTransferFunction.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
-#include "vtkMath.h"
-#include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
-#include "vtkPVRenderView.h"
-#include "vtkPVView.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
@@ -83,13 +79,30 @@ const char* vtkRBFVolumeRepresentation::GetRenderStatistics()
 }
 
 //----------------------------------------------------------------------------
-vtkDataObject* vtkRBFVolumeRepresentation::GetRenderedDataObject(int port)
+vtkDataSet* vtkRBFVolumeRepresentation::GetProcessedData()
 {
-  if (this->ProcessedData)
+  return this->ProcessedData;
+}
+
+double vtkRBFVolumeRepresentation::GetBoundsMargin()
+{
+  // The field reaches Sigma radii beyond the points.
+  return this->GetLargestSupport(this->ProcessedData);
+}
+
+void vtkRBFVolumeRepresentation::SetDeliveredPiece(vtkDataObject* piece)
+{
+  auto* delivered = vtkPolyData::SafeDownCast(piece);
+  if (delivered)
   {
-    return this->ProcessedData;
+    this->Mapper->SetInputData(delivered);
   }
-  return this->Superclass::GetRenderedDataObject(port);
+  else
+  {
+    vtkNew<vtkPolyData> empty;
+    this->Mapper->SetInputData(empty);
+  }
+  this->UpdateClassification();
 }
 
 //----------------------------------------------------------------------------
@@ -128,56 +141,6 @@ double vtkRBFVolumeRepresentation::GetLargestSupport(vtkPolyData* data) const
   }
   const double support = std::fabs(base * this->RadiusScale) * this->Mapper->GetSigma();
   return std::isfinite(support) ? support : 0.0;
-}
-
-//----------------------------------------------------------------------------
-int vtkRBFVolumeRepresentation::ProcessViewRequest(vtkInformationRequestKey* request_type,
-  vtkInformation* inInfo,
-  vtkInformation* outInfo)
-{
-  if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo))
-  {
-    return 0;
-  }
-
-  if (request_type == vtkPVView::REQUEST_UPDATE())
-  {
-    double bounds[6];
-    vtkMath::UninitializeBounds(bounds);
-    if (this->ProcessedData)
-    {
-      vtkPVView::SetPiece(inInfo, this, this->ProcessedData);
-      if (this->ProcessedData->GetNumberOfPoints() > 0)
-      {
-        this->ProcessedData->GetBounds(bounds);
-        // The field reaches Sigma radii beyond the points.
-        const double grow = this->GetLargestSupport(this->ProcessedData);
-        for (int i = 0; i < 3; ++i)
-        {
-          bounds[2 * i] -= grow;
-          bounds[2 * i + 1] += grow;
-        }
-      }
-    }
-    vtkNew<vtkMatrix4x4> matrix;
-    this->Volume->GetMatrix(matrix);
-    vtkPVRenderView::SetGeometryBounds(inInfo, this, bounds, matrix);
-  }
-  else if (request_type == vtkPVView::REQUEST_RENDER())
-  {
-    vtkPolyData* delivered = vtkPolyData::SafeDownCast(vtkPVView::GetDeliveredPiece(inInfo, this));
-    if (delivered)
-    {
-      this->Mapper->SetInputData(delivered);
-    }
-    else
-    {
-      vtkNew<vtkPolyData> empty;
-      this->Mapper->SetInputData(empty);
-    }
-    this->UpdateClassification();
-  }
-  return 1;
 }
 
 //----------------------------------------------------------------------------

@@ -41,6 +41,7 @@
 
 class vtkColorTransferFunction;
 class vtkPiecewiseFunction;
+class vtkDataSet;
 class vtkPolyData;
 class vtkRBFVolumeMapper;
 class vtkScalarsToColors;
@@ -54,18 +55,8 @@ public:
   vtkTypeMacro(vtkRBFVolumeRepresentation, vtkRayMapperPropRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  /**
-   * Data delivery and rendering passes of the view (see vtkPVDataRepresentation).
-   */
-  int ProcessViewRequest(vtkInformationRequestKey* request_type,
-    vtkInformation* inInfo,
-    vtkInformation* outInfo) override;
 
 
-  /**
-   * The point polydata that is rendered (after RequestData), else the input.
-   */
-  vtkDataObject* GetRenderedDataObject(int port) override;
 
   //***************************************************************************
   // Classification.
@@ -143,6 +134,9 @@ protected:
   ~vtkRBFVolumeRepresentation() override;
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  vtkDataSet* GetProcessedData() override;
+  double GetBoundsMargin() override;
+  void SetDeliveredPiece(vtkDataObject* piece) override;
 
   void SetFieldLookupTable(int field, vtkScalarsToColors* lut);
 

@@ -1,9 +1,12 @@
 #include "vtkRayMapperPropRepresentation.h"
 
+#include "vtkDataSet.h"
 #include "vtkInformation.h"
+#include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkPVRenderView.h"
+#include "vtkPVView.h"
 #include "vtkProp3D.h"
 #include "vtkRenderer.h"
 
@@ -21,6 +24,50 @@ void vtkRayMapperPropRepresentation::SetProp(vtkProp3D* prop, bool selectable)
 {
   this->Prop = prop;
   this->Selectable = selectable;
+}
+
+int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey* request_type,
+  vtkInformation* inInfo,
+  vtkInformation* outInfo)
+{
+  // The superclass returns 0 when the representation is hidden: nothing to do then.
+  if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo))
+  {
+    return 0;
+  }
+  if (request_type == vtkPVView::REQUEST_UPDATE())
+  {
+    double bounds[6];
+    vtkMath::UninitializeBounds(bounds);
+    if (vtkDataSet* data = this->GetProcessedData())
+    {
+      vtkPVView::SetPiece(inInfo, this, data);
+      if (data->GetNumberOfPoints() > 0)
+      {
+        data->GetBounds(bounds);
+        const double margin = this->GetBoundsMargin();
+        for (int i = 0; i < 3; ++i)
+        {
+          bounds[2 * i] -= margin;
+          bounds[2 * i + 1] += margin;
+        }
+      }
+    }
+    vtkNew<vtkMatrix4x4> matrix;
+    this->Prop->GetMatrix(matrix);
+    vtkPVRenderView::SetGeometryBounds(inInfo, this, bounds, matrix);
+  }
+  else if (request_type == vtkPVView::REQUEST_RENDER())
+  {
+    this->SetDeliveredPiece(vtkPVView::GetDeliveredPiece(inInfo, this));
+  }
+  return 1;
+}
+
+vtkDataObject* vtkRayMapperPropRepresentation::GetRenderedDataObject(int port)
+{
+  vtkDataSet* data = this->GetProcessedData();
+  return data ? data : this->Superclass::GetRenderedDataObject(port);
 }
 
 bool vtkRayMapperPropRepresentation::AddToView(vtkView* view)

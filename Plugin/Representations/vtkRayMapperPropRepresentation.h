@@ -5,7 +5,11 @@
  *          dataset or composite dataset.
  *
  * Subclasses create their prop and mapper and hand the prop to SetProp() in their
- * constructor; they gather their input in RequestData and deliver it in ProcessViewRequest.
+ * constructor, gather their input into one dataset in RequestData (GetProcessedData()),
+ * and take the piece the view delivers to their process in SetDeliveredPiece(). This class
+ * answers the view's requests: on REQUEST_UPDATE it hands the processed data and its bounds
+ * (grown by GetBoundsMargin(), for glyphs and kernels that reach beyond the points) to the
+ * view; on REQUEST_RENDER it passes the delivered piece to the subclass.
  */
 
 #ifndef vtkRayMapperPropRepresentation_h
@@ -15,6 +19,7 @@
 #include "vtkPVDataRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
+class vtkDataSet;
 class vtkProp3D;
 
 class RAYMAPPERSREPRESENTATIONS_EXPORT vtkRayMapperPropRepresentation
@@ -23,6 +28,18 @@ class RAYMAPPERSREPRESENTATIONS_EXPORT vtkRayMapperPropRepresentation
 public:
   vtkTypeMacro(vtkRayMapperPropRepresentation, vtkPVDataRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * Data delivery and rendering passes of the view (see vtkPVDataRepresentation).
+   */
+  int ProcessViewRequest(vtkInformationRequestKey* request_type,
+    vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+
+  /**
+   * The data that is rendered (after RequestData), else the input.
+   */
+  vtkDataObject* GetRenderedDataObject(int port) override;
 
   /**
    * Shows or hides the prop.
@@ -56,6 +73,22 @@ protected:
    * and on the render server of a client-server session).
    */
   int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  /**
+   * The dataset RequestData made from the input (null before it ran).
+   */
+  virtual vtkDataSet* GetProcessedData() = 0;
+
+  /**
+   * How far the rendered geometry reaches beyond the processed data's points (default 0).
+   */
+  virtual double GetBoundsMargin() { return 0.0; }
+
+  /**
+   * The piece the view delivered to this process for rendering; null when nothing was
+   * delivered (e.g. the client when rendering remotely).
+   */
+  virtual void SetDeliveredPiece(vtkDataObject* piece) = 0;
 
   vtkSmartPointer<vtkProp3D> Prop;
   bool Selectable = false;

@@ -6,12 +6,8 @@
 #include "vtkDataObject.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
-#include "vtkMath.h"
-#include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
-#include "vtkPVRenderView.h"
-#include "vtkPVView.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
@@ -69,13 +65,30 @@ vtkActor* vtkRayTracedSpheresRepresentation::GetActor()
 }
 
 //----------------------------------------------------------------------------
-vtkDataObject* vtkRayTracedSpheresRepresentation::GetRenderedDataObject(int port)
+vtkDataSet* vtkRayTracedSpheresRepresentation::GetProcessedData()
 {
-  if (this->ProcessedData)
+  return this->ProcessedData;
+}
+
+double vtkRayTracedSpheresRepresentation::GetBoundsMargin()
+{
+  // The spheres stick out of the points' box by up to one radius.
+  return this->GetLargestRadius(this->ProcessedData);
+}
+
+void vtkRayTracedSpheresRepresentation::SetDeliveredPiece(vtkDataObject* piece)
+{
+  auto* delivered = vtkPolyData::SafeDownCast(piece);
+  if (delivered)
   {
-    return this->ProcessedData;
+    this->Mapper->SetInputData(delivered);
   }
-  return this->Superclass::GetRenderedDataObject(port);
+  else
+  {
+    vtkNew<vtkPolyData> empty;
+    this->Mapper->SetInputData(empty);
+  }
+  this->UpdateColoringParameters();
 }
 
 //----------------------------------------------------------------------------
@@ -116,58 +129,6 @@ double vtkRayTracedSpheresRepresentation::GetLargestRadius(vtkPolyData* data) co
   }
   const double r = std::fabs(base * this->RadiusScale);
   return std::isfinite(r) ? r : 0.0;
-}
-
-//----------------------------------------------------------------------------
-int vtkRayTracedSpheresRepresentation::ProcessViewRequest(vtkInformationRequestKey* request_type,
-  vtkInformation* inInfo,
-  vtkInformation* outInfo)
-{
-  // The superclass returns 0 when the representation is hidden: nothing to do then.
-  if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo))
-  {
-    return 0;
-  }
-
-  if (request_type == vtkPVView::REQUEST_UPDATE())
-  {
-    double bounds[6];
-    vtkMath::UninitializeBounds(bounds);
-    if (this->ProcessedData)
-    {
-      vtkPVView::SetPiece(inInfo, this, this->ProcessedData);
-      if (this->ProcessedData->GetNumberOfPoints() > 0)
-      {
-        this->ProcessedData->GetBounds(bounds);
-        // The spheres stick out of the points' box by up to one radius.
-        const double r = this->GetLargestRadius(this->ProcessedData);
-        for (int i = 0; i < 3; ++i)
-        {
-          bounds[2 * i] -= r;
-          bounds[2 * i + 1] += r;
-        }
-      }
-    }
-    vtkNew<vtkMatrix4x4> matrix;
-    this->Actor->GetMatrix(matrix);
-    vtkPVRenderView::SetGeometryBounds(inInfo, this, bounds, matrix);
-  }
-  else if (request_type == vtkPVView::REQUEST_RENDER())
-  {
-    vtkPolyData* delivered = vtkPolyData::SafeDownCast(vtkPVView::GetDeliveredPiece(inInfo, this));
-    if (delivered)
-    {
-      this->Mapper->SetInputData(delivered);
-    }
-    else
-    {
-      // Nothing delivered to this process (e.g. the client when rendering remotely).
-      vtkNew<vtkPolyData> empty;
-      this->Mapper->SetInputData(empty);
-    }
-    this->UpdateColoringParameters();
-  }
-  return 1;
 }
 
 //----------------------------------------------------------------------------

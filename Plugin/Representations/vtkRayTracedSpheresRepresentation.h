@@ -40,6 +40,7 @@
 
 class vtkActor;
 class vtkCGTSphereMapper;
+class vtkDataSet;
 class vtkPolyData;
 class vtkScalarsToColors;
 
@@ -51,20 +52,8 @@ public:
   vtkTypeMacro(vtkRayTracedSpheresRepresentation, vtkRayMapperPropRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  /**
-   * Data delivery and rendering passes of the view (see vtkPVDataRepresentation).
-   * REQUEST_UPDATE hands the cached point polydata and its bounds to the view;
-   * REQUEST_RENDER gives the delivered piece to the mapper.
-   */
-  int ProcessViewRequest(vtkInformationRequestKey* request_type,
-    vtkInformation* inInfo,
-    vtkInformation* outInfo) override;
 
 
-  /**
-   * The point polydata that is rendered (after RequestData), else the input.
-   */
-  vtkDataObject* GetRenderedDataObject(int port) override;
 
   //***************************************************************************
   // Coloring.
@@ -165,6 +154,9 @@ protected:
   ~vtkRayTracedSpheresRepresentation() override;
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  vtkDataSet* GetProcessedData() override;
+  double GetBoundsMargin() override;
+  void SetDeliveredPiece(vtkDataObject* piece) override;
 
   /**
    * Pushes the color array selection (SetInputArrayToProcess(0, ...)) to the mapper.

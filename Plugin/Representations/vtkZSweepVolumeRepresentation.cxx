@@ -7,12 +7,8 @@
 #include "vtkDiscretizableColorTransferFunction.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
-#include "vtkMath.h"
-#include "vtkMatrix4x4.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
-#include "vtkPVRenderView.h"
-#include "vtkPVView.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkRayMapperStatistics.h"
 #include "vtkUnstructuredGrid.h"
@@ -58,10 +54,25 @@ const char* vtkZSweepVolumeRepresentation::GetRenderStatistics()
   return this->Mapper->GetStatistics()->GetSummary();
 }
 
-vtkDataObject* vtkZSweepVolumeRepresentation::GetRenderedDataObject(int port)
+//----------------------------------------------------------------------------
+vtkDataSet* vtkZSweepVolumeRepresentation::GetProcessedData()
 {
-  return this->ProcessedData ? this->ProcessedData.Get()
-                             : this->Superclass::GetRenderedDataObject(port);
+  return this->ProcessedData;
+}
+
+void vtkZSweepVolumeRepresentation::SetDeliveredPiece(vtkDataObject* piece)
+{
+  auto* delivered = vtkUnstructuredGrid::SafeDownCast(piece);
+  if (delivered)
+  {
+    this->Mapper->SetInputData(delivered);
+  }
+  else
+  {
+    vtkNew<vtkUnstructuredGrid> empty;
+    this->Mapper->SetInputData(empty);
+  }
+  this->UpdateClassification();
 }
 
 //----------------------------------------------------------------------------
@@ -102,48 +113,6 @@ int vtkZSweepVolumeRepresentation::RequestData(vtkInformation* request,
     }
   }
   return this->Superclass::RequestData(request, inputVector, outputVector);
-}
-
-//----------------------------------------------------------------------------
-int vtkZSweepVolumeRepresentation::ProcessViewRequest(vtkInformationRequestKey* request_type,
-  vtkInformation* inInfo,
-  vtkInformation* outInfo)
-{
-  if (!this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo))
-  {
-    return 0;
-  }
-  if (request_type == vtkPVView::REQUEST_UPDATE())
-  {
-    double bounds[6];
-    vtkMath::UninitializeBounds(bounds);
-    if (this->ProcessedData)
-    {
-      vtkPVView::SetPiece(inInfo, this, this->ProcessedData);
-      if (this->ProcessedData->GetNumberOfPoints() > 0)
-      {
-        this->ProcessedData->GetBounds(bounds);
-      }
-    }
-    vtkNew<vtkMatrix4x4> matrix;
-    this->Volume->GetMatrix(matrix);
-    vtkPVRenderView::SetGeometryBounds(inInfo, this, bounds, matrix);
-  }
-  else if (request_type == vtkPVView::REQUEST_RENDER())
-  {
-    auto* delivered = vtkUnstructuredGrid::SafeDownCast(vtkPVView::GetDeliveredPiece(inInfo, this));
-    if (delivered)
-    {
-      this->Mapper->SetInputData(delivered);
-    }
-    else
-    {
-      vtkNew<vtkUnstructuredGrid> empty;
-      this->Mapper->SetInputData(empty);
-    }
-    this->UpdateClassification();
-  }
-  return 1;
 }
 
 //----------------------------------------------------------------------------

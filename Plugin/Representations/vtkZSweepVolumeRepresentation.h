@@ -21,6 +21,7 @@
 #include "vtkRayMapperPropRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
+class vtkDataSet;
 class vtkPiecewiseFunction;
 class vtkScalarsToColors;
 class vtkUnstructuredGrid;
@@ -35,10 +36,6 @@ public:
   vtkTypeMacro(vtkZSweepVolumeRepresentation, vtkRayMapperPropRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  int ProcessViewRequest(vtkInformationRequestKey* request_type,
-    vtkInformation* inInfo,
-    vtkInformation* outInfo) override;
-  vtkDataObject* GetRenderedDataObject(int port) override;
 
   //***************************************************************************
   // Classification.
@@ -68,6 +65,8 @@ protected:
   ~vtkZSweepVolumeRepresentation() override;
 
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  vtkDataSet* GetProcessedData() override;
+  void SetDeliveredPiece(vtkDataObject* piece) override;
 
   /**
    * Selects the color array (point or cell data) on the mapper and hands the color and
