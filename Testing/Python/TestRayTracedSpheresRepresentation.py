@@ -35,19 +35,12 @@ from paraview.simple import *  # noqa: F401,F403 (pvpython test)
 from vtkmodules.vtkIOImage import vtkPNGReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from raymappers_testing import check, compare_with_baseline, failures, prepare_view  # noqa: E402
+
 REPRESENTATION = 'Ray-Traced Spheres'
 BACKGROUND = [0.1, 0.1, 0.15]
 
-failures = []
-
-
-def check(condition, message):
-    """Records a failed check (the test goes on to show all of them)."""
-    if condition:
-        print('ok    ' + message)
-    else:
-        print('FAIL  ' + message)
-        failures.append(message)
 
 
 def parse_args():
@@ -127,24 +120,6 @@ def screenshot(view, path, size):
     return coverage(path, BACKGROUND)
 
 
-def compare_with_baseline(output, baseline, threshold):
-    """VTK's image regression comparison (the one ParaView's Python tests use)."""
-    from vtkmodules.test import Testing
-    Testing.VTK_TEMP_DIR = os.path.dirname(os.path.abspath(output))
-    if not os.path.isfile(baseline):
-        print('FAIL  no baseline image %s; candidate written to %s' % (baseline, output))
-        return False
-    reader = vtkPNGReader()
-    reader.SetFileName(output)
-    reader.Update()
-    try:
-        Testing.compareImageWithSavedImage(reader, baseline, threshold)
-    except RuntimeError as error:
-        print('FAIL  image differs from %s: %s' % (baseline, str(error).strip()))
-        return False
-    print('ok    image matches %s (threshold %g)' % (baseline, threshold))
-    return True
-
 
 def main():
     args = parse_args()
@@ -178,16 +153,9 @@ def run_checks(args, source, view, stem):
     extent = max(bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4])
     check(n_points > 0, 'the data has points (%d)' % n_points)
 
-    view.ViewSize = args.size
-    view.OrientationAxesVisibility = 0
-    # No FXAA (on by default in 5.11): it blends the edges of bright spheres into the
-    # background, which blurs the silhouette comparison with the glyphs.
-    if view.GetProperty('UseFXAA') is not None:
-        view.UseFXAA = 0
-    if view.GetProperty('UseColorPaletteForBackground') is not None:
-        view.UseColorPaletteForBackground = 0
-    view.Background = BACKGROUND
-    SetActiveView(view)
+    # No FXAA: it would blend the edges of bright spheres into the background and blur the
+    # silhouette comparison with the glyphs.
+    prepare_view(view, args.size, BACKGROUND)
 
     rep = Show(source, view)
     available = rep.Representation.Available

@@ -20,12 +20,12 @@ import sys
 
 from paraview.simple import (  # noqa: E402
     ColorBy, CreateView, Delete, GetColorTransferFunction, GetOpacityTransferFunction, Hide,
-    LoadPlugin, PLOT3DReader, PointDatatoCellData, Render, SaveScreenshot, SetActiveView, Show)
+    LoadPlugin, PLOT3DReader, PointDatatoCellData, Render, SaveScreenshot, Show)
 from paraview import servermanager  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from raymappers_testing import (  # noqa: E402
-    check, compare_with_baseline, copy_camera, failures, finish, render_to_png, rmse)
+    check, compare_with_baseline, copy_camera, failures, finish, prepare_view, render_to_png, rmse)
 import raymappers_testing  # noqa: E402
 
 REPRESENTATION = 'Z-Sweep Volume'
@@ -80,14 +80,7 @@ def statistics(rep):
 
 
 def run_checks(view, source, stem, build_dir, output, baseline):
-    view.ViewSize = SIZE
-    view.OrientationAxesVisibility = 0
-    if view.GetProperty('UseFXAA') is not None:
-        view.UseFXAA = 0
-    if view.GetProperty('UseColorPaletteForBackground') is not None:
-        view.UseColorPaletteForBackground = 0
-    view.Background = BACKGROUND
-    SetActiveView(view)
+    prepare_view(view, SIZE, BACKGROUND)
 
     rep = Show(source, view)
     check(REPRESENTATION in rep.Representation.Available,

@@ -29,6 +29,20 @@ def screenshot(view, path, size):
     return pixels(path)
 
 
+def prepare_view(view, size, background):
+    """A plain view for image checks: the size, a solid background, no orientation axes and
+    no FXAA (on by default in 5.11, it blends edges into the background)."""
+    from paraview.simple import SetActiveView
+    view.ViewSize = size
+    view.OrientationAxesVisibility = 0
+    if view.GetProperty('UseFXAA') is not None:
+        view.UseFXAA = 0
+    if view.GetProperty('UseColorPaletteForBackground') is not None:
+        view.UseColorPaletteForBackground = 0
+    view.Background = background
+    SetActiveView(view)
+
+
 def rmse(a, b):
     return float(((a - b) ** 2).mean() ** 0.5)
 
