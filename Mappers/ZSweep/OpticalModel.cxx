@@ -245,28 +245,22 @@ void OpticalModel::evaluate(double s, double& tau, double rgb[3]) const
   valueIn(intervalOf(s), s, tau, rgb);
 }
 
-bool OpticalModel::transparentOver(int k0, double s0, int k1, double s1) const
+bool OpticalModel::opaqueNodeBetween(int k0, int k1) const
 {
-  double tau = 0, rgb[3];
-  valueIn(k0, s0, tau, rgb);
-  if (tau > 0)
-  {
-    return false;
-  }
-  valueIn(k1, s1, tau, rgb);
-  if (tau > 0)
-  {
-    return false;
-  }
-  // The nodes strictly between must be transparent too: no opaque node among
-  // min(k0, k1) + 1 .. max(k0, k1).
+  // The nodes strictly between s0 (in interval k0) and s1 (in k1): min(k0, k1) + 1 ..
+  // max(k0, k1).
   const int lo = std::min(k0, k1) + 1, hi = std::max(k0, k1);
-  return lo > hi || OpaqueBefore[static_cast<std::size_t>(hi) + 1] == OpaqueBefore[static_cast<std::size_t>(lo)];
+  return lo <= hi &&
+    OpaqueBefore[static_cast<std::size_t>(hi) + 1] != OpaqueBefore[static_cast<std::size_t>(lo)];
 }
 
 bool OpticalModel::transparentBetween(double s0, double s1) const
 {
-  return transparentOver(intervalOf(s0), s0, intervalOf(s1), s1);
+  const int k0 = intervalOf(s0), k1 = intervalOf(s1);
+  double tau0 = 0, tau1 = 0, rgb[3];
+  valueIn(k0, s0, tau0, rgb);
+  valueIn(k1, s1, tau1, rgb);
+  return !(tau0 > 0) && !(tau1 > 0) && !opaqueNodeBetween(k0, k1);
 }
 
 SegmentLight OpticalModel::integrateHomogeneous(double s, double L) const
@@ -309,9 +303,12 @@ SegmentLight OpticalModel::integrateExact(double s0, double s1, double L) const
     return out;
   }
   const int k0 = intervalOf(s0), k1 = intervalOf(s1);
-  if (transparentOver(k0, s0, k1, s1))
+  double sa = s0, tauA = 0, cA[3], tauEnd = 0, cEnd[3];
+  valueIn(k0, s0, tauA, cA);
+  valueIn(k1, s1, tauEnd, cEnd);
+  if (!(tauA > 0) && !(tauEnd > 0) && !opaqueNodeBetween(k0, k1))
   {
-    return out;
+    return out; // no opacity over [s0, s1]
   }
   if (s0 == s1)
   {
@@ -319,8 +316,6 @@ SegmentLight OpticalModel::integrateExact(double s0, double s1, double L) const
   }
   // Pieces between the nodes the ray meets strictly between s0 and s1, in its order.
   const double ds = s1 - s0;
-  double sa = s0, tauA = 0, cA[3];
-  valueIn(k0, s0, tauA, cA);
   auto piece = [&](double sb, double tauB, const double cB[3]) {
     const double l = L * ((sb - sa) / ds);
     if (tauA > 0 || tauB > 0)
@@ -353,9 +348,7 @@ SegmentLight OpticalModel::integrateExact(double s0, double s1, double L) const
       }
     }
   }
-  double tauB = 0, cB[3];
-  valueIn(k1, s1, tauB, cB);
-  piece(s1, tauB, cB);
+  piece(s1, tauEnd, cEnd);
   return out;
 }
 

@@ -88,7 +88,8 @@ private:
   int intervalOf(double s) const;
   /// tau and color at s inside interval k (the end node's outside the nodes).
   void valueIn(int k, double s, double& tau, double rgb[3]) const;
-  bool transparentOver(int k0, double s0, int k1, double s1) const;
+  /// Whether a node with tau > 0 lies strictly between scalars in intervals k0 and k1.
+  bool opaqueNodeBetween(int k0, int k1) const;
 
   std::vector<Node> Nodes;
   // OpaqueBefore[j]: how many of the first j nodes have tau > 0 (for skipping).

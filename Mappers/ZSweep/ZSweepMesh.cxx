@@ -117,6 +117,7 @@ void ZSweepMesh::build(const ZSweepGrid& grid)
     }
   }
   Origin = lo.x <= hi.x ? (lo + hi) * 0.5 : Vec3d(0, 0, 0);
+  Extent = lo.x <= hi.x ? 0.5 * std::max({ hi.x - lo.x, hi.y - lo.y, hi.z - lo.z }) : 0.0;
   Points.resize(numPoints);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, numPoints),
     [&](const tbb::blocked_range<std::size_t>& r) {

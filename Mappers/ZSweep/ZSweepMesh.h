@@ -61,6 +61,8 @@ public:
   void build(const ZSweepGrid& grid);
 
   const Vec3d& origin() const { return Origin; }
+  /// Largest coordinate of the points relative to origin() (half the bounds' longest side).
+  double extent() const { return Extent; }
   /// Points relative to origin().
   const std::vector<Vec3d>& points() const { return Points; }
   const std::vector<ZSweepTriangle>& triangles() const { return Triangles; }
@@ -86,6 +88,7 @@ public:
 
 private:
   Vec3d Origin;
+  double Extent = 0;
   std::vector<Vec3d> Points;
   std::vector<ZSweepTriangle> Triangles;
   std::vector<double> Scalars;

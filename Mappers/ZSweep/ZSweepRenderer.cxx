@@ -343,12 +343,7 @@ void renderZSweep(const ZSweepMesh& mesh,
   }
 
   // Ties: crossings closer than this along a ray are one crossing (a shared vertex or edge).
-  double extent = 0;
-  for (const Vec3d& p : points)
-  {
-    extent = std::max(extent, std::max({ std::fabs(p.x), std::fabs(p.y), std::fabs(p.z) }));
-  }
-  const double tieT = 1e-9 * std::max(extent, 1e-300);
+  const double tieT = 1e-9 * std::max(mesh.extent(), 1e-300);
   const double termination = std::clamp(params.terminationOpacity, 0.0, 1.0);
   const int K0 = std::max(2, params.listThreshold);
 
