@@ -1,14 +1,12 @@
 #include "vtkRBFVolumeRepresentation.h"
 
 #include "vtkColorTransferFunction.h"
-#include "vtkDataArray.h"
 #include "vtkDiscretizableColorTransferFunction.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
-#include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkRBFVolumeMapper.h"
 #include "vtkRayMapperStatistics.h"
@@ -16,7 +14,6 @@
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
-#include <algorithm>
 #include <cmath>
 
 vtkStandardNewMacro(vtkRBFVolumeRepresentation);
@@ -87,7 +84,12 @@ vtkDataSet* vtkRBFVolumeRepresentation::GetProcessedData()
 double vtkRBFVolumeRepresentation::GetBoundsMargin()
 {
   // The field reaches Sigma radii beyond the points.
-  return this->GetLargestSupport(this->ProcessedData);
+  return this->Mapper->GetSigma() *
+    vtkRayMapperLargestRadius(this->ProcessedData,
+      this->UseRadiusArray && !this->RadiusArrayName.empty() ? this->RadiusArrayName.c_str()
+                                                             : nullptr,
+      this->Radius,
+      this->RadiusScale);
 }
 
 void vtkRBFVolumeRepresentation::SetDeliveredPiece(vtkDataObject* piece)
@@ -110,37 +112,10 @@ int vtkRBFVolumeRepresentation::RequestData(vtkInformation* request,
   vtkInformationVector** inputVector,
   vtkInformationVector* outputVector)
 {
-  this->ProcessedData = nullptr;
-  if (inputVector[0]->GetNumberOfInformationObjects() == 1)
-  {
-    if (vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0))
-    {
-      this->ProcessedData = vtkRayMapperGatherPoints(input);
-    }
-  }
-  if (!this->ProcessedData)
-  {
-    this->ProcessedData = vtkSmartPointer<vtkPolyData>::New();
-  }
+  this->ProcessedData = vtkRayMapperGatherPoints(inputVector[0]->GetNumberOfInformationObjects() == 1
+      ? vtkDataObject::GetData(inputVector[0], 0)
+      : nullptr);
   return this->Superclass::RequestData(request, inputVector, outputVector);
-}
-
-//----------------------------------------------------------------------------
-double vtkRBFVolumeRepresentation::GetLargestSupport(vtkPolyData* data) const
-{
-  double base = this->Radius;
-  if (this->UseRadiusArray && !this->RadiusArrayName.empty() && data)
-  {
-    vtkDataArray* array = data->GetPointData()->GetArray(this->RadiusArrayName.c_str());
-    if (array && array->GetNumberOfTuples() > 0)
-    {
-      double range[2];
-      array->GetFiniteRange(range, 0);
-      base = (range[0] <= range[1]) ? std::max(std::fabs(range[0]), std::fabs(range[1])) : 0.0;
-    }
-  }
-  const double support = std::fabs(base * this->RadiusScale) * this->Mapper->GetSigma();
-  return std::isfinite(support) ? support : 0.0;
 }
 
 //----------------------------------------------------------------------------

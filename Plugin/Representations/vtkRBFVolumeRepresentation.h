@@ -147,10 +147,6 @@ protected:
   void UpdateClassification();
   void UpdateRadiusParameters();
 
-  /**
-   * How far a particle's Gaussian reaches: Sigma * the largest radius (0 if unknown).
-   */
-  double GetLargestSupport(vtkPolyData* data) const;
 
   vtkSmartPointer<vtkVolume> Volume;
   vtkSmartPointer<vtkRBFVolumeMapper> Mapper;

@@ -1,6 +1,7 @@
 #include "vtkRayMapperGatherPoints.h"
 
 #include "vtkCompositeDataSet.h"
+#include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkNew.h"
@@ -10,6 +11,8 @@
 #include "vtkPolyData.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace
@@ -42,6 +45,11 @@ bool HasSkippedGhostPoints(vtkDataSet* ds)
 vtkSmartPointer<vtkPolyData> vtkRayMapperGatherPoints(vtkDataObject* input)
 {
   auto output = vtkSmartPointer<vtkPolyData>::New();
+  if (!input)
+  {
+    output->SetPoints(vtkSmartPointer<vtkPoints>::New());
+    return output;
+  }
 
   std::vector<vtkDataSet*> leaves;
   for (vtkDataSet* ds : vtkCompositeDataSet::GetDataSets<vtkDataSet>(input))
@@ -138,4 +146,22 @@ vtkSmartPointer<vtkPolyData> vtkRayMapperGatherPoints(vtkDataObject* input)
   outPD->RemoveArray(vtkDataSetAttributes::GhostArrayName());
   output->SetPoints(points);
   return output;
+}
+
+double vtkRayMapperLargestRadius(vtkPolyData* points,
+  const char* radiusArray,
+  double radius,
+  double scale)
+{
+  double base = radius;
+  vtkDataArray* array =
+    points && radiusArray ? points->GetPointData()->GetArray(radiusArray) : nullptr;
+  if (array && array->GetNumberOfTuples() > 0)
+  {
+    double range[2];
+    array->GetFiniteRange(range, 0);
+    base = (range[0] <= range[1]) ? std::max(std::fabs(range[0]), std::fabs(range[1])) : 0.0;
+  }
+  const double r = std::fabs(base * scale);
+  return std::isfinite(r) ? r : 0.0;
 }

@@ -14,6 +14,16 @@
 class vtkDataObject;
 class vtkPolyData;
 
+/// The points of `input`; an empty polydata when `input` is null (a process without
+/// input: the client, or the render server of a client-server session).
 vtkSmartPointer<vtkPolyData> vtkRayMapperGatherPoints(vtkDataObject* input);
+
+/// The largest particle radius: |scale| times the largest finite |value| of the point array
+/// `radiusArray` (first component) of `points`, or times `radius` when the array is null or
+/// empty; 0 when not finite.
+double vtkRayMapperLargestRadius(vtkPolyData* points,
+  const char* radiusArray,
+  double radius,
+  double scale);
 
 #endif

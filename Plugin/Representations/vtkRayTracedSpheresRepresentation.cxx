@@ -2,20 +2,16 @@
 
 #include "vtkActor.h"
 #include "vtkCGTSphereMapper.h"
-#include "vtkDataArray.h"
 #include "vtkDataObject.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
-#include "vtkPointData.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
 #include "vtkRayMapperGatherPoints.h"
 #include "vtkScalarsToColors.h"
 
-#include <algorithm>
-#include <cmath>
 
 vtkStandardNewMacro(vtkRayTracedSpheresRepresentation);
 
@@ -73,7 +69,10 @@ vtkDataSet* vtkRayTracedSpheresRepresentation::GetProcessedData()
 double vtkRayTracedSpheresRepresentation::GetBoundsMargin()
 {
   // The spheres stick out of the points' box by up to one radius.
-  return this->GetLargestRadius(this->ProcessedData);
+  return vtkRayMapperLargestRadius(this->ProcessedData,
+    this->UseRadiusArray && !this->RadiusArrayName.empty() ? this->RadiusArrayName.c_str() : nullptr,
+    this->Radius,
+    this->RadiusScale);
 }
 
 void vtkRayTracedSpheresRepresentation::SetDeliveredPiece(vtkDataObject* piece)
@@ -96,39 +95,10 @@ int vtkRayTracedSpheresRepresentation::RequestData(vtkInformation* request,
   vtkInformationVector** inputVector,
   vtkInformationVector* outputVector)
 {
-  this->ProcessedData = nullptr;
-  if (inputVector[0]->GetNumberOfInformationObjects() == 1)
-  {
-    if (vtkDataObject* input = vtkDataObject::GetData(inputVector[0], 0))
-    {
-      this->ProcessedData = vtkRayMapperGatherPoints(input);
-    }
-  }
-  if (!this->ProcessedData)
-  {
-    // No input here (client, or render server): an empty polydata, of the same type
-    // as what the data server delivers.
-    this->ProcessedData = vtkSmartPointer<vtkPolyData>::New();
-  }
+  this->ProcessedData = vtkRayMapperGatherPoints(inputVector[0]->GetNumberOfInformationObjects() == 1
+      ? vtkDataObject::GetData(inputVector[0], 0)
+      : nullptr);
   return this->Superclass::RequestData(request, inputVector, outputVector);
-}
-
-//----------------------------------------------------------------------------
-double vtkRayTracedSpheresRepresentation::GetLargestRadius(vtkPolyData* data) const
-{
-  double base = this->Radius;
-  if (this->UseRadiusArray && !this->RadiusArrayName.empty() && data)
-  {
-    vtkDataArray* array = data->GetPointData()->GetArray(this->RadiusArrayName.c_str());
-    if (array && array->GetNumberOfComponents() == 1 && array->GetNumberOfTuples() > 0)
-    {
-      double range[2];
-      array->GetFiniteRange(range, 0);
-      base = (range[0] <= range[1]) ? std::max(std::fabs(range[0]), std::fabs(range[1])) : 0.0;
-    }
-  }
-  const double r = std::fabs(base * this->RadiusScale);
-  return std::isfinite(r) ? r : 0.0;
 }
 
 //----------------------------------------------------------------------------

@@ -168,10 +168,6 @@ protected:
    */
   void UpdateRadiusParameters();
 
-  /**
-   * Largest sphere radius, to grow the bounds given to the view (0 if unknown).
-   */
-  double GetLargestRadius(vtkPolyData* data) const;
 
   vtkSmartPointer<vtkActor> Actor;
   vtkSmartPointer<vtkCGTSphereMapper> Mapper;
