@@ -16,12 +16,16 @@ add_library(RayMappersKernels STATIC
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/OpticalModel.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepMesh.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepNearPlane.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx)
+  ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/ViewRays.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/PerspectiveGrid.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx)
 target_include_directories(RayMappersKernels PUBLIC
   ${CMAKE_CURRENT_LIST_DIR}/Common
   ${CMAKE_CURRENT_LIST_DIR}/CGT
   ${CMAKE_CURRENT_LIST_DIR}/RBF
-  ${CMAKE_CURRENT_LIST_DIR}/ZSweep)
+  ${CMAKE_CURRENT_LIST_DIR}/ZSweep
+  ${CMAKE_CURRENT_LIST_DIR}/SPH)
 target_link_libraries(RayMappersKernels PUBLIC embree TBB::tbb)
 # -fopenmp-simd: the `#pragma omp simd` loops over a packet's rays. -fno-math-errno: a
 # std::sqrt that may set errno is a call the vectorizer cannot put in SIMD lanes (no kernel

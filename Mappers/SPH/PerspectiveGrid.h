@@ -1,0 +1,108 @@
+// The perspective access structure of Limper 2012 (section 3.4): a grid over the view
+// frustum whose cells are pixel tiles in x and y and slabs of depth in z, built anew for
+// every view and holding, per cell, the particles whose support reaches into it.
+//
+// Depth steps (section 3.3): samples sit at logarithmically spaced depths (perspective)
+//   zeta(u) = zeta_0 exp(u delta),   delta = tile sigma / samplesPerCell   (equation 3.5)
+// so each step is as long as a pixel is wide at that depth and every cell holds the same
+// number of samples (equations 3.8, 3.9): a cell is tileSize pixels wide and tileSize sigma
+// deep in log-depth (cubic at the view axis), and holds
+//   samplesPerCell = ceil(tileSize * lambda / stepFactor)
+// samples, lambda the obliquity of the frustum's corner rays (equation 3.4). Parallel views
+// take uniform steps (section 3.4.1, "a fixed sampling rate"). zeta_0 is the nearer of the
+// particles' front and the near plane, the last cell reaches past the particles' back, so
+// no empty depth range is sampled.
+//
+// Construction (section 3.4.2), on the CPU: each particle's cell range is the box of its
+// exact projected extent (tangent planes, ViewRays::projectedExtent) and its depth span
+// [zeta_c - H, zeta_c + H], which is the thesis's six-plane test per candidate cell; the
+// map from cells to particles is made by a counting sort (parallel count, prefix sum,
+// parallel scatter, each cell's list then sorted so the result does not depend on the
+// thread schedule) instead of sorting the pairs. The empty successors cache (section
+// 3.4.3) holds, for every empty cell, how many empty cells follow it along z, itself
+// included (0 for a cell with particles).
+#ifndef RayMappers_PerspectiveGrid_h
+#define RayMappers_PerspectiveGrid_h
+
+#include "SPHParticles.h"
+#include "ViewRays.h"
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace raymappers
+{
+
+/// The mapping between sample coordinate u (sample k spans [k, k + 1)) and depth.
+struct DepthSteps
+{
+  bool logarithmic = true;
+  double zeta0 = 1.0;
+  double delta = 1.0; // per sample: log-depth (logarithmic) or depth (uniform)
+  int samplesPerCell = 16;
+  int cells = 0;
+
+  double zeta(double u) const { return logarithmic ? zeta0 * std::exp(u * delta) : zeta0 + u * delta; }
+  double coordinate(double z) const
+  {
+    return logarithmic ? (z > 0 ? std::log(z / zeta0) / delta : -1e30) : (z - zeta0) / delta;
+  }
+  int samples() const { return cells * samplesPerCell; }
+};
+
+struct PerspectiveGridParameters
+{
+  int tileSize = 16;       // pixels per cell side
+  double stepFactor = 1.0; // > 0: sample spacing relative to a pixel's footprint
+};
+
+/// What the renderer needs of each particle: its pixel extent (centres of the pixels whose
+/// rays can meet the support lie in [x0, x1] x [y0, y1]) and the depth of its centre.
+struct ParticleFootprint
+{
+  float x0, x1, y0, y1;
+  float zeta; // depth of the centre
+};
+
+class PerspectiveGrid
+{
+public:
+  /// Builds the grid of `particles` for `rays`. Returns false (and an empty grid) when no
+  /// particle is in view.
+  bool build(const SPHParticles& particles,
+    const ViewRays& rays,
+    const PerspectiveGridParameters& params);
+
+  int tileSize() const { return TileSize; }
+  int tilesX() const { return TilesX; }
+  int tilesY() const { return TilesY; }
+  const DepthSteps& steps() const { return Steps; }
+  std::size_t cellCount() const { return static_cast<std::size_t>(TilesX) * TilesY * Steps.cells; }
+  /// Cells of tile column (tx, ty) are contiguous along z.
+  std::size_t cellIndex(int tx, int ty, int tz) const
+  {
+    return (static_cast<std::size_t>(ty) * TilesX + tx) * Steps.cells + tz;
+  }
+  /// Particles of a cell: refs()[cellStart(c) .. cellStart(c + 1)).
+  std::uint32_t cellStart(std::size_t c) const { return CellStart[c]; }
+  const std::vector<std::uint32_t>& refs() const { return Refs; }
+  /// Empty cells from c on along z, c included; 0 when c holds particles.
+  std::uint32_t emptyRun(std::size_t c) const { return EmptyRun[c]; }
+  const std::vector<ParticleFootprint>& footprints() const { return Footprints; }
+  std::size_t particlesInView() const { return InView; }
+  std::size_t memoryBytes() const;
+
+private:
+  int TileSize = 16, TilesX = 0, TilesY = 0;
+  DepthSteps Steps;
+  std::vector<std::uint32_t> CellStart; // cellCount() + 1
+  std::vector<std::uint32_t> Refs;
+  std::vector<std::uint32_t> EmptyRun;
+  std::vector<ParticleFootprint> Footprints;
+  std::size_t InView = 0;
+};
+
+} // namespace raymappers
+
+#endif

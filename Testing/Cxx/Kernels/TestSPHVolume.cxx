@@ -1,0 +1,489 @@
+// SPH volume ray casting (Limper 2012): the kernels, the perspective grid and the renderer,
+// against closed forms and the brute-force reference of SPHReference.h, and its hard cases.
+#include "CameraFixtures.h"
+#include "SPHReference.h"
+#include "SPHVolumeRenderer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+using namespace raymappers;
+using namespace raymappers::test;
+
+namespace
+{
+constexpr double Pi = 3.14159265358979323846;
+
+struct InputParticle
+{
+  Vec3d x;
+  double H, Q, V;
+};
+
+SPHParticles makeParticles(const std::vector<InputParticle>& in, const Vec3d& origin = Vec3d())
+{
+  SPHParticles P;
+  buildSPHParticles(
+    in.size(),
+    origin,
+    [&](std::size_t i) { return in[i].x; },
+    [&](std::size_t i) { return in[i].H; },
+    [&](std::size_t i) { return in[i].Q; },
+    [&](std::size_t i) { return in[i].V; },
+    P);
+  return P;
+}
+
+ViewRays perspectiveRays(const Vec3d& eye, const Vec3d& at, const Vec3d& origin, int w, int h,
+  double n = 0.1, double f = 100, double fovy = 40)
+{
+  ViewRays rays;
+  EXPECT_TRUE(rays.assign(
+    multiply(perspective(fovy, double(w) / h, n, f), lookAt(eye, at, { 0, 1, 0 })), w, h, origin));
+  return rays;
+}
+
+/// A table of n nodes over [lo, hi]: colour red ramping 0 -> 1, green 1 - red, blue 0.5;
+/// opacity per unit distance from alpha(v).
+template<typename AlphaFn>
+TransferFunctionTable rampTable(double lo, double hi, AlphaFn alpha, int n = 4096)
+{
+  std::vector<float> rgba;
+  for (int k = 0; k < n; ++k)
+  {
+    const double t = double(k) / (n - 1);
+    const double v = lo + t * (hi - lo);
+    rgba.insert(rgba.end(), { float(t), float(1 - t), 0.5f, float(alpha(v)) });
+  }
+  TransferFunctionTable tf;
+  tf.assign(rgba, lo, hi, 1.0);
+  return tf;
+}
+
+/// A random cloud of particles: supports spanning `hRange` (ratio max/min), Q in [1, 5].
+std::vector<InputParticle> cloud(int n, double hMin, double hRange, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1), q(1, 5), e(0, 1);
+  std::vector<InputParticle> out;
+  for (int i = 0; i < n; ++i)
+  {
+    const double H = hMin * std::pow(hRange, e(rng));
+    out.push_back({ { u(rng), u(rng), u(rng) }, H, q(rng), 0.5 * H * H * H });
+  }
+  return out;
+}
+
+double maxDifference(const Frame& f, const std::vector<double>& ref)
+{
+  double m = 0;
+  for (std::size_t i = 0; i < ref.size(); ++i)
+  {
+    m = std::max(m, std::abs(double(f.rgba[i]) - ref[i]));
+  }
+  return m;
+}
+
+bool allFinite(const Frame& f)
+{
+  for (const float v : f.rgba)
+  {
+    if (!std::isfinite(v))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+}
+
+TEST(SPH, KernelsAreNormalizedAndTheirDerivativesExact)
+{
+  for (const SPHKernel k : { SPHKernel::Poly6, SPHKernel::CubicSpline, SPHKernel::WendlandC2 })
+  {
+    const double H = 0.7;
+    // Integral over space: 4 pi int_0^H r^2 W(r) dr (Simpson, 20000 intervals).
+    const int m = 20000;
+    double sum = 0;
+    for (int i = 0; i <= m; ++i)
+    {
+      const double r = H * i / m;
+      const double wgt = (i == 0 || i == m) ? 1 : (i % 2 ? 4 : 2);
+      sum += wgt * r * r * kernelValue(k, r, H);
+    }
+    EXPECT_NEAR(4 * Pi * sum * H / m / 3, 1.0, 1e-9) << int(k);
+    // The float shape and its derivative against the double value and central differences.
+    const double c = kernelNormalization(k) / (H * H * H);
+    for (double q : { 0.0, 0.1, 0.3, 0.49, 0.51, 0.7, 0.95 })
+    {
+      const float q2 = float(q * q);
+      float shape = 0, dshape = 0;
+      switch (k)
+      {
+        case SPHKernel::Poly6:
+          shape = kernelShape<SPHKernel::Poly6>(q2);
+          dshape = kernelShapeDerivativeOverQ<SPHKernel::Poly6>(q2);
+          break;
+        case SPHKernel::CubicSpline:
+          shape = kernelShape<SPHKernel::CubicSpline>(q2);
+          dshape = kernelShapeDerivativeOverQ<SPHKernel::CubicSpline>(q2);
+          break;
+        default:
+          shape = kernelShape<SPHKernel::WendlandC2>(q2);
+          dshape = kernelShapeDerivativeOverQ<SPHKernel::WendlandC2>(q2);
+      }
+      EXPECT_NEAR(c * shape, kernelValue(k, q * H, H), 1e-6 * c) << int(k) << " q " << q;
+      if (q > 0)
+      {
+        const double e = 1e-6 * H;
+        const double dW = (kernelValue(k, q * H + e, H) - kernelValue(k, q * H - e, H)) / (2 * e);
+        // W'(r) = c/H^3 shape'(q)/H = c/H^5 (shape'(q)/q) r.
+        EXPECT_NEAR(c / (H * H) * dshape * q * H, dW, 1e-5 * c / H) << int(k) << " q " << q;
+      }
+    }
+  }
+}
+
+TEST(SPH, SingleParticleLineIntegralMatchesTheKernelsClosedForm)
+{
+  // One particle, unnormalized, transfer function with extinction kappa * v: a pixel's
+  // opacity is 1 - exp(-kappa Q V int W ds). Through the centre the integral is
+  // c/H^2 * (32/35, 3/4, 2/3) for poly6, cubic spline, Wendland C2; off centre at impact b,
+  // poly6 gives c/H^9 * 32/35 (H^2 - b^2)^(7/2).
+  const int N = 65; // odd: the middle pixel's ray goes through the centre
+  const Vec3d eye(0.3, 0.2, 6), centre(0.3, 0.2, 0);
+  const ViewRays rays = perspectiveRays(eye, centre, centre, N, N);
+  const double H = 0.8, Q = 2.0, V = 0.25, kappa = 1.5;
+  for (const SPHKernel k : { SPHKernel::Poly6, SPHKernel::CubicSpline, SPHKernel::WendlandC2 })
+  {
+    const SPHParticles P = makeParticles({ { centre, H, Q, V } }, centre);
+    const double c = kernelNormalization(k);
+    const double peak = Q * V * c / (H * H * H);
+    const TransferFunctionTable tf =
+      rampTable(0, peak, [&](double v) { return 1 - std::exp(-kappa * v); });
+    SPHRenderParameters params;
+    params.kernel = k;
+    params.normalization = SPHNormalization::Unnormalized;
+    params.terminationOpacity = 1.0;
+    params.stepFactor = 0.25;
+    PerspectiveGrid grid;
+    Frame frame;
+    RenderStatistics stats;
+    renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+    const double through = k == SPHKernel::Poly6 ? 32.0 / 35 : (k == SPHKernel::CubicSpline ? 0.75 : 2.0 / 3);
+    const double expected = 1 - std::exp(-kappa * Q * V * c / (H * H) * through);
+    EXPECT_NEAR(frame.rgba[4 * frame.index(N / 2, N / 2) + 3], expected, 1e-3) << int(k);
+    if (k == SPHKernel::Poly6)
+    {
+      for (const int px : { 36, 40, 44, 48 })
+      {
+        // Impact parameter: the distance of the centre from the pixel's ray.
+        const Vec3d o = rays.start(px + 0.5, N / 2 + 0.5), d = normalize(rays.direction(px + 0.5, N / 2 + 0.5));
+        const Vec3d f = Vec3d() - o;
+        const double b2 = dot(f, f) - dot(f, d) * dot(f, d);
+        const double L2 = std::max(0.0, H * H - b2);
+        const double integral = c / std::pow(H, 9) * 32.0 / 35 * std::pow(L2, 3.5);
+        EXPECT_NEAR(frame.rgba[4 * frame.index(px, N / 2) + 3], 1 - std::exp(-kappa * Q * V * integral), 1e-3)
+          << "pixel " << px;
+      }
+    }
+  }
+}
+
+TEST(SPH, NormalizedFieldOfAUniformLatticeEqualsItsValue)
+{
+  // A 10^3 lattice of spacing dx with constant Q: the normalized field is Q at every
+  // sample inside (and at the free surface), so with an opacity independent of the value
+  // each pixel's colour over its opacity is the colour of Q. Unnormalized sampling sees the
+  // sum of weights instead and does not.
+  const double dx = 0.1, Q = 3.0;
+  std::vector<InputParticle> in;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      for (int k = 0; k < 10; ++k)
+        in.push_back({ { i * dx, j * dx, k * dx }, 2.1 * dx, Q, dx * dx * dx });
+  const SPHParticles P = makeParticles(in, { 0.45, 0.45, 0.45 });
+  const ViewRays rays = perspectiveRays({ 1.9, 1.6, 2.6 }, { 0.45, 0.45, 0.45 }, P.origin, 48, 48);
+  const TransferFunctionTable tf = rampTable(0, 10, [](double) { return 0.2; });
+  double worstNormalized = 0, worstUnnormalized = 0;
+  for (const SPHNormalization mode : { SPHNormalization::Normalized, SPHNormalization::Unnormalized })
+  {
+    SPHRenderParameters params;
+    params.normalization = mode;
+    params.terminationOpacity = 1.0;
+    PerspectiveGrid grid;
+    Frame frame;
+    RenderStatistics stats;
+    renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+    int covered = 0;
+    for (int p = 0; p < 48 * 48; ++p)
+    {
+      const float a = frame.rgba[4 * p + 3];
+      if (a > 0.01f)
+      {
+        ++covered;
+        const double red = frame.rgba[4 * p] / a; // red ramps v / 10
+        double& worst = mode == SPHNormalization::Normalized ? worstNormalized : worstUnnormalized;
+        worst = std::max(worst, std::abs(red * 10 - Q));
+      }
+    }
+    EXPECT_GT(covered, 400);
+  }
+  EXPECT_LT(worstNormalized, 1e-5 * 10);
+  EXPECT_GT(worstUnnormalized, 0.5);
+}
+
+TEST(SPH, MatchesTheBruteForceReferenceInEveryMode)
+{
+  // Supports varying 100x, coincident particles, and every mode and effect.
+  std::vector<InputParticle> in = cloud(60, 0.02, 100, 7);
+  in.push_back(in[3]);
+  in.push_back({ in[5].x, in[5].H, 4.5, in[5].V });
+  const SPHParticles P = makeParticles(in, { 0.1, -0.2, 0.05 });
+  const ViewRays rays = perspectiveRays({ 1.5, 1.0, 3.5 }, { 0, 0, 0 }, P.origin, 40, 36);
+  const TransferFunctionTable tf = rampTable(0, 6, [](double v) { return std::min(0.9, 0.15 * v); }, 64);
+  struct Case
+  {
+    SPHKernel kernel;
+    SPHNormalization mode;
+    bool shade, contour, jitter;
+    int tile, slab;
+  };
+  const Case cases[] = {
+    { SPHKernel::Poly6, SPHNormalization::Normalized, false, false, false, 16, 0 },
+    { SPHKernel::CubicSpline, SPHNormalization::Normalized, true, false, false, 8, 3 },
+    { SPHKernel::WendlandC2, SPHNormalization::Normalized, false, true, false, 16, 4 },
+    { SPHKernel::Poly6, SPHNormalization::Unnormalized, false, false, true, 12, 0 },
+    { SPHKernel::WendlandC2, SPHNormalization::PseudoNormalized, true, true, true, 16, 1 },
+  };
+  for (const Case& c : cases)
+  {
+    SPHRenderParameters params;
+    params.kernel = c.kernel;
+    params.normalization = c.mode;
+    params.referenceWeightSum = referenceWeightSum(c.kernel, P.medianVolume, P.medianSupport);
+    params.shade = c.shade;
+    params.contour = c.contour;
+    params.contourColor[0] = 0.2;
+    params.jitter = c.jitter;
+    params.tileSize = c.tile;
+    params.slabDepth = c.slab;
+    params.lights = { Light() };
+    params.material.ambient = 0.2;
+    params.material.diffuse = 0.7;
+    params.material.specular = 0.3;
+    params.material.specularPower = 10;
+    PerspectiveGrid grid;
+    Frame frame;
+    RenderStatistics stats;
+    renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+    const std::vector<double> ref = renderReference(P, rays, grid.steps(), params, tf, nullptr);
+    double sumAlpha = 0;
+    for (std::size_t i = 3; i < ref.size(); i += 4)
+    {
+      sumAlpha += ref[i];
+    }
+    EXPECT_GT(sumAlpha, 50.0); // the picture is not empty
+    EXPECT_TRUE(allFinite(frame));
+    EXPECT_LT(maxDifference(frame, ref), 2e-3)
+      << "kernel " << int(c.kernel) << " mode " << int(c.mode) << " shade " << c.shade
+      << " contour " << c.contour << " jitter " << c.jitter;
+  }
+}
+
+TEST(SPH, CameraInsideTheFluidAndParticlesCutByTheNearPlane)
+{
+  // The eye sits inside the cloud; the near plane cuts through particles.
+  const std::vector<InputParticle> in = cloud(200, 0.25, 3, 11);
+  const SPHParticles P = makeParticles(in);
+  const ViewRays rays = perspectiveRays({ 0.05, 0.0, 0.1 }, { 0.3, 0.2, -1 }, P.origin, 32, 32, 0.05, 10, 60);
+  const TransferFunctionTable tf = rampTable(0, 6, [](double v) { return std::min(0.9, 0.1 * v); }, 64);
+  SPHRenderParameters params;
+  params.terminationOpacity = 0.98;
+  PerspectiveGrid grid;
+  Frame frame;
+  RenderStatistics stats;
+  renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+  EXPECT_GE(grid.steps().zeta0, rays.nearZeta() - 1e-9);
+  const std::vector<double> ref = renderReference(P, rays, grid.steps(), params, tf, nullptr);
+  EXPECT_TRUE(allFinite(frame));
+  EXPECT_LT(maxDifference(frame, ref), 2e-3);
+  double coverage = 0;
+  for (std::size_t i = 3; i < ref.size(); i += 4)
+  {
+    coverage += frame.rgba[i];
+  }
+  EXPECT_GT(coverage, 0.3 * 32 * 32); // the fluid around the eye covers much of the view
+}
+
+TEST(SPH, OpaqueGeometryStopsTheRays)
+{
+  const SPHParticles P = makeParticles(cloud(50, 0.2, 2, 3));
+  const ViewRays rays = perspectiveRays({ 0.5, 0.5, 4 }, { 0, 0, 0 }, P.origin, 32, 32, 1, 10);
+  const TransferFunctionTable tf = rampTable(0, 6, [](double v) { return std::min(0.9, 0.1 * v); }, 64);
+  // Geometry over the left half at window depth 0.83, zeta = 4 (near 1, far 10): in the
+  // middle of the cloud.
+  std::vector<float> depth(32 * 32, 1.f);
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 16; ++i)
+      depth[j * 32 + i] = 0.83f;
+  SPHRenderParameters params;
+  PerspectiveGrid grid;
+  Frame frame, open;
+  RenderStatistics stats;
+  renderSPH(P, rays, params, tf, depth.data(), grid, frame, stats);
+  const std::vector<double> ref = renderReference(P, rays, grid.steps(), params, tf, depth.data());
+  EXPECT_LT(maxDifference(frame, ref), 2e-3);
+  renderSPH(P, rays, params, tf, nullptr, grid, open, stats);
+  double left = 0, leftOpen = 0;
+  for (int j = 0; j < 32; ++j)
+    for (int i = 0; i < 16; ++i)
+    {
+      left += frame.rgba[4 * frame.index(i, j) + 3];
+      leftOpen += open.rgba[4 * open.index(i, j) + 3];
+    }
+  EXPECT_LT(left, 0.9 * leftOpen);
+}
+
+TEST(SPH, OpacityCorrectionMakesTheStepIrrelevantInAHomogeneousMedium)
+{
+  // The normalized field of a constant-Q lattice is constant, so the opacity along a ray
+  // depends only on its length inside: the same for any step factor.
+  const double dx = 0.1;
+  std::vector<InputParticle> in;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int k = 0; k < 8; ++k)
+        in.push_back({ { i * dx, j * dx, k * dx }, 2.1 * dx, 2.0, dx * dx * dx });
+  const SPHParticles P = makeParticles(in, { 0.35, 0.35, 0.35 });
+  const ViewRays rays = perspectiveRays({ 0.35, 0.35, 2.5 }, { 0.35, 0.35, 0.35 }, P.origin, 64, 64);
+  const TransferFunctionTable tf = rampTable(0, 4, [](double) { return 0.6; });
+  std::vector<Frame> frames(3);
+  const double factors[] = { 0.5, 1.0, 2.0 };
+  for (int f = 0; f < 3; ++f)
+  {
+    SPHRenderParameters params;
+    params.stepFactor = factors[f];
+    params.terminationOpacity = 1.0;
+    PerspectiveGrid grid;
+    RenderStatistics stats;
+    renderSPH(P, rays, params, tf, nullptr, grid, frames[f], stats);
+  }
+  // The middle pixel's ray crosses the whole lattice (about 0.7 + 2 x 0.21 long).
+  EXPECT_GT(frames[1].rgba[4 * frames[1].index(32, 32) + 3], 0.5f);
+  double worst = 0, mean = 0;
+  for (std::size_t i = 3; i < frames[0].rgba.size(); i += 4)
+  {
+    const double e = std::max(std::abs(frames[0].rgba[i] - frames[1].rgba[i]),
+      std::abs(frames[2].rgba[i] - frames[1].rgba[i]));
+    worst = std::max(worst, e);
+    mean += e / (64 * 64);
+  }
+  // Without the correction a step twice as long would double the optical depth; with it
+  // the only difference is where the last step ends at the fluid's hard boundary (about
+  // a pixel's footprint, about 0.025 here, at an extinction of -ln(0.4)).
+  EXPECT_LT(mean, 0.01);
+  EXPECT_LT(worst, 0.06);
+}
+
+TEST(SPH, BadParticlesAreSkippedAndCounted)
+{
+  std::vector<InputParticle> good = cloud(30, 0.2, 2, 5);
+  std::vector<InputParticle> all = good;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  all.insert(all.begin() + 4, { { nan, 0, 0 }, 0.2, 1, 0.01 });
+  all.insert(all.begin() + 9, { { 0, 0, 0 }, nan, 1, 0.01 });
+  all.insert(all.begin() + 12, { { 0, 0, 0 }, 0.0, 1, 0.01 });
+  all.insert(all.begin() + 15, { { 0, 0, 0 }, -0.3, 1, 0.01 });
+  all.insert(all.begin() + 17, { { 0, 0, 0 }, 0.3, nan, 0.01 });
+  all.insert(all.begin() + 20, { { 0, 0, 0 }, 0.3, 1, -0.01 });
+  const SPHParticles P = makeParticles(all), Pgood = makeParticles(good);
+  EXPECT_EQ(P.size(), good.size());
+  EXPECT_EQ(P.skippedNonFinite, 2u);
+  EXPECT_EQ(P.skippedBadSupport, 3u);
+  EXPECT_EQ(P.skippedBadVolume, 1u);
+  const ViewRays rays = perspectiveRays({ 0.5, 0.5, 4 }, { 0, 0, 0 }, P.origin, 24, 24);
+  const TransferFunctionTable tf = rampTable(0, 6, [](double v) { return std::min(0.9, 0.1 * v); }, 64);
+  SPHRenderParameters params;
+  PerspectiveGrid grid;
+  Frame a, b;
+  RenderStatistics stats;
+  renderSPH(P, rays, params, tf, nullptr, grid, a, stats);
+  renderSPH(Pgood, rays, params, tf, nullptr, grid, b, stats);
+  EXPECT_EQ(a.rgba, b.rgba);
+}
+
+TEST(SPH, EmptyInputAndParticlesOutOfViewGiveAnEmptyFrame)
+{
+  const TransferFunctionTable tf = rampTable(0, 1, [](double) { return 0.5; }, 8);
+  SPHRenderParameters params;
+  PerspectiveGrid grid;
+  Frame frame;
+  RenderStatistics stats;
+  const SPHParticles none = makeParticles({});
+  const ViewRays rays = perspectiveRays({ 0, 0, 4 }, { 0, 0, 0 }, Vec3d(), 16, 16);
+  renderSPH(none, rays, params, tf, nullptr, grid, frame, stats);
+  EXPECT_EQ(frame.width, 16);
+  for (const float v : frame.rgba)
+    EXPECT_EQ(v, 0.f);
+  const SPHParticles behind = makeParticles({ { { 0, 0, 9 }, 0.5, 1, 1 } });
+  renderSPH(behind, rays, params, tf, nullptr, grid, frame, stats);
+  EXPECT_EQ(stats.counter("particles_in_view"), 0);
+  for (const float v : frame.rgba)
+    EXPECT_EQ(v, 0.f);
+}
+
+TEST(SPH, AnEffectThatIsOffCostsNothing)
+{
+  const SPHParticles P = makeParticles(cloud(40, 0.2, 2, 9));
+  const ViewRays rays = perspectiveRays({ 0.5, 0.5, 4 }, { 0, 0, 0 }, P.origin, 32, 32);
+  const TransferFunctionTable tf = rampTable(0, 6, [](double v) { return std::min(0.9, 0.1 * v); }, 64);
+  PerspectiveGrid grid;
+  Frame frame;
+  SPHRenderParameters params;
+  params.normalization = SPHNormalization::Unnormalized;
+  params.tileSize = 4;
+  RenderStatistics plain;
+  renderSPH(P, rays, params, tf, nullptr, grid, frame, plain);
+  EXPECT_GT(plain.counter("kernel_evaluations"), 0);
+  EXPECT_EQ(plain.counter("weight_sums"), 0);
+  EXPECT_EQ(plain.counter("gradient_evaluations"), 0);
+  EXPECT_EQ(plain.counter("shaded_samples"), 0);
+  EXPECT_EQ(plain.counter("contour_samples"), 0);
+  EXPECT_FALSE(plain.effect("normalization"));
+  EXPECT_FALSE(plain.effect("gradient_shading"));
+  EXPECT_GT(plain.counter("cells_leaped"), 0);
+
+  params.normalization = SPHNormalization::Normalized;
+  params.shade = true;
+  params.lights = { Light() };
+  params.contour = true;
+  RenderStatistics all;
+  renderSPH(P, rays, params, tf, nullptr, grid, frame, all);
+  EXPECT_EQ(all.counter("weight_sums"), all.counter("kernel_evaluations"));
+  EXPECT_EQ(all.counter("gradient_evaluations"), all.counter("kernel_evaluations"));
+  EXPECT_GT(all.counter("shaded_samples"), 0);
+  EXPECT_GT(all.counter("contour_samples"), 0);
+  EXPECT_TRUE(all.effect("normalization"));
+}
+
+TEST(SPH, ParallelProjectionTakesUniformSteps)
+{
+  const SPHParticles P = makeParticles(cloud(40, 0.2, 2, 13));
+  ViewRays rays;
+  ASSERT_TRUE(rays.assign(multiply(orthographic(1.5, 1.5, 1, 10), lookAt({ 0.4, 0.3, 5 }, { 0, 0, 0 }, { 0, 1, 0 })),
+    28, 28, P.origin));
+  EXPECT_FALSE(rays.isPerspective());
+  const TransferFunctionTable tf = rampTable(0, 6, [](double v) { return std::min(0.9, 0.1 * v); }, 64);
+  SPHRenderParameters params;
+  PerspectiveGrid grid;
+  Frame frame;
+  RenderStatistics stats;
+  renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+  EXPECT_FALSE(grid.steps().logarithmic);
+  const std::vector<double> ref = renderReference(P, rays, grid.steps(), params, tf, nullptr);
+  EXPECT_LT(maxDifference(frame, ref), 2e-3);
+}
