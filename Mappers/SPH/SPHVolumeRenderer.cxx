@@ -210,22 +210,30 @@ void deposit(const SPHParticles& particles,
           }
         }
         evaluations += ihi - ilo + 1;
+        // Plain floats in the loop (no struct temporaries), so it runs in SIMD lanes.
+        const float* jm = bundle.jitterMul.data() + rowOffset;
+        const float* ja = bundle.jitterAdd.data() + rowOffset;
+        const Vec3f rs = bundle.rowStart[row] - p, rd = bundle.rowDir[row];
+        const float zk = zb[k];
 #pragma omp simd
         for (int col = ilo; col <= ihi; ++col)
         {
-          Vec3f d;
+          const float fi = static_cast<float>(col);
+          float dx, dy, dz;
           if (Jitter)
           {
-            const int r = rowOffset + col;
-            const float z = zb[k] * bundle.jitterMul[r] + bundle.jitterAdd[r];
-            const float fi = static_cast<float>(col);
-            d = bundle.rowStart[row] + Ax * fi + (bundle.rowDir[row] + Bx * fi) * z - p;
+            const float z = zk * jm[col] + ja[col];
+            dx = rs.x + Ax.x * fi + (rd.x + Bx.x * fi) * z;
+            dy = rs.y + Ax.y * fi + (rd.y + Bx.y * fi) * z;
+            dz = rs.z + Ax.z * fi + (rd.z + Bx.z * fi) * z;
           }
           else
           {
-            d = P0 + V * static_cast<float>(col);
+            dx = P0.x + V.x * fi;
+            dy = P0.y + V.y * fi;
+            dz = P0.z + V.z * fi;
           }
-          const float q2 = dot(d, d) * invH2;
+          const float q2 = (dx * dx + dy * dy + dz * dz) * invH2;
           const bool inside = q2 < 1.f;
           const float qc2 = inside ? q2 : 0.f;
           const float w = inside ? kernelShape<K>(qc2) : 0.f;
@@ -237,9 +245,9 @@ void deposit(const SPHParticles& particles,
           if (Gradient)
           {
             const float gs = inside ? qvG * kernelShapeDerivativeOverQ<K>(qc2) : 0.f;
-            Gx[rowOffset + col] += gs * d.x;
-            Gy[rowOffset + col] += gs * d.y;
-            Gz[rowOffset + col] += gs * d.z;
+            Gx[rowOffset + col] += gs * dx;
+            Gy[rowOffset + col] += gs * dy;
+            Gz[rowOffset + col] += gs * dz;
           }
         }
       }

@@ -1,0 +1,206 @@
+/**
+ * @class   vtkSPHVolumeMapper
+ * @brief   Volume renders SPH particles directly, as the SPH field of their quantity.
+ *
+ * Every point i of the input vtkPointSet (cells are ignored) is an SPH particle with the
+ * quantity Q_i, the volume V_i and the smoothing length h_i; the mapper ray casts the field
+ *   Q(x) = sum_i Q_i V_i W(|x - x_i|, H_i) / sum_i V_i W(|x - x_i|, H_i)
+ * (Limper 2012, equation 2.4) with the vtkVolumeProperty of the vtkVolume (colour and scalar
+ * opacity of component 0, opacity per ScalarOpacityUnitDistance corrected for the adaptive
+ * step; Shade turns on Blinn-Phong lighting with the field's exact gradient), through a
+ * perspective grid over the view frustum rebuilt every frame (Limper 2012, chapter 3).
+ *   Q_i: ValueArrayName (first component), else the active point scalars, else 1.
+ *   V_i: VolumeArrayName; else MassArrayName / DensityArrayName; else the constant Volume.
+ *   h_i: SmoothingLengthScale * (SmoothingLengthArrayName, else SmoothingLength); the
+ *        kernel's support is H_i = SupportFactor * h_i (SupportFactor 0: the kernel's own
+ *        convention, h for poly6 and 2h for the cubic spline and Wendland C2).
+ *
+ * Normalization: NORMALIZED (equation 3.14, default), UNNORMALIZED (3.15) or
+ * PSEUDO_NORMALIZED (3.16, divided by ReferenceWeightSum; 0 chooses 12 neighbours at half
+ * the median support with the median volume). ContourShading adds ContourColor with
+ * ContourOpacity where the sum of weights falls below ReferenceWeightSum (3.24 to 3.26).
+ * StepFactor scales the step (1: a pixel's footprint), TileSize is the grid's cell size in
+ * pixels and the ray bundle's side, SlabDepth the samples per slab (0: a cell's),
+ * TerminationOpacity the early ray termination, Jitter stochastic jittering.
+ *
+ * Interaction (section 3.1): while the render window asks for at least one frame per
+ * second (an interactor's DesiredUpdateRate during camera moves), the image and the steps
+ * are reduced by a factor r that grows by 0.25 per frame (up to MaximumReduction) while the
+ * last frame took longer than FrameBudget (0: 1 / DesiredUpdateRate) and stays otherwise; a
+ * still render uses r = 1.
+ *
+ * Opaque geometry already drawn stops the rays. Bad input never poisons the image:
+ * particles with NaN/Inf coordinates, quantities or volumes, smoothing lengths that are
+ * NaN, zero or negative, and negative volumes are skipped with one warning saying how
+ * many; missing arrays fall back as above with a warning.
+ *
+ * GetStatistics() reports phase times, counters and effects of the last render.
+ */
+#ifndef vtkSPHVolumeMapper_h
+#define vtkSPHVolumeMapper_h
+
+#include "RayMappersMappersModule.h" // for export macro
+#include "vtkAbstractVolumeMapper.h"
+
+#include <memory> // for std::unique_ptr
+
+class vtkPointSet;
+class vtkRayMapperStatistics;
+
+#define VTK_SPH_KERNEL_POLY6 0
+#define VTK_SPH_KERNEL_CUBIC_SPLINE 1
+#define VTK_SPH_KERNEL_WENDLAND_C2 2
+
+#define VTK_SPH_NORMALIZED 0
+#define VTK_SPH_UNNORMALIZED 1
+#define VTK_SPH_PSEUDO_NORMALIZED 2
+
+class RAYMAPPERSMAPPERS_EXPORT vtkSPHVolumeMapper : public vtkAbstractVolumeMapper
+{
+public:
+  static vtkSPHVolumeMapper* New();
+  vtkTypeMacro(vtkSPHVolumeMapper, vtkAbstractVolumeMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  void SetInputData(vtkPointSet* input);
+
+  ///@{
+  /** The smoothing kernel (default VTK_SPH_KERNEL_CUBIC_SPLINE). */
+  vtkSetClampMacro(Kernel, int, VTK_SPH_KERNEL_POLY6, VTK_SPH_KERNEL_WENDLAND_C2);
+  vtkGetMacro(Kernel, int);
+  ///@}
+
+  ///@{
+  /** Support radius per smoothing length; 0 (default): the kernel's convention. */
+  vtkSetClampMacro(SupportFactor, double, 0.0, 100.0);
+  vtkGetMacro(SupportFactor, double);
+  ///@}
+
+  ///@{
+  /** Constant smoothing length (default 1), its array, and a factor on either (1). */
+  vtkSetMacro(SmoothingLength, double);
+  vtkGetMacro(SmoothingLength, double);
+  vtkSetStringMacro(SmoothingLengthArrayName);
+  vtkGetStringMacro(SmoothingLengthArrayName);
+  vtkSetMacro(SmoothingLengthScale, double);
+  vtkGetMacro(SmoothingLengthScale, double);
+  ///@}
+
+  ///@{
+  /** The quantity Q shown (default: the active point scalars, else 1). */
+  vtkSetStringMacro(ValueArrayName);
+  vtkGetStringMacro(ValueArrayName);
+  ///@}
+
+  ///@{
+  /**
+   * The particle volume: an array of V, or arrays of mass and density (V = m / rho), or
+   * the constant Volume (default 1).
+   */
+  vtkSetStringMacro(VolumeArrayName);
+  vtkGetStringMacro(VolumeArrayName);
+  vtkSetStringMacro(MassArrayName);
+  vtkGetStringMacro(MassArrayName);
+  vtkSetStringMacro(DensityArrayName);
+  vtkGetStringMacro(DensityArrayName);
+  vtkSetMacro(Volume, double);
+  vtkGetMacro(Volume, double);
+  ///@}
+
+  ///@{
+  /** VTK_SPH_NORMALIZED (default), VTK_SPH_UNNORMALIZED or VTK_SPH_PSEUDO_NORMALIZED. */
+  vtkSetClampMacro(Normalization, int, VTK_SPH_NORMALIZED, VTK_SPH_PSEUDO_NORMALIZED);
+  vtkGetMacro(Normalization, int);
+  ///@}
+
+  ///@{
+  /** w_max of equation 3.16; 0 (default): computed from the particles. */
+  vtkSetClampMacro(ReferenceWeightSum, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(ReferenceWeightSum, double);
+  ///@}
+
+  ///@{
+  /** Contour shading (default off), its colour (black) and opacity per unit distance (0.5). */
+  vtkSetMacro(ContourShading, bool);
+  vtkGetMacro(ContourShading, bool);
+  vtkBooleanMacro(ContourShading, bool);
+  vtkSetVector3Macro(ContourColor, double);
+  vtkGetVector3Macro(ContourColor, double);
+  vtkSetClampMacro(ContourOpacity, double, 0.0, 1.0);
+  vtkGetMacro(ContourOpacity, double);
+  ///@}
+
+  ///@{
+  /** Step relative to a pixel's footprint (default 1), grid tile (16 pixels), slab depth
+   * (0: a cell's samples), early termination opacity (0.99; 1: never), jitter (off). */
+  vtkSetClampMacro(StepFactor, double, 0.05, 64.0);
+  vtkGetMacro(StepFactor, double);
+  vtkSetClampMacro(TileSize, int, 2, 64);
+  vtkGetMacro(TileSize, int);
+  vtkSetClampMacro(SlabDepth, int, 0, 1024);
+  vtkGetMacro(SlabDepth, int);
+  vtkSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
+  vtkGetMacro(TerminationOpacity, double);
+  vtkSetMacro(Jitter, bool);
+  vtkGetMacro(Jitter, bool);
+  vtkBooleanMacro(Jitter, bool);
+  ///@}
+
+  ///@{
+  /** Interactive sampling reduction (equation 3.1): largest factor (default 4; 1: off)
+   * and the frame budget in seconds (0: 1 / the window's DesiredUpdateRate). */
+  vtkSetClampMacro(MaximumReduction, double, 1.0, 16.0);
+  vtkGetMacro(MaximumReduction, double);
+  vtkSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(FrameBudget, double);
+  ///@}
+
+  /** Statistics of the last render: phase times, counters, effects that ran. */
+  vtkRayMapperStatistics* GetStatistics();
+
+  double* GetBounds() VTK_SIZEHINT(6) override;
+  void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
+
+  void Render(vtkRenderer* ren, vtkVolume* vol) override;
+  void ReleaseGraphicsResources(vtkWindow* win) override;
+
+protected:
+  vtkSPHVolumeMapper();
+  ~vtkSPHVolumeMapper() override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  int Kernel = VTK_SPH_KERNEL_CUBIC_SPLINE;
+  double SupportFactor = 0.0;
+  double SmoothingLength = 1.0;
+  char* SmoothingLengthArrayName = nullptr;
+  double SmoothingLengthScale = 1.0;
+  char* ValueArrayName = nullptr;
+  char* VolumeArrayName = nullptr;
+  char* MassArrayName = nullptr;
+  char* DensityArrayName = nullptr;
+  double Volume = 1.0;
+  int Normalization = VTK_SPH_NORMALIZED;
+  double ReferenceWeightSum = 0.0;
+  bool ContourShading = false;
+  double ContourColor[3] = { 0, 0, 0 };
+  double ContourOpacity = 0.5;
+  double StepFactor = 1.0;
+  int TileSize = 16;
+  int SlabDepth = 0;
+  double TerminationOpacity = 0.99;
+  bool Jitter = false;
+  double MaximumReduction = 4.0;
+  double FrameBudget = 0.0;
+
+private:
+  vtkSPHVolumeMapper(const vtkSPHVolumeMapper&) = delete;
+  void operator=(const vtkSPHVolumeMapper&) = delete;
+
+  /// Rebuilds the particles when the input, the arrays or the particle settings changed.
+  void UpdateParticles(vtkPointSet* input);
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif
