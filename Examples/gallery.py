@@ -1,4 +1,5 @@
-"""RayMappers demo gallery: renders the bundled data with the ray-traced sphere mapper.
+"""RayMappers demo gallery: renders the bundled data with the ray-traced sphere mapper and
+the SPH volume mapper.
 
 Run through ../run.sh demo, or by hand under Xvfb:
     pvpython Examples/gallery.py --build build --out gallery
@@ -85,7 +86,7 @@ def points_only(dataset):
     return pd
 
 
-def render_view(name, dataset, actors, mapper, camera):
+def render_view(name, dataset, actors, mapper, camera, count="spheres"):
     ren = vtkRenderer()
     ren.SetBackground(0.12, 0.13, 0.16)
     ren.SetBackground2(0.32, 0.34, 0.43)
@@ -103,7 +104,7 @@ def render_view(name, dataset, actors, mapper, camera):
     win.WaitForCompletion()
     first = (time.perf_counter() - t) * 1000
     stats = mapper.GetStatistics()
-    build = sum(stats.GetPhaseTime(p) for p in ("spheres", "grid_build", "bvh_build"))
+    build = sum(stats.GetPhaseTime(p) for p in ("spheres", "grid_build", "bvh_build", "grid"))
     times = []
     for _ in range(args.frames):
         t = time.perf_counter()
@@ -120,9 +121,10 @@ def render_view(name, dataset, actors, mapper, camera):
     writer.SetInputConnection(grab.GetOutputPort())
     writer.SetFileName(png)
     writer.Write()
-    return dict(view=name, dataset=dataset, spheres=stats.GetCounter("spheres"),
+    return dict(view=name, dataset=dataset, spheres=stats.GetCounter(count),
                 build=build, first=first, frame=statistics.median(times) if times else first,
-                trace=stats.GetPhaseTime("trace"), png=os.path.relpath(png, os.getcwd()))
+                trace=stats.GetPhaseTime("trace") + stats.GetPhaseTime("raycast"),
+                png=os.path.relpath(png, os.getcwd()))
 
 
 def look(position, focal=None, up=(0, 1, 0), angle=30, parallel_scale=None, zoom=1.0):
@@ -224,6 +226,48 @@ def melt_view():
                         look((0.9, 0.6, 1.1), zoom=1.7))]
 
 
+def dam_break_view():
+    """A PySPH dam break frame (t = 0.3 s) as its SPH field: velocity magnitude, normalized,
+    PySPH's kernel and smoothing lengths, contour shading at the free surface."""
+    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolume, vtkVolumeProperty
+    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+    reader = vtkPolyDataReader()
+    reader.SetFileName(os.path.join(DATA, "dam_break_coarse_00674.vtk"))
+    reader.ReadAllScalarsOn()
+    reader.Update()
+    mapper = raymappers.vtkSPHVolumeMapper()
+    mapper.SetInputData(reader.GetOutput())
+    mapper.SetKernel(raymappers.VTK_SPH_KERNEL_WENDLAND_C2)
+    mapper.SetSmoothingLengthArrayName("h")
+    mapper.SetMassArrayName("m")
+    mapper.SetDensityArrayName("rho")
+    mapper.SetValueArrayName("vmag")
+    mapper.ContourShadingOn()
+    mapper.SetContourColor(0.02, 0.05, 0.15)
+    color = vtkColorTransferFunction()
+    color.AddRGBPoint(0.0, 0.1, 0.3, 0.9)
+    color.AddRGBPoint(1.4, 0.9, 0.9, 0.9)
+    color.AddRGBPoint(2.8, 0.9, 0.2, 0.1)
+    opacity = vtkPiecewiseFunction()
+    opacity.AddPoint(0.0, 0.15)
+    opacity.AddPoint(2.8, 0.6)
+    prop = vtkVolumeProperty()
+    prop.SetColor(color)
+    prop.SetScalarOpacity(opacity)
+    prop.SetScalarOpacityUnitDistance(0.1)
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+
+    def camera(ren):
+        cam = ren.GetActiveCamera()
+        cam.SetFocalPoint(0.9, 0.0, 0.2)
+        cam.SetPosition(0.2, -2.6, 1.5)
+        cam.SetViewUp(0, 0, 1)
+    return [render_view("dam-break-sph-volume", "dam_break_coarse_00674", [volume], mapper,
+                        camera, count="particles")]
+
+
 def paraview_view():
     """The same mapper through ParaView: the plugin's 'Ray-Traced Spheres' representation."""
     from paraview import simple
@@ -261,12 +305,12 @@ def paraview_view():
 
 def main():
     os.makedirs(args.out, exist_ok=True)
-    rows = lysozyme_views() + disk_view() + paraview_view()
+    rows = lysozyme_views() + disk_view() + dam_break_view() + paraview_view()
     if not args.skip_generated:
         rows += melt_view()
     print("\nRayMappers demo gallery: %dx%d, CPU ray-traced spheres (coherent grid traversal)"
-          % (WIDTH, HEIGHT))
-    header = ("view", "dataset", "spheres", "build_ms", "first_ms", "frame_ms", "trace_ms", "png")
+          " and SPH volume ray casting (perspective grid)" % (WIDTH, HEIGHT))
+    header = ("view", "dataset", "points", "build_ms", "first_ms", "frame_ms", "trace_ms", "png")
     print("%-28s %-20s %9s %9s %9s %9s %9s  %s" % header)
     for r in rows:
         print("%-28s %-20s %9d %9.1f %9.1f %9.1f %9.1f  %s" % (

@@ -127,6 +127,18 @@ bool PerspectiveGrid::build(const SPHParticles& particles,
     cellDepth = extent / MaxDepthCells;
   }
   Steps.delta = cellDepth / Steps.samplesPerCell;
+  if (params.fieldStep > 0)
+  {
+    // Logarithmic: the step at depth zeta is zeta (e^delta - 1), longest at the far end.
+    const double fieldDelta =
+      Steps.logarithmic ? std::log1p(params.fieldStep / span.hi) : params.fieldStep;
+    if (fieldDelta > Steps.delta)
+    {
+      Steps.samplesPerCell = std::max(1, static_cast<int>(std::lround(cellDepth / fieldDelta)));
+      Steps.delta = std::min(fieldDelta, cellDepth / Steps.samplesPerCell);
+      cellDepth = Steps.delta * Steps.samplesPerCell;
+    }
+  }
   Steps.cells = std::max(1, static_cast<int>(std::ceil(extent / cellDepth - 1e-9)));
   const int totalSamples = Steps.samples();
 

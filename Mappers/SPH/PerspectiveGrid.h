@@ -13,6 +13,13 @@
 // particles' front and the near plane, the last cell reaches past the particles' back, so
 // no empty depth range is sampled.
 //
+// The thesis ties the step to the pixel footprint alone, so the number of samples grows
+// with the image resolution even where the field has no detail that fine. With a field step
+// s_f (a fraction of the smallest kernel support), the step is the longer of the two, but
+// never longer than s_f within the particles' depth span: delta = max(delta_pixel,
+// ln(1 + s_f / zeta_far)) (logarithmic steps are longest at the far end), and the cells keep their pixel-tile depth with fewer
+// samples each (samplesPerCell = round(cell depth / delta), at least 1).
+//
 // Construction (section 3.4.2), on the CPU: each particle's cell range is the box of its
 // exact projected extent (tangent planes, ViewRays::projectedExtent) and its depth span
 // [zeta_c - H, zeta_c + H], which is the thesis's six-plane test per candidate cell; the
@@ -55,6 +62,10 @@ struct PerspectiveGridParameters
 {
   int tileSize = 16;       // pixels per cell side
   double stepFactor = 1.0; // > 0: sample spacing relative to a pixel's footprint
+  // > 0: the longest step that still resolves the field (model units, e.g. the smallest
+  // support over 8). Steps are never longer than this within the particles' depth span, and never
+  // shorter than a pixel's footprint times stepFactor except where that bound makes them.
+  double fieldStep = 0.0;
 };
 
 /// What the renderer needs of each particle: its pixel extent (centres of the pixels whose

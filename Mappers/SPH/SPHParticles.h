@@ -30,6 +30,7 @@ struct SPHParticles
   float minQ = 0.f, maxQ = 0.f;  // range of the quantity (the normalized field stays in it)
   double medianVolume = 0.0;     // for the reference weight sum (equation 3.16)
   double medianSupport = 0.0;
+  float minSupport = 0.f;
   std::size_t skippedNonFinite = 0; // NaN/Inf centre, quantity or volume
   std::size_t skippedBadSupport = 0; // support NaN/Inf, zero or negative
   std::size_t skippedBadVolume = 0;  // negative volume
@@ -95,6 +96,7 @@ void buildSPHParticles(std::size_t n,
   {
     out.minQ = out.maxQ = 0.f;
     out.medianVolume = out.medianSupport = 0.0;
+    out.minSupport = 0.f;
     return;
   }
   const auto [lo, hi] = std::minmax_element(q.begin(), q.end());
@@ -104,6 +106,7 @@ void buildSPHParticles(std::size_t n,
   std::nth_element(tmp.begin(), tmp.begin() + tmp.size() / 2, tmp.end());
   out.medianVolume = tmp[tmp.size() / 2];
   tmp = out.support;
+  out.minSupport = *std::min_element(tmp.begin(), tmp.end());
   std::nth_element(tmp.begin(), tmp.begin() + tmp.size() / 2, tmp.end());
   out.medianSupport = tmp[tmp.size() / 2];
 }

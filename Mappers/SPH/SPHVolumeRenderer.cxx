@@ -112,10 +112,15 @@ struct SlabCache
   }
 };
 
-/// A bundle of rays (a tile) and what they have gathered so far.
+// Columns evaluated together in the deposit loop (one AVX-512 or two AVX2 vectors); the
+// slab cache's rows are padded to a multiple of it.
+constexpr int Lanes = 16;
+
+/// A bundle of rays (a tile) and what they have gathered so far. Per-ray arrays are indexed
+/// row * tw + col; the slab cache and the jitter factors row * stride + col.
 struct Bundle
 {
-  int x0, y0, x1, y1, tw, th;
+  int x0, y0, x1, y1, tw, th, stride;
   std::vector<Vec3f> rowStart, rowDir; // A and B at pixel column 0 of each row (centre 0.5)
   Vec3f startPerX, dirPerX;
   std::vector<float> dirLength, zStop, jitterMul, jitterAdd;
@@ -127,7 +132,12 @@ struct Bundle
 
 /// Adds every particle of a cell to the buffered samples of the bundle's rays within its
 /// support. zs[k]: the slab's sample depths without jitter (all rays share them); with
-/// jitter each ray's depth is zb[k] jitterMul + jitterAdd and is tested per pixel.
+/// jitter each ray's depth is zb[k] jitterMul + jitterAdd. A particle visits, per buffered
+/// sample its depth span reaches, the rows of its footprint whose line at that depth meets
+/// its support (the discriminant of |P0 + i V|^2 = H^2, a quadratic in the pixel column i),
+/// and evaluates each such row in whole SIMD chunks of Lanes columns (the cache rows are
+/// padded, lanes outside the support add 0), which is cheaper than exact short spans with
+/// scalar remainders.
 template<SPHKernel K, bool Weights, bool Gradient, bool Jitter>
 void deposit(const SPHParticles& particles,
   const PerspectiveGrid& grid,
@@ -141,7 +151,7 @@ void deposit(const SPHParticles& particles,
   Counters& counters)
 {
   const double norm = kernelNormalization(K);
-  const int R = bundle.tw * bundle.th;
+  const std::size_t plane = static_cast<std::size_t>(bundle.th) * bundle.stride;
   const Vec3f Ax = bundle.startPerX, Bx = bundle.dirPerX;
   std::int64_t evaluations = 0;
   for (const std::uint32_t* ref = refBegin; ref != refEnd; ++ref)
@@ -156,12 +166,14 @@ void deposit(const SPHParticles& particles,
     const float qvG = qvW * invH2; // grad W = c/H^5 shape'(q)/q (x - x_i)
     const int jlo = std::max(bundle.y0, static_cast<int>(std::ceil(fp.y0 - 0.5f)));
     const int jhi = std::min(bundle.y1 - 1, static_cast<int>(std::floor(fp.y1 - 0.5f)));
-    const int ilo0 = std::max(bundle.x0, static_cast<int>(std::ceil(fp.x0 - 0.5f)));
-    const int ihi0 = std::min(bundle.x1 - 1, static_cast<int>(std::floor(fp.x1 - 0.5f)));
-    if (jlo > jhi || ilo0 > ihi0)
+    const int ilo = std::max(bundle.x0, static_cast<int>(std::ceil(fp.x0 - 0.5f)));
+    const int ihi = std::min(bundle.x1 - 1, static_cast<int>(std::floor(fp.x1 - 0.5f)));
+    if (jlo > jhi || ilo > ihi)
     {
       continue;
     }
+    // The chunks of Lanes columns (relative to the tile) that hold the footprint.
+    const int c0 = (ilo - bundle.x0) / Lanes * Lanes, c1 = ihi - bundle.x0;
     for (int k = 0; k < slab; ++k)
     {
       if (!Jitter && !(std::abs(zs[k] - fp.zeta) < H))
@@ -172,11 +184,7 @@ void deposit(const SPHParticles& particles,
       {
         continue;
       }
-      float* A = cache.A.data() + static_cast<std::size_t>(k) * R;
-      float* B = Weights ? cache.B.data() + static_cast<std::size_t>(k) * R : nullptr;
-      float* Gx = Gradient ? cache.Gx.data() + static_cast<std::size_t>(k) * R : nullptr;
-      float* Gy = Gradient ? cache.Gy.data() + static_cast<std::size_t>(k) * R : nullptr;
-      float* Gz = Gradient ? cache.Gz.data() + static_cast<std::size_t>(k) * R : nullptr;
+      const std::size_t sampleOffset = static_cast<std::size_t>(k) * plane;
       for (int j = jlo; j <= jhi; ++j)
       {
         const int row = j - bundle.y0;
@@ -184,70 +192,67 @@ void deposit(const SPHParticles& particles,
         {
           continue;
         }
-        const int rowOffset = row * bundle.tw - bundle.x0; // + pixel column = ray index
-        int ilo = ilo0, ihi = ihi0;
-        Vec3f P0, V;
+        // The row's rays at depth z: x(i) - x_p = P0 + i V for pixel column i.
+        const Vec3f rs = bundle.rowStart[row] - p, rd = bundle.rowDir[row];
+        const float z = zs[k];
+        const Vec3f P0 = rs + rd * z, V = Ax + Bx * z;
         if (!Jitter)
         {
-          // The row's rays at depth zs[k]: x(i) - x_p = P0 + i V (pixel column i); the
-          // columns inside the support solve |P0 + i V|^2 < H^2, a quadratic in i.
-          const float z = zs[k];
-          P0 = bundle.rowStart[row] + bundle.rowDir[row] * z - p;
-          V = Ax + Bx * z;
           const float qa = dot(V, V), qb = dot(P0, V), qc = dot(P0, P0) - H2;
-          const float disc = qb * qb - qa * qc;
-          if (!(disc > 0.f) || !(qa > 0.f))
+          if (!(qb * qb - qa * qc > 0.f))
           {
-            continue;
-          }
-          const float sq = std::sqrt(disc);
-          const float lo = (-qb - sq) / qa, hi = (-qb + sq) / qa;
-          ilo = std::max(ilo, static_cast<int>(std::floor(lo)) + 1);
-          ihi = std::min(ihi, static_cast<int>(std::ceil(hi)) - 1);
-          if (ilo > ihi)
-          {
-            continue;
+            continue; // the row's plane misses the support at this depth
           }
         }
-        evaluations += ihi - ilo + 1;
-        // Plain floats in the loop (no struct temporaries), so it runs in SIMD lanes.
-        const float* jm = bundle.jitterMul.data() + rowOffset;
-        const float* ja = bundle.jitterAdd.data() + rowOffset;
-        const Vec3f rs = bundle.rowStart[row] - p, rd = bundle.rowDir[row];
+        const std::size_t rowOffset = sampleOffset + static_cast<std::size_t>(row) * bundle.stride;
+        float* A = cache.A.data() + rowOffset;
+        float* B = Weights ? cache.B.data() + rowOffset : nullptr;
+        float* Gx = Gradient ? cache.Gx.data() + rowOffset : nullptr;
+        float* Gy = Gradient ? cache.Gy.data() + rowOffset : nullptr;
+        float* Gz = Gradient ? cache.Gz.data() + rowOffset : nullptr;
+        const float* jm = bundle.jitterMul.data() + static_cast<std::size_t>(row) * bundle.stride;
+        const float* ja = bundle.jitterAdd.data() + static_cast<std::size_t>(row) * bundle.stride;
         const float zk = zb[k];
-#pragma omp simd
-        for (int col = ilo; col <= ihi; ++col)
+        for (int base = c0; base <= c1; base += Lanes)
         {
-          const float fi = static_cast<float>(col);
-          float dx, dy, dz;
-          if (Jitter)
+          evaluations += Lanes;
+          const float fb = static_cast<float>(bundle.x0 + base);
+          // Plain floats in the loop (no struct temporaries), so it runs in SIMD lanes.
+#pragma omp simd
+          for (int l = 0; l < Lanes; ++l)
           {
-            const float z = zk * jm[col] + ja[col];
-            dx = rs.x + Ax.x * fi + (rd.x + Bx.x * fi) * z;
-            dy = rs.y + Ax.y * fi + (rd.y + Bx.y * fi) * z;
-            dz = rs.z + Ax.z * fi + (rd.z + Bx.z * fi) * z;
-          }
-          else
-          {
-            dx = P0.x + V.x * fi;
-            dy = P0.y + V.y * fi;
-            dz = P0.z + V.z * fi;
-          }
-          const float q2 = (dx * dx + dy * dy + dz * dz) * invH2;
-          const bool inside = q2 < 1.f;
-          const float qc2 = inside ? q2 : 0.f;
-          const float w = inside ? kernelShape<K>(qc2) : 0.f;
-          A[rowOffset + col] += qvW * w;
-          if (Weights)
-          {
-            B[rowOffset + col] += vW * w;
-          }
-          if (Gradient)
-          {
-            const float gs = inside ? qvG * kernelShapeDerivativeOverQ<K>(qc2) : 0.f;
-            Gx[rowOffset + col] += gs * dx;
-            Gy[rowOffset + col] += gs * dy;
-            Gz[rowOffset + col] += gs * dz;
+            const int c = base + l;
+            const float fi = fb + static_cast<float>(l);
+            float dx, dy, dz;
+            if (Jitter)
+            {
+              const float zj = zk * jm[c] + ja[c];
+              dx = rs.x + Ax.x * fi + (rd.x + Bx.x * fi) * zj;
+              dy = rs.y + Ax.y * fi + (rd.y + Bx.y * fi) * zj;
+              dz = rs.z + Ax.z * fi + (rd.z + Bx.z * fi) * zj;
+            }
+            else
+            {
+              dx = P0.x + V.x * fi;
+              dy = P0.y + V.y * fi;
+              dz = P0.z + V.z * fi;
+            }
+            const float q2 = (dx * dx + dy * dy + dz * dz) * invH2;
+            const bool inside = q2 < 1.f;
+            const float qc2 = inside ? q2 : 0.f;
+            const float w = inside ? kernelShape<K>(qc2) : 0.f;
+            A[c] += qvW * w;
+            if (Weights)
+            {
+              B[c] += vW * w;
+            }
+            if (Gradient)
+            {
+              const float gs = inside ? qvG * kernelShapeDerivativeOverQ<K>(qc2) : 0.f;
+              Gx[c] += gs * dx;
+              Gy[c] += gs * dy;
+              Gz[c] += gs * dz;
+            }
           }
         }
       }
@@ -352,6 +357,7 @@ void renderSPH(const SPHParticles& particles,
   PerspectiveGridParameters gp;
   gp.tileSize = params.tileSize;
   gp.stepFactor = params.stepFactor;
+  gp.fieldStep = params.samplesPerSupport > 0 ? particles.minSupport / params.samplesPerSupport : 0.0;
   bool any;
   {
     ScopedPhase phase(stats, "grid");
@@ -401,6 +407,8 @@ void renderSPH(const SPHParticles& particles,
         bd.tw = bd.x1 - bd.x0;
         bd.th = bd.y1 - bd.y0;
         const int R = bd.tw * bd.th;
+        bd.stride = (bd.tw + Lanes - 1) / Lanes * Lanes;
+        const std::size_t P = static_cast<std::size_t>(bd.th) * bd.stride; // a cache plane
         bd.rowStart.resize(bd.th);
         bd.rowDir.resize(bd.th);
         bd.startPerX = Vec3f(rays.startPerPixelX());
@@ -413,8 +421,8 @@ void renderSPH(const SPHParticles& particles,
         }
         bd.dirLength.resize(R);
         bd.zStop.resize(R);
-        bd.jitterMul.resize(R);
-        bd.jitterAdd.resize(R);
+        bd.jitterMul.assign(P, 1.f);
+        bd.jitterAdd.assign(P, 0.f);
         bd.r.assign(R, 0.f);
         bd.g.assign(R, 0.f);
         bd.b.assign(R, 0.f);
@@ -442,8 +450,9 @@ void renderSPH(const SPHParticles& particles,
             // The sample sits at u = k + j of its step: zeta(k + j) = zeta(k) e^(j delta)
             // (logarithmic steps) or zeta(k) + j delta (uniform).
             const double j = params.jitter ? sphJitterOffset(px, py) : 0.5;
-            bd.jitterMul[r] = steps.logarithmic ? static_cast<float>(std::exp(j * steps.delta)) : 1.f;
-            bd.jitterAdd[r] = steps.logarithmic ? 0.f : static_cast<float>(j * steps.delta);
+            const std::size_t c = static_cast<std::size_t>(row) * bd.stride + col;
+            bd.jitterMul[c] = steps.logarithmic ? static_cast<float>(std::exp(j * steps.delta)) : 1.f;
+            bd.jitterAdd[c] = steps.logarithmic ? 0.f : static_cast<float>(j * steps.delta);
           }
         }
         ++counters.bundles;
@@ -487,21 +496,23 @@ void renderSPH(const SPHParticles& particles,
             {
               zs[k] = static_cast<float>(steps.zeta(k0 + k + 0.5));
             }
-            cache.clear(static_cast<std::size_t>(slab) * R, weights, params.shade);
+            cache.clear(static_cast<std::size_t>(slab) * P, weights, params.shade);
             depositFn(particles, grid, refBegin, refEnd, zs.data(), zb.data(), slab, bd, cache, counters);
 
             // Classification, shading and compositing of the slab, front to back.
             for (int k = 0; k < slab; ++k)
             {
-              const float* A = cache.A.data() + static_cast<std::size_t>(k) * R;
-              const float* B = weights ? cache.B.data() + static_cast<std::size_t>(k) * R : nullptr;
+              const float* A = cache.A.data() + static_cast<std::size_t>(k) * P;
+              const float* B = weights ? cache.B.data() + static_cast<std::size_t>(k) * P : nullptr;
               for (int r = 0; r < R; ++r)
               {
                 if (bd.done[r])
                 {
                   continue;
                 }
-                const float z = zb[k] * bd.jitterMul[r] + bd.jitterAdd[r];
+                const int row = r / bd.tw, col = r - row * bd.tw;
+                const std::size_t ci = static_cast<std::size_t>(row) * bd.stride + col;
+                const float z = zb[k] * bd.jitterMul[ci] + bd.jitterAdd[ci];
                 if (z >= bd.zStop[r])
                 {
                   bd.done[r] = 1;
@@ -509,8 +520,8 @@ void renderSPH(const SPHParticles& particles,
                   --bd.active;
                   continue;
                 }
-                const float a = A[r];
-                const float w = weights ? B[r] : 0.f;
+                const float a = A[ci];
+                const float w = weights ? B[ci] : 0.f;
                 float value;
                 bool hasValue;
                 if (normalized)
@@ -540,14 +551,13 @@ void renderSPH(const SPHParticles& particles,
                   cb = e.b;
                   if (params.shade && alpha > 0.f)
                   {
-                    const std::size_t g = static_cast<std::size_t>(k) * R + r;
+                    const std::size_t g = static_cast<std::size_t>(k) * P + ci;
                     const Vec3d grad(cache.Gx[g], cache.Gy[g], cache.Gz[g]);
                     const double glen = length(grad);
                     if (glen > 0 && std::isfinite(glen))
                     {
                       // Normal = -grad A / |grad A| (equation 3.23), in world space,
                       // turned to face the viewer (two-sided lighting).
-                      const int col = r % bd.tw, row = r / bd.tw;
                       const double px = bd.x0 + col + 0.5, py = bd.y0 + row + 0.5;
                       const Vec3d dirModel = rays.direction(px, py);
                       const Vec3d pModel = rays.pointAt(px, py, z) + origin;

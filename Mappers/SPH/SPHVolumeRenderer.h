@@ -67,6 +67,7 @@ struct SPHRenderParameters
   double referenceWeightSum = 1.0; // w_max > 0
   int tileSize = 16;               // pixels per bundle side (and grid cell side)
   double stepFactor = 1.0;         // sample spacing relative to a pixel's footprint
+  double samplesPerSupport = 0.0;  // > 0: steps at most (smallest support) / this
   int slabDepth = 0;               // samples per ray per slab; 0: a whole cell
   double terminationOpacity = 0.99;
   bool jitter = false;

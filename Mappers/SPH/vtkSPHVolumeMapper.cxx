@@ -300,6 +300,7 @@ void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   const double r = Impl->Reduction;
   params.stepFactor = this->StepFactor * r;
+  params.samplesPerSupport = this->SamplesPerSupport / r;
   stats.addCounter("reduction_percent", static_cast<std::int64_t>(std::lround(100 * r)));
 
   int width = 0, height = 0;
@@ -360,6 +361,7 @@ void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
      << this->ContourColor[2] << "\n";
   os << indent << "ContourOpacity: " << this->ContourOpacity << "\n";
   os << indent << "StepFactor: " << this->StepFactor << "\n";
+  os << indent << "SamplesPerSupport: " << this->SamplesPerSupport << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
   os << indent << "SlabDepth: " << this->SlabDepth << "\n";
   os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";

@@ -19,7 +19,10 @@
  * PSEUDO_NORMALIZED (3.16, divided by ReferenceWeightSum; 0 chooses 12 neighbours at half
  * the median support with the median volume). ContourShading adds ContourColor with
  * ContourOpacity where the sum of weights falls below ReferenceWeightSum (3.24 to 3.26).
- * StepFactor scales the step (1: a pixel's footprint), TileSize is the grid's cell size in
+ * StepFactor scales the step (1: a pixel's footprint); SamplesPerSupport (default 8) caps it
+ * at the smallest kernel support over that many steps, so the step follows the field's
+ * detail rather than the image resolution (0: the thesis's pixel-tied steps alone).
+ * TileSize is the grid's cell size in
  * pixels and the ray bundle's side, SlabDepth the samples per slab (0: a cell's),
  * TerminationOpacity the early ray termination, Jitter stochastic jittering.
  *
@@ -131,10 +134,13 @@ public:
   ///@}
 
   ///@{
-  /** Step relative to a pixel's footprint (default 1), grid tile (16 pixels), slab depth
+  /** Step relative to a pixel's footprint (default 1), steps per smallest support that
+   * bound it (8; 0: no bound), grid tile (16 pixels), slab depth
    * (0: a cell's samples), early termination opacity (0.99; 1: never), jitter (off). */
   vtkSetClampMacro(StepFactor, double, 0.05, 64.0);
   vtkGetMacro(StepFactor, double);
+  vtkSetClampMacro(SamplesPerSupport, double, 0.0, 1024.0);
+  vtkGetMacro(SamplesPerSupport, double);
   vtkSetClampMacro(TileSize, int, 2, 64);
   vtkGetMacro(TileSize, int);
   vtkSetClampMacro(SlabDepth, int, 0, 1024);
@@ -185,6 +191,7 @@ protected:
   double ContourColor[3] = { 0, 0, 0 };
   double ContourOpacity = 0.5;
   double StepFactor = 1.0;
+  double SamplesPerSupport = 8.0;
   int TileSize = 16;
   int SlabDepth = 0;
   double TerminationOpacity = 0.99;

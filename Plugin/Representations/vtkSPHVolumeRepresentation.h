@@ -67,6 +67,7 @@ public:
   void SetContourColor(double r, double g, double b);
   void SetContourOpacity(double opacity);
   void SetStepFactor(double factor);
+  void SetSamplesPerSupport(double samples);
   void SetTileSize(int pixels);
   void SetSlabDepth(int samples);
   void SetTerminationOpacity(double opacity);
