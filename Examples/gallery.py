@@ -228,7 +228,8 @@ def melt_view():
 
 def dam_break_view():
     """A PySPH dam break frame (t = 0.3 s) as its SPH field: velocity magnitude, normalized,
-    PySPH's kernel and smoothing lengths, contour shading at the free surface."""
+    PySPH's kernel and smoothing lengths, contour shading at the free surface, jittered
+    samples."""
     from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolume, vtkVolumeProperty
     from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
     reader = vtkPolyDataReader()
@@ -244,6 +245,7 @@ def dam_break_view():
     mapper.SetValueArrayName("vmag")
     mapper.ContourShadingOn()
     mapper.SetContourColor(0.02, 0.05, 0.15)
+    mapper.JitterOn()  # noise instead of wood-grain rings at the fluid's sharp boundary
     color = vtkColorTransferFunction()
     color.AddRGBPoint(0.0, 0.1, 0.3, 0.9)
     color.AddRGBPoint(1.4, 0.9, 0.9, 0.9)
@@ -262,7 +264,7 @@ def dam_break_view():
     def camera(ren):
         cam = ren.GetActiveCamera()
         cam.SetFocalPoint(0.9, 0.0, 0.2)
-        cam.SetPosition(0.2, -2.6, 1.5)
+        cam.SetPosition(0.0, -3.4, 1.9)
         cam.SetViewUp(0, 0, 1)
     return [render_view("dam-break-sph-volume", "dam_break_coarse_00674", [volume], mapper,
                         camera, count="particles")]
