@@ -118,28 +118,49 @@ bool PerspectiveGrid::build(const SPHParticles& particles,
   const double stepFactor = params.stepFactor > 0 ? params.stepFactor : 1.0;
   Steps.logarithmic = rays.isPerspective();
   Steps.zeta0 = span.lo;
-  Steps.samplesPerCell =
+  Steps.uniformStep = 0.0;
+  Steps.uBreak = 0.0;
+  const int S = Steps.samplesPerCell =
     std::clamp(static_cast<int>(std::ceil(TileSize * lambda / stepFactor - 1e-9)), 1, 1024);
-  double cellDepth = TileSize * rays.pixelSize(); // log-depth (perspective) or depth
-  const double extent = Steps.logarithmic ? std::log(span.hi / span.lo) : span.hi - span.lo;
-  if (extent / cellDepth > MaxDepthCells)
+  // Pixel-tied step: a cell is TileSize pixels deep (log-depth or depth) and holds S samples.
+  double cellDepth = TileSize * rays.pixelSize();
+  double extent; // in samples
+  if (Steps.logarithmic)
   {
-    cellDepth = extent / MaxDepthCells;
-  }
-  Steps.delta = cellDepth / Steps.samplesPerCell;
-  if (params.fieldStep > 0)
-  {
-    // Logarithmic: the step at depth zeta is zeta (e^delta - 1), longest at the far end.
-    const double fieldDelta =
-      Steps.logarithmic ? std::log1p(params.fieldStep / span.hi) : params.fieldStep;
-    if (fieldDelta > Steps.delta)
+    double uniformDepth = 0.0;
+    if (params.fieldStep > 0)
     {
-      Steps.samplesPerCell = std::max(1, static_cast<int>(std::lround(cellDepth / fieldDelta)));
-      Steps.delta = std::min(fieldDelta, cellDepth / Steps.samplesPerCell);
-      cellDepth = Steps.delta * Steps.samplesPerCell;
+      // Uniform steps of s_f up to where the logarithmic step reaches it (whole cells).
+      const double zStar = params.fieldStep / std::expm1(cellDepth / S);
+      uniformDepth = std::min(zStar, span.hi) - span.lo;
+      if (uniformDepth > 0)
+      {
+        Steps.uniformStep = params.fieldStep;
+        if (uniformDepth / (S * Steps.uniformStep) > MaxDepthCells)
+        {
+          Steps.uniformStep = uniformDepth / (S * MaxDepthCells);
+        }
+        Steps.uBreak = S * std::ceil(uniformDepth / (S * Steps.uniformStep) - 1e-9);
+      }
     }
+    const double logExtent = span.hi > Steps.zetaBreak() ? std::log(span.hi / Steps.zetaBreak()) : 0.0;
+    if (logExtent / cellDepth > MaxDepthCells)
+    {
+      cellDepth = logExtent / MaxDepthCells;
+    }
+    Steps.delta = cellDepth / S;
+    extent = Steps.uBreak + logExtent / Steps.delta;
   }
-  Steps.cells = std::max(1, static_cast<int>(std::ceil(extent / cellDepth - 1e-9)));
+  else
+  {
+    Steps.delta = std::max(cellDepth / S, params.fieldStep);
+    if ((span.hi - span.lo) / (S * Steps.delta) > MaxDepthCells)
+    {
+      Steps.delta = (span.hi - span.lo) / (S * MaxDepthCells);
+    }
+    extent = (span.hi - span.lo) / Steps.delta;
+  }
+  Steps.cells = std::max(1, static_cast<int>(std::ceil(extent / S - 1e-9)));
   const int totalSamples = Steps.samples();
 
   // 3. Count the references per cell, then their starts (prefix sum).
@@ -153,7 +174,6 @@ bool PerspectiveGrid::build(const SPHParticles& particles,
         counter[c].store(0, std::memory_order_relaxed);
       }
     });
-  const int S = Steps.samplesPerCell;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
     [&](const tbb::blocked_range<std::size_t>& r)
     {

