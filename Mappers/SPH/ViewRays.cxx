@@ -144,4 +144,14 @@ double ViewRays::zetaOfWindowDepth(double px, double py, double d) const
   return std::abs(den) > 0 ? (zn * w0 - z0) / den : Far;
 }
 
+std::array<double, 4> ViewRays::clip(const Vec3d& p) const
+{
+  std::array<double, 4> c{};
+  for (int r = 0; r < 4; ++r)
+  {
+    c[r] = dot(row(M, r), p) + M[4 * r + 3];
+  }
+  return c;
+}
+
 } // namespace raymappers

@@ -72,6 +72,12 @@ public:
   /// The depth along the ray of pixel (px, py) at which OpenGL's window depth is d.
   double zetaOfWindowDepth(double px, double py, double d) const;
 
+  /// Clip coordinates (x, y, z, w) of an origin-relative point. They are affine in the
+  /// point, so along a line p0 + t d they are clip(p0) + t (clip(p0 + d) - clip(p0)); the
+  /// pixel coordinates are ((x / w + 1) W / 2, (y / w + 1) H / 2), the window depth
+  /// (z / w + 1) / 2.
+  std::array<double, 4> clip(const Vec3d& p) const;
+
 private:
   std::array<double, 16> M{}; // origin-relative model -> clip
   bool Perspective = true;

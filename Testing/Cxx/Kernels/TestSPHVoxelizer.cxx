@@ -1,0 +1,407 @@
+// The SPH voxelizer (Zirr 2015): tiled voxelization into spans against analytic ray-sphere
+// intersections, gap bridging, exact absorption beyond the stored spans, the memory budget,
+// and its hard cases.
+#include "CameraFixtures.h"
+#include "SpanVoxelizer.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+using namespace raymappers;
+using namespace raymappers::test;
+
+namespace
+{
+struct Sphere
+{
+  Vec3d c;
+  double r;
+};
+
+FluidParticles makeParticles(const std::vector<Sphere>& in, const Vec3d& origin = Vec3d())
+{
+  FluidParticles P;
+  buildFluidParticles(
+    in.size(), origin, [&](std::size_t i) { return in[i].c; }, [&](std::size_t i) { return in[i].r; }, P);
+  return P;
+}
+
+ViewRays perspectiveRays(const Vec3d& eye, const Vec3d& at, int w, int h, double n = 0.1,
+  double f = 100, double fovy = 40, const Vec3d& origin = Vec3d())
+{
+  ViewRays rays;
+  EXPECT_TRUE(rays.assign(
+    multiply(perspective(fovy, double(w) / h, n, f), lookAt(eye, at, { 0, 1, 0 })), w, h, origin));
+  return rays;
+}
+
+ViewRays orthographicRays(const Vec3d& eye, const Vec3d& at, int w, int h, double hh)
+{
+  ViewRays rays;
+  EXPECT_TRUE(rays.assign(multiply(orthographic(hh * w / h, hh, 0.5, 20), lookAt(eye, at, { 0, 1, 0 })),
+    w, h, Vec3d()));
+  return rays;
+}
+
+/// The depths [z0, z1] where pixel (i, j)'s centre ray is inside the sphere; false if it misses.
+bool raySphere(const ViewRays& rays, int i, int j, const Sphere& s, double& z0, double& z1)
+{
+  const Vec3d A = rays.start(i + 0.5, j + 0.5) - s.c, B = rays.direction(i + 0.5, j + 0.5);
+  const double a = dot(B, B), b = dot(A, B), disc = b * b - a * (dot(A, A) - s.r * s.r);
+  if (!(disc > 0))
+  {
+    return false;
+  }
+  z0 = (-b - std::sqrt(disc)) / a;
+  z1 = (-b + std::sqrt(disc)) / a;
+  return true;
+}
+
+/// The depth of the layer holding z.
+double layerDepth(const VoxelDepthLayers& L, double z)
+{
+  const double i = std::floor(L.coordinate(z));
+  return L.depth(i + 1) - L.depth(i);
+}
+
+/// The union of a ray's intervals in the spheres clipped to [lo, hi], total length in zeta.
+double analyticThickness(const ViewRays& rays, int i, int j, const std::vector<Sphere>& spheres,
+  double lo, double hi, int* pieces = nullptr)
+{
+  std::vector<std::pair<double, double>> iv;
+  for (const Sphere& s : spheres)
+  {
+    double z0, z1;
+    if (raySphere(rays, i, j, s, z0, z1) && std::max(z0, lo) < std::min(z1, hi))
+    {
+      iv.emplace_back(std::max(z0, lo), std::min(z1, hi));
+    }
+  }
+  std::sort(iv.begin(), iv.end());
+  double total = 0, a = -1e30, b = -1e30;
+  int count = 0;
+  for (const auto& [x, y] : iv)
+  {
+    if (x > b)
+    {
+      total += std::max(0.0, b - a);
+      a = x;
+      b = y;
+      ++count;
+    }
+    else
+    {
+      b = std::max(b, y);
+    }
+  }
+  total += std::max(0.0, b - a);
+  if (pieces)
+  {
+    *pieces = count;
+  }
+  return total;
+}
+
+/// Slabs of overlapping spheres perpendicular to z (the paper's figure 8): `slabs` lattices
+/// of radius-r spheres spaced `spacing` in x and y over [-half, half]^2, `pitch` apart in z.
+std::vector<Sphere> slabLattice(int slabs, double r, double spacing, double half, double pitch)
+{
+  std::vector<Sphere> out;
+  const int m = static_cast<int>(std::floor(2 * half / spacing + 1e-9));
+  for (int k = 0; k < slabs; ++k)
+  {
+    for (int a = 0; a <= m; ++a)
+    {
+      for (int b = 0; b <= m; ++b)
+      {
+        out.push_back({ { -half + a * spacing, -half + b * spacing, -k * pitch }, r });
+      }
+    }
+  }
+  return out;
+}
+
+bool voxelize(const std::vector<Sphere>& spheres, const ViewRays& rays, const VoxelizerParameters& vp,
+  FluidSpans& spans, RenderStatistics& stats)
+{
+  stats.clear();
+  return voxelizeFluid(makeParticles(spheres), rays, vp, spans, stats);
+}
+}
+
+TEST(SPHVoxelizer, OneSphereSpansMatchTheAnalyticIntersectionWithinOneLayer)
+{
+  const Sphere s{ { 0.1, -0.2, 0.3 }, 1.0 };
+  for (const bool persp : { true, false })
+  {
+    const int W = 64, H = 48;
+    const ViewRays rays =
+      persp ? perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, W, H) : orthographicRays({ 0, 0, 5 }, { 0, 0, 0 }, W, H, 1.5);
+    FluidSpans spans;
+    RenderStatistics stats;
+    ASSERT_TRUE(voxelize({ s }, rays, VoxelizerParameters(), spans, stats));
+    EXPECT_GT(stats.counter("layers"), 50);
+    int hits = 0;
+    for (int j = 0; j < H; ++j)
+    {
+      for (int i = 0; i < W; ++i)
+      {
+        const std::size_t p = spans.pixel(i, j);
+        double z0, z1;
+        if (!raySphere(rays, i, j, s, z0, z1))
+        {
+          EXPECT_EQ(spans.count[p], 0) << i << " " << j;
+          continue;
+        }
+        ++hits;
+        ASSERT_EQ(spans.count[p], 1) << i << " " << j;
+        EXPECT_EQ(spans.found[p], 1u);
+        // The covered layers enclose [z0, z1]: entry and exit lie within one layer outside.
+        EXPECT_LE(spans.entry(p, 0), z0 + 1e-5);
+        EXPECT_LE(z0 - spans.entry(p, 0), layerDepth(spans.layers, z0) + 1e-5) << i << " " << j;
+        EXPECT_GE(spans.exit(p, 0), z1 - 1e-5);
+        EXPECT_LE(spans.exit(p, 0) - z1, layerDepth(spans.layers, z1) + 1e-5) << i << " " << j;
+      }
+    }
+    EXPECT_GT(hits, 300) << persp;
+    EXPECT_EQ(stats.counter("spans_found"), hits);
+    EXPECT_FALSE(stats.effect("gap_bridging"));
+    EXPECT_FALSE(stats.effect("shell_splat"));
+  }
+}
+
+TEST(SPHVoxelizer, TwoSpheresCloserThanTheGapThresholdMergeFartherDoNot)
+{
+  const int W = 64, H = 64;
+  const ViewRays rays = perspectiveRays({ 0, 0, 6 }, { 0, 0, 0 }, W, H, 0.1, 100, 30);
+  const double r = 0.5;
+  const auto pair = [&](double gap)
+  { return std::vector<Sphere>{ { { 0, 0, r + gap / 2 }, r }, { { 0, 0, -r - gap / 2 }, r } }; };
+  const std::size_t centre = static_cast<std::size_t>(H / 2) * W + W / 2;
+  VoxelizerParameters vp;
+  vp.gapThreshold = 0.3;
+  FluidSpans spans;
+  RenderStatistics stats;
+  for (const double gap : { 0.2, 0.4 })
+  {
+    ASSERT_TRUE(voxelize(pair(gap), rays, vp, spans, stats));
+    EXPECT_TRUE(stats.effect("gap_bridging"));
+    EXPECT_FALSE(stats.effect("shell_splat")); // g < 2 r
+    const int expected = gap < vp.gapThreshold ? 1 : 2;
+    EXPECT_EQ(spans.count[centre], expected) << gap;
+    EXPECT_EQ(stats.counter("gaps_bridged") > 0, expected == 1) << gap;
+    double z0, z1, w0, w1;
+    ASSERT_TRUE(raySphere(rays, W / 2, H / 2, pair(gap)[0], z0, z1));
+    ASSERT_TRUE(raySphere(rays, W / 2, H / 2, pair(gap)[1], w0, w1));
+    EXPECT_NEAR(spans.entry(centre, 0), z0, layerDepth(spans.layers, z0) + 1e-5);
+    EXPECT_NEAR(spans.exit(centre, expected - 1), w1, layerDepth(spans.layers, w1) + 1e-5);
+  }
+  // Without bridging the 0.2 gap separates them.
+  vp.gapThreshold = 0;
+  ASSERT_TRUE(voxelize(pair(0.2), rays, vp, spans, stats));
+  EXPECT_EQ(spans.count[centre], 2);
+  // g >= 2 r: only the spheres' shells are splatted, and the chords between them are
+  // bridged: every pixel that meets the pair has the one span of their union.
+  vp.gapThreshold = 1.2;
+  ASSERT_TRUE(voxelize(pair(0.2), rays, vp, spans, stats));
+  EXPECT_TRUE(stats.effect("shell_splat"));
+  EXPECT_EQ(stats.counter("set_bit_ops"), 2 * stats.counter("splat_pixels"));
+  int hits = 0;
+  for (int j = 0; j < H; ++j)
+  {
+    for (int i = 0; i < W; ++i)
+    {
+      const std::size_t p = spans.pixel(i, j);
+      double lo = 1e30, hi = -1e30;
+      for (const Sphere& s : pair(0.2))
+      {
+        double z0, z1;
+        if (raySphere(rays, i, j, s, z0, z1))
+        {
+          lo = std::min(lo, z0);
+          hi = std::max(hi, z1);
+        }
+      }
+      if (lo > hi)
+      {
+        EXPECT_EQ(spans.count[p], 0);
+        continue;
+      }
+      ++hits;
+      ASSERT_EQ(spans.count[p], 1) << i << " " << j;
+      EXPECT_NEAR(spans.entry(p, 0), lo, layerDepth(spans.layers, lo) + 1e-5);
+      EXPECT_NEAR(spans.exit(p, 0), hi, layerDepth(spans.layers, hi) + 1e-5);
+    }
+  }
+  EXPECT_GT(hits, 100);
+}
+
+TEST(SPHVoxelizer, TwentyFourLayersKeepTheExactThicknessWithSevenSpans)
+{
+  const int W = 48, H = 48;
+  const ViewRays rays = perspectiveRays({ 0, 0, 4 }, { 0, 0, -3 }, W, H, 0.1, 100, 12);
+  const std::vector<Sphere> slabs = slabLattice(24, 0.05, 0.06, 0.6, 0.3);
+  VoxelizerParameters seven, all;
+  all.maxSpans = 63;
+  FluidSpans s7, sAll;
+  RenderStatistics stats;
+  ASSERT_TRUE(voxelize(slabs, rays, all, sAll, stats));
+  ASSERT_TRUE(voxelize(slabs, rays, seven, s7, stats));
+  EXPECT_GT(stats.counter("spans_hidden"), 0);
+  int deep = 0;
+  for (int j = 0; j < H; ++j)
+  {
+    for (int i = 0; i < W; ++i)
+    {
+      const std::size_t p = s7.pixel(i, j);
+      int pieces = 0;
+      const double exact = analyticThickness(rays, i, j, slabs, 0, 1e30, &pieces);
+      ASSERT_EQ(s7.found[p], static_cast<std::uint32_t>(pieces)) << i << " " << j;
+      ASSERT_EQ(sAll.count[p], pieces);
+      if (pieces < 24)
+      {
+        continue;
+      }
+      ++deep;
+      EXPECT_EQ(s7.count[p], 7);
+      // Seven stored spans keep the thickness of all 24 (float rounding only) ...
+      EXPECT_NEAR(s7.thickness(p), sAll.thickness(p), 1e-5 * sAll.thickness(p));
+      // ... which is the analytic one up to one layer at each end of each span.
+      double slack = 0;
+      for (int k = 0; k < sAll.count[p]; ++k)
+      {
+        slack += layerDepth(sAll.layers, sAll.entry(p, k)) + layerDepth(sAll.layers, sAll.exit(p, k) * 0.99999);
+      }
+      EXPECT_NEAR(s7.thickness(p), exact, slack) << i << " " << j;
+    }
+  }
+  EXPECT_GT(deep, W * H / 4);
+}
+
+TEST(SPHVoxelizer, TilesSplitToRespectTheMemoryBudgetWithTheSameSpans)
+{
+  const int W = 64, H = 48;
+  const ViewRays rays = perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, W, H);
+  const std::vector<Sphere> spheres = { { { 0, 0, 0 }, 1.0 }, { { 0.5, 0.3, -1.5 }, 0.8 } };
+  VoxelizerParameters vp;
+  vp.angleResolutionDeg = 0.05; // asks for more than 16384 layers: capped
+  FluidSpans whole, tiled;
+  RenderStatistics stats;
+  ASSERT_TRUE(voxelize(spheres, rays, vp, whole, stats));
+  EXPECT_EQ(stats.counter("layers"), 16384);
+  EXPECT_EQ(stats.counter("tiles"), 1);
+  const std::int64_t full = stats.counter("peak_temporary_bytes");
+  EXPECT_GE(full, std::int64_t(W) * H * 16384 / 8);
+  vp.memoryBudget = static_cast<std::size_t>(full / 7);
+  ASSERT_TRUE(voxelize(spheres, rays, vp, tiled, stats));
+  EXPECT_GE(stats.counter("tiles"), 7);
+  EXPECT_LE(stats.counter("peak_temporary_bytes"), static_cast<std::int64_t>(vp.memoryBudget));
+  EXPECT_EQ(tiled.count, whole.count);
+  EXPECT_EQ(tiled.depth, whole.depth);
+  // Below one column's bits the voxelization refuses instead of exceeding the budget.
+  vp.memoryBudget = 1000;
+  FluidSpans none;
+  EXPECT_FALSE(voxelize(spheres, rays, vp, none, stats));
+  EXPECT_EQ(stats.counter("budget_exceeded"), 1);
+  EXPECT_LE(stats.counter("peak_temporary_bytes"), 1000);
+}
+
+TEST(SPHVoxelizer, NearPlaneCuttingASphereStartsItsSpansAtTheNearPlane)
+{
+  const int W = 48, H = 48;
+  const double nearZ = 4.6;
+  const ViewRays rays = perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, W, H, nearZ, 100, 40);
+  const Sphere s{ { 0, 0, 0 }, 1.0 };
+  FluidSpans spans;
+  RenderStatistics stats;
+  ASSERT_TRUE(voxelize({ s }, rays, VoxelizerParameters(), spans, stats));
+  EXPECT_NEAR(spans.layers.d0, nearZ, 1e-9);
+  int cut = 0;
+  for (int j = 0; j < H; ++j)
+  {
+    for (int i = 0; i < W; ++i)
+    {
+      const std::size_t p = spans.pixel(i, j);
+      double z0, z1;
+      if (!raySphere(rays, i, j, s, z0, z1) || z1 <= nearZ)
+      {
+        EXPECT_EQ(spans.count[p], 0);
+        continue;
+      }
+      ASSERT_EQ(spans.count[p], 1);
+      if (z0 < nearZ)
+      {
+        ++cut;
+        EXPECT_FLOAT_EQ(spans.entry(p, 0), static_cast<float>(nearZ));
+      }
+      EXPECT_NEAR(spans.exit(p, 0), z1, layerDepth(spans.layers, z1) + 1e-5);
+    }
+  }
+  EXPECT_GT(cut, 100);
+}
+
+TEST(SPHVoxelizer, CameraInsideTheFluidSeesItFromTheNearPlaneOnEveryPixel)
+{
+  const int W = 40, H = 30;
+  const ViewRays rays = perspectiveRays({ 0.2, 0.1, 0.3 }, { 0, 0, -3 }, W, H, 0.05, 50, 60);
+  const std::vector<Sphere> fluid = { { { 0, 0, 0 }, 2.0 }, { { 0, 0, -3.5 }, 0.5 } };
+  FluidSpans spans;
+  RenderStatistics stats;
+  ASSERT_TRUE(voxelize(fluid, rays, VoxelizerParameters(), spans, stats));
+  for (int j = 0; j < H; ++j)
+  {
+    for (int i = 0; i < W; ++i)
+    {
+      const std::size_t p = spans.pixel(i, j);
+      double z0, z1;
+      ASSERT_TRUE(raySphere(rays, i, j, fluid[0], z0, z1));
+      ASSERT_GE(spans.count[p], 1);
+      EXPECT_FLOAT_EQ(spans.entry(p, 0), 0.05f);
+      EXPECT_NEAR(spans.exit(p, 0), z1, layerDepth(spans.layers, z1) + 1e-5);
+      int pieces = 0;
+      const double exact = analyticThickness(rays, i, j, fluid, 0.05, 50, &pieces);
+      EXPECT_EQ(spans.count[p], pieces);
+      EXPECT_TRUE(std::isfinite(spans.thickness(p)));
+      EXPECT_NEAR(spans.thickness(p), exact, 4 * layerDepth(spans.layers, 3.0));
+    }
+  }
+}
+
+TEST(SPHVoxelizer, EmptyInputAndParticlesOutOfViewGiveNoSpans)
+{
+  const ViewRays rays = perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, 32, 32);
+  FluidSpans spans;
+  RenderStatistics stats;
+  ASSERT_TRUE(voxelize({}, rays, VoxelizerParameters(), spans, stats));
+  EXPECT_EQ(spans.count.size(), 32u * 32u);
+  EXPECT_EQ(std::count(spans.count.begin(), spans.count.end(), 0), 32 * 32);
+  // Behind the eye and far off to the side.
+  ASSERT_TRUE(voxelize({ { { 0, 0, 9 }, 1 }, { { 40, 0, 0 }, 1 } }, rays, VoxelizerParameters(), spans, stats));
+  EXPECT_EQ(stats.counter("particles_in_view"), 0);
+  EXPECT_EQ(std::count(spans.count.begin(), spans.count.end(), 0), 32 * 32);
+}
+
+TEST(SPHVoxelizer, NonFinitePositionsAndBadRadiiAreSkippedAndCounted)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<Sphere> clean = { { { 0, 0, 0 }, 1.0 }, { { 0.8, 0.2, -1 }, 0.5 } };
+  std::vector<Sphere> dirty = { { { nan, 0, 0 }, 1.0 }, clean[0], { { 0, inf, 0 }, 1.0 },
+    { { 0, 0, 0 }, -1.0 }, clean[1], { { 0, 0, nan }, 0.5 }, { { 0, 0, 0 }, nan } };
+  const FluidParticles P = makeParticles(dirty);
+  EXPECT_EQ(P.size(), 2u);
+  EXPECT_EQ(P.skippedNonFinite, 3u);
+  EXPECT_EQ(P.skippedBadRadius, 2u);
+  const ViewRays rays = perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, 32, 32);
+  FluidSpans a, b;
+  RenderStatistics stats;
+  ASSERT_TRUE(voxelizeFluid(P, rays, VoxelizerParameters(), a, stats));
+  ASSERT_TRUE(voxelize(clean, rays, VoxelizerParameters(), b, stats));
+  EXPECT_EQ(a.count, b.count);
+  EXPECT_EQ(a.depth, b.depth);
+  EXPECT_GT(std::count_if(a.count.begin(), a.count.end(), [](std::uint8_t c) { return c > 0; }), 50);
+}
