@@ -2,6 +2,7 @@
 // intersections, gap bridging, exact absorption beyond the stored spans, the memory budget,
 // and its hard cases.
 #include "CameraFixtures.h"
+#include "FluidRenderer.h"
 #include "SpanVoxelizer.h"
 #include "SurfaceLinks.h"
 
@@ -554,4 +555,283 @@ TEST(SPHVoxelizer, SobelNormalsAlongTheLinksFollowTheSphereAndSmoothingImprovesT
       EXPECT_LE(spans.entry(p, 0), spans.exit(p, 0));
     }
   }
+}
+
+namespace
+{
+FluidRenderParameters litFluid()
+{
+  FluidRenderParameters fp;
+  fp.material.ambient = 0.1;
+  fp.material.diffuse = 0.7;
+  fp.material.specular = 0.4;
+  fp.material.specularPower = 20;
+  Light light;
+  light.direction = normalize(Vec3d(-0.3, -0.4, -1));
+  fp.lights = { light };
+  return fp;
+}
+
+/// The brightest colour the lights allow: ambient + diffuse + specular at full strength.
+Vec3d lightBound(const FluidRenderParameters& fp)
+{
+  Vec3d b = fp.color * fp.material.ambient;
+  for (const Light& l : fp.lights)
+  {
+    b += l.color * (fp.color * fp.material.diffuse + fp.material.specularColor * fp.material.specular);
+  }
+  return b;
+}
+
+bool frameFinite(const Frame& f)
+{
+  return std::all_of(f.rgba.begin(), f.rgba.end(), [](float v) { return std::isfinite(v); }) &&
+    std::all_of(f.depth.begin(), f.depth.end(), [](float v) { return std::isfinite(v); });
+}
+}
+
+TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSevenSpans)
+{
+  const int W = 48, H = 48;
+  const ViewRays rays = perspectiveRays({ 0, 0, 4 }, { 0, 0, -3 }, W, H, 0.1, 100, 12);
+  const std::vector<Sphere> slabs = slabLattice(24, 0.05, 0.06, 0.6, 0.3);
+  const FluidParticles P = makeParticles(slabs);
+  FluidRenderParameters fp = litFluid();
+  fp.density = 0.4;
+  FluidSpans spans;
+  Frame seven, all;
+  RenderStatistics stats;
+  ASSERT_TRUE(renderFluid(P, rays, fp, spans, seven, stats));
+  EXPECT_GT(stats.counter("spans_hidden"), 0);
+  EXPECT_TRUE(stats.effect("translucency"));
+  EXPECT_FALSE(stats.effect("refraction"));
+  EXPECT_FALSE(stats.effect("ambient_occlusion"));
+  EXPECT_FALSE(stats.effect("smoothing"));
+  EXPECT_EQ(stats.counter("refraction_paths"), 0);
+  EXPECT_EQ(stats.counter("march_columns"), 0);
+  EXPECT_EQ(stats.counter("ao_samples"), 0);
+  EXPECT_EQ(stats.counter("filtered_points"), 0);
+  EXPECT_EQ(stats.phase("refract"), 0.0);
+  EXPECT_EQ(stats.phase("ao"), 0.0);
+  EXPECT_EQ(stats.counter("translucent_pixels"), stats.counter("shaded_pixels"));
+  fp.voxelizer.maxSpans = 63;
+  FluidSpans allSpans;
+  stats.clear();
+  ASSERT_TRUE(renderFluid(P, rays, fp, allSpans, all, stats));
+  EXPECT_EQ(stats.counter("spans_hidden"), 0);
+  const Vec3d kappa = fp.absorptionColor * fp.density;
+  int deep = 0;
+  for (int j = 0; j < H; ++j)
+  {
+    for (int i = 0; i < W; ++i)
+    {
+      const std::size_t p = spans.pixel(i, j);
+      int pieces = 0;
+      const double len = length(rays.direction(i + 0.5, j + 0.5));
+      const double exact = analyticThickness(rays, i, j, slabs, 0, 1e30, &pieces) * len;
+      const double alpha7 = seven.rgba[4 * p + 3], alphaAll = all.rgba[4 * p + 3];
+      const double beer = 1 - (std::exp(-kappa.x * exact) + std::exp(-kappa.y * exact) + std::exp(-kappa.z * exact)) / 3;
+      // Seven stored spans absorb as all of them do ...
+      EXPECT_NEAR(alpha7, alphaAll, 2e-6) << i << " " << j;
+      // ... and as Beer-Lambert over the analytic thickness, up to one layer at each end of
+      // each span (the slope of the absorption is at most kappa_max).
+      double slack = 0;
+      for (int k = 0; k < allSpans.count[p]; ++k)
+      {
+        slack += layerDepth(allSpans.layers, allSpans.entry(p, k)) +
+          layerDepth(allSpans.layers, allSpans.exit(p, k) * 0.99999);
+      }
+      EXPECT_NEAR(alpha7, beer, kappa.x * slack * len + 1e-6) << i << " " << j;
+      if (pieces >= 24)
+      {
+        ++deep;
+        EXPECT_GT(alpha7, 0.25);
+      }
+    }
+  }
+  EXPECT_GT(deep, W * H / 4);
+}
+
+TEST(SPHVoxelizer, OpaqueFrontSurfaceIsLitWithTheSphereNormalAtItsDepth)
+{
+  const Sphere s{ { 0, 0, 0 }, 1.0 };
+  const int W = 64, H = 64;
+  const ViewRays rays = perspectiveRays({ 0, 0, 4 }, { 0, 0, 0 }, W, H, 0.5, 20, 40);
+  FluidRenderParameters fp = litFluid();
+  fp.translucency = false;
+  fp.material.specular = 0; // the diffuse term: its error is the normal's (a few degrees)
+  FluidSpans spans;
+  Frame frame;
+  RenderStatistics stats;
+  ASSERT_TRUE(renderFluid(makeParticles({ s }), rays, fp, spans, frame, stats));
+  double sumError = 0, maxError = 0;
+  EXPECT_FALSE(stats.effect("translucency"));
+  EXPECT_EQ(stats.counter("translucent_pixels"), 0);
+  int tested = 0;
+  for (int j = 1; j + 1 < H; ++j)
+  {
+    for (int i = 1; i + 1 < W; ++i)
+    {
+      const std::size_t p = frame.index(i, j);
+      double z0, z1;
+      if (!raySphere(rays, i, j, s, z0, z1))
+      {
+        EXPECT_EQ(frame.rgba[4 * p + 3], 0.f);
+        EXPECT_EQ(frame.depth[p], 1.f);
+        continue;
+      }
+      EXPECT_EQ(frame.rgba[4 * p + 3], 1.f);
+      const Vec3d x = rays.pointAt(i + 0.5, j + 0.5, z0);
+      const Vec3d n = normalize(x - s.c);
+      const Vec3d d = normalize(rays.direction(i + 0.5, j + 0.5));
+      if (-dot(n, d) < 0.5)
+      {
+        continue; // near the silhouette the normal's error grows
+      }
+      ++tested;
+      const Vec3d ref = shade(fp.lights, fp.material, fp.color, x, n, -d);
+      for (int c = 0; c < 3; ++c)
+      {
+        const double e = std::abs(frame.rgba[4 * p + c] - ref[c]);
+        sumError += e;
+        maxError = std::max(maxError, e);
+      }
+      const std::array<double, 4> c = rays.clip(x);
+      const double windowDepth = 0.5 * (c[2] / c[3] + 1);
+      const std::array<double, 4> c1 = rays.clip(rays.pointAt(i + 0.5, j + 0.5, z0 - layerDepth(spans.layers, z0)));
+      EXPECT_NEAR(frame.depth[p], windowDepth, windowDepth - 0.5 * (c1[2] / c1[3] + 1) + 1e-6);
+    }
+  }
+  EXPECT_GT(tested, 1000);
+  EXPECT_LT(sumError / (3 * tested), 0.01);
+  EXPECT_LT(maxError, 0.05);
+}
+
+TEST(SPHVoxelizer, RefractionAndTotalInternalReflectionNeverCreateEnergy)
+{
+  // A slab of fluid seen at grazing angles, and a sphere: dense and weakly absorbing, so
+  // paths bounce inside many times.
+  std::vector<Sphere> fluid = slabLattice(3, 0.08, 0.07, 1.0, 0.07);
+  fluid.push_back({ { 0.3, 0.6, 0.2 }, 0.4 });
+  const int W = 64, H = 48;
+  const ViewRays rays = perspectiveRays({ 0.2, 0.5, 3.0 }, { 0, 0, -1 }, W, H, 0.1, 50, 50);
+  FluidRenderParameters fp = litFluid();
+  fp.density = 0.05;
+  fp.bounces = 12;
+  fp.smoothingRadius = 0.02;
+  const Vec3d bound = lightBound(fp);
+  const FluidParticles P = makeParticles(fluid);
+  for (const double eta : { 1.33, 2.4 })
+  {
+    fp.refractiveIndex = eta;
+    FluidSpans spans;
+    Frame frame;
+    RenderStatistics stats;
+    ASSERT_TRUE(renderFluid(P, rays, fp, spans, frame, stats));
+    EXPECT_TRUE(stats.effect("refraction"));
+    EXPECT_EQ(stats.counter("refraction_paths"), stats.counter("shaded_pixels"));
+    EXPECT_GT(stats.counter("tir_events"), 0) << eta;
+    EXPECT_GT(stats.counter("march_columns"), stats.counter("shaded_pixels"));
+    EXPECT_GT(stats.phase("refract"), 0.0);
+    EXPECT_EQ(stats.phase("render"), 0.0);
+    ASSERT_TRUE(frameFinite(frame));
+    for (std::size_t p = 0; p < frame.depth.size(); ++p)
+    {
+      const float* c = &frame.rgba[4 * p];
+      EXPECT_LE(c[0], bound.x + 1e-6) << p;
+      EXPECT_LE(c[1], bound.y + 1e-6) << p;
+      EXPECT_LE(c[2], bound.z + 1e-6) << p;
+      EXPECT_GE(std::min({ c[0], c[1], c[2] }), 0.f);
+      EXPECT_GE(c[3], 0.f);
+      EXPECT_LE(c[3], 1.f + 1e-6);
+    }
+  }
+  // An index of 1 marches nothing.
+  fp.refractiveIndex = 1.0;
+  FluidSpans spans;
+  Frame frame;
+  RenderStatistics stats;
+  ASSERT_TRUE(renderFluid(P, rays, fp, spans, frame, stats));
+  EXPECT_FALSE(stats.effect("refraction"));
+  EXPECT_EQ(stats.counter("march_columns"), 0);
+  EXPECT_EQ(stats.counter("surface_events"), 0);
+}
+
+TEST(SPHVoxelizer, AmbientOcclusionDarkensOnlyWhereFluidIsNearAndCostsNothingWhenOff)
+{
+  // Two spheres side by side: the crevice between them is occluded, their front centres not.
+  const std::vector<Sphere> pair = { { { -0.5, 0, 0 }, 0.5 }, { { 0.5, 0, 0 }, 0.5 } };
+  const int W = 96, H = 48;
+  const ViewRays rays = perspectiveRays({ 0, 0, 4 }, { 0, 0, 0 }, W, H, 0.5, 20, 25);
+  FluidRenderParameters fp = litFluid();
+  fp.translucency = false;
+  fp.aoRadius = 0.3;
+  fp.aoSamples = 32;
+  const FluidParticles P = makeParticles(pair);
+  FluidSpans spans;
+  Frame off, on;
+  RenderStatistics stats;
+  ASSERT_TRUE(renderFluid(P, rays, fp, spans, off, stats));
+  EXPECT_FALSE(stats.effect("ambient_occlusion"));
+  EXPECT_EQ(stats.counter("ao_samples"), 0);
+  EXPECT_EQ(stats.phase("ao"), 0.0);
+  fp.ambientOcclusion = true;
+  stats.clear();
+  ASSERT_TRUE(renderFluid(P, rays, fp, spans, on, stats));
+  EXPECT_TRUE(stats.effect("ambient_occlusion"));
+  EXPECT_EQ(stats.counter("ao_samples"), 32 * stats.counter("shaded_pixels"));
+  // The pixel of each sphere's front centre, and one just beside the contact.
+  const auto pixelOf = [&](const Vec3d& x)
+  {
+    const std::array<double, 4> c = rays.clip(x);
+    const int i = static_cast<int>((c[0] / c[3] + 1) * 0.5 * W), j = static_cast<int>((c[1] / c[3] + 1) * 0.5 * H);
+    return static_cast<std::size_t>(j) * W + i;
+  };
+  for (const double cx : { -0.5, 0.5 })
+  {
+    const std::size_t p = pixelOf({ cx, 0, 0.5 });
+    EXPECT_FLOAT_EQ(on.rgba[4 * p], off.rgba[4 * p]);
+  }
+  const std::size_t crevice = pixelOf({ -0.08, 0, 0.3 });
+  ASSERT_EQ(on.rgba[4 * crevice + 3], 1.f);
+  EXPECT_LT(on.rgba[4 * crevice], 0.85 * off.rgba[4 * crevice]);
+  for (std::size_t p = 0; p < on.depth.size(); ++p)
+  {
+    EXPECT_LE(on.rgba[4 * p], off.rgba[4 * p] + 1e-6);
+  }
+}
+
+TEST(SPHVoxelizer, RenderingHardCasesEmptyInsideAndNonFinite)
+{
+  FluidRenderParameters fp = litFluid();
+  fp.refractiveIndex = 1.33;
+  fp.ambientOcclusion = true;
+  FluidSpans spans;
+  Frame frame;
+  RenderStatistics stats;
+  // Empty input: an empty frame at the far plane.
+  const ViewRays rays = perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, 32, 24);
+  ASSERT_TRUE(renderFluid(makeParticles({}), rays, fp, spans, frame, stats));
+  EXPECT_TRUE(std::all_of(frame.rgba.begin(), frame.rgba.end(), [](float v) { return v == 0.f; }));
+  EXPECT_TRUE(std::all_of(frame.depth.begin(), frame.depth.end(), [](float v) { return v == 1.f; }));
+  EXPECT_EQ(stats.counter("shaded_pixels"), 0);
+  // The camera inside the fluid: every pixel sees fluid, nothing is NaN.
+  const ViewRays inside = perspectiveRays({ 0.2, 0.1, 0.3 }, { 0, 0, -3 }, 32, 24, 0.05, 50, 60);
+  stats.clear();
+  ASSERT_TRUE(renderFluid(makeParticles({ { { 0, 0, 0 }, 2.0 }, { { 0, 0, -3.5 }, 0.5 } }), inside, fp, spans, frame, stats));
+  ASSERT_TRUE(frameFinite(frame));
+  EXPECT_EQ(stats.counter("shaded_pixels"), 32 * 24);
+  for (std::size_t p = 0; p < frame.depth.size(); ++p)
+  {
+    EXPECT_GT(frame.rgba[4 * p + 3], 0.f);
+    EXPECT_LT(frame.depth[p], 1.f);
+  }
+  // Non-finite positions: skipped, counted, the rest rendered.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  stats.clear();
+  ASSERT_TRUE(renderFluid(makeParticles({ { { nan, 0, 0 }, 1 }, { { 0, 0, 0 }, 1 }, { { 0, nan, 0 }, 1 } }), rays, fp,
+    spans, frame, stats));
+  EXPECT_EQ(stats.counter("particles_skipped"), 2);
+  EXPECT_GT(stats.counter("shaded_pixels"), 50);
+  EXPECT_TRUE(frameFinite(frame));
 }
