@@ -650,6 +650,32 @@ TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSeve
     }
   }
   EXPECT_GT(deep, W * H / 4);
+
+  // Off the view axis a ray's world length is |B| times its depth range: a sphere in the
+  // corner of a wide view.
+  const Sphere corner{ { 1.4, 1.0, 0 }, 0.9 };
+  const ViewRays wide = perspectiveRays({ 0, 0, 3 }, { 0, 0, 0 }, W, H, 0.1, 100, 90);
+  Frame frame;
+  ASSERT_TRUE(renderFluid(makeParticles({ corner }), wide, fp, allSpans, frame, stats));
+  int tested = 0;
+  for (int j = 0; j < H; ++j)
+  {
+    for (int i = 0; i < W; ++i)
+    {
+      double z0, z1;
+      if (!raySphere(wide, i, j, corner, z0, z1))
+      {
+        continue;
+      }
+      ++tested;
+      const double len = length(wide.direction(i + 0.5, j + 0.5));
+      const double chord = (z1 - z0) * len;
+      const double beer = 1 - (std::exp(-kappa.x * chord) + std::exp(-kappa.y * chord) + std::exp(-kappa.z * chord)) / 3;
+      const double slack = (layerDepth(allSpans.layers, z0) + layerDepth(allSpans.layers, z1)) * len;
+      EXPECT_NEAR(frame.rgba[4 * frame.index(i, j) + 3], beer, kappa.x * slack + 1e-6) << i << " " << j;
+    }
+  }
+  EXPECT_GT(tested, 100);
 }
 
 TEST(SPHVoxelizer, OpaqueFrontSurfaceIsLitWithTheSphereNormalAtItsDepth)
@@ -787,11 +813,26 @@ TEST(SPHVoxelizer, AmbientOcclusionDarkensOnlyWhereFluidIsNearAndCostsNothingWhe
     const int i = static_cast<int>((c[0] / c[3] + 1) * 0.5 * W), j = static_cast<int>((c[1] / c[3] + 1) * 0.5 * H);
     return static_cast<std::size_t>(j) * W + i;
   };
-  for (const double cx : { -0.5, 0.5 })
+  // A convex sphere does not occlude itself: the outer halves, farther than aoRadius from
+  // the other sphere, are unchanged.
+  int outer = 0;
+  for (int j = 0; j < H; ++j)
   {
-    const std::size_t p = pixelOf({ cx, 0, 0.5 });
-    EXPECT_FLOAT_EQ(on.rgba[4 * p], off.rgba[4 * p]);
+    for (int i = 0; i < W; ++i)
+    {
+      double z0, z1;
+      for (const Sphere& s : pair)
+      {
+        if (raySphere(rays, i, j, s, z0, z1) && std::abs(rays.pointAt(i + 0.5, j + 0.5, z0).x) > 0.5)
+        {
+          const std::size_t p = static_cast<std::size_t>(j) * W + i;
+          EXPECT_FLOAT_EQ(on.rgba[4 * p], off.rgba[4 * p]) << i << " " << j;
+          ++outer;
+        }
+      }
+    }
   }
+  EXPECT_GT(outer, 500);
   const std::size_t crevice = pixelOf({ -0.08, 0, 0.3 });
   ASSERT_EQ(on.rgba[4 * crevice + 3], 1.f);
   EXPECT_LT(on.rgba[4 * crevice], 0.85 * off.rgba[4 * crevice]);
