@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 namespace raymappers
@@ -195,9 +196,11 @@ bool voxelizeFluid(const FluidParticles& particles,
   stats.addCounter("tiles", tilesX * tilesY);
   stats.addCounter("tile_width", tw);
   stats.addCounter("tile_height", th);
-  std::vector<std::uint64_t> grid(static_cast<std::size_t>(tw) * th * words);
+  // Uninitialized: each tile clears the part it uses.
+  const std::size_t gridWords = static_cast<std::size_t>(tw) * th * words;
+  const std::unique_ptr<std::uint64_t[]> grid(new std::uint64_t[gridWords]);
   stats.addCounter("peak_temporary_bytes",
-    static_cast<std::int64_t>(grid.capacity() * sizeof(std::uint64_t) + footprintBytes));
+    static_cast<std::int64_t>(gridWords * sizeof(std::uint64_t) + footprintBytes));
 
   const double dFront = layers.depths.front(), dBack = layers.depths.back();
   const float g = static_cast<float>(params.gapThreshold);
@@ -214,7 +217,7 @@ bool voxelizeFluid(const FluidParticles& particles,
         ScopedPhase phase(stats, "splat");
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, used, 1 << 16),
           [&](const tbb::blocked_range<std::size_t>& r)
-          { std::fill(grid.begin() + r.begin(), grid.begin() + r.end(), std::uint64_t(0)); });
+          { std::fill(grid.get() + r.begin(), grid.get() + r.end(), std::uint64_t(0)); });
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
           [&](const tbb::blocked_range<std::size_t>& r)
           {
@@ -249,10 +252,9 @@ bool voxelizeFluid(const FluidParticles& particles,
                   {
                     continue;
                   }
-                  const int l0 = std::clamp(static_cast<int>(std::floor(layers.coordinate(z0))), 0, L - 1);
-                  const int l1 = std::clamp(static_cast<int>(std::floor(layers.coordinate(z1))), 0, L - 1);
+                  const int l0 = layers.layerOf(z0), l1 = layers.layerOf(z1);
                   std::uint64_t* column =
-                    grid.data() + (static_cast<std::size_t>(j - y0) * cw + (px - x0)) * words;
+                    grid.get() + (static_cast<std::size_t>(j - y0) * cw + (px - x0)) * words;
                   ++t.splatPixels;
                   if (shell)
                   {
@@ -279,7 +281,7 @@ bool voxelizeFluid(const FluidParticles& particles,
             for (int px = x0; px < x1; ++px)
             {
               const std::uint64_t* column =
-                grid.data() + (static_cast<std::size_t>(j - y0) * cw + (px - x0)) * words;
+                grid.get() + (static_cast<std::size_t>(j - y0) * cw + (px - x0)) * words;
               const std::size_t p = out.pixel(px, j);
               const float rayLength = static_cast<float>(length(rays.direction(px + 0.5, j + 0.5)));
               float* d = out.depth.data() + out.slot(p, 0);

@@ -145,6 +145,7 @@ void smoothSurfaces(FluidSpans& spans,
 {
   stats.declareCounter("filter_iterations");
   stats.declareCounter("filtered_points");
+  stats.declareCounter("filter_bytes");
   const bool on = radius > 0 && maxIterations > 0;
   stats.setEffect("smoothing", on);
   if (!on || spans.depth.empty())
@@ -155,90 +156,114 @@ void smoothSurfaces(FluidSpans& spans,
   const int W = spans.width, H = spans.height;
   const bool perspective = rays.isPerspective();
   const double sigma = rays.pixelSize();
-  // Values filtered: 1 / zeta (perspective) or zeta.
-  std::vector<float> cur(spans.depth.size()), next;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cur.size(), 1 << 16),
-    [&](const tbb::blocked_range<std::size_t>& r)
-    {
-      for (std::size_t s = r.begin(); s != r.end(); ++s)
-      {
-        cur[s] = perspective ? (spans.depth[s] > 0 ? 1.f / spans.depth[s] : 0.f) : spans.depth[s];
-      }
-    });
-  next = cur;
+
+  // The surface points (stored depth values) numbered pixel by pixel: point pointStart[p] + s
+  // is slot s of pixel p. Each gets its 3 x 3 neighbourhood along the links once (-1 where
+  // missing), its iteration count, and whether its column has a value before and after it.
+  const std::size_t n = static_cast<std::size_t>(W) * H;
+  std::vector<std::uint32_t> pointStart(n + 1, 0);
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    pointStart[p + 1] = pointStart[p] + 2u * spans.count[p];
+  }
+  const std::size_t points = pointStart[n];
+  std::vector<std::int32_t> neighbours(8 * points);
+  std::vector<std::uint8_t> iterationsOf(points), hasPrev(points), hasNext(points);
+  std::vector<float> cur(points), next(points);
+  stats.addCounter("filter_bytes",
+    static_cast<std::int64_t>(pointStart.size() * 4 + neighbours.size() * 4 + 3 * points + 8 * points));
   const auto iterationsAt = [&](float zeta)
   {
     const double width = perspective ? sigma * zeta : sigma;
-    return static_cast<int>(std::min<double>(maxIterations, std::ceil(radius / width)));
+    return static_cast<int>(std::min<double>(std::min(maxIterations, 255), std::ceil(radius / width)));
   };
-  int iterations = 0;
-  for (const float z : spans.depth)
-  {
-    iterations = std::max(iterations, z > 0 || !perspective ? iterationsAt(z) : 0);
-  }
-  static constexpr float Weight[3] = { 1.f, 2.f, 1.f };
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 1),
+    [&](const tbb::blocked_range<int>& r)
+    {
+      for (int j = r.begin(); j != r.end(); ++j)
+      {
+        for (int i = 0; i < W; ++i)
+        {
+          const std::size_t p = spans.pixel(i, j);
+          const int slots = 2 * spans.count[p];
+          for (int s = 0; s < slots; ++s)
+          {
+            const std::size_t k = pointStart[p] + s;
+            const float z = spans.depth[spans.slot(p, s)];
+            // Values filtered: 1 / zeta (perspective) or zeta.
+            cur[k] = perspective ? 1.f / z : z;
+            iterationsOf[k] = static_cast<std::uint8_t>(iterationsAt(z));
+            hasPrev[k] = s > 0;
+            hasNext[k] = s + 1 < slots;
+            const Point c{ static_cast<std::ptrdiff_t>(p), s, i, j };
+            std::int32_t* nb = &neighbours[8 * k];
+            for (int b = -1; b <= 1; ++b)
+            {
+              for (int a = -1; a <= 1; ++a)
+              {
+                if (a != 0 || b != 0)
+                {
+                  const Point q = reach(spans, c, a, b);
+                  *nb++ = q.pixel >= 0 ? static_cast<std::int32_t>(pointStart[q.pixel] + q.slot) : -1;
+                }
+              }
+            }
+          }
+        }
+      }
+    });
+  const int iterations =
+    points ? *std::max_element(iterationsOf.begin(), iterationsOf.end()) : 0;
+  // (1 2 1)^T (1 2 1) without the centre, in the neighbours' order (b, then a).
+  static constexpr float Weight[8] = { 1, 2, 1, 2, 2, 1, 2, 1 };
   tbb::combinable<std::int64_t> filtered;
   for (int it = 0; it < iterations; ++it)
   {
-    tbb::parallel_for(tbb::blocked_range<int>(0, H, 1),
-      [&](const tbb::blocked_range<int>& r)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points, 4096),
+      [&](const tbb::blocked_range<std::size_t>& r)
       {
         std::int64_t& done = filtered.local();
-        for (int j = r.begin(); j != r.end(); ++j)
+        for (std::size_t k = r.begin(); k != r.end(); ++k)
         {
-          for (int i = 0; i < W; ++i)
+          if (iterationsOf[k] <= it)
           {
-            const std::size_t p = spans.pixel(i, j);
-            const int slots = 2 * spans.count[p];
-            for (int s = 0; s < slots; ++s)
+            next[k] = cur[k];
+            continue;
+          }
+          float sum = 4.f * cur[k], wsum = 4.f;
+          const std::int32_t* nb = &neighbours[8 * k];
+          for (int m = 0; m < 8; ++m)
+          {
+            if (nb[m] >= 0)
             {
-              const std::size_t at = spans.slot(p, s);
-              if (iterationsAt(spans.depth[at]) <= it)
-              {
-                next[at] = cur[at];
-                continue;
-              }
-              const Point c{ static_cast<std::ptrdiff_t>(p), s, i, j };
-              float sum = 0.f, wsum = 0.f;
-              for (int b = -1; b <= 1; ++b)
-              {
-                for (int a = -1; a <= 1; ++a)
-                {
-                  const Point q = reach(spans, c, a, b);
-                  if (q.pixel >= 0)
-                  {
-                    const float w = Weight[a + 1] * Weight[b + 1];
-                    sum += w * cur[spans.slot(q.pixel, q.slot)];
-                    wsum += w;
-                  }
-                }
-              }
-              // Stay between the column's neighbouring depth values (1/zeta falls with depth).
-              float v = sum / wsum;
-              if (s > 0)
-              {
-                v = perspective ? std::min(v, cur[at - 1]) : std::max(v, cur[at - 1]);
-              }
-              if (s + 1 < slots)
-              {
-                v = perspective ? std::max(v, cur[at + 1]) : std::min(v, cur[at + 1]);
-              }
-              next[at] = v;
-              ++done;
+              sum += Weight[m] * cur[nb[m]];
+              wsum += Weight[m];
             }
           }
+          // Stay between the column's neighbouring depth values (1/zeta falls with depth).
+          float v = sum / wsum;
+          if (hasPrev[k])
+          {
+            v = perspective ? std::min(v, cur[k - 1]) : std::max(v, cur[k - 1]);
+          }
+          if (hasNext[k])
+          {
+            v = perspective ? std::max(v, cur[k + 1]) : std::min(v, cur[k + 1]);
+          }
+          next[k] = v;
+          ++done;
         }
       });
     std::swap(cur, next);
   }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cur.size(), 1 << 16),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
     [&](const tbb::blocked_range<std::size_t>& r)
     {
-      for (std::size_t s = r.begin(); s != r.end(); ++s)
+      for (std::size_t p = r.begin(); p != r.end(); ++p)
       {
-        if (spans.depth[s] != 0.f || !perspective)
+        for (std::uint32_t k = pointStart[p]; k < pointStart[p + 1]; ++k)
         {
-          spans.depth[s] = perspective ? 1.f / cur[s] : cur[s];
+          spans.depth[spans.slot(p, static_cast<int>(k - pointStart[p]))] = perspective ? 1.f / cur[k] : cur[k];
         }
       }
     });

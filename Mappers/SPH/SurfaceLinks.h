@@ -45,7 +45,8 @@ void connectSurfaces(FluidSpans& spans, RenderStatistics& stats);
 
 /// Smooths the linked depths with world radius `radius` (no pass, and effect smoothing
 /// off, when radius <= 0 or maxIterations <= 0). Needs links. Phase: filter. Counters:
-/// filter_iterations, filtered_points.
+/// filter_iterations, filtered_points, filter_bytes (its temporary memory: per surface point
+/// the value twice and its eight neighbours along the links, found once).
 void smoothSurfaces(FluidSpans& spans,
   const ViewRays& rays,
   double radius,

@@ -58,6 +58,23 @@ struct VoxelDepthLayers
   {
     return logarithmic ? (z > 0 ? std::log(z / d0) / step : -1e30) : (z - d0) / step;
   }
+  /// The layer holding z (clamped to [0, L - 1]): a float logarithm's guess, corrected
+  /// against the depth table so the answer is exact for the table.
+  int layerOf(double z) const
+  {
+    const float u = logarithmic ? (z > 0 ? std::log(static_cast<float>(z / d0)) / static_cast<float>(step) : -1.f)
+                                : static_cast<float>((z - d0) / step);
+    int l = std::clamp(static_cast<int>(std::floor(u)), 0, count - 1);
+    while (l > 0 && depths[l] > z)
+    {
+      --l;
+    }
+    while (l + 1 < count && depths[l + 1] <= z)
+    {
+      ++l;
+    }
+    return l;
+  }
   /// The angle resolution reached (degrees) for pixel size sigma.
   double angleDeg(double sigma) const
   {
