@@ -247,6 +247,15 @@ bool voxelizeFluid(const FluidParticles& particles,
               }
               const Vec3d c(particles.centers[i]);
               const double r2 = double(particles.radius[i]) * particles.radius[i];
+              // Layers of the depths in the sphere from the layer coordinate at its centre,
+              // linearized: no logarithm per pixel. The linearization is off by at most
+              // r^2 max|u''| / 2 = r^2 / (2 z_min^2 step) layers (logarithmic layers; uniform
+              // ones are linear), which layerOf corrects against the depth table in as many
+              // steps; spheres large against their depth take the exact coordinate instead.
+              const double zc = std::clamp(rays.zetaOf(c), dFront, dBack);
+              const double zmin = std::max(zc - particles.radius[i], dFront);
+              const bool linear = !layers.logarithmic || r2 < 4.0 * zmin * zmin * layers.step;
+              const double uc = layers.coordinate(zc), slope = layers.coordinateSlope(zc);
               for (int j = j0; j <= j1; ++j)
               {
                 for (int px = i0; px <= i1; ++px)
@@ -266,7 +275,8 @@ bool voxelizeFluid(const FluidParticles& particles,
                   {
                     continue;
                   }
-                  const int l0 = layers.layerOf(z0), l1 = layers.layerOf(z1);
+                  const int l0 = layers.layerOf(z0, linear ? uc + (z0 - zc) * slope : layers.coordinate(z0));
+                  const int l1 = layers.layerOf(z1, linear ? uc + (z1 - zc) * slope : layers.coordinate(z1));
                   std::uint64_t* column =
                     columnOf(grid.get(), static_cast<std::size_t>(j - y0) * cw + (px - x0), words);
                   ++t.splatPixels;

@@ -58,13 +58,12 @@ struct VoxelDepthLayers
   {
     return logarithmic ? (z > 0 ? std::log(z / d0) / step : -1e30) : (z - d0) / step;
   }
-  /// The layer holding z (clamped to [0, L - 1]): a float logarithm's guess, corrected
-  /// against the depth table so the answer is exact for the table.
-  int layerOf(double z) const
+  /// The layer holding z (clamped to [0, L - 1]) from the layer coordinate `u` of a depth
+  /// near z (e.g. coordinate(zc) + (z - zc) coordinateSlope(zc) near zc), corrected against
+  /// the depth table so the answer is exact for the table.
+  int layerOf(double z, double u) const
   {
-    const float u = logarithmic ? (z > 0 ? std::log(static_cast<float>(z / d0)) / static_cast<float>(step) : -1.f)
-                                : static_cast<float>((z - d0) / step);
-    int l = std::clamp(static_cast<int>(std::floor(u)), 0, count - 1);
+    int l = static_cast<int>(std::clamp(std::floor(u), 0.0, count - 1.0));
     while (l > 0 && depths[l] > z)
     {
       --l;
@@ -75,6 +74,8 @@ struct VoxelDepthLayers
     }
     return l;
   }
+  /// d coordinate / d z at z.
+  double coordinateSlope(double z) const { return logarithmic ? 1.0 / (z * step) : 1.0 / step; }
   /// The angle resolution reached (degrees) for pixel size sigma.
   double angleDeg(double sigma) const
   {
