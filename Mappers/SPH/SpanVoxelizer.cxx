@@ -16,8 +16,7 @@ namespace raymappers
 {
 namespace
 {
-/// The pixels whose centres lie in a particle's projected extent ([x0, x1] x [y0, y1],
-/// empty when x0 > x1) and its depth span clipped to the view.
+/// The pixels [x0, x1] x [y0, y1] whose rays can meet a particle (empty when x0 > x1).
 struct Footprint
 {
   int x0, x1, y0, y1;
@@ -116,7 +115,6 @@ bool voxelizeFluid(const FluidParticles& particles,
   }
 
   // Footprints and the depth range of the particles in view.
-  const double zNear = rays.nearZeta(), zFar = rays.farZeta();
   std::vector<Footprint> footprints(n);
   const DepthRange range = tbb::parallel_reduce(
     tbb::blocked_range<std::size_t>(0, n, 4096),
@@ -125,35 +123,15 @@ bool voxelizeFluid(const FluidParticles& particles,
     {
       for (std::size_t i = r.begin(); i != r.end(); ++i)
       {
-        Footprint& fp = footprints[i];
-        fp = { 1, 0, 1, 0 };
-        const Vec3d c(particles.centers[i]);
-        const double rad = particles.radius[i];
-        const double zc = rays.zetaOf(c);
-        const double zlo = std::max(zc - rad, zNear), zhi = std::min(zc + rad, zFar);
-        if (!(zlo < zhi))
+        const SphereFootprint f = rays.footprint(Vec3d(particles.centers[i]), particles.radius[i]);
+        if (!f.inView)
         {
+          footprints[i] = { 1, 0, 1, 0 };
           continue;
         }
-        // A sphere reaching behind the eye plane has an unbounded projection: all pixels.
-        double x0 = -1e30, x1 = 1e30, y0 = -1e30, y1 = 1e30;
-        if (rays.projectedExtent(c, rad, 0, x0, x1))
-        {
-          rays.projectedExtent(c, rad, 1, y0, y1);
-        }
-        x0 = std::max(x0, 0.0);
-        x1 = std::min(x1, double(W));
-        y0 = std::max(y0, 0.0);
-        y1 = std::min(y1, double(H));
-        fp = { static_cast<int>(std::ceil(x0 - 0.5)), static_cast<int>(std::floor(x1 - 0.5)),
-          static_cast<int>(std::ceil(y0 - 0.5)), static_cast<int>(std::floor(y1 - 0.5)) };
-        if (fp.x0 > fp.x1 || fp.y0 > fp.y1)
-        {
-          fp = { 1, 0, 1, 0 };
-          continue;
-        }
-        d.lo = std::min(d.lo, zlo);
-        d.hi = std::max(d.hi, zhi);
+        footprints[i] = { f.i0, f.i1, f.j0, f.j1 };
+        d.lo = std::min(d.lo, f.zlo);
+        d.hi = std::max(d.hi, f.zhi);
         ++d.inView;
       }
       return d;

@@ -1,5 +1,6 @@
 #include "ViewRays.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace raymappers
@@ -130,6 +131,33 @@ bool ViewRays::projectedExtent(const Vec3d& c, double H, int axis, double& lo, d
   lo = 0.5 * (s0 + 1.0) * size;
   hi = 0.5 * (s1 + 1.0) * size;
   return true;
+}
+
+SphereFootprint ViewRays::footprint(const Vec3d& c, double H) const
+{
+  SphereFootprint f;
+  f.zc = zetaOf(c);
+  f.zlo = std::max(f.zc - H, Near);
+  f.zhi = std::min(f.zc + H, Far);
+  if (!(f.zlo < f.zhi))
+  {
+    return f;
+  }
+  double x0 = -1e30, x1 = 1e30, y0 = -1e30, y1 = 1e30;
+  if (projectedExtent(c, H, 0, x0, x1))
+  {
+    projectedExtent(c, H, 1, y0, y1);
+  }
+  f.x0 = std::max(x0, 0.0);
+  f.x1 = std::min(x1, double(Width));
+  f.y0 = std::max(y0, 0.0);
+  f.y1 = std::min(y1, double(Height));
+  f.i0 = static_cast<int>(std::ceil(f.x0 - 0.5));
+  f.i1 = static_cast<int>(std::floor(f.x1 - 0.5));
+  f.j0 = static_cast<int>(std::ceil(f.y0 - 0.5));
+  f.j1 = static_cast<int>(std::floor(f.y1 - 0.5));
+  f.inView = f.i0 <= f.i1 && f.j0 <= f.j1;
+  return f;
 }
 
 double ViewRays::zetaOfWindowDepth(double px, double py, double d) const
