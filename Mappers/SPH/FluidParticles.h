@@ -29,8 +29,11 @@ struct FluidParticles
 /// Builds `out` from n input points in parallel: point(i) -> Vec3d, radius(i) -> double;
 /// both are called from several threads.
 template<typename PointFn, typename RadiusFn>
-void buildFluidParticles(
-  std::size_t n, const Vec3d& origin, PointFn point, RadiusFn radius, FluidParticles& out)
+void buildFluidParticles(std::size_t n,
+  const Vec3d& origin,
+  PointFn point,
+  RadiusFn radius,
+  FluidParticles& out)
 {
   out.origin = origin;
   out.centers.resize(n);

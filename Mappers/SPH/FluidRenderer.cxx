@@ -33,7 +33,8 @@ Vec3d applyMatrix(const double* m, int stride, const Vec3d& v, bool affine)
 
 struct Tally
 {
-  std::int64_t shaded = 0, translucent = 0, paths = 0, events = 0, tir = 0, columns = 0, aoSamples = 0;
+  std::int64_t shaded = 0, translucent = 0, paths = 0, events = 0, tir = 0, columns = 0,
+               aoSamples = 0;
 };
 
 /// Whether depth z lies in one of pixel p's stored spans.
@@ -83,8 +84,14 @@ struct MarchHit
 /// of inside/outside at the column's side is a hit there; else the first stored depth in
 /// (za, zb] along the ray is. Without a hit before the grid's depth range or the screen
 /// ends, the ray escapes at the t where it leaves.
-MarchHit march(const FluidSpans& spans, const ViewRays& rays, const Vec3d& o, const Vec3d& d,
-  bool inside, int i, int j, std::int64_t& columns)
+MarchHit march(const FluidSpans& spans,
+  const ViewRays& rays,
+  const Vec3d& o,
+  const Vec3d& d,
+  bool inside,
+  int i,
+  int j,
+  std::int64_t& columns)
 {
   const std::array<double, 4> c0 = rays.clip(o), c1 = rays.clip(o + d);
   std::array<double, 4> cd;
@@ -174,9 +181,53 @@ MarchHit march(const FluidSpans& spans, const ViewRays& rays, const Vec3d& o, co
   return result;
 }
 
+/// The front surface seen through a pixel: its depth, the pixel's ray direction B (|B| per
+/// unit of depth), the point and its outward normal (model coordinates).
+struct FrontSurface
+{
+  double z;
+  Vec3d B, P, N;
+};
+
+/// Calls fn(i, j, p, front, tally) for every pixel with fluid, rows in parallel.
+template<typename Fn>
+void forEachFrontSurface(const FluidSpans& spans,
+  const ViewRays& rays,
+  tbb::combinable<Tally>& tallies,
+  Fn fn)
+{
+  tbb::parallel_for(tbb::blocked_range<int>(0, spans.height, 1),
+    [&](const tbb::blocked_range<int>& r)
+    {
+      Tally& t = tallies.local();
+      for (int j = r.begin(); j != r.end(); ++j)
+      {
+        for (int i = 0; i < spans.width; ++i)
+        {
+          const std::size_t p = spans.pixel(i, j);
+          if (spans.count[p] == 0)
+          {
+            continue;
+          }
+          const double z = spans.entry(p, 0);
+          const FrontSurface front{ z,
+            rays.direction(i + 0.5, j + 0.5),
+            rays.pointAt(i + 0.5, j + 0.5, z),
+            Vec3d(decodeNormal(spans.normals[spans.slot(p, 0)])) };
+          fn(i, j, p, front, t);
+        }
+      }
+    });
+}
+
 /// Ambient occlusion of pixel p's front surface (the file comment's K spiral samples).
-double ambientOcclusion(const FluidSpans& spans, const ViewRays& rays, const Vec3d& P, const Vec3d& n,
-  double radius, int samples, double offset)
+double ambientOcclusion(const FluidSpans& spans,
+  const ViewRays& rays,
+  const Vec3d& P,
+  const Vec3d& n,
+  double radius,
+  int samples,
+  double offset)
 {
   const Vec3d helper = std::abs(n.x) < 0.9 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
   const Vec3d tu = normalize(cross(n, helper)), tv = cross(n, tu);
@@ -201,7 +252,8 @@ double ambientOcclusion(const FluidSpans& spans, const ViewRays& rays, const Vec
     {
       continue;
     }
-    occluded += insideAt(spans, spans.pixel(static_cast<int>(px), static_cast<int>(py)), rays.zetaOf(q));
+    occluded +=
+      insideAt(spans, spans.pixel(static_cast<int>(px), static_cast<int>(py)), rays.zetaOf(q));
   }
   return 1.0 - static_cast<double>(occluded) / samples;
 }
@@ -214,13 +266,19 @@ void renderFluidSpans(const FluidSpans& spans,
   Frame& frame,
   RenderStatistics& stats)
 {
-  const bool refraction = params.translucency && params.refractiveIndex != 1.0 && params.bounces > 0;
+  const bool refraction =
+    params.translucency && params.refractiveIndex != 1.0 && params.bounces > 0;
   const bool ao = params.ambientOcclusion && params.aoSamples > 0 && params.aoRadius > 0;
   stats.setEffect("translucency", params.translucency);
   stats.setEffect("refraction", refraction);
   stats.setEffect("ambient_occlusion", ao);
-  for (const char* name : { "shaded_pixels", "translucent_pixels", "refraction_paths", "surface_events",
-         "tir_events", "march_columns", "ao_samples" })
+  for (const char* name : { "shaded_pixels",
+         "translucent_pixels",
+         "refraction_paths",
+         "surface_events",
+         "tir_events",
+         "march_columns",
+         "ao_samples" })
   {
     stats.declareCounter(name);
   }
@@ -239,31 +297,18 @@ void renderFluidSpans(const FluidSpans& spans,
   {
     ScopedPhase phase(stats, "ao");
     occlusion.assign(n, 1.f);
-    tbb::parallel_for(tbb::blocked_range<int>(0, H, 1),
-      [&](const tbb::blocked_range<int>& r)
+    forEachFrontSurface(spans,
+      rays,
+      tallies,
+      [&](int, int, std::size_t p, const FrontSurface& f, Tally& t)
       {
-        Tally& t = tallies.local();
-        for (int j = r.begin(); j != r.end(); ++j)
-        {
-          for (int i = 0; i < W; ++i)
-          {
-            const std::size_t p = spans.pixel(i, j);
-            if (spans.count[p] == 0)
-            {
-              continue;
-            }
-            const double z = spans.entry(p, 0);
-            const Vec3d P = rays.pointAt(i + 0.5, j + 0.5, z);
-            const Vec3d N(decodeNormal(spans.normals[spans.slot(p, 0)]));
-            // Off the surface by two layers, past the voxelization's conservative bulge.
-            const double layer = std::floor(spans.layers.coordinate(z));
-            const double offset = 2.0 * (spans.layers.depth(layer + 1) - spans.layers.depth(layer)) *
-              length(rays.direction(i + 0.5, j + 0.5));
-            occlusion[p] = static_cast<float>(
-              ambientOcclusion(spans, rays, P, N, params.aoRadius, params.aoSamples, offset));
-            t.aoSamples += params.aoSamples;
-          }
-        }
+        // Off the surface by two layers, past the voxelization's conservative bulge.
+        const double layer = std::floor(spans.layers.coordinate(f.z));
+        const double offset =
+          2.0 * (spans.layers.depth(layer + 1) - spans.layers.depth(layer)) * length(f.B);
+        occlusion[p] = static_cast<float>(
+          ambientOcclusion(spans, rays, f.P, f.N, params.aoRadius, params.aoSamples, offset));
+        t.aoSamples += params.aoSamples;
       });
   }
 
@@ -271,7 +316,8 @@ void renderFluidSpans(const FluidSpans& spans,
   const Vec3d kappa = params.absorptionColor * params.density;
   const double eta = params.refractiveIndex;
   const int bounces = std::max(0, params.bounces);
-  const auto toWorld = [&](const Vec3d& pModel) { return applyMatrix(params.modelToWorld, 4, pModel + origin, true); };
+  const auto toWorld = [&](const Vec3d& pModel)
+  { return applyMatrix(params.modelToWorld, 4, pModel + origin, true); };
   const auto litColour = [&](const Vec3d& pModel, const Vec3d& nModel, const Vec3d& dModel)
   {
     const Vec3d nWorld = normalize(applyMatrix(params.normalToWorld, 3, nModel, false));
@@ -280,101 +326,93 @@ void renderFluidSpans(const FluidSpans& spans,
   };
   const auto attenuation = [&](double s)
   { return Vec3d(std::exp(-kappa.x * s), std::exp(-kappa.y * s), std::exp(-kappa.z * s)); };
-  tbb::parallel_for(tbb::blocked_range<int>(0, H, 1),
-    [&](const tbb::blocked_range<int>& r)
+  forEachFrontSurface(spans,
+    rays,
+    tallies,
+    [&](int i, int j, std::size_t p, const FrontSurface& f, Tally& t)
     {
-      Tally& t = tallies.local();
-      for (int j = r.begin(); j != r.end(); ++j)
+      const Vec3d& B = f.B;
+      const Vec3d& P = f.P;
+      const Vec3d& N = f.N;
+      const Vec3d d = normalize(B);
+      const Vec3d L = litColour(P, N, d) * (ao ? double(occlusion[p]) : 1.0);
+      ++t.shaded;
+      Vec3d rgb = L, through(0, 0, 0);
+      if (params.translucency && !refraction)
       {
-        for (int i = 0; i < W; ++i)
+        through = attenuation(spans.thickness(p) * length(B));
+        rgb = L * (Vec3d(1, 1, 1) - through);
+        ++t.translucent;
+      }
+      else if (refraction)
+      {
+        ++t.paths;
+        rgb = Vec3d();
+        Vec3d w(1, 1, 1), o = P, dir = d, normal = N;
+        bool inside = false;
+        int ci = i, cj = j;
+        for (int event = 0;; ++event)
         {
-          const std::size_t p = spans.pixel(i, j);
-          if (spans.count[p] == 0)
+          // A surface event at o with outward normal `normal`.
+          ++t.events;
+          const Vec3d facing = dot(normal, dir) < 0 ? normal : -normal;
+          const double cosI = std::clamp(-dot(facing, dir), 0.0, 1.0);
+          double cosT = 0;
+          const double R = inside ? fresnel(cosI, eta, 1.0, cosT) : fresnel(cosI, 1.0, eta, cosT);
+          if (R >= 1.0)
           {
-            continue;
+            dir = normalize(dir + facing * (2.0 * cosI));
+            ++t.tir;
           }
-          const double z = spans.entry(p, 0);
-          const Vec3d B = rays.direction(i + 0.5, j + 0.5);
-          const Vec3d d = normalize(B);
-          const Vec3d P = rays.pointAt(i + 0.5, j + 0.5, z);
-          const Vec3d N(decodeNormal(spans.normals[spans.slot(p, 0)]));
-          const Vec3d L = litColour(P, N, d) * (ao ? double(occlusion[p]) : 1.0);
-          ++t.shaded;
-          Vec3d rgb = L, through(0, 0, 0);
-          if (params.translucency && !refraction)
+          else
           {
-            through = attenuation(spans.thickness(p) * length(B));
-            rgb = L * (Vec3d(1, 1, 1) - through);
-            ++t.translucent;
+            rgb += w * L * R;
+            w = w * (1.0 - R);
+            const double ratio = inside ? eta : 1.0 / eta;
+            dir = normalize(dir * ratio + facing * (ratio * cosI - cosT));
+            inside = !inside;
           }
-          else if (refraction)
+          if (event + 1 >= bounces)
           {
-            ++t.paths;
-            rgb = Vec3d();
-            Vec3d w(1, 1, 1), o = P, dir = d, normal = N;
-            bool inside = false;
-            int ci = i, cj = j;
-            for (int event = 0;; ++event)
-            {
-              // A surface event at o with outward normal `normal`.
-              ++t.events;
-              const Vec3d facing = dot(normal, dir) < 0 ? normal : -normal;
-              const double cosI = std::clamp(-dot(facing, dir), 0.0, 1.0);
-              double cosT = 0;
-              const double R = inside ? fresnel(cosI, eta, 1.0, cosT) : fresnel(cosI, 1.0, eta, cosT);
-              if (R >= 1.0)
-              {
-                dir = normalize(dir + facing * (2.0 * cosI));
-                ++t.tir;
-              }
-              else
-              {
-                rgb += w * L * R;
-                w = w * (1.0 - R);
-                const double ratio = inside ? eta : 1.0 / eta;
-                dir = normalize(dir * ratio + facing * (ratio * cosI - cosT));
-                inside = !inside;
-              }
-              if (event + 1 >= bounces)
-              {
-                break;
-              }
-              const MarchHit hit = march(spans, rays, o, dir, inside, ci, cj, t.columns);
-              const double s = std::max(0.0, hit.t);
-              if (inside)
-              {
-                const Vec3d a = attenuation(s);
-                rgb += w * L * (Vec3d(1, 1, 1) - a);
-                w = w * a;
-              }
-              if (!hit.hit)
-              {
-                inside = false; // left the grid: on to the background
-                break;
-              }
-              o = o + dir * s;
-              ci = static_cast<int>(hit.pixel % W);
-              cj = static_cast<int>(hit.pixel / W);
-              normal = hit.slot >= 0 ? Vec3d(decodeNormal(spans.normals[spans.slot(hit.pixel, hit.slot)])) : -dir;
-            }
-            if (inside)
-            {
-              rgb += w * L; // out of bounces inside the fluid: absorbed
-            }
-            else
-            {
-              through = w;
-            }
+            break;
           }
-          float* out = &frame.rgba[4 * frame.index(i, j)];
-          out[0] = static_cast<float>(rgb.x);
-          out[1] = static_cast<float>(rgb.y);
-          out[2] = static_cast<float>(rgb.z);
-          out[3] = static_cast<float>(1.0 - (through.x + through.y + through.z) / 3.0);
-          const std::array<double, 4> c = rays.clip(P);
-          frame.depth[frame.index(i, j)] = static_cast<float>(std::clamp(0.5 * (c[2] / c[3] + 1.0), 0.0, 1.0));
+          const MarchHit hit = march(spans, rays, o, dir, inside, ci, cj, t.columns);
+          const double s = std::max(0.0, hit.t);
+          if (inside)
+          {
+            const Vec3d a = attenuation(s);
+            rgb += w * L * (Vec3d(1, 1, 1) - a);
+            w = w * a;
+          }
+          if (!hit.hit)
+          {
+            inside = false; // left the grid: on to the background
+            break;
+          }
+          o = o + dir * s;
+          ci = static_cast<int>(hit.pixel % W);
+          cj = static_cast<int>(hit.pixel / W);
+          normal = hit.slot >= 0
+                     ? Vec3d(decodeNormal(spans.normals[spans.slot(hit.pixel, hit.slot)]))
+                     : -dir;
+        }
+        if (inside)
+        {
+          rgb += w * L; // out of bounces inside the fluid: absorbed
+        }
+        else
+        {
+          through = w;
         }
       }
+      float* out = &frame.rgba[4 * frame.index(i, j)];
+      out[0] = static_cast<float>(rgb.x);
+      out[1] = static_cast<float>(rgb.y);
+      out[2] = static_cast<float>(rgb.z);
+      out[3] = static_cast<float>(1.0 - (through.x + through.y + through.z) / 3.0);
+      const std::array<double, 4> c = rays.clip(P);
+      frame.depth[frame.index(i, j)] =
+        static_cast<float>(std::clamp(0.5 * (c[2] / c[3] + 1.0), 0.0, 1.0));
     });
   const Tally total = tallies.combine(
     [](Tally a, const Tally& b)

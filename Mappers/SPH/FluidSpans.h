@@ -35,11 +35,11 @@ struct FluidSpans
   int height = 0;
   int maxSpans = 7; // S
   VoxelDepthLayers layers;
-  std::vector<std::uint8_t> count;  // spans stored per pixel (<= S)
-  std::vector<std::uint32_t> found; // spans in the column (>= count)
-  std::vector<float> hiddenEmpty;   // zeta length of empty space inside the last stored span
-  std::vector<float> depth;         // 2S slots per pixel
-  std::vector<std::uint32_t> links; // 2S slots per pixel, 4 link bytes each
+  std::vector<std::uint8_t> count;    // spans stored per pixel (<= S)
+  std::vector<std::uint32_t> found;   // spans in the column (>= count)
+  std::vector<float> hiddenEmpty;     // zeta length of empty space inside the last stored span
+  std::vector<float> depth;           // 2S slots per pixel
+  std::vector<std::uint32_t> links;   // 2S slots per pixel, 4 link bytes each
   std::vector<std::uint32_t> normals; // 2S slots per pixel, octahedron-encoded
 
   void reset(int w, int h, int spans)
@@ -57,7 +57,8 @@ struct FluidSpans
   }
   std::size_t pixel(int i, int j) const
   {
-    return static_cast<std::size_t>(j) * static_cast<std::size_t>(width) + static_cast<std::size_t>(i);
+    return static_cast<std::size_t>(j) * static_cast<std::size_t>(width) +
+           static_cast<std::size_t>(i);
   }
   std::size_t slot(std::size_t pixelIndex, int s) const
   {
@@ -78,7 +79,7 @@ struct FluidSpans
   std::size_t bytes() const
   {
     return count.size() + found.size() * 4 + hiddenEmpty.size() * 4 + depth.size() * 4 +
-      links.size() * 4 + normals.size() * 4;
+           links.size() * 4 + normals.size() * 4;
   }
 };
 
@@ -95,7 +96,8 @@ inline std::uint32_t encodeNormal(const Vec3f& n)
     u = fu;
     v = fv;
   }
-  const auto q = [](float x) {
+  const auto q = [](float x)
+  {
     return static_cast<std::uint32_t>(static_cast<std::uint16_t>(
       static_cast<std::int16_t>(std::lround(std::clamp(x, -1.f, 1.f) * 32767.f))));
   };

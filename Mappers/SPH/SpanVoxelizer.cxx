@@ -99,9 +99,20 @@ bool voxelizeFluid(const FluidParticles& particles,
   const bool shell = bridging && params.gapThreshold >= 2.0 * particles.maxRadius;
   stats.setEffect("gap_bridging", bridging);
   stats.setEffect("shell_splat", shell);
-  for (const char* name : { "particles_in_view", "layers", "words_per_column", "tiles", "tile_width",
-         "tile_height", "splat_pixels", "set_bit_ops", "spans_found", "spans_stored", "spans_hidden",
-         "gaps_bridged", "peak_temporary_bytes", "budget_exceeded" })
+  for (const char* name : { "particles_in_view",
+         "layers",
+         "words_per_column",
+         "tiles",
+         "tile_width",
+         "tile_height",
+         "splat_pixels",
+         "set_bit_ops",
+         "spans_found",
+         "spans_stored",
+         "spans_hidden",
+         "gaps_bridged",
+         "peak_temporary_bytes",
+         "budget_exceeded" })
   {
     stats.declareCounter(name);
   }
@@ -153,8 +164,12 @@ bool voxelizeFluid(const FluidParticles& particles,
 
   // Layers (section 4.2) and tiles within the budget.
   VoxelDepthLayers& layers = out.layers;
-  layers.assign(rays.isPerspective(), range.lo, range.hi, rays.pixelSize(),
-    params.angleResolutionDeg, params.maxLayers);
+  layers.assign(rays.isPerspective(),
+    range.lo,
+    range.hi,
+    rays.pixelSize(),
+    params.angleResolutionDeg,
+    params.maxLayers);
   const int L = layers.count;
   const int words = (L + 63) / 64;
   const std::size_t columnBytes = static_cast<std::size_t>(words) * sizeof(std::uint64_t);
@@ -253,8 +268,10 @@ bool voxelizeFluid(const FluidParticles& particles,
                   {
                     continue;
                   }
-                  const int l0 = layers.layerOf(z0, linear ? uc + (z0 - zc) * slope : layers.coordinate(z0));
-                  const int l1 = layers.layerOf(z1, linear ? uc + (z1 - zc) * slope : layers.coordinate(z1));
+                  const int l0 =
+                    layers.layerOf(z0, linear ? uc + (z0 - zc) * slope : layers.coordinate(z0));
+                  const int l1 =
+                    layers.layerOf(z1, linear ? uc + (z1 - zc) * slope : layers.coordinate(z1));
                   std::uint64_t* column =
                     columnOf(grid.get(), static_cast<std::size_t>(j - y0) * cw + (px - x0), words);
                   ++t.splatPixels;

@@ -43,9 +43,9 @@ struct VoxelizerParameters
 {
   double angleResolutionDeg = 14.0; // alpha of section 4.2
   int maxLayers = 16384;
-  int maxSpans = 7;                               // S, at most FluidSpans::MaxSpans
+  int maxSpans = 7;                                  // S, at most FluidSpans::MaxSpans
   std::size_t memoryBudget = std::size_t(512) << 20; // bytes of temporary memory
-  double gapThreshold = 0.0;                      // g, world units
+  double gapThreshold = 0.0;                         // g, world units
 };
 
 /// Voxelizes `particles` for `rays` into `out` (sized to the view; no spans where no

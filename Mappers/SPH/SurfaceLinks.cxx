@@ -171,11 +171,13 @@ void smoothSurfaces(FluidSpans& spans,
   std::vector<std::uint8_t> iterationsOf(points), hasPrev(points), hasNext(points);
   std::vector<float> cur(points), next(points);
   stats.addCounter("filter_bytes",
-    static_cast<std::int64_t>(pointStart.size() * 4 + neighbours.size() * 4 + 3 * points + 8 * points));
+    static_cast<std::int64_t>(
+      pointStart.size() * 4 + neighbours.size() * 4 + 3 * points + 8 * points));
   const auto iterationsAt = [&](float zeta)
   {
     const double width = perspective ? sigma * zeta : sigma;
-    return static_cast<int>(std::min<double>(std::min(maxIterations, 255), std::ceil(radius / width)));
+    return static_cast<int>(
+      std::min<double>(std::min(maxIterations, 255), std::ceil(radius / width)));
   };
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 1),
     [&](const tbb::blocked_range<int>& r)
@@ -204,7 +206,8 @@ void smoothSurfaces(FluidSpans& spans,
                 if (a != 0 || b != 0)
                 {
                   const Point q = reach(spans, c, a, b);
-                  *nb++ = q.pixel >= 0 ? static_cast<std::int32_t>(pointStart[q.pixel] + q.slot) : -1;
+                  *nb++ =
+                    q.pixel >= 0 ? static_cast<std::int32_t>(pointStart[q.pixel] + q.slot) : -1;
                 }
               }
             }
@@ -212,8 +215,7 @@ void smoothSurfaces(FluidSpans& spans,
         }
       }
     });
-  const int iterations =
-    points ? *std::max_element(iterationsOf.begin(), iterationsOf.end()) : 0;
+  const int iterations = points ? *std::max_element(iterationsOf.begin(), iterationsOf.end()) : 0;
   // (1 2 1)^T (1 2 1) without the centre, in the neighbours' order (b, then a).
   static constexpr float Weight[8] = { 1, 2, 1, 2, 2, 1, 2, 1 };
   tbb::combinable<std::int64_t> filtered;
@@ -263,7 +265,8 @@ void smoothSurfaces(FluidSpans& spans,
       {
         for (std::uint32_t k = pointStart[p]; k < pointStart[p + 1]; ++k)
         {
-          spans.depth[spans.slot(p, static_cast<int>(k - pointStart[p]))] = perspective ? 1.f / cur[k] : cur[k];
+          spans.depth[spans.slot(p, static_cast<int>(k - pointStart[p]))] =
+            perspective ? 1.f / cur[k] : cur[k];
         }
       }
     });

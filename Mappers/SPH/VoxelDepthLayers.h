@@ -24,14 +24,18 @@ namespace raymappers
 struct VoxelDepthLayers
 {
   bool logarithmic = true;
-  double d0 = 1.0;   // depth of the first layer's front
-  double step = 0.0; // log(1 + K) (logarithmic) or the layer depth (uniform)
-  int count = 0;     // layers L
+  double d0 = 1.0;            // depth of the first layer's front
+  double step = 0.0;          // log(1 + K) (logarithmic) or the layer depth (uniform)
+  int count = 0;              // layers L
   std::vector<double> depths; // d_0 .. d_L: layer i spans [depths[i], depths[i + 1])
 
   /// Layers over [zFront, zBack] for the angle resolution alpha (degrees) and pixel size
   /// sigma, at most maxLayers of them.
-  void assign(bool perspective, double zFront, double zBack, double sigma, double alphaDeg,
+  void assign(bool perspective,
+    double zFront,
+    double zBack,
+    double sigma,
+    double alphaDeg,
     int maxLayers)
   {
     logarithmic = perspective;

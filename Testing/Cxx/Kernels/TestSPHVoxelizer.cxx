@@ -28,12 +28,22 @@ FluidParticles makeParticles(const std::vector<Sphere>& in, const Vec3d& origin 
 {
   FluidParticles P;
   buildFluidParticles(
-    in.size(), origin, [&](std::size_t i) { return in[i].c; }, [&](std::size_t i) { return in[i].r; }, P);
+    in.size(),
+    origin,
+    [&](std::size_t i) { return in[i].c; },
+    [&](std::size_t i) { return in[i].r; },
+    P);
   return P;
 }
 
-ViewRays perspectiveRays(const Vec3d& eye, const Vec3d& at, int w, int h, double n = 0.1,
-  double f = 100, double fovy = 40, const Vec3d& origin = Vec3d())
+ViewRays perspectiveRays(const Vec3d& eye,
+  const Vec3d& at,
+  int w,
+  int h,
+  double n = 0.1,
+  double f = 100,
+  double fovy = 40,
+  const Vec3d& origin = Vec3d())
 {
   ViewRays rays;
   EXPECT_TRUE(rays.assign(
@@ -44,8 +54,8 @@ ViewRays perspectiveRays(const Vec3d& eye, const Vec3d& at, int w, int h, double
 ViewRays orthographicRays(const Vec3d& eye, const Vec3d& at, int w, int h, double hh)
 {
   ViewRays rays;
-  EXPECT_TRUE(rays.assign(multiply(orthographic(hh * w / h, hh, 0.5, 20), lookAt(eye, at, { 0, 1, 0 })),
-    w, h, Vec3d()));
+  EXPECT_TRUE(rays.assign(
+    multiply(orthographic(hh * w / h, hh, 0.5, 20), lookAt(eye, at, { 0, 1, 0 })), w, h, Vec3d()));
   return rays;
 }
 
@@ -71,8 +81,13 @@ double layerDepth(const VoxelDepthLayers& L, double z)
 }
 
 /// The union of a ray's intervals in the spheres clipped to [lo, hi], total length in zeta.
-double analyticThickness(const ViewRays& rays, int i, int j, const std::vector<Sphere>& spheres,
-  double lo, double hi, int* pieces = nullptr)
+double analyticThickness(const ViewRays& rays,
+  int i,
+  int j,
+  const std::vector<Sphere>& spheres,
+  double lo,
+  double hi,
+  int* pieces = nullptr)
 {
   std::vector<std::pair<double, double>> iv;
   for (const Sphere& s : spheres)
@@ -127,8 +142,11 @@ std::vector<Sphere> slabLattice(int slabs, double r, double spacing, double half
   return out;
 }
 
-bool voxelize(const std::vector<Sphere>& spheres, const ViewRays& rays, const VoxelizerParameters& vp,
-  FluidSpans& spans, RenderStatistics& stats)
+bool voxelize(const std::vector<Sphere>& spheres,
+  const ViewRays& rays,
+  const VoxelizerParameters& vp,
+  FluidSpans& spans,
+  RenderStatistics& stats)
 {
   stats.clear();
   return voxelizeFluid(makeParticles(spheres), rays, vp, spans, stats);
@@ -141,8 +159,8 @@ TEST(SPHVoxelizer, OneSphereSpansMatchTheAnalyticIntersectionWithinOneLayer)
   for (const bool persp : { true, false })
   {
     const int W = 64, H = 48;
-    const ViewRays rays =
-      persp ? perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, W, H) : orthographicRays({ 0, 0, 5 }, { 0, 0, 0 }, W, H, 1.5);
+    const ViewRays rays = persp ? perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, W, H)
+                                : orthographicRays({ 0, 0, 5 }, { 0, 0, 0 }, W, H, 1.5);
     FluidSpans spans;
     RenderStatistics stats;
     ASSERT_TRUE(voxelize({ s }, rays, VoxelizerParameters(), spans, stats));
@@ -181,8 +199,9 @@ TEST(SPHVoxelizer, TwoSpheresCloserThanTheGapThresholdMergeFartherDoNot)
   const int W = 64, H = 64;
   const ViewRays rays = perspectiveRays({ 0, 0, 6 }, { 0, 0, 0 }, W, H, 0.1, 100, 30);
   const double r = 0.5;
-  const auto pair = [&](double gap)
-  { return std::vector<Sphere>{ { { 0, 0, r + gap / 2 }, r }, { { 0, 0, -r - gap / 2 }, r } }; };
+  const auto pair = [&](double gap) {
+    return std::vector<Sphere>{ { { 0, 0, r + gap / 2 }, r }, { { 0, 0, -r - gap / 2 }, r } };
+  };
   const std::size_t centre = static_cast<std::size_t>(H / 2) * W + W / 2;
   VoxelizerParameters vp;
   vp.gapThreshold = 0.3;
@@ -276,7 +295,8 @@ TEST(SPHVoxelizer, TwentyFourLayersKeepTheExactThicknessWithSevenSpans)
       double slack = 0;
       for (int k = 0; k < sAll.count[p]; ++k)
       {
-        slack += layerDepth(sAll.layers, sAll.entry(p, k)) + layerDepth(sAll.layers, sAll.exit(p, k) * 0.99999);
+        slack += layerDepth(sAll.layers, sAll.entry(p, k)) +
+                 layerDepth(sAll.layers, sAll.exit(p, k) * 0.99999);
       }
       EXPECT_NEAR(s7.thickness(p), exact, slack) << i << " " << j;
     }
@@ -382,7 +402,8 @@ TEST(SPHVoxelizer, EmptyInputAndParticlesOutOfViewGiveNoSpans)
   EXPECT_EQ(spans.count.size(), 32u * 32u);
   EXPECT_EQ(std::count(spans.count.begin(), spans.count.end(), 0), 32 * 32);
   // Behind the eye and far off to the side.
-  ASSERT_TRUE(voxelize({ { { 0, 0, 9 }, 1 }, { { 40, 0, 0 }, 1 } }, rays, VoxelizerParameters(), spans, stats));
+  ASSERT_TRUE(voxelize(
+    { { { 0, 0, 9 }, 1 }, { { 40, 0, 0 }, 1 } }, rays, VoxelizerParameters(), spans, stats));
   EXPECT_EQ(stats.counter("particles_in_view"), 0);
   EXPECT_EQ(std::count(spans.count.begin(), spans.count.end(), 0), 32 * 32);
 }
@@ -392,8 +413,13 @@ TEST(SPHVoxelizer, NonFinitePositionsAndBadRadiiAreSkippedAndCounted)
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
   const std::vector<Sphere> clean = { { { 0, 0, 0 }, 1.0 }, { { 0.8, 0.2, -1 }, 0.5 } };
-  std::vector<Sphere> dirty = { { { nan, 0, 0 }, 1.0 }, clean[0], { { 0, inf, 0 }, 1.0 },
-    { { 0, 0, 0 }, -1.0 }, clean[1], { { 0, 0, nan }, 0.5 }, { { 0, 0, 0 }, nan } };
+  std::vector<Sphere> dirty = { { { nan, 0, 0 }, 1.0 },
+    clean[0],
+    { { 0, inf, 0 }, 1.0 },
+    { { 0, 0, 0 }, -1.0 },
+    clean[1],
+    { { 0, 0, nan }, 0.5 },
+    { { 0, 0, 0 }, nan } };
   const FluidParticles P = makeParticles(dirty);
   EXPECT_EQ(P.size(), 2u);
   EXPECT_EQ(P.skippedNonFinite, 3u);
@@ -405,7 +431,8 @@ TEST(SPHVoxelizer, NonFinitePositionsAndBadRadiiAreSkippedAndCounted)
   ASSERT_TRUE(voxelize(clean, rays, VoxelizerParameters(), b, stats));
   EXPECT_EQ(a.count, b.count);
   EXPECT_EQ(a.depth, b.depth);
-  EXPECT_GT(std::count_if(a.count.begin(), a.count.end(), [](std::uint8_t c) { return c > 0; }), 50);
+  EXPECT_GT(
+    std::count_if(a.count.begin(), a.count.end(), [](std::uint8_t c) { return c > 0; }), 50);
 }
 
 namespace
@@ -418,8 +445,11 @@ std::uint8_t linkOf(const FluidSpans& s, std::size_t p, int slot, int dir)
 /// Mean and max angle (degrees) between the entry normals and the analytic sphere normals at
 /// the pixels whose 3 x 3 neighbourhood all meets the sphere, where the surface faces the eye
 /// by at least minCos.
-std::pair<double, double> entryNormalError(
-  const FluidSpans& spans, const ViewRays& rays, const Sphere& s, double minCos, int& tested)
+std::pair<double, double> entryNormalError(const FluidSpans& spans,
+  const ViewRays& rays,
+  const Sphere& s,
+  double minCos,
+  int& tested)
 {
   double sum = 0, worst = 0;
   tested = 0;
@@ -452,7 +482,9 @@ std::pair<double, double> entryNormalError(
       worst = std::max(worst, angle);
       ++tested;
       // The exit normal faces out of the fluid, along the ray.
-      EXPECT_GT(dot(Vec3d(decodeNormal(spans.normals[spans.slot(p, 1)])), rays.direction(i + 0.5, j + 0.5)), 0);
+      EXPECT_GT(
+        dot(Vec3d(decodeNormal(spans.normals[spans.slot(p, 1)])), rays.direction(i + 0.5, j + 0.5)),
+        0);
     }
   }
   return { tested ? sum / tested : 0.0, worst };
@@ -578,7 +610,8 @@ Vec3d lightBound(const FluidRenderParameters& fp)
   Vec3d b = fp.color * fp.material.ambient;
   for (const Light& l : fp.lights)
   {
-    b += l.color * (fp.color * fp.material.diffuse + fp.material.specularColor * fp.material.specular);
+    b +=
+      l.color * (fp.color * fp.material.diffuse + fp.material.specularColor * fp.material.specular);
   }
   return b;
 }
@@ -586,7 +619,7 @@ Vec3d lightBound(const FluidRenderParameters& fp)
 bool frameFinite(const Frame& f)
 {
   return std::all_of(f.rgba.begin(), f.rgba.end(), [](float v) { return std::isfinite(v); }) &&
-    std::all_of(f.depth.begin(), f.depth.end(), [](float v) { return std::isfinite(v); });
+         std::all_of(f.depth.begin(), f.depth.end(), [](float v) { return std::isfinite(v); });
 }
 }
 
@@ -630,7 +663,9 @@ TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSeve
       const double len = length(rays.direction(i + 0.5, j + 0.5));
       const double exact = analyticThickness(rays, i, j, slabs, 0, 1e30, &pieces) * len;
       const double alpha7 = seven.rgba[4 * p + 3], alphaAll = all.rgba[4 * p + 3];
-      const double beer = 1 - (std::exp(-kappa.x * exact) + std::exp(-kappa.y * exact) + std::exp(-kappa.z * exact)) / 3;
+      const double beer =
+        1 -
+        (std::exp(-kappa.x * exact) + std::exp(-kappa.y * exact) + std::exp(-kappa.z * exact)) / 3;
       // Seven stored spans absorb as all of them do ...
       EXPECT_NEAR(alpha7, alphaAll, 2e-6) << i << " " << j;
       // ... and as Beer-Lambert over the analytic thickness, up to one layer at each end of
@@ -639,7 +674,7 @@ TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSeve
       for (int k = 0; k < allSpans.count[p]; ++k)
       {
         slack += layerDepth(allSpans.layers, allSpans.entry(p, k)) +
-          layerDepth(allSpans.layers, allSpans.exit(p, k) * 0.99999);
+                 layerDepth(allSpans.layers, allSpans.exit(p, k) * 0.99999);
       }
       EXPECT_NEAR(alpha7, beer, kappa.x * slack * len + 1e-6) << i << " " << j;
       if (pieces >= 24)
@@ -670,9 +705,13 @@ TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSeve
       ++tested;
       const double len = length(wide.direction(i + 0.5, j + 0.5));
       const double chord = (z1 - z0) * len;
-      const double beer = 1 - (std::exp(-kappa.x * chord) + std::exp(-kappa.y * chord) + std::exp(-kappa.z * chord)) / 3;
-      const double slack = (layerDepth(allSpans.layers, z0) + layerDepth(allSpans.layers, z1)) * len;
-      EXPECT_NEAR(frame.rgba[4 * frame.index(i, j) + 3], beer, kappa.x * slack + 1e-6) << i << " " << j;
+      const double beer =
+        1 -
+        (std::exp(-kappa.x * chord) + std::exp(-kappa.y * chord) + std::exp(-kappa.z * chord)) / 3;
+      const double slack =
+        (layerDepth(allSpans.layers, z0) + layerDepth(allSpans.layers, z1)) * len;
+      EXPECT_NEAR(frame.rgba[4 * frame.index(i, j) + 3], beer, kappa.x * slack + 1e-6)
+        << i << " " << j;
     }
   }
   EXPECT_GT(tested, 100);
@@ -724,7 +763,8 @@ TEST(SPHVoxelizer, OpaqueFrontSurfaceIsLitWithTheSphereNormalAtItsDepth)
       }
       const std::array<double, 4> c = rays.clip(x);
       const double windowDepth = 0.5 * (c[2] / c[3] + 1);
-      const std::array<double, 4> c1 = rays.clip(rays.pointAt(i + 0.5, j + 0.5, z0 - layerDepth(spans.layers, z0)));
+      const std::array<double, 4> c1 =
+        rays.clip(rays.pointAt(i + 0.5, j + 0.5, z0 - layerDepth(spans.layers, z0)));
       EXPECT_NEAR(frame.depth[p], windowDepth, windowDepth - 0.5 * (c1[2] / c1[3] + 1) + 1e-6);
     }
   }
@@ -810,7 +850,8 @@ TEST(SPHVoxelizer, AmbientOcclusionDarkensOnlyWhereFluidIsNearAndCostsNothingWhe
   const auto pixelOf = [&](const Vec3d& x)
   {
     const std::array<double, 4> c = rays.clip(x);
-    const int i = static_cast<int>((c[0] / c[3] + 1) * 0.5 * W), j = static_cast<int>((c[1] / c[3] + 1) * 0.5 * H);
+    const int i = static_cast<int>((c[0] / c[3] + 1) * 0.5 * W),
+              j = static_cast<int>((c[1] / c[3] + 1) * 0.5 * H);
     return static_cast<std::size_t>(j) * W + i;
   };
   // A convex sphere does not occlude itself: the outer halves, farther than aoRadius from
@@ -823,7 +864,8 @@ TEST(SPHVoxelizer, AmbientOcclusionDarkensOnlyWhereFluidIsNearAndCostsNothingWhe
       double z0, z1;
       for (const Sphere& s : pair)
       {
-        if (raySphere(rays, i, j, s, z0, z1) && std::abs(rays.pointAt(i + 0.5, j + 0.5, z0).x) > 0.5)
+        if (raySphere(rays, i, j, s, z0, z1) &&
+            std::abs(rays.pointAt(i + 0.5, j + 0.5, z0).x) > 0.5)
         {
           const std::size_t p = static_cast<std::size_t>(j) * W + i;
           EXPECT_FLOAT_EQ(on.rgba[4 * p], off.rgba[4 * p]) << i << " " << j;
@@ -854,12 +896,18 @@ TEST(SPHVoxelizer, RenderingHardCasesEmptyInsideAndNonFinite)
   const ViewRays rays = perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, 32, 24);
   ASSERT_TRUE(renderFluid(makeParticles({}), rays, fp, spans, frame, stats));
   EXPECT_TRUE(std::all_of(frame.rgba.begin(), frame.rgba.end(), [](float v) { return v == 0.f; }));
-  EXPECT_TRUE(std::all_of(frame.depth.begin(), frame.depth.end(), [](float v) { return v == 1.f; }));
+  EXPECT_TRUE(
+    std::all_of(frame.depth.begin(), frame.depth.end(), [](float v) { return v == 1.f; }));
   EXPECT_EQ(stats.counter("shaded_pixels"), 0);
   // The camera inside the fluid: every pixel sees fluid, nothing is NaN.
   const ViewRays inside = perspectiveRays({ 0.2, 0.1, 0.3 }, { 0, 0, -3 }, 32, 24, 0.05, 50, 60);
   stats.clear();
-  ASSERT_TRUE(renderFluid(makeParticles({ { { 0, 0, 0 }, 2.0 }, { { 0, 0, -3.5 }, 0.5 } }), inside, fp, spans, frame, stats));
+  ASSERT_TRUE(renderFluid(makeParticles({ { { 0, 0, 0 }, 2.0 }, { { 0, 0, -3.5 }, 0.5 } }),
+    inside,
+    fp,
+    spans,
+    frame,
+    stats));
   ASSERT_TRUE(frameFinite(frame));
   EXPECT_EQ(stats.counter("shaded_pixels"), 32 * 24);
   for (std::size_t p = 0; p < frame.depth.size(); ++p)
@@ -870,8 +918,13 @@ TEST(SPHVoxelizer, RenderingHardCasesEmptyInsideAndNonFinite)
   // Non-finite positions: skipped, counted, the rest rendered.
   const double nan = std::numeric_limits<double>::quiet_NaN();
   stats.clear();
-  ASSERT_TRUE(renderFluid(makeParticles({ { { nan, 0, 0 }, 1 }, { { 0, 0, 0 }, 1 }, { { 0, nan, 0 }, 1 } }), rays, fp,
-    spans, frame, stats));
+  ASSERT_TRUE(
+    renderFluid(makeParticles({ { { nan, 0, 0 }, 1 }, { { 0, 0, 0 }, 1 }, { { 0, nan, 0 }, 1 } }),
+      rays,
+      fp,
+      spans,
+      frame,
+      stats));
   EXPECT_EQ(stats.counter("particles_skipped"), 2);
   EXPECT_GT(stats.counter("shaded_pixels"), 50);
   EXPECT_TRUE(frameFinite(frame));
