@@ -35,15 +35,10 @@ struct TallyCounters
                gapsBridged = 0;
 };
 
-/// The tile's grid interleaves the columns of Interleave consecutive pixels word by word:
-/// word w of local pixel q is at ((q / Interleave) words + w) Interleave + q % Interleave.
-/// One cache line then holds a word of 8 neighbouring columns, so a particle's footprint
-/// touches few lines, and the compression of neighbouring pixels reuses them.
-constexpr int Interleave = 8;
-
+/// Column q (the tile's pixels row by row) of the tile's grid: its words are contiguous.
 inline std::uint64_t* columnOf(std::uint64_t* grid, std::size_t q, int words)
 {
-  return grid + (q / Interleave) * words * Interleave + q % Interleave;
+  return grid + q * words;
 }
 
 /// Sets bits [l0, l1] of a column with one atomic OR per touched word.
@@ -56,7 +51,7 @@ inline std::int64_t setBits(std::uint64_t* column, int l0, int l1)
     const int b1 = std::min(l1, (w << 6) + 63) - (w << 6);
     const std::uint64_t hi = b1 == 63 ? ~std::uint64_t(0) : (std::uint64_t(1) << (b1 + 1)) - 1;
     const std::uint64_t mask = hi & (~std::uint64_t(0) << b0);
-    __atomic_fetch_or(column + w * Interleave, mask, __ATOMIC_RELAXED);
+    __atomic_fetch_or(column + w, mask, __ATOMIC_RELAXED);
     ++ops;
   }
   return ops;
@@ -64,7 +59,7 @@ inline std::int64_t setBits(std::uint64_t* column, int l0, int l1)
 
 inline void setBit(std::uint64_t* column, int l)
 {
-  __atomic_fetch_or(column + (l >> 6) * Interleave, std::uint64_t(1) << (l & 63), __ATOMIC_RELAXED);
+  __atomic_fetch_or(column + (l >> 6), std::uint64_t(1) << (l & 63), __ATOMIC_RELAXED);
 }
 
 /// The first layer >= pos whose bit equals `value` (`words * 64` when none).
@@ -75,15 +70,14 @@ inline int nextBit(const std::uint64_t* column, int words, int pos, bool value)
   {
     return words * 64;
   }
-  std::uint64_t bits =
-    (value ? column[w * Interleave] : ~column[w * Interleave]) & (~std::uint64_t(0) << (pos & 63));
+  std::uint64_t bits = (value ? column[w] : ~column[w]) & (~std::uint64_t(0) << (pos & 63));
   while (bits == 0)
   {
     if (++w == words)
     {
       return words * 64;
     }
-    bits = value ? column[w * Interleave] : ~column[w * Interleave];
+    bits = value ? column[w] : ~column[w];
   }
   return (w << 6) + __builtin_ctzll(bits);
 }
@@ -177,7 +171,7 @@ bool voxelizeFluid(const FluidParticles& particles,
   stats.addCounter("words_per_column", words);
   const std::size_t gridBudget =
     params.memoryBudget > footprintBytes ? params.memoryBudget - footprintBytes : 0;
-  const std::size_t tilePixels = gridBudget / columnBytes / Interleave * Interleave;
+  const std::size_t tilePixels = gridBudget / columnBytes;
   if (tilePixels == 0)
   {
     stats.addCounter("budget_exceeded", 1);
@@ -202,9 +196,7 @@ bool voxelizeFluid(const FluidParticles& particles,
   stats.addCounter("tile_width", tw);
   stats.addCounter("tile_height", th);
   // Uninitialized: each tile clears the part it uses.
-  const auto interleaved = [](std::size_t pixels)
-  { return (pixels + Interleave - 1) / Interleave * Interleave; };
-  const std::size_t gridWords = interleaved(static_cast<std::size_t>(tw) * th) * words;
+  const std::size_t gridWords = static_cast<std::size_t>(tw) * th * words;
   const std::unique_ptr<std::uint64_t[]> grid(new std::uint64_t[gridWords]);
   stats.addCounter("peak_temporary_bytes",
     static_cast<std::int64_t>(gridWords * sizeof(std::uint64_t) + footprintBytes));
@@ -219,7 +211,7 @@ bool voxelizeFluid(const FluidParticles& particles,
       const int x0 = tx * tw, y0 = ty * th;
       const int x1 = std::min(W, x0 + tw), y1 = std::min(H, y0 + th);
       const int cw = x1 - x0;
-      const std::size_t used = interleaved(static_cast<std::size_t>(cw) * (y1 - y0)) * words;
+      const std::size_t used = static_cast<std::size_t>(cw) * (y1 - y0) * words;
       {
         ScopedPhase phase(stats, "splat");
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, used, 1 << 16),
