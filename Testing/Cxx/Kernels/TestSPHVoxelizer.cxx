@@ -781,19 +781,20 @@ TEST(SPHVoxelizer, RefractionAndTotalInternalReflectionNeverCreateEnergy)
   fluid.push_back({ { 0.3, 0.6, 0.2 }, 0.4 });
   const int W = 64, H = 48;
   const ViewRays rays = perspectiveRays({ 0.2, 0.5, 3.0 }, { 0, 0, -1 }, W, H, 0.1, 50, 50);
+  const ViewRays parallel = orthographicRays({ 0.2, 0.5, 3.0 }, { 0, 0, -1 }, W, H, 1.2);
   FluidRenderParameters fp = litFluid();
   fp.density = 0.05;
   fp.bounces = 12;
   fp.smoothingRadius = 0.02;
   const Vec3d bound = lightBound(fp);
   const FluidParticles P = makeParticles(fluid);
-  for (const double eta : { 1.33, 2.4 })
+  for (const auto& [eta, view] : { std::pair{ 1.33, &rays }, { 2.4, &rays }, { 2.4, &parallel } })
   {
     fp.refractiveIndex = eta;
     FluidSpans spans;
     Frame frame;
     RenderStatistics stats;
-    ASSERT_TRUE(renderFluid(P, rays, fp, spans, frame, stats));
+    ASSERT_TRUE(renderFluid(P, *view, fp, spans, frame, stats));
     EXPECT_TRUE(stats.effect("refraction"));
     EXPECT_EQ(stats.counter("refraction_paths"), stats.counter("shaded_pixels"));
     EXPECT_GT(stats.counter("tir_events"), 0) << eta;
@@ -812,15 +813,20 @@ TEST(SPHVoxelizer, RefractionAndTotalInternalReflectionNeverCreateEnergy)
       EXPECT_LE(c[3], 1.f + 1e-6);
     }
   }
-  // An index of 1 marches nothing.
-  fp.refractiveIndex = 1.0;
-  FluidSpans spans;
-  Frame frame;
-  RenderStatistics stats;
-  ASSERT_TRUE(renderFluid(P, rays, fp, spans, frame, stats));
-  EXPECT_FALSE(stats.effect("refraction"));
-  EXPECT_EQ(stats.counter("march_columns"), 0);
-  EXPECT_EQ(stats.counter("surface_events"), 0);
+  // An index of 1, or an opaque surface, marches nothing.
+  for (const bool translucent : { true, false })
+  {
+    fp.refractiveIndex = translucent ? 1.0 : 1.33;
+    fp.translucency = translucent;
+    FluidSpans spans;
+    Frame frame;
+    RenderStatistics stats;
+    ASSERT_TRUE(renderFluid(P, rays, fp, spans, frame, stats));
+    EXPECT_FALSE(stats.effect("refraction"));
+    EXPECT_EQ(stats.counter("march_columns"), 0);
+    EXPECT_EQ(stats.counter("surface_events"), 0);
+    EXPECT_EQ(stats.phase("refract"), 0.0);
+  }
 }
 
 TEST(SPHVoxelizer, AmbientOcclusionDarkensOnlyWhereFluidIsNearAndCostsNothingWhenOff)
