@@ -450,8 +450,11 @@ bool renderFluid(const FluidParticles& particles,
     return false;
   }
   connectSurfaces(spans, stats);
-  smoothSurfaces(spans, rays, params.smoothingRadius, params.smoothingIterations, stats);
-  computeNormals(spans, rays, stats);
+  SurfaceNeighbourhoods neighbourhoods;
+  findNeighbourhoods(spans, neighbourhoods, stats);
+  smoothSurfaces(
+    spans, neighbourhoods, rays, params.smoothingRadius, params.smoothingIterations, stats);
+  computeNormals(spans, neighbourhoods, rays, stats);
   renderFluidSpans(spans, rays, particles.origin, params, frame, stats);
   return true;
 }

@@ -81,7 +81,8 @@ void renderFluidSpans(const FluidSpans& spans,
   Frame& frame,
   RenderStatistics& stats);
 
-/// The whole frame: voxelizeFluid, connectSurfaces, smoothSurfaces, computeNormals and
+/// The whole frame: voxelizeFluid, connectSurfaces, findNeighbourhoods, smoothSurfaces,
+/// computeNormals and
 /// renderFluidSpans, with their phases and counters (and particles_skipped from the
 /// input). Returns false when the voxelization does not fit the memory budget (the frame is
 /// then empty).

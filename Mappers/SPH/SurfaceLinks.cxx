@@ -137,7 +137,57 @@ void connectSurfaces(FluidSpans& spans, RenderStatistics& stats)
   stats.addCounter("links_own", ownLinks.combine(std::plus<std::int64_t>()));
 }
 
+void findNeighbourhoods(const FluidSpans& spans,
+  SurfaceNeighbourhoods& nbh,
+  RenderStatistics& stats)
+{
+  stats.declareCounter("neighbourhood_bytes");
+  ScopedPhase phase(stats, "connect");
+  const int W = spans.width, H = spans.height;
+  const std::size_t n = static_cast<std::size_t>(W) * H;
+  nbh.pointStart.assign(n + 1, 0);
+  for (std::size_t p = 0; p < n; ++p)
+  {
+    nbh.pointStart[p + 1] = nbh.pointStart[p] + 2u * spans.count[p];
+  }
+  const std::size_t points = nbh.pointStart[n];
+  nbh.pixel.resize(points);
+  nbh.neighbours.resize(8 * points);
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 1),
+    [&](const tbb::blocked_range<int>& r)
+    {
+      for (int j = r.begin(); j != r.end(); ++j)
+      {
+        for (int i = 0; i < W; ++i)
+        {
+          const std::size_t p = spans.pixel(i, j);
+          for (int s = 0; s < 2 * spans.count[p]; ++s)
+          {
+            const std::size_t k = nbh.pointStart[p] + s;
+            nbh.pixel[k] = static_cast<std::uint32_t>(p);
+            const Point c{ static_cast<std::ptrdiff_t>(p), s, i, j };
+            std::int32_t* nb = &nbh.neighbours[8 * k];
+            for (int b = -1; b <= 1; ++b)
+            {
+              for (int a = -1; a <= 1; ++a)
+              {
+                if (a != 0 || b != 0)
+                {
+                  const Point q = reach(spans, c, a, b);
+                  *nb++ =
+                    q.pixel >= 0 ? static_cast<std::int32_t>(nbh.pointStart[q.pixel] + q.slot) : -1;
+                }
+              }
+            }
+          }
+        }
+      }
+    });
+  stats.addCounter("neighbourhood_bytes", static_cast<std::int64_t>(nbh.bytes()));
+}
+
 void smoothSurfaces(FluidSpans& spans,
+  const SurfaceNeighbourhoods& nbh,
   const ViewRays& rays,
   double radius,
   int maxIterations,
@@ -153,70 +203,40 @@ void smoothSurfaces(FluidSpans& spans,
     return;
   }
   ScopedPhase phase(stats, "filter");
-  const int W = spans.width, H = spans.height;
   const bool perspective = rays.isPerspective();
   const double sigma = rays.pixelSize();
-
-  // The surface points (stored depth values) numbered pixel by pixel: point pointStart[p] + s
-  // is slot s of pixel p. Each gets its 3 x 3 neighbourhood along the links once (-1 where
-  // missing), its iteration count, and whether its column has a value before and after it.
-  const std::size_t n = static_cast<std::size_t>(W) * H;
-  std::vector<std::uint32_t> pointStart(n + 1, 0);
-  for (std::size_t p = 0; p < n; ++p)
-  {
-    pointStart[p + 1] = pointStart[p] + 2u * spans.count[p];
-  }
-  const std::size_t points = pointStart[n];
-  std::vector<std::int32_t> neighbours(8 * points);
+  const std::size_t points = nbh.points();
   std::vector<std::uint8_t> iterationsOf(points), hasPrev(points), hasNext(points);
   std::vector<float> cur(points), next(points);
-  stats.addCounter("filter_bytes",
-    static_cast<std::int64_t>(
-      pointStart.size() * 4 + neighbours.size() * 4 + 3 * points + 8 * points));
+  stats.addCounter("filter_bytes", static_cast<std::int64_t>(11 * points));
   const auto iterationsAt = [&](float zeta)
   {
     const double width = perspective ? sigma * zeta : sigma;
     return static_cast<int>(
       std::min<double>(std::min(maxIterations, 255), std::ceil(radius / width)));
   };
-  tbb::parallel_for(tbb::blocked_range<int>(0, H, 1),
-    [&](const tbb::blocked_range<int>& r)
+  const auto slotOf = [&](std::size_t k)
+  {
+    const std::uint32_t p = nbh.pixel[k];
+    return spans.slot(p, static_cast<int>(k - nbh.pointStart[p]));
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points, 4096),
+    [&](const tbb::blocked_range<std::size_t>& r)
     {
-      for (int j = r.begin(); j != r.end(); ++j)
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
       {
-        for (int i = 0; i < W; ++i)
-        {
-          const std::size_t p = spans.pixel(i, j);
-          const int slots = 2 * spans.count[p];
-          for (int s = 0; s < slots; ++s)
-          {
-            const std::size_t k = pointStart[p] + s;
-            const float z = spans.depth[spans.slot(p, s)];
-            // Values filtered: 1 / zeta (perspective) or zeta.
-            cur[k] = perspective ? 1.f / z : z;
-            iterationsOf[k] = static_cast<std::uint8_t>(iterationsAt(z));
-            hasPrev[k] = s > 0;
-            hasNext[k] = s + 1 < slots;
-            const Point c{ static_cast<std::ptrdiff_t>(p), s, i, j };
-            std::int32_t* nb = &neighbours[8 * k];
-            for (int b = -1; b <= 1; ++b)
-            {
-              for (int a = -1; a <= 1; ++a)
-              {
-                if (a != 0 || b != 0)
-                {
-                  const Point q = reach(spans, c, a, b);
-                  *nb++ =
-                    q.pixel >= 0 ? static_cast<std::int32_t>(pointStart[q.pixel] + q.slot) : -1;
-                }
-              }
-            }
-          }
-        }
+        const std::uint32_t p = nbh.pixel[k];
+        const std::size_t s = k - nbh.pointStart[p];
+        const float z = spans.depth[slotOf(k)];
+        // Values filtered: 1 / zeta (perspective) or zeta.
+        cur[k] = perspective ? 1.f / z : z;
+        iterationsOf[k] = static_cast<std::uint8_t>(iterationsAt(z));
+        hasPrev[k] = s > 0;
+        hasNext[k] = k + 1 < nbh.pointStart[p + 1];
       }
     });
   const int iterations = points ? *std::max_element(iterationsOf.begin(), iterationsOf.end()) : 0;
-  // (1 2 1)^T (1 2 1) without the centre, in the neighbours' order (b, then a).
+  // (1 2 1)^T (1 2 1) without the centre, in the neighbours' order.
   static constexpr float Weight[8] = { 1, 2, 1, 2, 2, 1, 2, 1 };
   tbb::combinable<std::int64_t> filtered;
   for (int it = 0; it < iterations; ++it)
@@ -233,7 +253,7 @@ void smoothSurfaces(FluidSpans& spans,
             continue;
           }
           float sum = 4.f * cur[k], wsum = 4.f;
-          const std::int32_t* nb = &neighbours[8 * k];
+          const std::int32_t* nb = &nbh.neighbours[8 * k];
           for (int m = 0; m < 8; ++m)
           {
             if (nb[m] >= 0)
@@ -258,97 +278,100 @@ void smoothSurfaces(FluidSpans& spans,
       });
     std::swap(cur, next);
   }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points, 4096),
     [&](const tbb::blocked_range<std::size_t>& r)
     {
-      for (std::size_t p = r.begin(); p != r.end(); ++p)
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
       {
-        for (std::uint32_t k = pointStart[p]; k < pointStart[p + 1]; ++k)
-        {
-          spans.depth[spans.slot(p, static_cast<int>(k - pointStart[p]))] =
-            perspective ? 1.f / cur[k] : cur[k];
-        }
+        spans.depth[slotOf(k)] = perspective ? 1.f / cur[k] : cur[k];
       }
     });
   stats.addCounter("filter_iterations", iterations);
   stats.addCounter("filtered_points", filtered.combine(std::plus<std::int64_t>()));
 }
 
-void computeNormals(FluidSpans& spans, const ViewRays& rays, RenderStatistics& stats)
+void computeNormals(FluidSpans& spans,
+  const SurfaceNeighbourhoods& nbh,
+  const ViewRays& rays,
+  RenderStatistics& stats)
 {
   stats.declareCounter("normals");
   ScopedPhase phase(stats, "normals");
-  const int W = spans.width, H = spans.height;
+  const int W = spans.width;
   spans.normals.assign(spans.depth.size(), 0);
-  tbb::combinable<std::int64_t> made;
-  tbb::parallel_for(tbb::blocked_range<int>(0, H, 1),
-    [&](const tbb::blocked_range<int>& r)
+  const std::size_t points = nbh.points();
+  // Position of point k on its pixel's centre ray.
+  const auto position = [&](std::size_t k)
+  {
+    const std::uint32_t p = nbh.pixel[k];
+    const double z = spans.depth[spans.slot(p, static_cast<int>(k - nbh.pointStart[p]))];
+    return rays.pointAt(p % W + 0.5, p / W + 0.5, z);
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points, 4096),
+    [&](const tbb::blocked_range<std::size_t>& r)
     {
-      std::int64_t& count = made.local();
-      for (int j = r.begin(); j != r.end(); ++j)
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
       {
-        for (int i = 0; i < W; ++i)
+        const std::uint32_t p = nbh.pixel[k];
+        const int s = static_cast<int>(k - nbh.pointStart[p]);
+        // P[b + 1][a + 1]; a missing point is replaced by the one a step nearer to the
+        // centre (edges by the centre, corners by their edge in the same row).
+        Vec3d P[3][3];
+        bool found[3][3];
+        P[1][1] = position(k);
+        found[1][1] = true;
+        const std::int32_t* nb = &nbh.neighbours[8 * k];
+        for (int m = 0, b = 0; b < 3; ++b)
         {
-          const std::size_t p = spans.pixel(i, j);
-          const Vec3d ray = rays.direction(i + 0.5, j + 0.5);
-          for (int s = 0; s < 2 * spans.count[p]; ++s)
+          for (int a = 0; a < 3; ++a)
           {
-            const Point c{ static_cast<std::ptrdiff_t>(p), s, i, j };
-            // P[b + 1][a + 1]; a missing point is replaced by the one a step nearer to the
-            // centre (edges by the centre, corners by their edge in the same row).
-            Vec3d P[3][3];
-            bool found[3][3];
-            for (int b = -1; b <= 1; ++b)
+            if (a != 1 || b != 1)
             {
-              for (int a = -1; a <= 1; ++a)
+              found[b][a] = nb[m] >= 0;
+              if (found[b][a])
               {
-                const Point q = reach(spans, c, a, b);
-                found[b + 1][a + 1] = q.pixel >= 0;
-                if (q.pixel >= 0)
-                {
-                  P[b + 1][a + 1] =
-                    rays.pointAt(q.i + 0.5, q.j + 0.5, spans.depth[spans.slot(q.pixel, q.slot)]);
-                }
+                P[b][a] = position(static_cast<std::size_t>(nb[m]));
               }
+              ++m;
             }
-            for (const auto& [b, a] : { std::pair{ 1, 0 }, { 1, 2 }, { 0, 1 }, { 2, 1 } })
-            {
-              if (!found[b][a])
-              {
-                P[b][a] = P[1][1];
-              }
-            }
-            for (const int b : { 0, 2 })
-            {
-              for (const int a : { 0, 2 })
-              {
-                if (!found[b][a])
-                {
-                  P[b][a] = P[b][1];
-                }
-              }
-            }
-            Vec3d gx, gy;
-            for (int k = 0; k < 3; ++k)
-            {
-              gx += (P[k][2] - P[k][0]) * SobelWeight[k];
-              gy += (P[2][k] - P[0][k]) * SobelWeight[k];
-            }
-            Vec3d n = cross(gx, gy);
-            const double len = length(n);
-            const bool entry = (s & 1) == 0;
-            n = len > 0 && std::isfinite(len) ? n * (1.0 / len) : normalize(ray);
-            if ((dot(n, ray) > 0) == entry)
-            {
-              n = -n;
-            }
-            spans.normals[spans.slot(p, s)] = encodeNormal(Vec3f(n));
-            ++count;
           }
         }
+        for (const auto& [b, a] : { std::pair{ 1, 0 }, { 1, 2 }, { 0, 1 }, { 2, 1 } })
+        {
+          if (!found[b][a])
+          {
+            P[b][a] = P[1][1];
+          }
+        }
+        for (const int b : { 0, 2 })
+        {
+          for (const int a : { 0, 2 })
+          {
+            if (!found[b][a])
+            {
+              P[b][a] = P[b][1];
+            }
+          }
+        }
+        Vec3d gx, gy;
+        for (int c = 0; c < 3; ++c)
+        {
+          gx += (P[c][2] - P[c][0]) * SobelWeight[c];
+          gy += (P[2][c] - P[0][c]) * SobelWeight[c];
+        }
+        const Vec3d ray = rays.direction(p % W + 0.5, p / W + 0.5);
+        Vec3d n = cross(gx, gy);
+        const double len = length(n);
+        const bool entry = (s & 1) == 0;
+        n = len > 0 && std::isfinite(len) ? n * (1.0 / len) : normalize(ray);
+        if ((dot(n, ray) > 0) == entry)
+        {
+          n = -n;
+        }
+        spans.normals[spans.slot(p, s)] = encodeNormal(Vec3f(n));
       }
     });
-  stats.addCounter("normals", made.combine(std::plus<std::int64_t>()));
+  stats.addCounter("normals", static_cast<std::int64_t>(points));
 }
 
 } // namespace raymappers

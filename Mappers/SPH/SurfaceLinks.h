@@ -37,24 +37,50 @@
 #include "RenderStatistics.h"
 #include "ViewRays.h"
 
+#include <cstdint>
+#include <vector>
+
 namespace raymappers
 {
 
 /// Fills spans.links. Phase: connect. Counters: links_neighbour, links_own.
 void connectSurfaces(FluidSpans& spans, RenderStatistics& stats);
 
+/// The surface points (stored depth values) numbered pixel by pixel, point pointStart[p] + s
+/// being slot s of pixel p, each with the points of its 3 x 3 neighbourhood along the links
+/// (found once for the filter's iterations and the normals).
+struct SurfaceNeighbourhoods
+{
+  std::vector<std::uint32_t> pointStart; // per pixel, and the total at the end
+  std::vector<std::uint32_t> pixel;      // per point
+  /// 8 per point, offsets (a, b) = (-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1),
+  /// (0, 1), (1, 1); -1 where missing.
+  std::vector<std::int32_t> neighbours;
+
+  std::size_t points() const { return pixel.size(); }
+  std::size_t bytes() const { return 4 * (pointStart.size() + pixel.size() + neighbours.size()); }
+};
+
+/// Fills `nbh` from the links of `spans`. Phase: connect. Counter: neighbourhood_bytes.
+void findNeighbourhoods(const FluidSpans& spans,
+  SurfaceNeighbourhoods& nbh,
+  RenderStatistics& stats);
+
 /// Smooths the linked depths with world radius `radius` (no pass, and effect smoothing
-/// off, when radius <= 0 or maxIterations <= 0). Needs links. Phase: filter. Counters:
-/// filter_iterations, filtered_points, filter_bytes (its temporary memory: per surface point
-/// the value twice and its eight neighbours along the links, found once).
+/// off, when radius <= 0 or maxIterations <= 0). Phase: filter. Counters: filter_iterations,
+/// filtered_points, filter_bytes (per point the value twice and three bytes).
 void smoothSurfaces(FluidSpans& spans,
+  const SurfaceNeighbourhoods& nbh,
   const ViewRays& rays,
   double radius,
   int maxIterations,
   RenderStatistics& stats);
 
-/// Fills spans.normals. Needs links. Phase: normals. Counter: normals.
-void computeNormals(FluidSpans& spans, const ViewRays& rays, RenderStatistics& stats);
+/// Fills spans.normals. Phase: normals. Counter: normals.
+void computeNormals(FluidSpans& spans,
+  const SurfaceNeighbourhoods& nbh,
+  const ViewRays& rays,
+  RenderStatistics& stats);
 
 } // namespace raymappers
 

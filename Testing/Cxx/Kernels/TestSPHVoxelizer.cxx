@@ -549,13 +549,15 @@ TEST(SPHVoxelizer, SobelNormalsAlongTheLinksFollowTheSphereAndSmoothingImprovesT
   RenderStatistics stats;
   ASSERT_TRUE(voxelize({ s }, rays, VoxelizerParameters(), spans, stats));
   connectSurfaces(spans, stats);
+  SurfaceNeighbourhoods nbh;
+  findNeighbourhoods(spans, nbh, stats);
   const std::vector<float> raw = spans.depth;
-  smoothSurfaces(spans, rays, 0.0, 20, stats);
+  smoothSurfaces(spans, nbh, rays, 0.0, 20, stats);
   EXPECT_FALSE(stats.effect("smoothing"));
   EXPECT_EQ(stats.counter("filter_iterations"), 0);
   EXPECT_EQ(stats.counter("filtered_points"), 0);
   EXPECT_EQ(spans.depth, raw);
-  computeNormals(spans, rays, stats);
+  computeNormals(spans, nbh, rays, stats);
   int tested = 0;
   const auto [mean0, worst0] = entryNormalError(spans, rays, s, 0.0, tested);
   const auto [front0, frontWorst0] = entryNormalError(spans, rays, s, 0.5, tested);
@@ -566,12 +568,12 @@ TEST(SPHVoxelizer, SobelNormalsAlongTheLinksFollowTheSphereAndSmoothingImprovesT
 
   // Radius 0.1: about 2.5 pixels at the sphere's front (sigma zeta = 0.0114 * 3).
   stats.clear();
-  smoothSurfaces(spans, rays, 0.1, 20, stats);
+  smoothSurfaces(spans, nbh, rays, 0.1, 20, stats);
   EXPECT_TRUE(stats.effect("smoothing"));
   EXPECT_EQ(stats.counter("filter_iterations"),
     static_cast<std::int64_t>(std::ceil(0.1 / (rays.pixelSize() * spans.layers.d0))));
   EXPECT_GT(stats.counter("filtered_points"), 2000);
-  computeNormals(spans, rays, stats);
+  computeNormals(spans, nbh, rays, stats);
   const auto [mean1, worst1] = entryNormalError(spans, rays, s, 0.0, tested);
   const auto [front1, frontWorst1] = entryNormalError(spans, rays, s, 0.5, tested);
   // Smoothing removes the layers' steps where the surface faces the eye (measured 0.45
