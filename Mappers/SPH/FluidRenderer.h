@@ -82,9 +82,8 @@ void renderFluidSpans(const FluidSpans& spans,
   RenderStatistics& stats);
 
 /// The whole frame: voxelizeFluid, connectSurfaces, findNeighbourhoods, smoothSurfaces,
-/// computeNormals and
-/// renderFluidSpans, with their phases and counters (and particles_skipped from the
-/// input). Returns false when the voxelization does not fit the memory budget (the frame is
+/// computeNormals and renderFluidSpans, with their phases and counters (and
+/// particles_skipped from the input). Returns false when the voxelization does not fit the memory budget (the frame is
 /// then empty).
 bool renderFluid(const FluidParticles& particles,
   const ViewRays& rays,
