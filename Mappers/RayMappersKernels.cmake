@@ -19,7 +19,10 @@ add_library(RayMappersKernels STATIC
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/ViewRays.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/PerspectiveGrid.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx)
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/SpanVoxelizer.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/SurfaceLinks.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidRenderer.cxx)
 target_include_directories(RayMappersKernels PUBLIC
   ${CMAKE_CURRENT_LIST_DIR}/Common
   ${CMAKE_CURRENT_LIST_DIR}/CGT

@@ -37,7 +37,6 @@ bool PerspectiveGrid::build(const SPHParticles& particles,
   const std::size_t n = particles.size();
   Footprints.resize(n);
   std::vector<CellRange> ranges(n);
-  const double zNear = rays.nearZeta(), zFar = rays.farZeta();
 
   // 1. Each particle's pixel extent and depth span (section 4.1.2, kComputeRelevantCells).
   struct Span
@@ -56,42 +55,23 @@ bool PerspectiveGrid::build(const SPHParticles& particles,
         CellRange& cr = ranges[i];
         cr.tz0 = 1;
         cr.tz1 = 0; // out of view until proven otherwise
-        const Vec3d c(particles.centers[i]);
-        const double h = particles.support[i];
-        const double zc = rays.zetaOf(c);
-        const double zlo = std::max(zc - h, zNear), zhi = std::min(zc + h, zFar);
-        if (!(zlo < zhi))
+        const SphereFootprint f = rays.footprint(Vec3d(particles.centers[i]), particles.support[i]);
+        if (!f.inView)
         {
           continue;
         }
-        double x0 = -1e30, x1 = 1e30, y0 = -1e30, y1 = 1e30;
-        if (rays.projectedExtent(c, h, 0, x0, x1))
-        {
-          rays.projectedExtent(c, h, 1, y0, y1);
-        }
-        // Pixels whose centre (i + 0.5) lies in the extent.
-        x0 = std::max(x0, 0.0);
-        x1 = std::min(x1, double(W));
-        y0 = std::max(y0, 0.0);
-        y1 = std::min(y1, double(H));
-        const int i0 = static_cast<int>(std::ceil(x0 - 0.5)), i1 = static_cast<int>(std::floor(x1 - 0.5));
-        const int j0 = static_cast<int>(std::ceil(y0 - 0.5)), j1 = static_cast<int>(std::floor(y1 - 0.5));
-        if (i0 > i1 || j0 > j1)
-        {
-          continue;
-        }
-        Footprints[i] = { static_cast<float>(x0), static_cast<float>(x1), static_cast<float>(y0),
-          static_cast<float>(y1), static_cast<float>(zc) };
-        cr.tx0 = i0 / TileSize;
-        cr.tx1 = i1 / TileSize;
-        cr.ty0 = j0 / TileSize;
-        cr.ty1 = j1 / TileSize;
+        Footprints[i] = { static_cast<float>(f.x0), static_cast<float>(f.x1), static_cast<float>(f.y0),
+          static_cast<float>(f.y1), static_cast<float>(f.zc) };
+        cr.tx0 = f.i0 / TileSize;
+        cr.tx1 = f.i1 / TileSize;
+        cr.ty0 = f.j0 / TileSize;
+        cr.ty1 = f.j1 / TileSize;
         cr.tz0 = 0;
         cr.tz1 = 0;
-        cr.zlo = static_cast<float>(zlo);
-        cr.zhi = static_cast<float>(zhi);
-        s.lo = std::min(s.lo, zlo);
-        s.hi = std::max(s.hi, zhi);
+        cr.zlo = static_cast<float>(f.zlo);
+        cr.zhi = static_cast<float>(f.zhi);
+        s.lo = std::min(s.lo, f.zlo);
+        s.hi = std::max(s.hi, f.zhi);
         ++s.count;
       }
       return s;

@@ -1,5 +1,6 @@
 #include "ViewRays.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace raymappers
@@ -132,6 +133,33 @@ bool ViewRays::projectedExtent(const Vec3d& c, double H, int axis, double& lo, d
   return true;
 }
 
+SphereFootprint ViewRays::footprint(const Vec3d& c, double H) const
+{
+  SphereFootprint f;
+  f.zc = zetaOf(c);
+  f.zlo = std::max(f.zc - H, Near);
+  f.zhi = std::min(f.zc + H, Far);
+  if (!(f.zlo < f.zhi))
+  {
+    return f;
+  }
+  double x0 = -1e30, x1 = 1e30, y0 = -1e30, y1 = 1e30;
+  if (projectedExtent(c, H, 0, x0, x1))
+  {
+    projectedExtent(c, H, 1, y0, y1);
+  }
+  f.x0 = std::max(x0, 0.0);
+  f.x1 = std::min(x1, double(Width));
+  f.y0 = std::max(y0, 0.0);
+  f.y1 = std::min(y1, double(Height));
+  f.i0 = static_cast<int>(std::ceil(f.x0 - 0.5));
+  f.i1 = static_cast<int>(std::floor(f.x1 - 0.5));
+  f.j0 = static_cast<int>(std::ceil(f.y0 - 0.5));
+  f.j1 = static_cast<int>(std::floor(f.y1 - 0.5));
+  f.inView = f.i0 <= f.i1 && f.j0 <= f.j1;
+  return f;
+}
+
 double ViewRays::zetaOfWindowDepth(double px, double py, double d) const
 {
   const double zn = 2.0 * d - 1.0;
@@ -142,6 +170,16 @@ double ViewRays::zetaOfWindowDepth(double px, double py, double d) const
   const double w0 = dot(r3, A) + M[15], wd = dot(r3, B);
   const double den = zd - zn * wd;
   return std::abs(den) > 0 ? (zn * w0 - z0) / den : Far;
+}
+
+std::array<double, 4> ViewRays::clip(const Vec3d& p) const
+{
+  std::array<double, 4> c{};
+  for (int r = 0; r < 4; ++r)
+  {
+    c[r] = dot(row(M, r), p) + M[4 * r + 3];
+  }
+  return c;
 }
 
 } // namespace raymappers

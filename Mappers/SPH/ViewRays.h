@@ -23,6 +23,18 @@
 namespace raymappers
 {
 
+/// What a sphere covers of a view: its depth span clipped to near and far, its projected
+/// extent clipped to the image ([x0, x1] x [y0, y1] in pixel coordinates) and the pixels whose
+/// centres (i + 0.5, j + 0.5) lie in it, [i0, i1] x [j0, j1]; inView is false when either is
+/// empty.
+struct SphereFootprint
+{
+  bool inView = false;
+  double zc = 0, zlo = 0, zhi = 0;
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+};
+
 class ViewRays
 {
 public:
@@ -69,8 +81,19 @@ public:
   /// the sphere reaches behind the eye plane, where the projection is unbounded.
   bool projectedExtent(const Vec3d& c, double H, int axis, double& lo, double& hi) const;
 
+  /// The footprint of the sphere (centre c, origin-relative; radius H): its projected
+  /// extent is exact (projectedExtent), or the whole image when the sphere reaches behind
+  /// the eye plane.
+  SphereFootprint footprint(const Vec3d& c, double H) const;
+
   /// The depth along the ray of pixel (px, py) at which OpenGL's window depth is d.
   double zetaOfWindowDepth(double px, double py, double d) const;
+
+  /// Clip coordinates (x, y, z, w) of an origin-relative point. They are affine in the
+  /// point, so along a line p0 + t d they are clip(p0) + t (clip(p0 + d) - clip(p0)); the
+  /// pixel coordinates are ((x / w + 1) W / 2, (y / w + 1) H / 2), the window depth
+  /// (z / w + 1) / 2.
+  std::array<double, 4> clip(const Vec3d& p) const;
 
 private:
   std::array<double, 16> M{}; // origin-relative model -> clip

@@ -1,0 +1,58 @@
+// The particles of a fluid for the voxelizer (Zirr 2015, section 3.1): spheres of radius
+// r_i (one constant radius or one per particle) around centres stored relative to an
+// origin (float precision near the data). Invalid input (a non-finite centre; a radius
+// not finite or not positive) is dropped while building and counted, the rest kept in
+// input order.
+#ifndef RayMappers_FluidParticles_h
+#define RayMappers_FluidParticles_h
+
+#include "ParticleInput.h"
+#include "Vec3.h"
+
+#include <vector>
+
+namespace raymappers
+{
+
+struct FluidParticles
+{
+  Vec3d origin;
+  std::vector<Vec3f> centers; // relative to origin
+  std::vector<float> radius;  // r_i > 0
+  float maxRadius = 0.f;
+  std::size_t skippedNonFinite = 0; // NaN/Inf centre
+  std::size_t skippedBadRadius = 0; // radius NaN/Inf, zero or negative
+
+  std::size_t size() const { return centers.size(); }
+};
+
+/// Builds `out` from n input points in parallel: point(i) -> Vec3d, radius(i) -> double;
+/// both are called from several threads.
+template<typename PointFn, typename RadiusFn>
+void buildFluidParticles(std::size_t n,
+  const Vec3d& origin,
+  PointFn point,
+  RadiusFn radius,
+  FluidParticles& out)
+{
+  out.origin = origin;
+  out.centers.resize(n);
+  out.radius.resize(n);
+  const ParticleTally tally = tallyParticles(n,
+    [&](std::size_t i, ParticleTally& t)
+    {
+      const Vec3d p = point(i);
+      const float r = t.admit(p, true, isFinite(p) ? radius(i) : 0.0);
+      out.centers[i] = r > 0.f ? Vec3f(p - origin) : Vec3f();
+      out.radius[i] = r;
+    });
+  out.skippedNonFinite = tally.nonFinite;
+  out.skippedBadRadius = tally.badRadius;
+  out.maxRadius = tally.maxRadius;
+  compactStable(
+    n, [&](std::size_t i) { return out.radius[i] > 0.f; }, out.centers, out.radius);
+}
+
+} // namespace raymappers
+
+#endif

@@ -1,0 +1,97 @@
+// Rendering a fluid from its compressed voxelization (Zirr 2015, sections 3.5, 3.6), and the
+// whole frame: voxelize (SpanVoxelizer.h), connect, smooth, normals (SurfaceLinks.h), render.
+//
+// The fluid is a homogeneous medium with absorption coefficient kappa_c = density *
+// absorptionColor_c per world unit (per colour channel c). Its appearance at a surface point
+// p with outward normal n is the lit colour L(p) = shade(lights, material, color, p, n, v)
+// (Lighting.h, world space; Lambert + Phong), times the ambient occlusion A(p) when that is on.
+// With L the lit colour of the front surface (the first entry):
+//   opaque (translucency off): rgb = L, alpha = 1;
+//   translucent, index of refraction 1 (section 3.5, "iterate over all depth entries"):
+//     the transmittance along the pixel's ray is T_c = exp(-kappa_c l), l the fluid's
+//     thickness over all spans, including the hidden empty space beyond the last stored one
+//     (FluidSpans::thickness times |B|), which is exact Beer-Lambert however many layers;
+//     rgb_c = L_c (1 - T_c) (the light the body scatters is the fraction it does not let
+//     through), alpha = 1 - mean_c T_c (the background shows through by T);
+//   refraction (translucency on, index eta != 1; section 3.5, Listing 2): a path of weight
+//     w_c = 1 starts at the front entry. At each surface event the Fresnel reflectance R of
+//     an unpolarized dielectric interface (eta inside, 1 outside; R = 1 beyond the critical
+//     angle: total internal reflection) splits it: w R L goes to the pixel and the path
+//     refracts with w (1 - R) (under total internal reflection it reflects, keeping w).
+//     Inside, a segment of length s adds w_c (1 - exp(-kappa_c s)) L_c and leaves w_c
+//     exp(-kappa_c s). The path is marched through the columns (screen-space march along the
+//     ray's projection, pixel boundary to pixel boundary, finding in each column the first
+//     stored depth between the depths where the ray enters and leaves it, or a change between
+//     inside and outside at the column's side) until it leaves the grid (its weight then
+//     reaches the background: alpha = 1 - mean_c w_c) or `bounces` events have happened
+//     (a path still inside is then absorbed: w L goes to the pixel). The weights of all
+//     branches sum to 1 per channel, so no pixel exceeds the brightest lit colour: energy is
+//     never created. A hidden extension of the last span counts as fluid for the march.
+// Ambient occlusion (section 3.6, only when on): K points q_k = p + r_k d_k in the hemisphere
+// around the front surface's normal (fixed spiral directions, radii up to aoRadius) are
+// occluded when their depth lies in any stored span of the column they project to (deep:
+// all layers, not only the front); A = 1 - occluded / K.
+// Normals are in model coordinates (the march refracts there; modelToWorld is assumed to be
+// a similarity); lighting is in world space.
+#ifndef RayMappers_FluidRenderer_h
+#define RayMappers_FluidRenderer_h
+
+#include "FluidParticles.h"
+#include "FluidSpans.h"
+#include "Frame.h"
+#include "Lighting.h"
+#include "RenderStatistics.h"
+#include "SpanVoxelizer.h"
+#include "ViewRays.h"
+
+#include <vector>
+
+namespace raymappers
+{
+
+struct FluidRenderParameters
+{
+  VoxelizerParameters voxelizer;
+  double smoothingRadius = 0.0; // world units; 0: no smoothing pass
+  int smoothingIterations = 20; // at most
+  Vec3d color{ 0.55, 0.75, 0.95 };
+  Material material;
+  std::vector<Light> lights; // world space
+  double modelToWorld[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
+  double normalToWorld[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+  bool translucency = true;
+  Vec3d absorptionColor{ 0.8, 0.35, 0.15 }; // kappa_c / density
+  double density = 1.0;
+  double refractiveIndex = 1.0; // 1: no refraction march
+  int bounces = 4;
+  bool ambientOcclusion = false;
+  double aoRadius = 0.1; // world units
+  int aoSamples = 16;
+};
+
+/// Renders `spans` (with normals) into `frame`: premultiplied RGBA and the window depth of
+/// the front surface (the far plane where there is no fluid).
+/// Phases: ao, render (opaque or translucent) or refract. Counters: shaded_pixels,
+/// translucent_pixels, refraction_paths, surface_events, tir_events, march_columns,
+/// ao_samples. Effects: translucency, refraction, ambient_occlusion.
+void renderFluidSpans(const FluidSpans& spans,
+  const ViewRays& rays,
+  const Vec3d& origin,
+  const FluidRenderParameters& params,
+  Frame& frame,
+  RenderStatistics& stats);
+
+/// The whole frame: voxelizeFluid, connectSurfaces, findNeighbourhoods, smoothSurfaces,
+/// computeNormals and renderFluidSpans, with their phases and counters (and
+/// particles_skipped from the input). Returns false when the voxelization does not fit the memory budget (the frame is
+/// then empty).
+bool renderFluid(const FluidParticles& particles,
+  const ViewRays& rays,
+  const FluidRenderParameters& params,
+  FluidSpans& spans,
+  Frame& frame,
+  RenderStatistics& stats);
+
+} // namespace raymappers
+
+#endif

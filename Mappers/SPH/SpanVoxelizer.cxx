@@ -1,0 +1,361 @@
+#include "SpanVoxelizer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <vector>
+
+namespace raymappers
+{
+namespace
+{
+/// The pixels [x0, x1] x [y0, y1] whose rays can meet a particle (empty when x0 > x1).
+struct Footprint
+{
+  int x0, x1, y0, y1;
+};
+
+struct DepthRange
+{
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  std::size_t inView = 0;
+};
+
+struct TallyCounters
+{
+  std::int64_t splatPixels = 0, setBitOps = 0, spansFound = 0, spansStored = 0, spansHidden = 0,
+               gapsBridged = 0;
+};
+
+/// Column q (the tile's pixels row by row) of the tile's grid: its words are contiguous.
+inline std::uint64_t* columnOf(std::uint64_t* grid, std::size_t q, int words)
+{
+  return grid + q * words;
+}
+
+/// Sets bits [l0, l1] of a column with one atomic OR per touched word.
+inline std::int64_t setBits(std::uint64_t* column, int l0, int l1)
+{
+  std::int64_t ops = 0;
+  for (int w = l0 >> 6; w <= (l1 >> 6); ++w)
+  {
+    const int b0 = std::max(l0, w << 6) - (w << 6);
+    const int b1 = std::min(l1, (w << 6) + 63) - (w << 6);
+    const std::uint64_t hi = b1 == 63 ? ~std::uint64_t(0) : (std::uint64_t(1) << (b1 + 1)) - 1;
+    const std::uint64_t mask = hi & (~std::uint64_t(0) << b0);
+    __atomic_fetch_or(column + w, mask, __ATOMIC_RELAXED);
+    ++ops;
+  }
+  return ops;
+}
+
+inline void setBit(std::uint64_t* column, int l)
+{
+  __atomic_fetch_or(column + (l >> 6), std::uint64_t(1) << (l & 63), __ATOMIC_RELAXED);
+}
+
+/// The first layer >= pos whose bit equals `value` (`words * 64` when none).
+inline int nextBit(const std::uint64_t* column, int words, int pos, bool value)
+{
+  int w = pos >> 6;
+  if (w >= words)
+  {
+    return words * 64;
+  }
+  std::uint64_t bits = (value ? column[w] : ~column[w]) & (~std::uint64_t(0) << (pos & 63));
+  while (bits == 0)
+  {
+    if (++w == words)
+    {
+      return words * 64;
+    }
+    bits = value ? column[w] : ~column[w];
+  }
+  return (w << 6) + __builtin_ctzll(bits);
+}
+}
+
+bool voxelizeFluid(const FluidParticles& particles,
+  const ViewRays& rays,
+  const VoxelizerParameters& params,
+  FluidSpans& out,
+  RenderStatistics& stats)
+{
+  const bool bridging = params.gapThreshold > 0;
+  const bool shell = bridging && params.gapThreshold >= 2.0 * particles.maxRadius;
+  stats.setEffect("gap_bridging", bridging);
+  stats.setEffect("shell_splat", shell);
+  for (const char* name : { "particles_in_view",
+         "layers",
+         "words_per_column",
+         "tiles",
+         "tile_width",
+         "tile_height",
+         "splat_pixels",
+         "set_bit_ops",
+         "spans_found",
+         "spans_stored",
+         "spans_hidden",
+         "gaps_bridged",
+         "peak_temporary_bytes",
+         "budget_exceeded" })
+  {
+    stats.declareCounter(name);
+  }
+  const int W = rays.width(), H = rays.height();
+  const int S = std::clamp(params.maxSpans, 1, FluidSpans::MaxSpans);
+  out.reset(W, H, S);
+  const std::size_t n = particles.size();
+  if (n == 0 || W <= 0 || H <= 0)
+  {
+    return true;
+  }
+
+  // Footprints and the depth range of the particles in view.
+  std::vector<Footprint> footprints(n);
+  const DepthRange range = tbb::parallel_reduce(
+    tbb::blocked_range<std::size_t>(0, n, 4096),
+    DepthRange(),
+    [&](const tbb::blocked_range<std::size_t>& r, DepthRange d)
+    {
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+      {
+        const SphereFootprint f = rays.footprint(Vec3d(particles.centers[i]), particles.radius[i]);
+        if (!f.inView)
+        {
+          footprints[i] = { 1, 0, 1, 0 };
+          continue;
+        }
+        footprints[i] = { f.i0, f.i1, f.j0, f.j1 };
+        d.lo = std::min(d.lo, f.zlo);
+        d.hi = std::max(d.hi, f.zhi);
+        ++d.inView;
+      }
+      return d;
+    },
+    [](DepthRange a, const DepthRange& b)
+    {
+      a.lo = std::min(a.lo, b.lo);
+      a.hi = std::max(a.hi, b.hi);
+      a.inView += b.inView;
+      return a;
+    });
+  stats.addCounter("particles_in_view", static_cast<std::int64_t>(range.inView));
+  const std::size_t footprintBytes = footprints.capacity() * sizeof(Footprint);
+  if (range.inView == 0)
+  {
+    stats.addCounter("peak_temporary_bytes", static_cast<std::int64_t>(footprintBytes));
+    return true;
+  }
+
+  // Layers (section 4.2) and tiles within the budget.
+  VoxelDepthLayers& layers = out.layers;
+  layers.assign(rays.isPerspective(),
+    range.lo,
+    range.hi,
+    rays.pixelSize(),
+    params.angleResolutionDeg,
+    params.maxLayers);
+  const int L = layers.count;
+  const int words = (L + 63) / 64;
+  const std::size_t columnBytes = static_cast<std::size_t>(words) * sizeof(std::uint64_t);
+  stats.addCounter("layers", L);
+  stats.addCounter("words_per_column", words);
+  const std::size_t gridBudget =
+    params.memoryBudget > footprintBytes ? params.memoryBudget - footprintBytes : 0;
+  const std::size_t tilePixels = gridBudget / columnBytes;
+  if (tilePixels == 0)
+  {
+    stats.addCounter("budget_exceeded", 1);
+    stats.addCounter("peak_temporary_bytes", static_cast<std::int64_t>(footprintBytes));
+    return false;
+  }
+  int tw = W, th = H;
+  if (tilePixels < static_cast<std::size_t>(W) * H)
+  {
+    if (tilePixels >= static_cast<std::size_t>(W))
+    {
+      th = static_cast<int>(tilePixels / W); // whole rows
+    }
+    else
+    {
+      tw = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(tilePixels))));
+      th = std::min(H, static_cast<int>(tilePixels / tw));
+    }
+  }
+  const int tilesX = (W + tw - 1) / tw, tilesY = (H + th - 1) / th;
+  stats.addCounter("tiles", tilesX * tilesY);
+  stats.addCounter("tile_width", tw);
+  stats.addCounter("tile_height", th);
+  // Uninitialized: each tile clears the part it uses.
+  const std::size_t gridWords = static_cast<std::size_t>(tw) * th * words;
+  const std::unique_ptr<std::uint64_t[]> grid(new std::uint64_t[gridWords]);
+  stats.addCounter("peak_temporary_bytes",
+    static_cast<std::int64_t>(gridWords * sizeof(std::uint64_t) + footprintBytes));
+
+  const double dFront = layers.depths.front(), dBack = layers.depths.back();
+  const float g = static_cast<float>(params.gapThreshold);
+  tbb::combinable<TallyCounters> tallies;
+  for (int ty = 0; ty < tilesY; ++ty)
+  {
+    for (int tx = 0; tx < tilesX; ++tx)
+    {
+      const int x0 = tx * tw, y0 = ty * th;
+      const int x1 = std::min(W, x0 + tw), y1 = std::min(H, y0 + th);
+      const int cw = x1 - x0;
+      const std::size_t used = static_cast<std::size_t>(cw) * (y1 - y0) * words;
+      {
+        ScopedPhase phase(stats, "splat");
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, used, 1 << 16),
+          [&](const tbb::blocked_range<std::size_t>& r)
+          { std::fill(grid.get() + r.begin(), grid.get() + r.end(), std::uint64_t(0)); });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
+          [&](const tbb::blocked_range<std::size_t>& r)
+          {
+            TallyCounters& t = tallies.local();
+            for (std::size_t i = r.begin(); i != r.end(); ++i)
+            {
+              const Footprint& fp = footprints[i];
+              const int i0 = std::max(fp.x0, x0), i1 = std::min(fp.x1, x1 - 1);
+              const int j0 = std::max(fp.y0, y0), j1 = std::min(fp.y1, y1 - 1);
+              if (i0 > i1 || j0 > j1)
+              {
+                continue;
+              }
+              const Vec3d c(particles.centers[i]);
+              const double r2 = double(particles.radius[i]) * particles.radius[i];
+              // Layers of the depths in the sphere from the layer coordinate at its centre,
+              // linearized: no logarithm per pixel. The linearization is off by at most
+              // r^2 max|u''| / 2 = r^2 / (2 z_min^2 step) layers (logarithmic layers; uniform
+              // ones are linear), which layerOf corrects against the depth table in as many
+              // steps; spheres large against their depth take the exact coordinate instead.
+              const double zc = std::clamp(rays.zetaOf(c), dFront, dBack);
+              const double zmin = std::max(zc - particles.radius[i], dFront);
+              const bool linear = !layers.logarithmic || r2 < 4.0 * zmin * zmin * layers.step;
+              const double uc = layers.coordinate(zc), slope = layers.coordinateSlope(zc);
+              for (int j = j0; j <= j1; ++j)
+              {
+                for (int px = i0; px <= i1; ++px)
+                {
+                  const Vec3d A = rays.start(px + 0.5, j + 0.5) - c;
+                  const Vec3d B = rays.direction(px + 0.5, j + 0.5);
+                  const double a = dot(B, B), b = dot(A, B);
+                  const double disc = b * b - a * (dot(A, A) - r2);
+                  if (!(disc > 0))
+                  {
+                    continue;
+                  }
+                  const double root = std::sqrt(disc);
+                  const double z0 = std::max((-b - root) / a, dFront);
+                  const double z1 = std::min((-b + root) / a, dBack);
+                  if (!(z0 < z1))
+                  {
+                    continue;
+                  }
+                  const int l0 =
+                    layers.layerOf(z0, linear ? uc + (z0 - zc) * slope : layers.coordinate(z0));
+                  const int l1 =
+                    layers.layerOf(z1, linear ? uc + (z1 - zc) * slope : layers.coordinate(z1));
+                  std::uint64_t* column =
+                    columnOf(grid.get(), static_cast<std::size_t>(j - y0) * cw + (px - x0), words);
+                  ++t.splatPixels;
+                  if (shell)
+                  {
+                    setBit(column, l0);
+                    setBit(column, l1);
+                    t.setBitOps += 2;
+                  }
+                  else
+                  {
+                    t.setBitOps += setBits(column, l0, l1);
+                  }
+                }
+              }
+            }
+          });
+      }
+      ScopedPhase phase(stats, "compress");
+      tbb::parallel_for(tbb::blocked_range<int>(y0, y1, 1),
+        [&](const tbb::blocked_range<int>& r)
+        {
+          TallyCounters& t = tallies.local();
+          for (int j = r.begin(); j != r.end(); ++j)
+          {
+            for (int px = x0; px < x1; ++px)
+            {
+              const std::uint64_t* column =
+                columnOf(grid.get(), static_cast<std::size_t>(j - y0) * cw + (px - x0), words);
+              const std::size_t p = out.pixel(px, j);
+              const float rayLength = static_cast<float>(length(rays.direction(px + 0.5, j + 0.5)));
+              float* d = out.depth.data() + out.slot(p, 0);
+              int stored = 0;
+              std::uint32_t found = 0;
+              float hidden = 0.f;
+              int s = nextBit(column, words, 0, true);
+              while (s < L)
+              {
+                const int e = std::min(nextBit(column, words, s, false), L);
+                const float entry = static_cast<float>(layers.depths[s]);
+                const float exit = static_cast<float>(layers.depths[e]);
+                if (found > 0 && (entry - d[2 * stored - 1]) * rayLength < g)
+                {
+                  // Bridged: the run extends the last span (its hidden gap stays zero).
+                  d[2 * stored - 1] = exit;
+                  ++t.gapsBridged;
+                }
+                else if (stored < S)
+                {
+                  d[2 * stored] = entry;
+                  d[2 * stored + 1] = exit;
+                  ++stored;
+                  ++found;
+                }
+                else
+                {
+                  // Beyond S spans: the last stored span extends, its new gap is kept.
+                  hidden += entry - d[2 * stored - 1];
+                  d[2 * stored - 1] = exit;
+                  ++found;
+                }
+                s = nextBit(column, words, e, true);
+              }
+              out.count[p] = static_cast<std::uint8_t>(stored);
+              out.found[p] = found;
+              out.hiddenEmpty[p] = hidden;
+              t.spansFound += found;
+              t.spansStored += stored;
+              t.spansHidden += found - stored;
+            }
+          }
+        });
+    }
+  }
+  const TallyCounters total = tallies.combine(
+    [](TallyCounters a, const TallyCounters& b)
+    {
+      a.splatPixels += b.splatPixels;
+      a.setBitOps += b.setBitOps;
+      a.spansFound += b.spansFound;
+      a.spansStored += b.spansStored;
+      a.spansHidden += b.spansHidden;
+      a.gapsBridged += b.gapsBridged;
+      return a;
+    });
+  stats.addCounter("splat_pixels", total.splatPixels);
+  stats.addCounter("set_bit_ops", total.setBitOps);
+  stats.addCounter("spans_found", total.spansFound);
+  stats.addCounter("spans_stored", total.spansStored);
+  stats.addCounter("spans_hidden", total.spansHidden);
+  stats.addCounter("gaps_bridged", total.gapsBridged);
+  return true;
+}
+
+} // namespace raymappers

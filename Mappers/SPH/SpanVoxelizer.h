@@ -1,0 +1,66 @@
+// The tiled voxelization of a fluid's particles into compressed spans (Zirr 2015,
+// sections 3.1, 3.2, 4.1 to 4.4).
+//
+// The grid: one voxel column per pixel of the view, with the logarithmic depth layers of
+// VoxelDepthLayers.h over the depth range the particles occupy (clipped to near and far),
+// 1 bit per voxel, packed in 64-bit words along the column. The screen is split into tiles
+// whose bit grid fits the memory budget with the other temporaries (the particles' pixel
+// footprints); tiles are voxelized one after the other, and each tile's grid is discarded
+// after its compression, so the peak temporary memory is one tile's grid plus the
+// footprints, whatever the resolution.
+//
+// Splat (3.1, 4.1): in parallel over particles, each sphere's exact projected extent
+// (ViewRays::projectedExtent) gives its pixels; the centre ray of each, p(zeta) = A + zeta B,
+// meets the sphere |p - c| = r on [zeta_0, zeta_1], the roots of
+//   |B|^2 zeta^2 + 2 (A - c).B zeta + |A - c|^2 - r^2 = 0,
+// clipped to the layers' range (the near plane cuts the sphere there), and the bits of the
+// layers overlapping it are set with atomic ORs (several particles share a word). With a
+// gap threshold g >= 2 r_max (section 4.4) only the two layers holding zeta_0 and zeta_1 are
+// set (the sphere's shell): the chord between them, at most 2 r long, is bridged anyway.
+//
+// Compress (3.1, 4.3): in parallel over the tile's columns, runs of set bits are found word
+// by word with count-trailing-zeros on the word (runs of ones: on its complement). A run of
+// layers [s, e) becomes the span [d_s, d_e].
+//
+// Gap bridging (3.2, 4.4): a run joins the span before it when the empty gap between them is
+// shorter than g in world space, (d_s - d_e') |B| < g. (The paper bounds the gap's layer count
+// from below to avoid evaluating depths; here the depths d_i are a table, so the exact test
+// costs one subtraction.)
+#ifndef RayMappers_SpanVoxelizer_h
+#define RayMappers_SpanVoxelizer_h
+
+#include "FluidParticles.h"
+#include "FluidSpans.h"
+#include "RenderStatistics.h"
+#include "ViewRays.h"
+
+#include <cstddef>
+
+namespace raymappers
+{
+
+struct VoxelizerParameters
+{
+  double angleResolutionDeg = 14.0; // alpha of section 4.2
+  int maxLayers = 16384;
+  int maxSpans = 7;                                  // S, at most FluidSpans::MaxSpans
+  std::size_t memoryBudget = std::size_t(512) << 20; // bytes of temporary memory
+  double gapThreshold = 0.0;                         // g, world units
+};
+
+/// Voxelizes `particles` for `rays` into `out` (sized to the view; no spans where no
+/// particle is). Returns false when the budget cannot hold even one column's bits with the
+/// footprints (out then has no spans; counter budget_exceeded = 1).
+/// Phases: splat, compress. Counters: particles_in_view, layers, words_per_column, tiles,
+/// tile_width, tile_height, splat_pixels, set_bit_ops, spans_found, spans_stored,
+/// spans_hidden, gaps_bridged, peak_temporary_bytes, budget_exceeded. Effects: shell_splat,
+/// gap_bridging.
+bool voxelizeFluid(const FluidParticles& particles,
+  const ViewRays& rays,
+  const VoxelizerParameters& params,
+  FluidSpans& out,
+  RenderStatistics& stats);
+
+} // namespace raymappers
+
+#endif
