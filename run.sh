@@ -17,8 +17,8 @@ case "$mode" in
 esac
 
 # ParaView 5.11 SDK (its own VTK), Embree 3, TBB, the -dev packages ParaView's CMake config
-# asks for, Xvfb for headless rendering, LAMMPS, LIGGGHTS and galpy (with scipy) for the
-# generated data, matplotlib for plots.
+# asks for, Xvfb for headless rendering, LAMMPS, LIGGGHTS, galpy (with scipy) and PySPH for
+# the generated data, matplotlib for plots.
 packages=(
   build-essential cmake ninja-build pkg-config
   paraview paraview-dev python3-paraview
@@ -29,7 +29,7 @@ packages=(
   libfreetype-dev libxml2-dev libexpat1-dev liblzma-dev zlib1g-dev libavformat-dev
   libavcodec-dev libavutil-dev libswscale-dev libnetcdf-dev libboost-dev libgdal-dev
   xvfb xauth lammps liggghts openmpi-bin python3-numpy python3-matplotlib python3-scipy
-  python3-galpy
+  python3-galpy python3-pysph
 )
 missing=()
 for p in "${packages[@]}"; do
