@@ -208,6 +208,7 @@ RM_FORWARD(SetSlabDepth, int, SetSlabDepth)
 RM_FORWARD(SetTerminationOpacity, double, SetTerminationOpacity)
 RM_FORWARD(SetJitter, bool, SetJitter)
 RM_FORWARD(SetMaximumReduction, double, SetMaximumReduction)
+RM_FORWARD(SetFrameBudget, double, SetFrameBudget)
 #undef RM_FORWARD
 
 void vtkSPHVolumeRepresentation::SetContourColor(double r, double g, double b)

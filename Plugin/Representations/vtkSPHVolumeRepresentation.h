@@ -73,6 +73,7 @@ public:
   void SetTerminationOpacity(double opacity);
   void SetJitter(bool on);
   void SetMaximumReduction(double r);
+  void SetFrameBudget(double seconds);
 
   //***************************************************************************
   // Lighting and solid color, forwarded to the volume property.
