@@ -124,6 +124,15 @@ int main()
   Check(std::abs(pd->GetArray("Thickness")->GetTuple1(centre) - 2.0) < 3 * layer,
     "the central thickness is 2r");
   Check(std::isnan(pd->GetArray("EntryDepth")->GetComponent(centre, 1)), "unused slots are NaN");
+  {
+    // An oblique ray (pixel (50, 30), angle theta to the axis): the chord it cuts from the
+    // sphere is 2 sqrt(1 - (5 sin theta)^2) in world units.
+    const double theta = std::atan(t * (2.0 * 50.5 / 61 - 1));
+    const double chord = 2 * std::sqrt(1 - std::pow(5 * std::sin(theta), 2));
+    const double got50 = pd->GetArray("Thickness")->GetTuple1(30 * 61 + 50);
+    std::printf("oblique pixel: thickness %.5f, chord %.5f\n", got50, chord);
+    Check(std::abs(got50 - chord) < 0.005, "an oblique pixel's thickness is the world chord");
+  }
   Check(pd->GetArray("EntryNormal")->GetComponent(centre, 2) > 0.99,
     "entry normal faces the camera (+z)");
   Check(pd->GetArray("ExitNormal")->GetComponent(centre, 2) < -0.99, "exit normal faces away (-z)");
