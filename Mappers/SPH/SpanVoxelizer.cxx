@@ -31,7 +31,7 @@ struct DepthRange
 
 struct TallyCounters
 {
-  std::int64_t splatPixels = 0, setBitOps = 0, spansFound = 0, spansStored = 0, spansHidden = 0,
+  std::int64_t splatPixels = 0, stoppedSpans = 0, setBitOps = 0, spansFound = 0, spansStored = 0, spansHidden = 0,
                gapsBridged = 0;
 };
 
@@ -83,6 +83,31 @@ inline int nextBit(const std::uint64_t* column, int words, int pos, bool value)
 }
 }
 
+std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* windowDepth)
+{
+  const int W = rays.width(), H = rays.height();
+  std::vector<float> out(static_cast<std::size_t>(W) * static_cast<std::size_t>(H),
+    std::numeric_limits<float>::infinity());
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 16),
+    [&](const tbb::blocked_range<int>& r)
+    {
+      for (int j = r.begin(); j != r.end(); ++j)
+      {
+        for (int i = 0; i < W; ++i)
+        {
+          const std::size_t p = static_cast<std::size_t>(j) * W + i;
+          const float d = windowDepth[p];
+          if (d < 1.f)
+          {
+            const double z = rays.zetaOfWindowDepth(i + 0.5, j + 0.5, d);
+            out[p] = std::isfinite(z) ? static_cast<float>(z) : out[p];
+          }
+        }
+      }
+    });
+  return out;
+}
+
 bool voxelizeFluid(const FluidParticles& particles,
   const ViewRays& rays,
   const VoxelizerParameters& params,
@@ -100,6 +125,7 @@ bool voxelizeFluid(const FluidParticles& particles,
          "tile_width",
          "tile_height",
          "splat_pixels",
+         "stopped_spans",
          "set_bit_ops",
          "spans_found",
          "spans_stored",
@@ -203,6 +229,7 @@ bool voxelizeFluid(const FluidParticles& particles,
 
   const double dFront = layers.depths.front(), dBack = layers.depths.back();
   const float g = static_cast<float>(params.gapThreshold);
+  const float* const stop = params.stopDepth;
   tbb::combinable<TallyCounters> tallies;
   for (int ty = 0; ty < tilesY; ++ty)
   {
@@ -255,7 +282,8 @@ bool voxelizeFluid(const FluidParticles& particles,
                   }
                   const double root = std::sqrt(disc);
                   const double z0 = std::max((-b - root) / a, dFront);
-                  const double z1 = std::min((-b + root) / a, dBack);
+                  const double z1 = std::min(std::min((-b + root) / a, dBack),
+                    stop ? double(stop[static_cast<std::size_t>(j) * W + px]) : dBack);
                   if (!(z0 < z1))
                   {
                     continue;
@@ -299,12 +327,19 @@ bool voxelizeFluid(const FluidParticles& particles,
               int stored = 0;
               std::uint32_t found = 0;
               float hidden = 0.f;
+              const float stopAt = stop ? stop[p] : std::numeric_limits<float>::infinity();
               int s = nextBit(column, words, 0, true);
               while (s < L)
               {
                 const int e = std::min(nextBit(column, words, s, false), L);
                 const float entry = static_cast<float>(layers.depths[s]);
-                const float exit = static_cast<float>(layers.depths[e]);
+                float exit = static_cast<float>(layers.depths[e]);
+                if (exit > stopAt)
+                {
+                  // The layer holding the stop depth: the fluid ends at the geometry.
+                  exit = std::max(entry, stopAt);
+                  ++t.stoppedSpans;
+                }
                 if (found > 0 && (entry - d[2 * stored - 1]) * rayLength < g)
                 {
                   // Bridged: the run extends the last span (its hidden gap stays zero).
@@ -342,6 +377,7 @@ bool voxelizeFluid(const FluidParticles& particles,
     [](TallyCounters a, const TallyCounters& b)
     {
       a.splatPixels += b.splatPixels;
+      a.stoppedSpans += b.stoppedSpans;
       a.setBitOps += b.setBitOps;
       a.spansFound += b.spansFound;
       a.spansStored += b.spansStored;
@@ -350,6 +386,7 @@ bool voxelizeFluid(const FluidParticles& particles,
       return a;
     });
   stats.addCounter("splat_pixels", total.splatPixels);
+  stats.addCounter("stopped_spans", total.stoppedSpans);
   stats.addCounter("set_bit_ops", total.setBitOps);
   stats.addCounter("spans_found", total.spansFound);
   stats.addCounter("spans_stored", total.spansStored);

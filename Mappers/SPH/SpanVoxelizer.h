@@ -26,6 +26,12 @@
 // shorter than g in world space, (d_s - d_e') |B| < g. (The paper bounds the gap's layer count
 // from below to avoid evaluating depths; here the depths d_i are a table, so the exact test
 // costs one subtraction.)
+//
+// Opaque geometry (an optional stop depth per pixel, VoxelizerParameters::stopDepth): a
+// pixel's ray ends at the depth zeta_stop of what is already drawn there, so the spheres
+// are clipped to zeta <= zeta_stop while splatting and exits beyond it are moved back to it
+// (an exit at the geometry's surface); the fluid behind the geometry leaves no spans and
+// absorbs nothing.
 #ifndef RayMappers_SpanVoxelizer_h
 #define RayMappers_SpanVoxelizer_h
 
@@ -35,6 +41,7 @@
 #include "ViewRays.h"
 
 #include <cstddef>
+#include <vector>
 
 namespace raymappers
 {
@@ -46,13 +53,21 @@ struct VoxelizerParameters
   int maxSpans = 7;                                  // S, at most FluidSpans::MaxSpans
   std::size_t memoryBudget = std::size_t(512) << 20; // bytes of temporary memory
   double gapThreshold = 0.0;                         // g, world units
+  /// Optional: per pixel (width x height, row 0 at the bottom) the depth zeta where the
+  /// pixel's ray ends at opaque geometry (+inf or any value beyond the far plane: none).
+  /// Not owned; must outlive voxelizeFluid.
+  const float* stopDepth = nullptr;
 };
+
+/// The stop depths (zeta) of VoxelizerParameters::stopDepth from OpenGL window depths of
+/// what is drawn (width x height, row 0 at the bottom; 1 where nothing is: +inf).
+std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* windowDepth);
 
 /// Voxelizes `particles` for `rays` into `out` (sized to the view; no spans where no
 /// particle is). Returns false when the budget cannot hold even one column's bits with the
 /// footprints (out then has no spans; counter budget_exceeded = 1).
 /// Phases: splat, compress. Counters: particles_in_view, layers, words_per_column, tiles,
-/// tile_width, tile_height, splat_pixels, set_bit_ops, spans_found, spans_stored,
+/// tile_width, tile_height, splat_pixels, stopped_spans, set_bit_ops, spans_found, spans_stored,
 /// spans_hidden, gaps_bridged, peak_temporary_bytes, budget_exceeded. Effects: shell_splat,
 /// gap_bridging.
 bool voxelizeFluid(const FluidParticles& particles,

@@ -142,6 +142,11 @@ std::vector<Sphere> slabLattice(int slabs, double r, double spacing, double half
   return out;
 }
 
+std::size_t pixelIndex(int w, int i, int j)
+{
+  return static_cast<std::size_t>(j) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i);
+}
+
 bool voxelize(const std::vector<Sphere>& spheres,
   const ViewRays& rays,
   const VoxelizerParameters& vp,
@@ -406,6 +411,66 @@ TEST(SPHVoxelizer, EmptyInputAndParticlesOutOfViewGiveNoSpans)
     { { { 0, 0, 9 }, 1 }, { { 40, 0, 0 }, 1 } }, rays, VoxelizerParameters(), spans, stats));
   EXPECT_EQ(stats.counter("particles_in_view"), 0);
   EXPECT_EQ(std::count(spans.count.begin(), spans.count.end(), 0), 32 * 32);
+}
+
+TEST(SPHVoxelizer, OpaqueGeometryStopDepthEndsTheSpansThere)
+{
+  // A plane z = 0.2 (window depths from the rays' own matrix) through a sphere of radius 1
+  // at the origin, seen from z = 5: where the ray meets the sphere before the plane the
+  // span runs from the analytic entry to the plane exactly; behind it there is no fluid.
+  const int W = 48, H = 48;
+  const ViewRays rays = perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, W, H);
+  const Sphere s{ { 0, 0, 0 }, 1.0 };
+  std::vector<float> window(static_cast<std::size_t>(W) * H);
+  std::vector<double> planeZeta(window.size());
+  for (int j = 0; j < H; ++j)
+  {
+    for (int i = 0; i < W; ++i)
+    {
+      const Vec3d A = rays.start(i + 0.5, j + 0.5), B = rays.direction(i + 0.5, j + 0.5);
+      const double zeta = (0.2 - A.z) / B.z; // where the ray meets z = 0.2
+      const std::array<double, 4> c = rays.clip(A + B * zeta);
+      window[pixelIndex(W, i, j)] = static_cast<float>(0.5 * (c[2] / c[3] + 1.0));
+      planeZeta[pixelIndex(W, i, j)] = zeta;
+    }
+  }
+  const std::vector<float> stop = stopDepthsFromWindowDepth(rays, window.data());
+  VoxelizerParameters vp;
+  vp.stopDepth = stop.data();
+  FluidSpans spans;
+  RenderStatistics stats;
+  ASSERT_TRUE(voxelize({ s }, rays, vp, spans, stats));
+  int cut = 0;
+  for (int j = 0; j < H; ++j)
+  {
+    for (int i = 0; i < W; ++i)
+    {
+      const std::size_t p = spans.pixel(i, j);
+      ASSERT_NEAR(stop[p], planeZeta[p], 1e-3 * planeZeta[p]);
+      double z0, z1;
+      if (!raySphere(rays, i, j, s, z0, z1) || z0 >= stop[p])
+      {
+        EXPECT_EQ(spans.count[p], 0) << i << " " << j;
+        continue;
+      }
+      ASSERT_EQ(spans.count[p], 1) << i << " " << j;
+      EXPECT_NEAR(spans.entry(p, 0), z0, layerDepth(spans.layers, z0) + 1e-5);
+      ++cut;
+      EXPECT_FLOAT_EQ(spans.exit(p, 0), stop[p]) << i << " " << j;
+    }
+  }
+  EXPECT_GT(cut, 300);
+  EXPECT_EQ(stats.counter("stopped_spans"), cut) << stats.summary();
+  // Without geometry (window depth 1 everywhere) nothing is stopped.
+  std::fill(window.begin(), window.end(), 1.f);
+  const std::vector<float> none = stopDepthsFromWindowDepth(rays, window.data());
+  vp.stopDepth = none.data();
+  FluidSpans free;
+  ASSERT_TRUE(voxelize({ s }, rays, vp, free, stats));
+  EXPECT_EQ(stats.counter("stopped_spans"), 0);
+  FluidSpans plain;
+  ASSERT_TRUE(voxelize({ s }, rays, VoxelizerParameters(), plain, stats));
+  EXPECT_EQ(free.depth, plain.depth);
 }
 
 TEST(SPHVoxelizer, NonFinitePositionsAndBadRadiiAreSkippedAndCounted)

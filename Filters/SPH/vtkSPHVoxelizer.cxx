@@ -1,0 +1,441 @@
+#include "vtkSPHVoxelizer.h"
+
+#include "FluidParticles.h"
+#include "FluidSpans.h"
+#include "RenderStatistics.h"
+#include "SpanVoxelizer.h"
+#include "SurfaceLinks.h"
+#include "ViewRays.h"
+
+#include "vtkCamera.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMath.h"
+#include "vtkMatrix4x4.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnsignedIntArray.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+vtkStandardNewMacro(vtkSPHVoxelizer);
+
+namespace
+{
+/// A component of a point array as double, safely for any array type (single-threaded).
+double component(vtkDataArray* a, vtkIdType i, int c)
+{
+  return a->GetComponent(i, c);
+}
+
+/// The centre of the bounds of the finite points; (0, 0, 0) when there is none.
+raymappers::Vec3d finiteCenter(vtkPoints* points, double bounds[6])
+{
+  double lo[3] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+    std::numeric_limits<double>::infinity() };
+  double hi[3] = { -lo[0], -lo[1], -lo[2] };
+  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    points->GetPoint(i, p);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+    {
+      continue;
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      lo[a] = std::min(lo[a], p[a]);
+      hi[a] = std::max(hi[a], p[a]);
+    }
+  }
+  if (!(lo[0] <= hi[0]))
+  {
+    std::fill(bounds, bounds + 6, 0.0);
+    return raymappers::Vec3d();
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    bounds[2 * a] = lo[a];
+    bounds[2 * a + 1] = hi[a];
+  }
+  return raymappers::Vec3d(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
+}
+
+template<typename ArrayT>
+vtkSmartPointer<ArrayT> makeArray(const char* name, int components, vtkIdType tuples)
+{
+  auto a = vtkSmartPointer<ArrayT>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(tuples);
+  return a;
+}
+
+void addField(vtkFieldData* fd, const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->InsertNextValue(value);
+  fd->AddArray(a);
+}
+}
+
+vtkSPHVoxelizer::vtkSPHVoxelizer()
+  : Camera(vtkSmartPointer<vtkCamera>::New())
+{
+  this->SetNumberOfInputPorts(1);
+  this->SetNumberOfOutputPorts(1);
+}
+
+vtkSPHVoxelizer::~vtkSPHVoxelizer()
+{
+  this->SetRadiusArrayName(nullptr);
+}
+
+void vtkSPHVoxelizer::SetCamera(vtkCamera* camera)
+{
+  if (camera == this->Camera && this->CameraGiven)
+  {
+    return;
+  }
+  this->CameraGiven = camera != nullptr;
+  this->Camera = camera ? camera : vtkSmartPointer<vtkCamera>::New().GetPointer();
+  this->Modified();
+}
+
+vtkCamera* vtkSPHVoxelizer::GetCamera()
+{
+  return this->Camera;
+}
+
+void vtkSPHVoxelizer::SetCameraPosition(double x, double y, double z)
+{
+  this->Camera->SetPosition(x, y, z);
+}
+
+void vtkSPHVoxelizer::SetCameraFocalPoint(double x, double y, double z)
+{
+  this->Camera->SetFocalPoint(x, y, z);
+}
+
+void vtkSPHVoxelizer::SetCameraViewUp(double x, double y, double z)
+{
+  this->Camera->SetViewUp(x, y, z);
+}
+
+void vtkSPHVoxelizer::SetCameraViewAngle(double degrees)
+{
+  this->Camera->SetViewAngle(degrees);
+}
+
+void vtkSPHVoxelizer::SetCameraParallelProjection(bool parallel)
+{
+  this->Camera->SetParallelProjection(parallel ? 1 : 0);
+}
+
+void vtkSPHVoxelizer::SetCameraParallelScale(double scale)
+{
+  this->Camera->SetParallelScale(scale);
+}
+
+const char* vtkSPHVoxelizer::GetStatisticsSummary()
+{
+  return this->Summary.c_str();
+}
+
+vtkMTimeType vtkSPHVoxelizer::GetMTime()
+{
+  return std::max(this->Superclass::GetMTime(), this->Camera->GetMTime());
+}
+
+int vtkSPHVoxelizer::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+  return 1;
+}
+
+int vtkSPHVoxelizer::RequestInformation(vtkInformation*, vtkInformationVector**,
+  vtkInformationVector* outputVector)
+{
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const int extent[6] = { 0, std::max(1, this->ImageSize[0]) - 1, 0,
+    std::max(1, this->ImageSize[1]) - 1, 0, 0 };
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  const double spacing[3] = { 1, 1, 1 }, origin[3] = { 0, 0, 0 };
+  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
+  return 1;
+}
+
+int vtkSPHVoxelizer::RequestUpdateExtent(vtkInformation*, vtkInformationVector** inputVector,
+  vtkInformationVector*)
+{
+  // The whole input: every particle can reach any pixel.
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  return 1;
+}
+
+int vtkSPHVoxelizer::RequestData(vtkInformation*, vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
+{
+  vtkPointSet* input = vtkPointSet::GetData(inputVector[0], 0);
+  vtkImageData* output = vtkImageData::GetData(outputVector, 0);
+  const int W = std::max(1, this->ImageSize[0]), H = std::max(1, this->ImageSize[1]);
+  output->SetExtent(0, W - 1, 0, H - 1, 0, 0);
+  output->SetSpacing(1, 1, 1);
+  output->SetOrigin(0, 0, 0);
+  raymappers::RenderStatistics stats;
+
+  // The particles.
+  raymappers::FluidParticles particles;
+  double bounds[6] = { 0, 0, 0, 0, 0, 0 };
+  vtkPoints* points = input ? input->GetPoints() : nullptr;
+  const vtkIdType n = points ? points->GetNumberOfPoints() : 0;
+  if (n == 0)
+  {
+    vtkWarningMacro(<< "The input has no points: the image has no spans.");
+  }
+  vtkDataArray* radii = nullptr;
+  if (n > 0 && this->RadiusArrayName && this->RadiusArrayName[0])
+  {
+    radii = input->GetPointData()->GetArray(this->RadiusArrayName);
+    if (!radii)
+    {
+      vtkWarningMacro(<< "radius array '" << this->RadiusArrayName
+                      << "' is not a point array of the input; using the constant radius "
+                      << this->Radius << ".");
+    }
+  }
+  const raymappers::Vec3d origin = n > 0 ? finiteCenter(points, bounds) : raymappers::Vec3d();
+  {
+    // Read single-threaded (vtkDataArray access), then build.
+    std::vector<raymappers::Vec3d> centers(static_cast<std::size_t>(n));
+    std::vector<double> r(static_cast<std::size_t>(n));
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      double p[3];
+      points->GetPoint(i, p);
+      centers[i] = raymappers::Vec3d(p[0], p[1], p[2]);
+      r[i] = (radii ? component(radii, i, 0) : this->Radius) * this->RadiusScale;
+    }
+    raymappers::buildFluidParticles(
+      static_cast<std::size_t>(n), origin, [&](std::size_t i) { return centers[i]; },
+      [&](std::size_t i) { return r[i]; }, particles);
+  }
+  if (particles.skippedNonFinite > 0)
+  {
+    vtkWarningMacro(<< particles.skippedNonFinite
+                    << " particles have NaN or infinite coordinates and are skipped.");
+  }
+  if (particles.skippedBadRadius > 0)
+  {
+    vtkWarningMacro(<< particles.skippedBadRadius
+                    << " particles have a zero, negative or non-finite radius and are skipped.");
+  }
+  stats.addCounter("particles", static_cast<std::int64_t>(particles.size()));
+
+  // The camera: a copy, fitted to the particles' bounds grown by the largest radius.
+  vtkNew<vtkCamera> camera;
+  camera->DeepCopy(this->Camera);
+  const double grow = particles.maxRadius;
+  for (int a = 0; a < 3; ++a)
+  {
+    bounds[2 * a] -= grow;
+    bounds[2 * a + 1] += grow;
+  }
+  const double center[3] = { 0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
+    0.5 * (bounds[4] + bounds[5]) };
+  double radius = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    radius += 0.25 * (bounds[2 * a + 1] - bounds[2 * a]) * (bounds[2 * a + 1] - bounds[2 * a]);
+  }
+  radius = std::sqrt(radius);
+  if (!(radius > 0))
+  {
+    radius = 0.5;
+  }
+  if (this->ResetCamera)
+  {
+    double dop[3];
+    camera->GetDirectionOfProjection(dop);
+    const double angle = vtkMath::RadiansFromDegrees(camera->GetViewAngle());
+    const double aspect = static_cast<double>(W) / H;
+    // The bounding sphere fits the smaller of the two fields of view.
+    const double half = aspect < 1 ? std::atan(std::tan(0.5 * angle) * aspect) : 0.5 * angle;
+    const double distance = radius / std::sin(half);
+    camera->SetFocalPoint(center);
+    camera->SetPosition(center[0] - distance * dop[0], center[1] - distance * dop[1],
+      center[2] - distance * dop[2]);
+    camera->SetParallelScale(aspect < 1 ? radius / aspect : radius);
+  }
+  if (this->ResetCamera || !this->CameraGiven)
+  {
+    double dop[3], eye[3];
+    camera->GetDirectionOfProjection(dop);
+    camera->GetPosition(eye);
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (int c = 0; c < 8; ++c)
+    {
+      const double corner[3] = { bounds[c & 1], bounds[2 + ((c >> 1) & 1)],
+        bounds[4 + ((c >> 2) & 1)] };
+      const double d = (corner[0] - eye[0]) * dop[0] + (corner[1] - eye[1]) * dop[1] +
+        (corner[2] - eye[2]) * dop[2];
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+    hi = hi + 0.01 * (hi - lo) + 1e-9;
+    lo = std::max(lo - 0.01 * (hi - lo), 1e-3 * hi);
+    camera->SetClippingRange(lo, hi);
+  }
+  vtkMatrix4x4* m =
+    camera->GetCompositeProjectionTransformMatrix(static_cast<double>(W) / H, -1, 1);
+  std::array<double, 16> modelToClip;
+  for (int i = 0; i < 16; ++i)
+  {
+    modelToClip[i] = m->GetElement(i / 4, i % 4);
+  }
+  raymappers::ViewRays rays;
+  raymappers::FluidSpans spans;
+  bool ok = rays.assign(modelToClip, W, H, origin);
+  if (!ok)
+  {
+    vtkErrorMacro(<< "The camera's projection is degenerate: no spans.");
+    spans.reset(W, H, this->MaximumSpans);
+  }
+  else
+  {
+    raymappers::VoxelizerParameters vp;
+    vp.angleResolutionDeg = this->AngleResolution;
+    vp.maxLayers = this->MaximumLayers;
+    vp.maxSpans = this->MaximumSpans;
+    vp.memoryBudget = static_cast<std::size_t>(this->MemoryBudget * 1024.0 * 1024.0);
+    vp.gapThreshold = this->GapThreshold;
+    if (!raymappers::voxelizeFluid(particles, rays, vp, spans, stats))
+    {
+      vtkWarningMacro(<< "The memory budget of " << this->MemoryBudget
+                      << " MB cannot hold one voxel column: no spans.");
+    }
+    raymappers::connectSurfaces(spans, stats);
+    raymappers::SurfaceNeighbourhoods neighbourhoods;
+    raymappers::findNeighbourhoods(spans, neighbourhoods, stats);
+    raymappers::smoothSurfaces(
+      spans, neighbourhoods, rays, this->SmoothingRadius, this->SmoothingIterations, stats);
+    raymappers::computeNormals(spans, neighbourhoods, rays, stats);
+  }
+  this->Summary = stats.summary();
+
+  // The arrays.
+  const int S = spans.maxSpans;
+  const vtkIdType pixels = static_cast<vtkIdType>(W) * H;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  auto count = makeArray<vtkUnsignedCharArray>("SpanCount", 1, pixels);
+  auto found = makeArray<vtkUnsignedIntArray>("SpansFound", 1, pixels);
+  auto entry = makeArray<vtkFloatArray>("EntryDepth", S, pixels);
+  auto exit = makeArray<vtkFloatArray>("ExitDepth", S, pixels);
+  auto hidden = makeArray<vtkFloatArray>("HiddenEmpty", 1, pixels);
+  auto thickness = makeArray<vtkFloatArray>("Thickness", 1, pixels);
+  auto toDistance = makeArray<vtkFloatArray>("DepthToDistance", 1, pixels);
+  auto entryNormal = makeArray<vtkFloatArray>("EntryNormal", 3 * S, pixels);
+  auto exitNormal = makeArray<vtkFloatArray>("ExitNormal", 3 * S, pixels);
+  auto links = makeArray<vtkUnsignedIntArray>("Links", 2 * S, pixels);
+  const bool haveLinks = spans.links.size() == spans.depth.size();
+  const bool haveNormals = spans.normals.size() == spans.depth.size();
+  for (int j = 0; j < H; ++j)
+  {
+    for (int i = 0; i < W; ++i)
+    {
+      const std::size_t p = static_cast<std::size_t>(j) * W + i;
+      const int c = spans.count.empty() ? 0 : spans.count[p];
+      const double B = ok ? raymappers::length(rays.direction(i + 0.5, j + 0.5)) : 1.0;
+      count->SetValue(p, static_cast<unsigned char>(c));
+      found->SetValue(p, spans.found.empty() ? 0u : spans.found[p]);
+      hidden->SetValue(p, spans.hiddenEmpty.empty() ? 0.f : spans.hiddenEmpty[p]);
+      thickness->SetValue(p, c > 0 ? static_cast<float>(spans.thickness(p) * B) : 0.f);
+      toDistance->SetValue(p, static_cast<float>(B));
+      for (int k = 0; k < S; ++k)
+      {
+        const bool used = k < c;
+        entry->SetTypedComponent(p, k, used ? spans.entry(p, k) : nan);
+        exit->SetTypedComponent(p, k, used ? spans.exit(p, k) : nan);
+        for (int e = 0; e < 2; ++e)
+        {
+          const std::size_t slot = spans.slot(p, 2 * k + e);
+          raymappers::Vec3f nrm(nan, nan, nan);
+          if (used && haveNormals)
+          {
+            nrm = raymappers::decodeNormal(spans.normals[slot]);
+          }
+          vtkFloatArray* target = e == 0 ? entryNormal : exitNormal;
+          target->SetTypedComponent(p, 3 * k, nrm.x);
+          target->SetTypedComponent(p, 3 * k + 1, nrm.y);
+          target->SetTypedComponent(p, 3 * k + 2, nrm.z);
+          links->SetTypedComponent(p, 2 * k + e, used && haveLinks ? spans.links[slot] : 0u);
+        }
+      }
+    }
+  }
+  vtkPointData* pd = output->GetPointData();
+  pd->Initialize();
+  for (vtkDataArray* a : { static_cast<vtkDataArray*>(count), static_cast<vtkDataArray*>(found),
+         static_cast<vtkDataArray*>(entry), static_cast<vtkDataArray*>(exit),
+         static_cast<vtkDataArray*>(hidden), static_cast<vtkDataArray*>(toDistance),
+         static_cast<vtkDataArray*>(entryNormal), static_cast<vtkDataArray*>(exitNormal),
+         static_cast<vtkDataArray*>(links) })
+  {
+    pd->AddArray(a);
+  }
+  pd->SetScalars(thickness);
+
+  vtkFieldData* fd = output->GetFieldData();
+  fd->Initialize();
+  vtkNew<vtkDoubleArray> matrix;
+  matrix->SetName("ModelToClip");
+  for (double v : modelToClip)
+  {
+    matrix->InsertNextValue(v);
+  }
+  fd->AddArray(matrix);
+  addField(fd, "LayerCount", spans.layers.count);
+  addField(fd, "FirstLayerDepth", spans.layers.depths.empty() ? 0.0 : spans.layers.depths.front());
+  addField(fd, "LastLayerDepth", spans.layers.depths.empty() ? 0.0 : spans.layers.depths.back());
+  addField(fd, "LogarithmicLayers", spans.layers.logarithmic ? 1 : 0);
+  addField(fd, "AngleResolutionReached",
+    ok && spans.layers.count > 0 ? spans.layers.angleDeg(rays.pixelSize()) : 0.0);
+  addField(fd, "MaximumSpans", S);
+  return 1;
+}
+
+void vtkSPHVoxelizer::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "RadiusArrayName: " << (this->RadiusArrayName ? this->RadiusArrayName : "")
+     << "\n";
+  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "AngleResolution: " << this->AngleResolution << "\n";
+  os << indent << "MaximumLayers: " << this->MaximumLayers << "\n";
+  os << indent << "MaximumSpans: " << this->MaximumSpans << "\n";
+  os << indent << "MemoryBudget: " << this->MemoryBudget << "\n";
+  os << indent << "GapThreshold: " << this->GapThreshold << "\n";
+  os << indent << "SmoothingRadius: " << this->SmoothingRadius << "\n";
+  os << indent << "SmoothingIterations: " << this->SmoothingIterations << "\n";
+  os << indent << "ImageSize: " << this->ImageSize[0] << " " << this->ImageSize[1] << "\n";
+  os << indent << "ResetCamera: " << this->ResetCamera << "\n";
+  os << indent << "Camera: " << this->Camera.Get() << "\n";
+}

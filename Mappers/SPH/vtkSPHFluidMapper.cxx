@@ -1,0 +1,292 @@
+#include "vtkSPHFluidMapper.h"
+
+#include "FluidParticles.h"
+#include "FluidRenderer.h"
+#include "FluidSpans.h"
+#include "Frame.h"
+#include "RenderStatistics.h"
+#include "SpanVoxelizer.h"
+#include "ViewRays.h"
+#include "vtkRayMapperFrameDrawer.h"
+#include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperStatistics.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkDataArray.h"
+#include "vtkInformation.h"
+#include "vtkMath.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkRenderer.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+vtkStandardNewMacro(vtkSPHFluidMapper);
+
+struct vtkSPHFluidMapper::Internals
+{
+  raymappers::FluidParticles Particles;
+  raymappers::FluidSpans Spans;
+  raymappers::Frame Frame;
+  vtkRayMapperFrameDrawer Drawer;
+  vtkNew<vtkRayMapperStatistics> Statistics;
+  std::string BuiltKey; // what the particles were built from
+  vtkMTimeType BuiltInputTime = 0;
+  vtkPointSet* BuiltInput = nullptr;
+  bool HasParticles = false;
+  vtkMTimeType WarnedEmptyInputTime = 0;
+  std::string WarnedBudgetKey;
+};
+
+namespace
+{
+std::string str(const char* s)
+{
+  return s ? s : "";
+}
+}
+
+vtkSPHFluidMapper::vtkSPHFluidMapper()
+  : Impl(new Internals)
+{
+}
+
+vtkSPHFluidMapper::~vtkSPHFluidMapper()
+{
+  this->SetRadiusArrayName(nullptr);
+}
+
+void vtkSPHFluidMapper::SetInputData(vtkPointSet* input)
+{
+  this->SetInputDataInternal(0, input);
+}
+
+int vtkSPHFluidMapper::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+  return 1;
+}
+
+vtkRayMapperStatistics* vtkSPHFluidMapper::GetStatistics()
+{
+  return Impl->Statistics;
+}
+
+void vtkSPHFluidMapper::ReleaseGraphicsResources(vtkWindow* win)
+{
+  Impl->Drawer.ReleaseGraphicsResources(win);
+  this->Superclass::ReleaseGraphicsResources(win);
+}
+
+double* vtkSPHFluidMapper::GetBounds()
+{
+  // The points' bounds grown by the largest radius, so a camera reset frames the fluid.
+  if (vtkAlgorithm* producer = this->GetInputAlgorithm())
+  {
+    producer->Update();
+  }
+  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
+  if (!input || input->GetNumberOfPoints() == 0)
+  {
+    vtkMath::UninitializeBounds(this->Bounds);
+    if (input && Impl->WarnedEmptyInputTime != input->GetMTime())
+    {
+      Impl->WarnedEmptyInputTime = input->GetMTime();
+      Impl->Statistics->Set(raymappers::RenderStatistics());
+      vtkWarningMacro(<< "The input has no points: no fluid to draw.");
+    }
+    return this->Bounds;
+  }
+  input->GetBounds(this->Bounds);
+  std::string why;
+  double rMax = this->Radius;
+  if (vtkDataArray* r =
+        vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why))
+  {
+    double range[2];
+    r->GetFiniteRange(range, 0);
+    rMax = range[1];
+  }
+  const double grow = rMax * this->RadiusScale;
+  if (grow > 0 && std::isfinite(grow))
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      this->Bounds[2 * a] -= grow;
+      this->Bounds[2 * a + 1] += grow;
+    }
+  }
+  return this->Bounds;
+}
+
+bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
+{
+  std::ostringstream key;
+  key << this->Radius << '|' << this->RadiusScale << '|' << str(this->RadiusArrayName);
+  if (Impl->HasParticles && Impl->BuiltInput == input &&
+    Impl->BuiltInputTime == input->GetMTime() && Impl->BuiltKey == key.str())
+  {
+    return false;
+  }
+  std::string why;
+  vtkDataArray* radii =
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+  if (!why.empty())
+  {
+    vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
+  }
+  const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
+  const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
+  const double scale = this->RadiusScale, constant = this->Radius * this->RadiusScale;
+  raymappers::buildFluidParticles(
+    static_cast<std::size_t>(input->GetNumberOfPoints()),
+    vtkRayMapperRenderHelpers::FiniteCenter(input->GetPoints()),
+    [&](std::size_t i) {
+      return raymappers::Vec3d(pointReader.get(i, 0), pointReader.get(i, 1), pointReader.get(i, 2));
+    },
+    [&](std::size_t i) { return radii ? radiusReader.get(i, 0) * scale : constant; },
+    Impl->Particles);
+  if (Impl->Particles.skippedNonFinite > 0)
+  {
+    vtkWarningMacro(<< Impl->Particles.skippedNonFinite
+                    << " particles have NaN or infinite coordinates and are not drawn.");
+  }
+  if (Impl->Particles.skippedBadRadius > 0)
+  {
+    vtkWarningMacro(<< Impl->Particles.skippedBadRadius
+                    << " particles have a zero, negative or non-finite radius and are not drawn.");
+  }
+  Impl->HasParticles = true;
+  Impl->BuiltInput = input;
+  Impl->BuiltInputTime = input->GetMTime();
+  Impl->BuiltKey = key.str();
+  return true;
+}
+
+void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+{
+  raymappers::RenderStatistics stats;
+  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
+  if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
+  {
+    if (input && Impl->WarnedEmptyInputTime != input->GetMTime())
+    {
+      Impl->WarnedEmptyInputTime = input->GetMTime();
+      vtkWarningMacro(<< "The input has no points: no fluid to draw.");
+    }
+    Impl->Statistics->Set(stats);
+    return;
+  }
+  bool built = false;
+  {
+    raymappers::ScopedPhase phase(stats, "particles");
+    built = this->UpdateParticles(input);
+  }
+  stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
+  stats.addCounter("particles_built", built ? 1 : 0);
+
+  raymappers::FluidRenderParameters params;
+  params.voxelizer.angleResolutionDeg = this->AngleResolution;
+  params.voxelizer.maxLayers = this->MaximumLayers;
+  params.voxelizer.maxSpans = this->MaximumSpans;
+  params.voxelizer.memoryBudget = static_cast<std::size_t>(this->MemoryBudget * 1024.0 * 1024.0);
+  params.voxelizer.gapThreshold = this->GapThreshold;
+  params.smoothingRadius = this->SmoothingRadius;
+  params.smoothingIterations = this->SmoothingIterations;
+  params.color = { this->Color[0], this->Color[1], this->Color[2] };
+  params.translucency = this->Translucency;
+  params.absorptionColor = { this->AbsorptionColor[0], this->AbsorptionColor[1],
+    this->AbsorptionColor[2] };
+  params.density = this->Density;
+  params.refractiveIndex = this->RefractiveIndex;
+  params.bounces = this->Bounces;
+  params.ambientOcclusion = this->AmbientOcclusion;
+  params.aoRadius = this->AmbientOcclusionRadius;
+  params.aoSamples = this->AmbientOcclusionSamples;
+  if (vtkVolumeProperty* property = vol->GetProperty())
+  {
+    params.material.ambient = property->GetAmbient();
+    params.material.diffuse = property->GetDiffuse();
+    params.material.specular = property->GetSpecular();
+    params.material.specularPower = property->GetSpecularPower();
+  }
+  params.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
+  const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(vol);
+  std::copy(model.modelToWorld, model.modelToWorld + 16, params.modelToWorld);
+  std::copy(model.normalToWorld, model.normalToWorld + 9, params.normalToWorld);
+
+  int width = 0, height = 0;
+  const std::array<double, 16> modelToClip =
+    vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
+  raymappers::ViewRays rays;
+  if (width <= 0 || height <= 0 || !rays.assign(modelToClip, width, height, Impl->Particles.origin))
+  {
+    vtkErrorMacro(<< "The camera's projection is degenerate: nothing drawn.");
+    Impl->Statistics->Set(stats);
+    return;
+  }
+  // Opaque geometry drawn before (all of it: volumes come after the opaque pass) ends the
+  // fluid. An opaque fluid is depth tested when drawn, a translucent one must stop there.
+  std::vector<float> depth, stop;
+  int dw = 0, dh = 0;
+  if (this->Translucency && vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
+    dw == width && dh == height)
+  {
+    stop = raymappers::stopDepthsFromWindowDepth(rays, depth.data());
+    params.voxelizer.stopDepth = stop.data();
+  }
+  stats.setEffect("opaque_depth", params.voxelizer.stopDepth != nullptr);
+
+  if (!raymappers::renderFluid(Impl->Particles, rays, params, Impl->Spans, Impl->Frame, stats))
+  {
+    std::ostringstream key;
+    key << this->MemoryBudget << '|' << width << 'x' << height << '|' << this->MaximumLayers;
+    if (Impl->WarnedBudgetKey != key.str())
+    {
+      Impl->WarnedBudgetKey = key.str();
+      vtkWarningMacro(<< "The memory budget of " << this->MemoryBudget
+                      << " MB cannot hold one voxel column of " << stats.counter("layers")
+                      << " layers: nothing drawn. Raise MemoryBudget or lower MaximumLayers.");
+    }
+  }
+  {
+    raymappers::ScopedPhase phase(stats, "draw");
+    Impl->Drawer.Draw(ren, Impl->Frame,
+      this->Translucency ? vtkRayMapperFrameDrawer::Mode::BlendPremultiplied
+                         : vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth);
+  }
+  Impl->Statistics->Set(stats);
+}
+
+void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "RadiusArrayName: " << str(this->RadiusArrayName) << "\n";
+  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "AngleResolution: " << this->AngleResolution << "\n";
+  os << indent << "MaximumLayers: " << this->MaximumLayers << "\n";
+  os << indent << "MaximumSpans: " << this->MaximumSpans << "\n";
+  os << indent << "MemoryBudget: " << this->MemoryBudget << "\n";
+  os << indent << "GapThreshold: " << this->GapThreshold << "\n";
+  os << indent << "SmoothingRadius: " << this->SmoothingRadius << "\n";
+  os << indent << "SmoothingIterations: " << this->SmoothingIterations << "\n";
+  os << indent << "Color: " << this->Color[0] << " " << this->Color[1] << " " << this->Color[2]
+     << "\n";
+  os << indent << "Translucency: " << this->Translucency << "\n";
+  os << indent << "AbsorptionColor: " << this->AbsorptionColor[0] << " "
+     << this->AbsorptionColor[1] << " " << this->AbsorptionColor[2] << "\n";
+  os << indent << "Density: " << this->Density << "\n";
+  os << indent << "RefractiveIndex: " << this->RefractiveIndex << "\n";
+  os << indent << "Bounces: " << this->Bounces << "\n";
+  os << indent << "AmbientOcclusion: " << this->AmbientOcclusion << "\n";
+  os << indent << "AmbientOcclusionRadius: " << this->AmbientOcclusionRadius << "\n";
+  os << indent << "AmbientOcclusionSamples: " << this->AmbientOcclusionSamples << "\n";
+}

@@ -1,0 +1,187 @@
+/**
+ * @class   vtkSPHFluidMapper
+ * @brief   Renders SPH particles as a homogeneous fluid (water): surfaces, absorption,
+ *          refraction and ambient occlusion, from a view-adaptive voxelization.
+ *
+ * Every point i of the input vtkPointSet (cells are ignored) is a sphere of radius
+ * r_i = RadiusScale * (RadiusArrayName, else Radius); the union of the spheres is the fluid.
+ * Each frame the mapper voxelizes the spheres into a perspective bit grid at the render
+ * resolution with logarithmic depth layers (Zirr and Dachsbacher 2015, section 4.2: the
+ * layers keep the angle AngleResolution, at most MaximumLayers of them), in tiles that fit
+ * MemoryBudget, compresses each pixel's column into at most MaximumSpans spans (the
+ * absorption beyond them stays exact), bridges gaps shorter than GapThreshold (world units;
+ * 0: none), connects the spans of neighbouring pixels into surfaces, smooths them with a
+ * world-space radius SmoothingRadius (0: no smoothing pass; at most SmoothingIterations
+ * iterations), takes normals with a Sobel operator along the links and renders (kernels:
+ * SpanVoxelizer.h, SurfaceLinks.h, FluidRenderer.h, which give the formulas):
+ *   - the front surface lit by the renderer's lights with Color and the vtkVolumeProperty's
+ *     Ambient, Diffuse, Specular and SpecularPower;
+ *   - Translucency on (default): Beer-Lambert absorption kappa = Density * AbsorptionColor
+ *     per world unit over all spans; the background shows through by exp(-kappa l);
+ *   - RefractiveIndex != 1 (with Translucency): refraction, Fresnel reflection and total
+ *     internal reflection by marching the rays through the columns, Bounces surface events;
+ *   - AmbientOcclusion: deep screen-space occlusion over all layers, AmbientOcclusionSamples
+ *     samples within AmbientOcclusionRadius.
+ * Only the effects asked for run: no refraction march when the index is 1 or translucency
+ * is off, no AO pass when it is off, no smoothing pass when the radius is 0 (statistics'
+ * counters march_columns, ao_samples, filter_iterations stay 0).
+ *
+ * Why a vtkAbstractVolumeMapper (used with a vtkVolume): the picture depends on everything
+ * opaque behind and around the fluid. VTK draws volumes after all opaque (and translucent)
+ * geometry, so when Render runs the depth buffer holds every opaque surface: the mapper
+ * reads it and ends each pixel's fluid at the geometry (VoxelizerParameters::stopDepth), so
+ * translucent water absorbs only up to a wall inside it and refracted rays leave there. An
+ * opaque fluid (Translucency off) is then drawn writing its front surface's depth under the
+ * depth test (it hides and is hidden by geometry, and whatever is drawn after it respects
+ * it); a translucent fluid is blended over what is drawn (premultiplied) without writing
+ * depth, like any volume. A vtkPolyDataMapper would be drawn in the opaque pass, before
+ * the rest of the opaque geometry it must see through.
+ *
+ * Bad input never poisons the image: particles with NaN/Inf coordinates and radii that are
+ * NaN, zero or negative are skipped with one warning saying how many; a missing radius
+ * array falls back to Radius with a warning; an empty input draws nothing with one warning.
+ * The particles are rebuilt only when the input (a new time step) or the radius settings
+ * change (counter particles_built); the voxelization is view-dependent and made every frame.
+ *
+ * GetStatistics() reports phase times (particles, splat, compress, connect, filter, normals,
+ * ao, render or refract, draw), counters and effects of the last render.
+ */
+#ifndef vtkSPHFluidMapper_h
+#define vtkSPHFluidMapper_h
+
+#include "RayMappersMappersModule.h" // for export macro
+#include "vtkAbstractVolumeMapper.h"
+
+#include <memory> // for std::unique_ptr
+
+class vtkPointSet;
+class vtkRayMapperStatistics;
+
+class RAYMAPPERSMAPPERS_EXPORT vtkSPHFluidMapper : public vtkAbstractVolumeMapper
+{
+public:
+  static vtkSPHFluidMapper* New();
+  vtkTypeMacro(vtkSPHFluidMapper, vtkAbstractVolumeMapper);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  void SetInputData(vtkPointSet* input);
+
+  ///@{
+  /** Constant particle radius (default 1), its point array, and a factor on either (1). */
+  vtkSetMacro(Radius, double);
+  vtkGetMacro(Radius, double);
+  vtkSetStringMacro(RadiusArrayName);
+  vtkGetStringMacro(RadiusArrayName);
+  vtkSetMacro(RadiusScale, double);
+  vtkGetMacro(RadiusScale, double);
+  ///@}
+
+  ///@{
+  /** Voxelization: angle resolution in degrees (14), at most this many depth layers
+   * (16384), spans kept per pixel (7, at most 63), temporary memory in MB (512), gap
+   * threshold in world units (0: no gap bridging). */
+  vtkSetClampMacro(AngleResolution, double, 0.01, 89.0);
+  vtkGetMacro(AngleResolution, double);
+  vtkSetClampMacro(MaximumLayers, int, 1, 1 << 20);
+  vtkGetMacro(MaximumLayers, int);
+  vtkSetClampMacro(MaximumSpans, int, 1, 63);
+  vtkGetMacro(MaximumSpans, int);
+  vtkSetClampMacro(MemoryBudget, double, 0.0, 1.0e6);
+  vtkGetMacro(MemoryBudget, double);
+  vtkSetClampMacro(GapThreshold, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(GapThreshold, double);
+  ///@}
+
+  ///@{
+  /** Surface smoothing: world-space radius (0, default: no smoothing pass) and the largest
+   * number of iterations (20). */
+  vtkSetClampMacro(SmoothingRadius, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(SmoothingRadius, double);
+  vtkSetClampMacro(SmoothingIterations, int, 0, 1000);
+  vtkGetMacro(SmoothingIterations, int);
+  ///@}
+
+  ///@{
+  /** Surface colour (0.55, 0.75, 0.95). */
+  vtkSetVector3Macro(Color, double);
+  vtkGetVector3Macro(Color, double);
+  ///@}
+
+  ///@{
+  /** Translucency (on): absorption per world unit Density (1) * AbsorptionColor
+   * (0.8, 0.35, 0.15); off: an opaque surface that writes depth. */
+  vtkSetMacro(Translucency, bool);
+  vtkGetMacro(Translucency, bool);
+  vtkBooleanMacro(Translucency, bool);
+  vtkSetVector3Macro(AbsorptionColor, double);
+  vtkGetVector3Macro(AbsorptionColor, double);
+  vtkSetClampMacro(Density, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(Density, double);
+  ///@}
+
+  ///@{
+  /** Index of refraction (1: no refraction march) and surface events per path (4). */
+  vtkSetClampMacro(RefractiveIndex, double, 0.1, 10.0);
+  vtkGetMacro(RefractiveIndex, double);
+  vtkSetClampMacro(Bounces, int, 1, 64);
+  vtkGetMacro(Bounces, int);
+  ///@}
+
+  ///@{
+  /** Ambient occlusion (off), its world radius (0.1) and samples per pixel (16). */
+  vtkSetMacro(AmbientOcclusion, bool);
+  vtkGetMacro(AmbientOcclusion, bool);
+  vtkBooleanMacro(AmbientOcclusion, bool);
+  vtkSetClampMacro(AmbientOcclusionRadius, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(AmbientOcclusionRadius, double);
+  vtkSetClampMacro(AmbientOcclusionSamples, int, 1, 1024);
+  vtkGetMacro(AmbientOcclusionSamples, int);
+  ///@}
+
+  /** Statistics of the last render: phase times, counters, effects that ran. */
+  vtkRayMapperStatistics* GetStatistics();
+
+  double* GetBounds() VTK_SIZEHINT(6) override;
+  void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
+
+  void Render(vtkRenderer* ren, vtkVolume* vol) override;
+  void ReleaseGraphicsResources(vtkWindow* win) override;
+
+protected:
+  vtkSPHFluidMapper();
+  ~vtkSPHFluidMapper() override;
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  double Radius = 1.0;
+  char* RadiusArrayName = nullptr;
+  double RadiusScale = 1.0;
+  double AngleResolution = 14.0;
+  int MaximumLayers = 16384;
+  int MaximumSpans = 7;
+  double MemoryBudget = 512.0;
+  double GapThreshold = 0.0;
+  double SmoothingRadius = 0.0;
+  int SmoothingIterations = 20;
+  double Color[3] = { 0.55, 0.75, 0.95 };
+  bool Translucency = true;
+  double AbsorptionColor[3] = { 0.8, 0.35, 0.15 };
+  double Density = 1.0;
+  double RefractiveIndex = 1.0;
+  int Bounces = 4;
+  bool AmbientOcclusion = false;
+  double AmbientOcclusionRadius = 0.1;
+  int AmbientOcclusionSamples = 16;
+
+private:
+  vtkSPHFluidMapper(const vtkSPHFluidMapper&) = delete;
+  void operator=(const vtkSPHFluidMapper&) = delete;
+
+  /// Rebuilds the particles when the input, the radius array or the radius settings changed;
+  /// returns whether it did.
+  bool UpdateParticles(vtkPointSet* input);
+
+  struct Internals;
+  std::unique_ptr<Internals> Impl;
+};
+
+#endif

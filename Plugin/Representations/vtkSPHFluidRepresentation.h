@@ -1,0 +1,95 @@
+/**
+ * @class   vtkSPHFluidRepresentation
+ * @brief   ParaView representation "SPH Fluid": the points of the data as SPH particles
+ *          rendered as a homogeneous fluid (surfaces, absorption, refraction, AO).
+ *
+ * Every point of the input (any vtkDataSet or composite of them; cells are ignored) is a
+ * sphere of a constant radius or of a point array's value (times a scale); vtkSPHFluidMapper
+ * voxelizes their union per frame (Zirr and Dachsbacher 2015) and renders its surfaces with
+ * the view's lights, the solid FluidColor and the Ambient / Diffuse / Specular settings,
+ * translucent with Beer-Lambert absorption (AbsorptionColor times Density per world unit),
+ * refracting when the index of refraction is not 1, with ambient occlusion when asked.
+ *
+ * Like the other representations of this plugin it is added by the plugin's XML as a
+ * sub-representation "SPH Fluid" of ParaView's composite representations.
+ */
+#ifndef vtkSPHFluidRepresentation_h
+#define vtkSPHFluidRepresentation_h
+
+#include "RayMappersRepresentationsModule.h" // for export macro
+#include "vtkRayMapperPropRepresentation.h"
+#include "vtkSmartPointer.h" // for vtkSmartPointer
+
+class vtkDataSet;
+class vtkPolyData;
+class vtkSPHFluidMapper;
+class vtkVolume;
+class vtkVolumeProperty;
+
+class RAYMAPPERSREPRESENTATIONS_EXPORT vtkSPHFluidRepresentation
+  : public vtkRayMapperPropRepresentation
+{
+public:
+  static vtkSPHFluidRepresentation* New();
+  vtkTypeMacro(vtkSPHFluidRepresentation, vtkRayMapperPropRepresentation);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  //***************************************************************************
+  // Forwarded to vtkSPHFluidMapper (see there). The array selector takes ParaView's five
+  // array-selection arguments, of which only the name is used; empty or "None": no array.
+  void SetRadius(double radius);
+  void SelectRadiusArray(int, int, int, int, const char* name);
+  void SetRadiusScale(double scale);
+  void SetAngleResolution(double degrees);
+  void SetMaximumLayers(int layers);
+  void SetMaximumSpans(int spans);
+  void SetMemoryBudget(double megabytes);
+  void SetGapThreshold(double g);
+  void SetSmoothingRadius(double radius);
+  void SetSmoothingIterations(int iterations);
+  void SetFluidColor(double r, double g, double b);
+  void SetTranslucency(bool on);
+  void SetAbsorptionColor(double r, double g, double b);
+  void SetDensity(double density);
+  void SetRefractiveIndex(double eta);
+  void SetBounces(int bounces);
+  void SetAmbientOcclusion(bool on);
+  void SetAmbientOcclusionRadius(double radius);
+  void SetAmbientOcclusionSamples(int samples);
+
+  //***************************************************************************
+  // Lighting, forwarded to the volume property.
+  void SetAmbient(double value);
+  void SetDiffuse(double value);
+  void SetSpecular(double value);
+  void SetSpecularPower(double value);
+
+  /** The mapper's statistics of the last render, one "kind name value" per line. */
+  const char* GetRenderStatistics();
+
+  ///@{
+  /** The mapper and the volume, for tests and C++ users. */
+  vtkSPHFluidMapper* GetMapper();
+  vtkVolume* GetVolume();
+  ///@}
+
+protected:
+  vtkSPHFluidRepresentation();
+  ~vtkSPHFluidRepresentation() override;
+
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  vtkDataSet* GetProcessedData() override;
+  double GetBoundsMargin() override;
+  void SetDeliveredPiece(vtkDataObject* piece) override;
+
+  vtkSmartPointer<vtkVolume> Volume;
+  vtkSmartPointer<vtkSPHFluidMapper> Mapper;
+  vtkSmartPointer<vtkVolumeProperty> Property;
+  vtkSmartPointer<vtkPolyData> ProcessedData;
+
+private:
+  vtkSPHFluidRepresentation(const vtkSPHFluidRepresentation&) = delete;
+  void operator=(const vtkSPHFluidRepresentation&) = delete;
+};
+
+#endif

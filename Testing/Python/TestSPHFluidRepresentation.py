@@ -1,0 +1,190 @@
+"""pvpython: the "SPH Fluid" representation and the "SPH Voxelizer" filter of the RayMappers
+plugin on a PySPH dam break.
+
+Checks:
+- "SPH Fluid" is offered for the particles, with its panel's properties;
+- with the radius array h (scale 0.8) the picture is the one vtkSPHFluidMapper draws in a
+  plain VTK pipeline with the same settings and camera (ambient light only: the light kit
+  of ParaView's view is not a plain renderer's headlight); only the effects asked for run (no
+  march at index 1, no AO work when off), and refraction marches when the index is 1.33;
+- the SPH Voxelizer filter (Filters menu) with the view's camera and size finds exactly the
+  spans and pixels the representation rendered; its arrays are there, with S components;
+- a hidden representation draws nothing; the image matches its baseline.
+
+usage: pvpython TestSPHFluidRepresentation.py PLUGIN BUILD_DIR DATA_FILE BASELINE OUTPUT
+"""
+import os
+import sys
+
+from paraview.simple import (  # noqa: E402
+    CreateView, Delete, Hide, LegacyVTKReader, LoadPlugin, Render, Show)
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from raymappers_testing import (  # noqa: E402
+    check, compare_with_baseline, copy_camera, failures, finish, prepare_view, render_to_png, rmse)
+import raymappers_testing  # noqa: E402
+
+REPRESENTATION = 'SPH Fluid'
+BACKGROUND = [0.1, 0.1, 0.15]
+SIZE = [320, 240]
+
+
+def plain_vtk_image(particles, view, path):
+    """The same particles drawn by vtkSPHFluidMapper in a plain VTK pipeline."""
+    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkVolume, vtkVolumeProperty
+    import raymappers
+
+    mapper = raymappers.vtkSPHFluidMapper()
+    mapper.SetInputData(particles)
+    mapper.SetRadiusArrayName('h')
+    mapper.SetRadiusScale(0.8)
+    mapper.SetAbsorptionColor(4.0, 1.5, 0.8)
+    prop = vtkVolumeProperty()
+    prop.SetAmbient(1.0)
+    prop.SetDiffuse(0.0)
+    prop.SetSpecular(0.0)
+    prop.SetSpecularPower(100.0)
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+    ren = vtkRenderer()
+    ren.SetBackground(BACKGROUND)
+    ren.AddVolume(volume)
+    copy_camera(view, ren)
+    return render_to_png(ren, SIZE, path), mapper.GetStatistics().GetCounter('particles')
+
+
+def shot(view, path):
+    return raymappers_testing.screenshot(view, path, SIZE)
+
+
+def statistics(rep):
+    return raymappers_testing.statistics(rep, 'SPHFluidRenderStatistics')
+
+
+def run_checks(view, source, stem, build_dir, output, baseline):
+    prepare_view(view, SIZE, BACKGROUND)
+    # One headlight, as a plain VTK renderer has (not ParaView's light kit).
+    rep = Show(source, view)
+    check(REPRESENTATION in rep.Representation.Available,
+          '"%s" is offered for %s' % (REPRESENTATION, rep.GetXMLName()))
+    rep.SetRepresentationType(REPRESENTATION)
+    for name in ('SPHFluidRadius', 'SPHFluidRadiusArray', 'SPHFluidRadiusScale',
+                 'SPHFluidAngleResolution', 'SPHFluidMaximumLayers', 'SPHFluidMaximumSpans',
+                 'SPHFluidMemoryBudget', 'SPHFluidGapThreshold', 'SPHFluidSmoothingRadius',
+                 'SPHFluidSmoothingIterations', 'SPHFluidColor', 'SPHFluidTranslucency',
+                 'SPHFluidAbsorptionColor', 'SPHFluidDensity', 'SPHFluidRefractiveIndex',
+                 'SPHFluidBounces', 'SPHFluidAmbientOcclusion', 'SPHFluidAORadius',
+                 'SPHFluidAOSamples'):
+        check(rep.GetProperty(name) is not None, 'property %s exists' % name)
+    rep.ColorArrayName = ['POINTS', '']
+    # Ambient light only, so the comparison with a plain VTK renderer (a headlight, where
+    # ParaView has its light kit) sees the same shading.
+    rep.Ambient = 1.0
+    rep.Diffuse = 0.0
+    rep.SPHFluidRadiusArray = ['POINTS', 'h']
+    rep.SPHFluidRadiusScale = 0.8
+    rep.SPHFluidAbsorptionColor = [4.0, 1.5, 0.8]
+    camera = view.GetActiveCamera()
+    camera.SetFocalPoint(0.9, 0.0, 0.2)
+    camera.SetPosition(0.2, -2.6, 1.5)
+    camera.SetViewUp(0, 0, 1)
+    view.CenterOfRotation = [0.9, 0.0, 0.2]
+    Render(view)
+
+    image = shot(view, output)
+    stats = statistics(rep)
+    covered = float((abs(image - image[0]).sum(axis=1) > 0).mean())
+    check(0.1 < covered < 0.95, 'the water covers part of the view (%.1f%%)' % (100 * covered))
+    check(stats.get('particles') == 9360, 'every particle drawn (%s)' % stats.get('particles'))
+    check(stats.get('march_columns') == 0 and stats.get('ao_samples') == 0
+          and stats.get('filter_iterations') == 0 and stats.get('translucent_pixels') > 0,
+          'translucency alone: no march, no AO, no smoothing work')
+
+    sys.path.insert(0, os.path.join(build_dir, 'lib', 'python3', 'dist-packages'))
+    from paraview import servermanager
+    particles = servermanager.Fetch(source)
+    reference, count = plain_vtk_image(particles, view, stem + '-vtk-reference.png')
+    check(count == 9360 and rmse(image, reference) < 1.0,
+          'the picture is the plain VTK mapper\'s (rmse %.3f of 255)' % rmse(image, reference))
+    if not compare_with_baseline(output, baseline):
+        failures.append('baseline comparison')
+
+    # The filter with the view's camera and size: the same spans.
+    # LoadPlugin(..., ns=globals()) made the filter's function in this module.
+    check('SPHVoxelizer' in globals(), 'the SPH Voxelizer filter is offered')
+    vox = globals()['SPHVoxelizer'](Input=source)
+    vox.RadiusArray = 'h'
+    vox.RadiusScale = 0.8
+    vox.ImageSize = SIZE
+    vox.CameraPosition = list(camera.GetPosition())
+    vox.CameraFocalPoint = list(camera.GetFocalPoint())
+    vox.CameraViewUp = list(camera.GetViewUp())
+    vox.CameraViewAngle = camera.GetViewAngle()
+    vox.ResetCamera = 0
+    vox.UpdatePipeline()
+    image_data = servermanager.Fetch(vox)
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    pd = image_data.GetPointData()
+    names = [pd.GetArrayName(i) for i in range(pd.GetNumberOfArrays())]
+    check(all(n in names for n in ('SpanCount', 'SpansFound', 'EntryDepth', 'ExitDepth',
+                                   'HiddenEmpty', 'Thickness', 'DepthToDistance',
+                                   'EntryNormal', 'ExitNormal', 'Links')),
+          'the filter\'s arrays: %s' % ', '.join(names))
+    check(pd.GetArray('EntryDepth').GetNumberOfComponents() == 7
+          and image_data.GetDimensions() == (SIZE[0], SIZE[1], 1),
+          'an image of the view size, 7 span components')
+    counts = vtk_to_numpy(pd.GetArray('SpanCount')).astype(int)
+    stats = statistics(rep)
+    check(int(counts.sum()) == stats.get('spans_stored')
+          and int((counts > 0).sum()) == stats.get('shaded_pixels'),
+          'the filter finds the spans the representation rendered (%d spans, %d pixels; '
+          'rendered %s, %s)' % (counts.sum(), (counts > 0).sum(), stats.get('spans_stored'),
+                                 stats.get('shaded_pixels')))
+    thickness = vtk_to_numpy(pd.GetArray('Thickness'))
+    check(float(thickness.max()) > 0.1 and float(thickness.min()) == 0.0,
+          'thickness up to %.3f world units' % float(thickness.max()))
+    Delete(vox)
+
+    rep.SPHFluidRefractiveIndex = 1.33
+    refracted = shot(view, stem + '-refracted.png')
+    stats = statistics(rep)
+    check(stats.get('march_columns') > 0 and stats.get('refraction_paths') > 0
+          and rmse(refracted, image) > 1.0,
+          'index 1.33: refraction paths marched (%s columns)' % stats.get('march_columns'))
+    rep.SPHFluidRefractiveIndex = 1.0
+    rep.SPHFluidAmbientOcclusion = 1
+    shot(view, stem + '-ao.png')
+    stats = statistics(rep)
+    check(stats.get('ao_samples') == 16 * stats.get('shaded_pixels'), 'AO on: 16 samples a pixel')
+    rep.SPHFluidAmbientOcclusion = 0
+
+    Hide(source, view)
+    nothing = shot(view, stem + '-hidden.png')
+    check(float(abs(nothing.astype(float) - nothing[0]).max()) == 0.0,
+          'a hidden representation draws nothing')
+
+
+def main():
+    plugin, build_dir, data_file, baseline, output = sys.argv[1:6]
+    out_dir = os.path.dirname(os.path.abspath(output))
+    if out_dir == os.path.dirname(os.path.abspath(baseline)):
+        print('FAIL  OUTPUT must not be in the baseline folder')
+        return 2
+    os.makedirs(out_dir, exist_ok=True)
+    stem = os.path.splitext(os.path.abspath(output))[0]
+    LoadPlugin(plugin, remote=False, ns=globals())
+    source = LegacyVTKReader(FileNames=[data_file])
+    source.UpdatePipeline()
+    view = CreateView('RenderView')
+    try:
+        run_checks(view, source, stem, build_dir, output, baseline)
+    finally:
+        Delete(view)
+    return finish()
+
+
+if __name__ == '__main__':
+    code = main()
+    if code:
+        sys.exit(code)
