@@ -3,16 +3,27 @@
 
 Usage: plot_bench.py CSV OUTDIR
 
-CSV columns (exactly, in this order):
+CSV columns (exactly, in this order, then any extra numeric columns, e.g. the
+sph suite's frame_ms, resample_ms, ..., kernel_evaluations):
   suite,dataset,method,setting,width,height,items,build_ms,render_ms,rmse,max_err,mem_mb
-rmse and max_err may be empty (no reference image for that row).
+rmse, max_err and extra columns may be empty (no reference image for that row).
 
 For each (suite, dataset) it writes
   <suite>_<dataset>_time.png   build_ms and render_ms side by side, one bar
                                pair per method + setting
   <suite>_<dataset>_error.png  rmse versus render_ms, one line per method,
                                points labelled by setting; only for methods
-                               with at least two settings that have an rmse
+                               with at least two settings that have an rmse;
+                               methods named STEM-NUMBER (sph-step-2,
+                               sph-step-4) are one line, STEM
+  <suite>_<dataset>_error_frame.png
+                               the same against frame_ms (a new time step:
+                               resample or rebuild plus a frame), when the CSV
+                               has that column
+  <suite>_<dataset>_effects.png
+                               render_ms and kernel counters of sph-raycast
+                               and its effects (sph-unnormalized, sph-pseudo,
+                               sph-gradient, sph-contour), when present
 Repeated rows (same method, setting and image size) are reduced to their
 median, so a CSV with several timing runs plots as one bar.
 Run with Debian's /usr/bin/python3 (matplotlib).
@@ -37,26 +48,33 @@ COLUMNS = ["suite", "dataset", "method", "setting", "width", "height", "items",
 LOG_RATIO = 10.0
 
 
+# The sph suite's effects, in the order of the effects chart (the first is the baseline).
+EFFECTS = ["sph-raycast", "sph-unnormalized", "sph-pseudo", "sph-gradient", "sph-contour"]
+COUNTERS = ["kernel_evaluations", "weight_sums", "gradient_evaluations"]
+
+
 def read_rows(path):
-    """Rows as dicts with numbers parsed; empty rmse/max_err become None."""
+    """Rows as dicts with numbers parsed; empty rmse/max_err/extra values become None."""
     with open(path, newline="") as f:
         reader = csv.reader(f)
         header = [h.strip() for h in next(reader, [])]
-        if header != COLUMNS:
-            raise ValueError(f"{path}: header must be {','.join(COLUMNS)}, got {','.join(header)}")
+        if header[:len(COLUMNS)] != COLUMNS:
+            raise ValueError(f"{path}: header must start with {','.join(COLUMNS)}, "
+                             f"got {','.join(header)}")
+        extra = header[len(COLUMNS):]
         rows = []
         for lineno, values in enumerate(reader, start=2):
             if not values or all(not v.strip() for v in values):
                 continue
-            if len(values) != len(COLUMNS):
-                raise ValueError(f"{path}:{lineno}: {len(values)} fields, expected {len(COLUMNS)}")
-            row = dict(zip(COLUMNS, (v.strip() for v in values)))
+            if len(values) != len(header):
+                raise ValueError(f"{path}:{lineno}: {len(values)} fields, expected {len(header)}")
+            row = dict(zip(header, (v.strip() for v in values)))
             for key in ("width", "height", "items"):
                 row[key] = int(row[key])
-            for key in ("build_ms", "render_ms", "rmse", "max_err", "mem_mb"):
+            for key in ["build_ms", "render_ms", "rmse", "max_err", "mem_mb"] + extra:
                 row[key] = float(row[key]) if row[key] != "" else None
             rows.append(row)
-    return rows
+    return rows, extra
 
 
 def median_or_none(values):
@@ -64,7 +82,7 @@ def median_or_none(values):
     return statistics.median(values) if values else None
 
 
-def reduce_repeats(rows):
+def reduce_repeats(rows, extra=()):
     """Merge rows with the same method, setting and size into their medians."""
     groups = OrderedDict()
     for r in rows:
@@ -73,8 +91,14 @@ def reduce_repeats(rows):
     for (method, setting, width, height), runs in groups.items():
         merged.append({"method": method, "setting": setting, "width": width, "height": height,
                        **{k: median_or_none([r[k] for r in runs])
-                          for k in ("build_ms", "render_ms", "rmse", "max_err")}})
+                          for k in ("build_ms", "render_ms", "rmse", "max_err", *extra)}})
     return merged
+
+
+def sweep_of(method):
+    """(stem, value) of a method named STEM-NUMBER (sph-step-2 -> sph-step, 2), else None."""
+    m = re.fullmatch(r"(.+)-([0-9]+(?:\.[0-9]+)?)", method)
+    return (m.group(1), m.group(2)) if m else None
 
 
 def wants_log(values):
@@ -125,40 +149,55 @@ def plot_times(suite, dataset, rows, path):
     plt.close(fig)
 
 
-def plot_errors(suite, dataset, rows, path):
-    """rmse against render_ms, one line per method and swept parameter (the
+def plot_errors(suite, dataset, rows, path, x="render_ms", xlabel="render time [ms]"):
+    """rmse against x (render_ms), one line per method and swept parameter (the
     setting's first name, e.g. "ao" in "ao=16": a sweep may have its own
-    reference); methods with a single measured setting (e.g. the alternatives a
-    user has today) appear as lone markers for comparison. False if nothing has
-    several settings."""
+    reference; methods named STEM-NUMBER are one sweep, STEM); methods with a
+    single measured setting (e.g. the alternatives a user has today) appear as
+    lone markers for comparison. False if nothing has several settings."""
     by_method = OrderedDict()
     for r in rows:
-        if r["rmse"] is not None and r["render_ms"] is not None:
+        if r["method"] in EFFECTS[1:]:
+            continue  # compared with their own effect's reference: the effects chart
+        if r["rmse"] is not None and r.get(x) is not None:
             swept = r["setting"].split("=", 1)[0] if "=" in r["setting"] else ""
-            key = f"{r['method']} ({swept})" if swept else r["method"]
+            sweep = sweep_of(r["method"])
+            if sweep:
+                key = sweep[0]
+            else:
+                key = f"{r['method']} ({swept})" if swept else r["method"]
             by_method.setdefault(key, []).append(r)
     if all(len(rs) < 2 for rs in by_method.values()):
         return False
 
     several_sizes = len({(r["width"], r["height"]) for r in rows}) > 1
     fig, ax = plt.subplots(figsize=(8, 6))
-    for method, rs in by_method.items():
-        rs = sorted(rs, key=lambda r: r["render_ms"])
-        xs = [r["render_ms"] for r in rs]
+    markers = "osD^v<>px*h"
+    for index, (method, rs) in enumerate(by_method.items()):
+        rs = sorted(rs, key=lambda r: r[x])
+        xs = [r[x] for r in rs]
         ys = [r["rmse"] for r in rs]
         single = len(rs) == 1
-        line, = ax.plot(xs, ys, marker="s" if single else "o",
-                        linestyle="none" if single else "-", label=method)
-        for r, x, y in zip(rs, xs, ys):
+        # A sweep that does not change the picture (tile, slab): its times only.
+        same = not single and max(ys) <= 1.03 * min(ys)
+        # Lone markers (a default, an alternative) on top of the sweeps that pass by them.
+        line, = ax.plot(xs, ys, marker="s" if single else markers[index % len(markers)],
+                        linestyle="none" if single else "-",
+                        markersize=10 if single else 6, zorder=10 if single else 2,
+                        markeredgecolor="black" if single else None,
+                        label=method + (" (same image, labels omitted)" if same else ""))
+        if same:
+            continue
+        for r, px, py in zip(rs, xs, ys):
             label = r["setting"] + (f" {r['width']}x{r['height']}" if several_sizes else "")
-            ax.annotate(label, (x, y), xytext=(4, 4), textcoords="offset points",
+            ax.annotate(label, (px, py), xytext=(4, 4), textcoords="offset points",
                         fontsize=7, color=line.get_color())
     every = [r for rs in by_method.values() for r in rs]
-    if wants_log([r["render_ms"] for r in every]):
+    if wants_log([r[x] for r in every]):
         ax.set_xscale("log")
     if wants_log([r["rmse"] for r in every]):
         ax.set_yscale("log")
-    ax.set_xlabel("render time [ms]")
+    ax.set_xlabel(xlabel)
     ax.set_ylabel("RMSE against reference")
     ax.set_title(f"{suite} / {dataset}: error versus time")
     ax.legend(fontsize=8)
@@ -169,11 +208,66 @@ def plot_errors(suite, dataset, rows, path):
     return True
 
 
+def plot_effects(suite, dataset, rows, path):
+    """The effects of the sph suite side by side (Limper 2012, table 4.4): render_ms
+    (with the ray casting phase, raycast_ms, when known) and the kernel counters per
+    frame, each effect against its own reference (the rmse in the labels). False if
+    the rows hold fewer than two of EFFECTS."""
+    by_method = {r["method"]: r for r in rows if r["method"] in EFFECTS}
+    chosen = [by_method[m] for m in EFFECTS if m in by_method]
+    if len(chosen) < 2:
+        return False
+    labels = []
+    for r in chosen:
+        label = r["method"]
+        if r["rmse"] is not None:
+            label += f"\nrmse {255 * r['rmse']:.2f}/255"
+        labels.append(label)
+    fig, (left, right) = plt.subplots(1, 2, figsize=(12, 2.4 + 0.7 * len(chosen)))
+    pos = list(range(len(chosen)))
+    base = chosen[0]["render_ms"] if chosen[0]["method"] == EFFECTS[0] else None
+    render = [r["render_ms"] or 0.0 for r in chosen]
+    left.barh(pos, render, 0.6, color="tab:blue", label="render_ms (frame)")
+    raycast = [r.get("raycast_ms") for r in chosen]
+    if all(v is not None for v in raycast):
+        left.barh(pos, raycast, 0.3, color="tab:cyan", label="raycast_ms (of the frame)")
+    for p, value, inner in zip(pos, render, raycast):
+        text = f"{value:.0f} ms"
+        if base:
+            text += f" ({value / base:.2f}x)"
+        left.annotate(text, (max(value, inner or 0.0), p), xytext=(3, 0),
+                      textcoords="offset points", va="center", fontsize=8)
+    left.margins(x=0.35)
+    left.set_yticks(pos)
+    left.set_yticklabels(labels, fontsize=8)
+    left.invert_yaxis()
+    left.set_xlabel("time [ms]")
+    left.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize=8)
+    left.grid(axis="x", alpha=0.3)
+    height = 0.8 / len(COUNTERS)
+    for k, counter in enumerate(COUNTERS):
+        values = [(r.get(counter) or 0.0) / 1e6 for r in chosen]
+        offsets = [p - 0.4 + height * (k + 0.5) for p in pos]
+        right.barh(offsets, values, height, label=counter)
+    right.set_yticks(pos)
+    right.set_yticklabels([r["method"] for r in chosen], fontsize=8)
+    right.invert_yaxis()
+    right.set_xlabel("per frame [millions] (SIMD lanes: 16 per row chunk)")
+    right.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=3, fontsize=8)
+    right.grid(axis="x", alpha=0.3)
+    fig.suptitle(f"{suite} / {dataset}, {chosen[0]['width']}x{chosen[0]['height']}: "
+                 "effects, each alone (error against the same effect's reference)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return True
+
+
 def main(argv):
     if len(argv) != 3:
         sys.exit(__doc__)
     try:
-        rows = read_rows(argv[1])
+        rows, extra = read_rows(argv[1])
     except (OSError, ValueError) as e:  # a clear message, not a traceback
         sys.exit(f"plot_bench.py: {e}")
     os.makedirs(argv[2], exist_ok=True)
@@ -182,12 +276,18 @@ def main(argv):
     for r in rows:
         groups.setdefault((r["suite"], r["dataset"]), []).append(r)
     for (suite, dataset), group in groups.items():
-        merged = reduce_repeats(group)
+        merged = reduce_repeats(group, extra)
         stem = os.path.join(argv[2], file_stem(suite, dataset))
         plot_times(suite, dataset, merged, stem + "_time.png")
         print(stem + "_time.png")
         if plot_errors(suite, dataset, merged, stem + "_error.png"):
             print(stem + "_error.png")
+        if "frame_ms" in extra and plot_errors(
+                suite, dataset, merged, stem + "_error_frame.png", x="frame_ms",
+                xlabel="new time step: rebuild or resample + frame [ms]"):
+            print(stem + "_error_frame.png")
+        if plot_effects(suite, dataset, merged, stem + "_effects.png"):
+            print(stem + "_effects.png")
 
 
 if __name__ == "__main__":
