@@ -20,6 +20,7 @@ add_library(RayMappersKernels STATIC
   ${CMAKE_CURRENT_LIST_DIR}/SPH/ViewRays.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/PerspectiveGrid.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidCells.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/SpanVoxelizer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/SurfaceLinks.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidRenderer.cxx)

@@ -6,11 +6,18 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <memory>
+#include <new>
 #include <vector>
+
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
 
 namespace raymappers
 {
@@ -29,10 +36,124 @@ struct DepthRange
   std::size_t inView = 0;
 };
 
+/// The pixels whose rays can meet a box and its depth range clipped to near and far: the
+/// bounding rectangle of its corners' projections (the projection of a convex body lies in
+/// that of its corners' hull), or the whole image when a corner is at or behind the eye plane.
+Footprint boxFootprint(const ViewRays& rays, const FluidBox& b, DepthRange& range)
+{
+  const int W = rays.width(), H = rays.height();
+  double zlo = std::numeric_limits<double>::infinity(), zhi = -zlo;
+  double xlo = zlo, xhi = zhi, ylo = zlo, yhi = zhi;
+  bool behind = false;
+  for (int k = 0; k < 8; ++k)
+  {
+    const Vec3d p((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
+    const double z = rays.zetaOf(p);
+    zlo = std::min(zlo, z);
+    zhi = std::max(zhi, z);
+    const std::array<double, 4> c = rays.clip(p);
+    if (!(c[3] > 0))
+    {
+      behind = true;
+      continue;
+    }
+    const double x = (c[0] / c[3] + 1.0) * 0.5 * W, y = (c[1] / c[3] + 1.0) * 0.5 * H;
+    xlo = std::min(xlo, x);
+    xhi = std::max(xhi, x);
+    ylo = std::min(ylo, y);
+    yhi = std::max(yhi, y);
+  }
+  zlo = std::max(zlo, rays.nearZeta());
+  zhi = std::min(zhi, rays.farZeta());
+  if (!(zlo < zhi))
+  {
+    return { 1, 0, 1, 0 };
+  }
+  if (behind)
+  {
+    xlo = ylo = 0;
+    xhi = W;
+    yhi = H;
+  }
+  const Footprint f = { static_cast<int>(std::ceil(std::max(xlo, 0.0) - 0.5)),
+    static_cast<int>(std::floor(std::min(xhi, double(W)) - 0.5)),
+    static_cast<int>(std::ceil(std::max(ylo, 0.0) - 0.5)),
+    static_cast<int>(std::floor(std::min(yhi, double(H)) - 0.5)) };
+  if (f.x0 <= f.x1 && f.y0 <= f.y1)
+  {
+    range.lo = std::min(range.lo, zlo);
+    range.hi = std::max(range.hi, zhi);
+  }
+  return f;
+}
+
+/// The ray p(zeta) = A + zeta B inside the box: [z0, z1] (empty when z0 >= z1), by slabs.
+inline void rayBox(const Vec3d& A, const Vec3d& B, const FluidBox& b, double& z0, double& z1)
+{
+  z0 = -std::numeric_limits<double>::infinity();
+  z1 = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a)
+  {
+    const double lo = b.lo[a], hi = b.hi[a];
+    if (B[a] == 0.0)
+    {
+      if (A[a] < lo || A[a] > hi)
+      {
+        z0 = z1;
+      }
+      continue;
+    }
+    const double inv = 1.0 / B[a];
+    const double t0 = (lo - A[a]) * inv, t1 = (hi - A[a]) * inv;
+    z0 = std::max(z0, std::min(t0, t1));
+    z1 = std::min(z1, std::max(t0, t1));
+  }
+}
+
 struct TallyCounters
 {
-  std::int64_t splatPixels = 0, stoppedSpans = 0, setBitOps = 0, spansFound = 0, spansStored = 0, spansHidden = 0,
+  std::int64_t splatPixels = 0, boxPixels = 0, stoppedSpans = 0, setBitOps = 0, spansFound = 0, spansStored = 0, spansHidden = 0,
                gapsBridged = 0;
+};
+
+/// The tile's bit grid: zeroed memory from the system, asked for in 2 MB pages where Linux
+/// gives them (a fresh 4 KB page costs a fault on first touch: some hundred thousand per
+/// frame at 1080p otherwise). Pages no splat touches are never touched at all.
+class BitGrid
+{
+public:
+  explicit BitGrid(std::size_t words)
+    : Bytes(words * sizeof(std::uint64_t))
+  {
+#ifdef __linux__
+    void* p = mmap(nullptr, Bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p != MAP_FAILED)
+    {
+      madvise(p, Bytes, MADV_HUGEPAGE);
+      Words = static_cast<std::uint64_t*>(p);
+    }
+#else
+    Words = static_cast<std::uint64_t*>(std::calloc(words, sizeof(std::uint64_t)));
+#endif
+  }
+  ~BitGrid()
+  {
+#ifdef __linux__
+    if (Words)
+    {
+      munmap(Words, Bytes);
+    }
+#else
+    std::free(Words);
+#endif
+  }
+  BitGrid(const BitGrid&) = delete;
+  BitGrid& operator=(const BitGrid&) = delete;
+  std::uint64_t* get() const { return Words; }
+
+private:
+  std::size_t Bytes;
+  std::uint64_t* Words = nullptr;
 };
 
 /// Column q (the tile's pixels row by row) of the tile's grid: its words are contiguous.
@@ -41,20 +162,27 @@ inline std::uint64_t* columnOf(std::uint64_t* grid, std::size_t q, int words)
   return grid + q * words;
 }
 
-/// Sets bits [l0, l1] of a column with one atomic OR per touched word.
+/// Sets bits [l0, l1] of a column: an atomic OR on the partly covered first and last words, a
+/// plain store of all ones on the words in between (whatever other threads OR into such a
+/// word meanwhile, it ends all ones, so the store needs no lock).
 inline std::int64_t setBits(std::uint64_t* column, int l0, int l1)
 {
-  std::int64_t ops = 0;
-  for (int w = l0 >> 6; w <= (l1 >> 6); ++w)
+  const int w0 = l0 >> 6, w1 = l1 >> 6;
+  const std::uint64_t ones = ~std::uint64_t(0);
+  const std::uint64_t first = ones << (l0 & 63);
+  const std::uint64_t last = (l1 & 63) == 63 ? ones : (std::uint64_t(1) << ((l1 & 63) + 1)) - 1;
+  if (w0 == w1)
   {
-    const int b0 = std::max(l0, w << 6) - (w << 6);
-    const int b1 = std::min(l1, (w << 6) + 63) - (w << 6);
-    const std::uint64_t hi = b1 == 63 ? ~std::uint64_t(0) : (std::uint64_t(1) << (b1 + 1)) - 1;
-    const std::uint64_t mask = hi & (~std::uint64_t(0) << b0);
-    __atomic_fetch_or(column + w, mask, __ATOMIC_RELAXED);
-    ++ops;
+    __atomic_fetch_or(column + w0, first & last, __ATOMIC_RELAXED);
+    return 1;
   }
-  return ops;
+  __atomic_fetch_or(column + w0, first, __ATOMIC_RELAXED);
+  for (int w = w0 + 1; w < w1; ++w)
+  {
+    __atomic_store_n(column + w, ones, __ATOMIC_RELAXED);
+  }
+  __atomic_fetch_or(column + w1, last, __ATOMIC_RELAXED);
+  return w1 - w0 + 1;
 }
 
 inline void setBit(std::uint64_t* column, int l)
@@ -118,7 +246,9 @@ bool voxelizeFluid(const FluidParticles& particles,
   const bool shell = bridging && params.gapThreshold >= 2.0 * particles.maxRadius;
   stats.setEffect("gap_bridging", bridging);
   stats.setEffect("shell_splat", shell);
-  for (const char* name : { "particles_in_view",
+  for (const char* name : { "boxes_in_view",
+         "box_pixels",
+         "particles_in_view",
          "layers",
          "words_per_column",
          "tiles",
@@ -145,22 +275,28 @@ bool voxelizeFluid(const FluidParticles& particles,
     return true;
   }
 
-  // Footprints and the depth range of the particles in view.
-  std::vector<Footprint> footprints(n);
-  const DepthRange range = tbb::parallel_reduce(
-    tbb::blocked_range<std::size_t>(0, n, 4096),
+  // The particles to splat (all, or those boundary-cell culling keeps, in its order) and the
+  // full cells' boxes; their footprints and the depth range of those in view.
+  const FluidCells* const cells = params.cells;
+  const std::size_t m = cells ? cells->kept.size() : n;
+  const auto particleAt = [&](std::size_t k) { return cells ? std::size_t(cells->kept[k]) : k; };
+  const std::size_t nBoxes = cells ? cells->boxes.size() : 0;
+  std::vector<Footprint> footprints(m + nBoxes);
+  DepthRange range = tbb::parallel_reduce(
+    tbb::blocked_range<std::size_t>(0, m, 4096),
     DepthRange(),
     [&](const tbb::blocked_range<std::size_t>& r, DepthRange d)
     {
-      for (std::size_t i = r.begin(); i != r.end(); ++i)
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
       {
+        const std::size_t i = particleAt(k);
         const SphereFootprint f = rays.footprint(Vec3d(particles.centers[i]), particles.radius[i]);
         if (!f.inView)
         {
-          footprints[i] = { 1, 0, 1, 0 };
+          footprints[k] = { 1, 0, 1, 0 };
           continue;
         }
-        footprints[i] = { f.i0, f.i1, f.j0, f.j1 };
+        footprints[k] = { f.i0, f.i1, f.j0, f.j1 };
         d.lo = std::min(d.lo, f.zlo);
         d.hi = std::max(d.hi, f.zhi);
         ++d.inView;
@@ -174,9 +310,17 @@ bool voxelizeFluid(const FluidParticles& particles,
       a.inView += b.inView;
       return a;
     });
+  std::size_t boxesInView = 0;
+  for (std::size_t k = 0; k < nBoxes; ++k)
+  {
+    const Footprint f = boxFootprint(rays, cells->boxes[k], range);
+    footprints[m + k] = f;
+    boxesInView += f.x0 <= f.x1 && f.y0 <= f.y1;
+  }
+  stats.addCounter("boxes_in_view", static_cast<std::int64_t>(boxesInView));
   stats.addCounter("particles_in_view", static_cast<std::int64_t>(range.inView));
   const std::size_t footprintBytes = footprints.capacity() * sizeof(Footprint);
-  if (range.inView == 0)
+  if (range.inView == 0 && boxesInView == 0)
   {
     stats.addCounter("peak_temporary_bytes", static_cast<std::int64_t>(footprintBytes));
     return true;
@@ -197,7 +341,7 @@ bool voxelizeFluid(const FluidParticles& particles,
   stats.addCounter("words_per_column", words);
   const std::size_t gridBudget =
     params.memoryBudget > footprintBytes ? params.memoryBudget - footprintBytes : 0;
-  const std::size_t tilePixels = gridBudget / columnBytes;
+  const std::size_t tilePixels = gridBudget / (columnBytes + 1); // + the touched byte
   if (tilePixels == 0)
   {
     stats.addCounter("budget_exceeded", 1);
@@ -221,11 +365,19 @@ bool voxelizeFluid(const FluidParticles& particles,
   stats.addCounter("tiles", tilesX * tilesY);
   stats.addCounter("tile_width", tw);
   stats.addCounter("tile_height", th);
-  // Uninitialized: each tile clears the part it uses.
+  // Zeroed once; the compression zeroes again the columns it reads, so each tile finds the
+  // grid clear. `touched` marks the tile's columns a splat wrote: only those are read.
   const std::size_t gridWords = static_cast<std::size_t>(tw) * th * words;
-  const std::unique_ptr<std::uint64_t[]> grid(new std::uint64_t[gridWords]);
+  const BitGrid grid(gridWords);
+  if (!grid.get())
+  {
+    stats.addCounter("budget_exceeded", 1);
+    stats.addCounter("peak_temporary_bytes", static_cast<std::int64_t>(footprintBytes));
+    return false;
+  }
+  std::vector<std::uint8_t> touched(static_cast<std::size_t>(tw) * th);
   stats.addCounter("peak_temporary_bytes",
-    static_cast<std::int64_t>(gridWords * sizeof(std::uint64_t) + footprintBytes));
+    static_cast<std::int64_t>(gridWords * sizeof(std::uint64_t) + touched.size() + footprintBytes));
 
   const double dFront = layers.depths.front(), dBack = layers.depths.back();
   const float g = static_cast<float>(params.gapThreshold);
@@ -238,19 +390,17 @@ bool voxelizeFluid(const FluidParticles& particles,
       const int x0 = tx * tw, y0 = ty * th;
       const int x1 = std::min(W, x0 + tw), y1 = std::min(H, y0 + th);
       const int cw = x1 - x0;
-      const std::size_t used = static_cast<std::size_t>(cw) * (y1 - y0) * words;
       {
         ScopedPhase phase(stats, "splat");
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, used, 1 << 16),
-          [&](const tbb::blocked_range<std::size_t>& r)
-          { std::fill(grid.get() + r.begin(), grid.get() + r.end(), std::uint64_t(0)); });
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024),
+        std::fill(touched.begin(), touched.end(), std::uint8_t(0));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 1024),
           [&](const tbb::blocked_range<std::size_t>& r)
           {
             TallyCounters& t = tallies.local();
-            for (std::size_t i = r.begin(); i != r.end(); ++i)
+            for (std::size_t k = r.begin(); k != r.end(); ++k)
             {
-              const Footprint& fp = footprints[i];
+              const Footprint& fp = footprints[k];
+              const std::size_t i = particleAt(k);
               const int i0 = std::max(fp.x0, x0), i1 = std::min(fp.x1, x1 - 1);
               const int j0 = std::max(fp.y0, y0), j1 = std::min(fp.y1, y1 - 1);
               if (i0 > i1 || j0 > j1)
@@ -292,8 +442,9 @@ bool voxelizeFluid(const FluidParticles& particles,
                     layers.layerOf(z0, linear ? uc + (z0 - zc) * slope : layers.coordinate(z0));
                   const int l1 =
                     layers.layerOf(z1, linear ? uc + (z1 - zc) * slope : layers.coordinate(z1));
-                  std::uint64_t* column =
-                    columnOf(grid.get(), static_cast<std::size_t>(j - y0) * cw + (px - x0), words);
+                  const std::size_t q = static_cast<std::size_t>(j - y0) * cw + (px - x0);
+                  std::uint64_t* column = columnOf(grid.get(), q, words);
+                  touched[q] = 1; // every writer stores 1: the race is benign
                   ++t.splatPixels;
                   if (shell)
                   {
@@ -309,6 +460,40 @@ bool voxelizeFluid(const FluidParticles& particles,
               }
             }
           });
+        // The full cells' boxes: every layer from the ray's entry to its exit.
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nBoxes, 16),
+          [&](const tbb::blocked_range<std::size_t>& r)
+          {
+            TallyCounters& t = tallies.local();
+            for (std::size_t k = r.begin(); k != r.end(); ++k)
+            {
+              const Footprint& fp = footprints[m + k];
+              const int i0 = std::max(fp.x0, x0), i1 = std::min(fp.x1, x1 - 1);
+              const int j0 = std::max(fp.y0, y0), j1 = std::min(fp.y1, y1 - 1);
+              for (int j = j0; j <= j1; ++j)
+              {
+                for (int px = i0; px <= i1; ++px)
+                {
+                  double z0, z1;
+                  rayBox(rays.start(px + 0.5, j + 0.5), rays.direction(px + 0.5, j + 0.5),
+                    cells->boxes[k], z0, z1);
+                  z0 = std::max(z0, dFront);
+                  z1 = std::min(std::min(z1, dBack),
+                    stop ? double(stop[static_cast<std::size_t>(j) * W + px]) : dBack);
+                  if (!(z0 < z1))
+                  {
+                    continue;
+                  }
+                  const int l0 = layers.layerOf(z0, layers.coordinate(z0));
+                  const int l1 = layers.layerOf(z1, layers.coordinate(z1));
+                  const std::size_t q = static_cast<std::size_t>(j - y0) * cw + (px - x0);
+                  touched[q] = 1;
+                  ++t.boxPixels;
+                  t.setBitOps += setBits(columnOf(grid.get(), q, words), l0, l1);
+                }
+              }
+            }
+          });
       }
       ScopedPhase phase(stats, "compress");
       tbb::parallel_for(tbb::blocked_range<int>(y0, y1, 1),
@@ -319,8 +504,12 @@ bool voxelizeFluid(const FluidParticles& particles,
           {
             for (int px = x0; px < x1; ++px)
             {
-              const std::uint64_t* column =
-                columnOf(grid.get(), static_cast<std::size_t>(j - y0) * cw + (px - x0), words);
+              const std::size_t q = static_cast<std::size_t>(j - y0) * cw + (px - x0);
+              if (!touched[q])
+              {
+                continue; // no bit set: no span (out.reset cleared the pixel)
+              }
+              std::uint64_t* column = columnOf(grid.get(), q, words);
               const std::size_t p = out.pixel(px, j);
               const float rayLength = static_cast<float>(length(rays.direction(px + 0.5, j + 0.5)));
               float* d = out.depth.data() + out.slot(p, 0);
@@ -368,6 +557,7 @@ bool voxelizeFluid(const FluidParticles& particles,
               t.spansFound += found;
               t.spansStored += stored;
               t.spansHidden += found - stored;
+              std::fill(column, column + words, std::uint64_t(0)); // clear for the next tile
             }
           }
         });
@@ -377,6 +567,7 @@ bool voxelizeFluid(const FluidParticles& particles,
     [](TallyCounters a, const TallyCounters& b)
     {
       a.splatPixels += b.splatPixels;
+      a.boxPixels += b.boxPixels;
       a.stoppedSpans += b.stoppedSpans;
       a.setBitOps += b.setBitOps;
       a.spansFound += b.spansFound;
@@ -386,6 +577,7 @@ bool voxelizeFluid(const FluidParticles& particles,
       return a;
     });
   stats.addCounter("splat_pixels", total.splatPixels);
+  stats.addCounter("box_pixels", total.boxPixels);
   stats.addCounter("stopped_spans", total.stoppedSpans);
   stats.addCounter("set_bit_ops", total.setBitOps);
   stats.addCounter("spans_found", total.spansFound);

@@ -32,9 +32,15 @@
 // are clipped to zeta <= zeta_stop while splatting and exits beyond it are moved back to it
 // (an exit at the geometry's surface); the fluid behind the geometry leaves no spans and
 // absorbs nothing.
+//
+// Boundary-cell culling (FluidCells.h, sections 3.1 and 4.3): with
+// VoxelizerParameters::cells only the particles it keeps are splatted, in its (Morton) order,
+// and each of its boxes, the full cells, fills every layer between the ray's entry into and
+// exit from the box, with the same clipping to the layers' range and the stop depth.
 #ifndef RayMappers_SpanVoxelizer_h
 #define RayMappers_SpanVoxelizer_h
 
+#include "FluidCells.h"
 #include "FluidParticles.h"
 #include "FluidSpans.h"
 #include "RenderStatistics.h"
@@ -57,6 +63,9 @@ struct VoxelizerParameters
   /// pixel's ray ends at opaque geometry (+inf or any value beyond the far plane: none).
   /// Not owned; must outlive voxelizeFluid.
   const float* stopDepth = nullptr;
+  /// Optional: the particles to splat and the full cells' boxes (buildFluidCells on the same
+  /// particles); null: every particle, in input order. Not owned.
+  const FluidCells* cells = nullptr;
 };
 
 /// The stop depths (zeta) of VoxelizerParameters::stopDepth from OpenGL window depths of
@@ -65,8 +74,9 @@ std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* 
 
 /// Voxelizes `particles` for `rays` into `out` (sized to the view; no spans where no
 /// particle is). Returns false when the budget cannot hold even one column's bits with the
-/// footprints (out then has no spans; counter budget_exceeded = 1).
-/// Phases: splat, compress. Counters: particles_in_view, layers, words_per_column, tiles,
+/// footprints, or its allocation fails (out then has no spans; counter budget_exceeded = 1).
+/// Phases: splat, compress. Counters: particles_in_view (splatted ones), boxes_in_view,
+/// box_pixels, layers, words_per_column, tiles,
 /// tile_width, tile_height, splat_pixels, stopped_spans, set_bit_ops, spans_found, spans_stored,
 /// spans_hidden, gaps_bridged, peak_temporary_bytes, budget_exceeded. Effects: shell_splat,
 /// gap_bridging.

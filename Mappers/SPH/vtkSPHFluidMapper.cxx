@@ -33,6 +33,8 @@ vtkStandardNewMacro(vtkSPHFluidMapper);
 struct vtkSPHFluidMapper::Internals
 {
   raymappers::FluidParticles Particles;
+  raymappers::FluidCells Cells;
+  std::string CellsKey; // the particles' key and the culling settings the cells were built with
   raymappers::FluidSpans Spans;
   raymappers::Frame Frame;
   vtkRayMapperFrameDrawer Drawer;
@@ -191,6 +193,26 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
   stats.addCounter("particles_built", built ? 1 : 0);
+  {
+    // Boundary-cell culling (FluidCells.h): once per particle set and culling setting.
+    std::ostringstream key;
+    key << Impl->BuiltKey << '|' << this->BoundaryCulling << '|' << this->CellSize;
+    const bool rebuild = built || Impl->CellsKey != key.str();
+    if (rebuild)
+    {
+      raymappers::ScopedPhase phase(stats, "cells");
+      raymappers::buildFluidCells(Impl->Particles, this->CellSize, this->BoundaryCulling, Impl->Cells);
+      Impl->CellsKey = key.str();
+    }
+    const raymappers::FluidCells& cells = Impl->Cells;
+    stats.setEffect("boundary_culling", this->BoundaryCulling);
+    stats.addCounter("cells_built", rebuild ? 1 : 0);
+    stats.addCounter("occupied_cells", static_cast<std::int64_t>(cells.occupiedCells));
+    stats.addCounter("full_cells", static_cast<std::int64_t>(cells.fullCells));
+    stats.addCounter("inner_cells", static_cast<std::int64_t>(cells.innerCells));
+    stats.addCounter("culled_particles", static_cast<std::int64_t>(cells.culledParticles));
+    stats.addCounter("boxes", static_cast<std::int64_t>(cells.boxes.size()));
+  }
 
   raymappers::FluidRenderParameters params;
   params.voxelizer.angleResolutionDeg = this->AngleResolution;
@@ -198,6 +220,7 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.voxelizer.maxSpans = this->MaximumSpans;
   params.voxelizer.memoryBudget = static_cast<std::size_t>(this->MemoryBudget * 1024.0 * 1024.0);
   params.voxelizer.gapThreshold = this->GapThreshold;
+  params.voxelizer.cells = &Impl->Cells;
   params.smoothingRadius = this->SmoothingRadius;
   params.smoothingIterations = this->SmoothingIterations;
   params.color = { this->Color[0], this->Color[1], this->Color[2] };
@@ -276,6 +299,8 @@ void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumSpans: " << this->MaximumSpans << "\n";
   os << indent << "MemoryBudget: " << this->MemoryBudget << "\n";
   os << indent << "GapThreshold: " << this->GapThreshold << "\n";
+  os << indent << "BoundaryCulling: " << this->BoundaryCulling << "\n";
+  os << indent << "CellSize: " << this->CellSize << "\n";
   os << indent << "SmoothingRadius: " << this->SmoothingRadius << "\n";
   os << indent << "SmoothingIterations: " << this->SmoothingIterations << "\n";
   os << indent << "Color: " << this->Color[0] << " " << this->Color[1] << " " << this->Color[2]

@@ -93,6 +93,19 @@ public:
   ///@}
 
   ///@{
+  /** Boundary-cell culling (on; Zirr 2015, 3.1 and 4.3): particles in full cells whose 26
+   * neighbours are full are not splatted; the full cells are filled as boxes instead
+   * (FluidCells.h: "full" means the cell's box is covered by the spheres, so the fluid is the
+   * same). CellSize:
+   * the culling grid's cell size in world units (0, default: twice the largest radius; at
+   * least the largest radius). */
+  vtkSetMacro(BoundaryCulling, bool);
+  vtkGetMacro(BoundaryCulling, bool);
+  vtkBooleanMacro(BoundaryCulling, bool);
+  vtkSetClampMacro(CellSize, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(CellSize, double);
+  ///@}
+  ///@{
   /** Surface smoothing: world-space radius (0, default: no smoothing pass) and the largest
    * number of iterations (20). */
   vtkSetClampMacro(SmoothingRadius, double, 0.0, VTK_DOUBLE_MAX);
@@ -160,6 +173,8 @@ protected:
   int MaximumSpans = 7;
   double MemoryBudget = 512.0;
   double GapThreshold = 0.0;
+  bool BoundaryCulling = true;
+  double CellSize = 0.0;
   double SmoothingRadius = 0.0;
   int SmoothingIterations = 20;
   double Color[3] = { 0.55, 0.75, 0.95 };

@@ -2,6 +2,7 @@
 // intersections, gap bridging, exact absorption beyond the stored spans, the memory budget,
 // and its hard cases.
 #include "CameraFixtures.h"
+#include "FluidCells.h"
 #include "FluidRenderer.h"
 #include "SpanVoxelizer.h"
 #include "SurfaceLinks.h"
@@ -1001,4 +1002,136 @@ TEST(SPHVoxelizer, RenderingHardCasesEmptyInsideAndNonFinite)
   EXPECT_EQ(stats.counter("particles_skipped"), 2);
   EXPECT_GT(stats.counter("shaded_pixels"), 50);
   EXPECT_TRUE(frameFinite(frame));
+}
+
+namespace
+{
+/// A block of nx x ny x nz particles at spacing d (radius r) centred on the origin, without
+/// those whose centre lies within `hole` of `holeCentre` (a bubble).
+std::vector<Sphere> lattice(int nx,
+  int ny,
+  int nz,
+  double d,
+  double r,
+  const Vec3d& holeCentre = Vec3d(),
+  double hole = 0)
+{
+  std::vector<Sphere> out;
+  for (int k = 0; k < nz; ++k)
+  {
+    for (int j = 0; j < ny; ++j)
+    {
+      for (int i = 0; i < nx; ++i)
+      {
+        const Vec3d c((i - 0.5 * (nx - 1)) * d, (j - 0.5 * (ny - 1)) * d, (k - 0.5 * (nz - 1)) * d);
+        if (length(c - holeCentre) >= hole)
+        {
+          out.push_back({ c, r });
+        }
+      }
+    }
+  }
+  return out;
+}
+
+/// Voxelizes with and without boundary-cell culling and expects the same spans, pixel by pixel
+/// and slot by slot (the union of spheres is the same, so are its layers).
+void expectCullingKeepsTheSpans(const FluidParticles& P, const ViewRays& rays, const char* what)
+{
+  FluidCells cells;
+  buildFluidCells(P, 0, true, cells);
+  VoxelizerParameters culled;
+  culled.cells = &cells;
+  FluidSpans a, b;
+  RenderStatistics sa, sb;
+  ASSERT_TRUE(voxelizeFluid(P, rays, VoxelizerParameters(), a, sa));
+  ASSERT_TRUE(voxelizeFluid(P, rays, culled, b, sb));
+  ASSERT_EQ(a.layers.count, b.layers.count) << what;
+  EXPECT_LT(sb.counter("particles_in_view"), sa.counter("particles_in_view")) << what;
+  EXPECT_GT(sb.counter("boxes_in_view"), 0) << what;
+  int differing = 0;
+  for (std::size_t p = 0; p < a.count.size(); ++p)
+  {
+    bool same = a.count[p] == b.count[p] && a.found[p] == b.found[p];
+    for (int s = 0; same && s < 2 * a.count[p]; ++s)
+    {
+      same = a.depth[a.slot(p, 0) + s] == b.depth[b.slot(p, 0) + s];
+    }
+    differing += same ? 0 : 1;
+  }
+  EXPECT_EQ(differing, 0) << what;
+  EXPECT_GT(sa.counter("spans_found"), 100) << what;
+}
+}
+
+TEST(SPHVoxelizer, BoundaryCullingDropsInnerParticlesAndKeepsEverySpan)
+{
+  // Radius = spacing: the spheres cover the block, the inner cells are full.
+  const std::vector<Sphere> block = lattice(24, 20, 16, 0.1, 0.1);
+  const FluidParticles P = makeParticles(block);
+  FluidCells cells;
+  buildFluidCells(P, 0, true, cells);
+  EXPECT_DOUBLE_EQ(cells.cellSize, 2 * 0.1f);
+  EXPECT_GT(cells.innerCells, 0u);
+  EXPECT_GT(cells.culledParticles, block.size() / 4);
+  EXPECT_EQ(cells.kept.size() + cells.culledParticles, block.size());
+  expectCullingKeepsTheSpans(P, perspectiveRays({ 3, 2, 4 }, { 0, 0, 0 }, 96, 72), "oblique");
+  expectCullingKeepsTheSpans(P, orthographicRays({ 0, 1, 5 }, { 0, 0, 0 }, 96, 72, 1.5), "parallel");
+  // The camera inside the block: the near plane cuts spheres and boxes alike.
+  expectCullingKeepsTheSpans(
+    P, perspectiveRays({ 0.03, 0.02, 0.1 }, { 1, 0.3, -2 }, 64, 48, 0.05, 50, 60), "inside");
+}
+
+TEST(SPHVoxelizer, BoundaryCullingKeepsABubbleInsideTheFluid)
+{
+  // A hole of radius 0.45 around the centre: the spheres leave a bubble of radius ~0.35, seen
+  // through the fluid as a second span on the central pixels.
+  const FluidParticles P = makeParticles(lattice(24, 24, 24, 0.1, 0.1, { 0, 0, 0 }, 0.45));
+  FluidCells cells;
+  buildFluidCells(P, 0, true, cells);
+  EXPECT_GT(cells.culledParticles, 0u);
+  const ViewRays rays = perspectiveRays({ 0.2, 0.3, 5 }, { 0, 0, 0 }, 64, 64);
+  expectCullingKeepsTheSpans(P, rays, "bubble");
+  FluidSpans spans;
+  RenderStatistics stats;
+  VoxelizerParameters vp;
+  vp.cells = &cells;
+  ASSERT_TRUE(voxelizeFluid(P, rays, vp, spans, stats));
+  EXPECT_EQ(spans.count[spans.pixel(32, 32)], 2);
+}
+
+TEST(SPHVoxelizer, FluidCellsWithoutCullingKeepEveryParticleOnce)
+{
+  const std::vector<Sphere> block = lattice(10, 9, 8, 0.1, 0.1);
+  const FluidParticles P = makeParticles(block);
+  FluidCells cells;
+  buildFluidCells(P, 0, false, cells);
+  EXPECT_TRUE(cells.boxes.empty());
+  EXPECT_EQ(cells.culledParticles, 0u);
+  std::vector<std::uint32_t> sorted = cells.kept;
+  std::sort(sorted.begin(), sorted.end());
+  ASSERT_EQ(sorted.size(), block.size());
+  for (std::size_t i = 0; i < sorted.size(); ++i)
+  {
+    ASSERT_EQ(sorted[i], i);
+  }
+}
+
+TEST(SPHVoxelizer, SparseOrScatteredParticlesAreNotCulled)
+{
+  // Spheres of radius spacing / 3: they do not cover the cells, nothing is full.
+  const FluidParticles sparse = makeParticles(lattice(12, 12, 12, 0.3, 0.1));
+  FluidCells cells;
+  buildFluidCells(sparse, 0, true, cells);
+  EXPECT_EQ(cells.fullCells, 0u);
+  EXPECT_EQ(cells.kept.size(), sparse.size());
+  EXPECT_TRUE(cells.boxes.empty());
+  // One particle a million units away: the grid stays a few cells per particle (larger
+  // cells), and the culled voxelization still equals the plain one.
+  std::vector<Sphere> far = lattice(16, 16, 16, 0.1, 0.1);
+  far.push_back({ { 1e6, 0, 0 }, 0.1 });
+  const FluidParticles P = makeParticles(far);
+  buildFluidCells(P, 0, true, cells);
+  EXPECT_GT(cells.cellSize, 0.2);
+  EXPECT_EQ(cells.kept.size() + cells.culledParticles, far.size());
 }
