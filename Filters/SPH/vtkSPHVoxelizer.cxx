@@ -326,6 +326,13 @@ int vtkSPHVoxelizer::RequestData(vtkInformation*, vtkInformationVector** inputVe
     vp.maxSpans = this->MaximumSpans;
     vp.memoryBudget = static_cast<std::size_t>(this->MemoryBudget * 1024.0 * 1024.0);
     vp.gapThreshold = this->GapThreshold;
+    raymappers::FluidCells cells;
+    {
+      raymappers::ScopedPhase phase(stats, "cells");
+      raymappers::buildFluidCells(particles, this->CellSize, this->BoundaryCulling, cells);
+    }
+    stats.addCounter("culled_particles", static_cast<std::int64_t>(cells.culledParticles));
+    vp.cells = &cells;
     if (!raymappers::voxelizeFluid(particles, rays, vp, spans, stats))
     {
       vtkWarningMacro(<< "The memory budget of " << this->MemoryBudget
@@ -433,6 +440,8 @@ void vtkSPHVoxelizer::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumSpans: " << this->MaximumSpans << "\n";
   os << indent << "MemoryBudget: " << this->MemoryBudget << "\n";
   os << indent << "GapThreshold: " << this->GapThreshold << "\n";
+  os << indent << "BoundaryCulling: " << this->BoundaryCulling << "\n";
+  os << indent << "CellSize: " << this->CellSize << "\n";
   os << indent << "SmoothingRadius: " << this->SmoothingRadius << "\n";
   os << indent << "SmoothingIterations: " << this->SmoothingIterations << "\n";
   os << indent << "ImageSize: " << this->ImageSize[0] << " " << this->ImageSize[1] << "\n";

@@ -9,7 +9,7 @@
  * of the view, row 0 at the bottom), voxelized for a camera exactly as vtkSPHFluidMapper
  * does for a render of that size (same kernels: SpanVoxelizer.h, SurfaceLinks.h), with the
  * same settings: AngleResolution, MaximumLayers, MaximumSpans (S), MemoryBudget (MB),
- * GapThreshold, SmoothingRadius, SmoothingIterations.
+ * GapThreshold, BoundaryCulling, CellSize, SmoothingRadius, SmoothingIterations.
  *
  * The camera: SetCamera(vtkCamera*) (e.g. a renderer's active camera; its MTime is
  * watched), or the filter's own camera set with SetCameraPosition / FocalPoint / ViewUp /
@@ -92,6 +92,11 @@ public:
   vtkGetMacro(MemoryBudget, double);
   vtkSetClampMacro(GapThreshold, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(GapThreshold, double);
+  vtkSetMacro(BoundaryCulling, bool);
+  vtkGetMacro(BoundaryCulling, bool);
+  vtkBooleanMacro(BoundaryCulling, bool);
+  vtkSetClampMacro(CellSize, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(CellSize, double);
   vtkSetClampMacro(SmoothingRadius, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(SmoothingRadius, double);
   vtkSetClampMacro(SmoothingIterations, int, 0, 1000);
@@ -149,6 +154,8 @@ protected:
   int MaximumSpans = 7;
   double MemoryBudget = 512.0;
   double GapThreshold = 0.0;
+  bool BoundaryCulling = true;
+  double CellSize = 0.0;
   double SmoothingRadius = 0.0;
   int SmoothingIterations = 20;
   int ImageSize[2] = { 300, 300 };

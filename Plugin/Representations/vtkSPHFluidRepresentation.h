@@ -45,6 +45,8 @@ public:
   void SetMaximumSpans(int spans);
   void SetMemoryBudget(double megabytes);
   void SetGapThreshold(double g);
+  void SetBoundaryCulling(bool on);
+  void SetCellSize(double size);
   void SetSmoothingRadius(double radius);
   void SetSmoothingIterations(int iterations);
   void SetFluidColor(double r, double g, double b);

@@ -126,7 +126,24 @@ int TestSPHFluidMapper(int argc, char* argv[])
 
   // The same view again: the particles are not rebuilt.
   const auto again = render();
-  check(counter("particles_built") == 0 && again == picture, "a second frame: no rebuild, same picture");
+  check(counter("particles_built") == 0 && counter("cells_built") == 0 && again == picture,
+    "a second frame: no rebuild, same picture");
+
+  // Boundary-cell culling (on by default) leaves out the inner cells' particles and fills the
+  // full cells instead: the spans, and so the picture, are the same as without it.
+  {
+    const long long splatted = counter("particles_in_view"), spans = counter("spans_found");
+    check(stats->GetEffect("boundary_culling") && counter("culled_particles") > 0 &&
+        counter("inner_cells") > 0 && counter("boxes_in_view") > 0 &&
+        splatted + counter("culled_particles") == 9360,
+      "culling: inner cells' particles not splatted");
+    mapper->BoundaryCullingOff();
+    const auto plain = render();
+    check(counter("cells_built") == 1 && counter("culled_particles") == 0 &&
+        counter("particles_in_view") == 9360 && counter("spans_found") == spans && plain == picture,
+      "without culling: every particle splatted, same spans, same picture");
+    mapper->BoundaryCullingOn();
+  }
 
   // vtkSPHVoxelizer with this camera and size voxelizes exactly what the mapper rendered.
   {
