@@ -69,7 +69,7 @@ public:
     const float h = static_cast<float>(a);
     for (int p = 0; p < 27; ++p)
     {
-      if (!all.anyWithin((p % 3 - 1) * h, ((p / 3) % 3 - 1) * h, (p / 9 - 1) * h, 0.f))
+      if (!all.anyContains((p % 3 - 1) * h, ((p / 3) % 3 - 1) * h, (p / 9 - 1) * h))
       {
         return false;
       }
@@ -82,24 +82,59 @@ private:
   struct Spheres
   {
     std::vector<float> x, y, z, r;
-    void clear()
-    {
-      x.clear();
-      y.clear();
-      z.clear();
-      r.clear();
-    }
+    std::size_t n = 0;
+
+    std::size_t size() const { return n; }
+    void clear() { n = 0; }
     void push(float px, float py, float pz, float pr)
     {
-      x.push_back(px);
-      y.push_back(py);
-      z.push_back(pz);
-      r.push_back(pr);
+      if (n == x.size())
+      {
+        grow(2 * n + 64);
+      }
+      x[n] = px;
+      y[n] = py;
+      z[n] = pz;
+      r[n] = pr;
+      ++n;
+    }
+    /// These spheres become those of `in` that meet the ball of radius hd around q.
+    void keepMeeting(const Spheres& in, float qx, float qy, float qz, float hd)
+    {
+      if (x.size() < in.n)
+      {
+        grow(in.n);
+      }
+      std::size_t m = 0;
+      for (std::size_t k = 0; k < in.n; ++k)
+      {
+        // Written always, kept when it meets (no branch).
+        const float dx = qx - in.x[k], dy = qy - in.y[k], dz = qz - in.z[k], reach = in.r[k] + hd;
+        x[m] = in.x[k];
+        y[m] = in.y[k];
+        z[m] = in.z[k];
+        r[m] = in.r[k];
+        m += dx * dx + dy * dy + dz * dz < reach * reach ? 1 : 0;
+      }
+      n = m;
+    }
+    /// Whether some sphere holds the point q; stops at the first (the cell's own spheres come
+    /// first and hold most points).
+    bool anyContains(float qx, float qy, float qz) const
+    {
+      for (std::size_t k = 0; k < n; ++k)
+      {
+        const float dx = qx - x[k], dy = qy - y[k], dz = qz - z[k];
+        if (dx * dx + dy * dy + dz * dz < r[k] * r[k])
+        {
+          return true;
+        }
+      }
+      return false;
     }
     /// Whether some sphere holds the ball of radius `hd` around q: |q - c| <= r - hd.
     bool anyWithin(float qx, float qy, float qz, float hd) const
     {
-      const std::size_t n = x.size();
       const float* X = x.data();
       const float* Y = y.data();
       const float* Z = z.data();
@@ -112,6 +147,15 @@ private:
         found |= (m >= 0.f) & (dx * dx + dy * dy + dz * dz <= m * m);
       }
       return found != 0;
+    }
+
+  private:
+    void grow(std::size_t size)
+    {
+      x.resize(size);
+      y.resize(size);
+      z.resize(size);
+      r.resize(size);
     }
   };
 
@@ -132,16 +176,8 @@ private:
     for (int c = 0; c < 8; ++c)
     {
       const float cx = qx + (c & 1 ? h : -h), cy = qy + (c & 2 ? h : -h), cz = qz + (c & 4 ? h : -h);
-      out.clear();
-      for (std::size_t k = 0; k < in.x.size(); ++k)
-      {
-        const float dx = cx - in.x[k], dy = cy - in.y[k], dz = cz - in.z[k], reach = in.r[k] + chd;
-        if (dx * dx + dy * dy + dz * dz < reach * reach)
-        {
-          out.push(in.x[k], in.y[k], in.z[k], in.r[k]);
-        }
-      }
-      if (out.x.empty() || !covered(cx, cy, cz, h, depth - 1))
+      out.keepMeeting(in, cx, cy, cz, chd);
+      if (out.size() == 0 || !covered(cx, cy, cz, h, depth - 1))
       {
         return false;
       }
@@ -291,6 +327,19 @@ void buildFluidCells(const FluidParticles& particles, double cellSize, bool cull
   std::vector<std::uint8_t> full;
   if (cull)
   {
+    // The spheres in cell order, so a block's are read from 27 contiguous runs (from the
+    // input order every one would be a cache miss).
+    std::vector<Vec3f> centre(n);
+    std::vector<float> radius(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 8192),
+      [&](const tbb::blocked_range<std::size_t>& r)
+      {
+        for (std::size_t k = r.begin(); k != r.end(); ++k)
+        {
+          centre[k] = particles.centers[sorted[k]];
+          radius[k] = particles.radius[sorted[k]];
+        }
+      });
     full.assign(static_cast<std::size_t>(cells), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, occupied.size(), 256),
       [&](const tbb::blocked_range<std::size_t>& r)
@@ -309,7 +358,7 @@ void buildFluidCells(const FluidParticles& particles, double cellSize, bool cull
               grid.index(ijk[0] + e % 3 - 1, ijk[1] + (e / 3) % 3 - 1, ijk[2] + e / 9 - 1);
             for (std::uint32_t k = start[nb]; k < start[nb + 1]; ++k)
             {
-              test.add(particles.centers[sorted[k]], particles.radius[sorted[k]]);
+              test.add(centre[k], radius[k]);
             }
           }
           full[static_cast<std::size_t>(c)] = test.cellCovered(0.5 * grid.s) ? 1 : 0;
