@@ -78,13 +78,43 @@ struct MarchHit
   int slot = -1;
 };
 
+/// Which square tiles of TileSize pixels hold a span: a ray outside the fluid crosses an empty
+/// tile in one step (it can meet no surface there).
+struct EmptyTiles
+{
+  static constexpr int TileSize = 16;
+  int tilesX = 0, tilesY = 0;
+  std::vector<std::uint8_t> occupied;
+
+  explicit EmptyTiles(const FluidSpans& spans)
+    : tilesX((spans.width + TileSize - 1) / TileSize)
+    , tilesY((spans.height + TileSize - 1) / TileSize)
+    , occupied(static_cast<std::size_t>(tilesX) * tilesY, 0)
+  {
+    for (int j = 0; j < spans.height; ++j)
+    {
+      for (int i = 0; i < spans.width; ++i)
+      {
+        occupied[static_cast<std::size_t>(j / TileSize) * tilesX + i / TileSize] |=
+          spans.count[spans.pixel(i, j)] > 0 ? 1 : 0;
+      }
+    }
+  }
+  bool empty(int i, int j) const
+  {
+    return !occupied[static_cast<std::size_t>(j / TileSize) * tilesX + i / TileSize];
+  }
+};
+
 /// Listing 2: marches the ray o + t d (t >= 0, d unit, model coordinates; inside tells
 /// whether it starts in the fluid) through the columns from pixel (i, j), pixel boundary to
 /// pixel boundary along its projection. In each column it meets [za, zb] of depth: a change
 /// of inside/outside at the column's side is a hit there; else the first stored depth in
 /// (za, zb] along the ray is. Without a hit before the grid's depth range or the screen
-/// ends, the ray escapes at the t where it leaves.
+/// ends, the ray escapes at the t where it leaves. Outside the fluid, empty tiles are crossed
+/// in one step, from the side where the ray enters to the one where it leaves.
 MarchHit march(const FluidSpans& spans,
+  const EmptyTiles& tiles,
   const ViewRays& rays,
   const Vec3d& o,
   const Vec3d& d,
@@ -120,9 +150,47 @@ MarchHit march(const FluidSpans& spans,
   const int W = spans.width, H = spans.height;
   double tIn = 0;
   MarchHit result;
+  const int T = EmptyTiles::TileSize;
+  int ti = -1, tj = -1; // the column whose sides tx, ty are
+  double tx = Infinity, ty = Infinity;
   for (bool first = true; i >= 0 && i < W && j >= 0 && j < H && tIn < tMax; first = false)
   {
-    const double tx = boundary(0, sx, i, W), ty = boundary(1, sy, j, H);
+    if (!inside && tiles.empty(i, j))
+    {
+      // The last pixel of the tile along each axis in the ray's direction: the ray leaves
+      // the tile through the nearer of their far sides.
+      const int ei = sx > 0 ? std::min(W, (i / T + 1) * T) - 1 : (i / T) * T;
+      const int ej = sy > 0 ? std::min(H, (j / T + 1) * T) - 1 : (j / T) * T;
+      const double sideX = boundary(0, sx, ei, W), sideY = boundary(1, sy, ej, H);
+      const double tOut = std::max(tIn, std::min({ sideX, sideY, tMax }));
+      ++columns;
+      if (sideX <= sideY)
+      {
+        // Leaves through the x side: the row it is in there (within the tile's rows).
+        const double y = ((c0[1] + tOut * cd[1]) / (c0[3] + tOut * cd[3]) + 1.0) * 0.5 * H;
+        j = std::clamp(static_cast<int>(std::floor(y)), (j / T) * T, std::min(H, (j / T + 1) * T) - 1);
+        i = ei + sx;
+      }
+      else
+      {
+        const double x = ((c0[0] + tOut * cd[0]) / (c0[3] + tOut * cd[3]) + 1.0) * 0.5 * W;
+        i = std::clamp(static_cast<int>(std::floor(x)), (i / T) * T, std::min(W, (i / T + 1) * T) - 1);
+        j = ej + sy;
+      }
+      tIn = tOut;
+      continue;
+    }
+    // The column's far sides, computed again only when the ray has moved along that axis.
+    if (i != ti)
+    {
+      ti = i;
+      tx = boundary(0, sx, i, W);
+    }
+    if (j != tj)
+    {
+      tj = j;
+      ty = boundary(1, sy, j, H);
+    }
     const double tOut = std::max(tIn, std::min({ tx, ty, tMax }));
     const double za = z0 + zd * tIn, zb = z0 + zd * tOut;
     const std::size_t p = spans.pixel(i, j);
@@ -316,6 +384,7 @@ void renderFluidSpans(const FluidSpans& spans,
   const Vec3d kappa = params.absorptionColor * params.density;
   const double eta = params.refractiveIndex;
   const int bounces = std::max(0, params.bounces);
+  const EmptyTiles tiles = refraction ? EmptyTiles(spans) : EmptyTiles(FluidSpans());
   const auto toWorld = [&](const Vec3d& pModel)
   { return applyMatrix(params.modelToWorld, 4, pModel + origin, true); };
   const auto litColour = [&](const Vec3d& pModel, const Vec3d& nModel, const Vec3d& dModel)
@@ -376,7 +445,7 @@ void renderFluidSpans(const FluidSpans& spans,
           {
             break;
           }
-          const MarchHit hit = march(spans, rays, o, dir, inside, ci, cj, t.columns);
+          const MarchHit hit = march(spans, tiles, rays, o, dir, inside, ci, cj, t.columns);
           const double s = std::max(0.0, hit.t);
           if (inside)
           {
