@@ -71,6 +71,22 @@ inline void enlarge(const Frame& coarse, Frame& full)
   }
 }
 
+/// `full`'s depth from the coarse pixel each full pixel lies in (nearest, not interpolated:
+/// a blend of a surface's depth and the far plane would be neither).
+inline void enlargeDepth(const Frame& coarse, Frame& full)
+{
+  const double rx = double(coarse.width) / full.width, ry = double(coarse.height) / full.height;
+  for (int y = 0; y < full.height; ++y)
+  {
+    const int j = std::min(coarse.height - 1, static_cast<int>((y + 0.5) * ry));
+    for (int x = 0; x < full.width; ++x)
+    {
+      const int i = std::min(coarse.width - 1, static_cast<int>((x + 0.5) * rx));
+      full.depth[full.index(x, y)] = coarse.depth[coarse.index(i, j)];
+    }
+  }
+}
+
 } // namespace raymappers
 
 #endif

@@ -4,6 +4,7 @@
 #include "FluidRenderer.h"
 #include "FluidSpans.h"
 #include "Frame.h"
+#include "FrameResample.h"
 #include "RenderStatistics.h"
 #include "SpanVoxelizer.h"
 #include "ViewRays.h"
@@ -19,7 +20,9 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
+#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkTimerLog.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -37,6 +40,8 @@ struct vtkSPHFluidMapper::Internals
   std::string CellsKey; // the particles' key and the culling settings the cells were built with
   raymappers::FluidSpans Spans;
   raymappers::Frame Frame;
+  raymappers::Frame Coarse;               // the reduced frame of interactive renders
+  double LastFullFrameSeconds = 0;        // the last full-resolution voxelization and render
   vtkRayMapperFrameDrawer Drawer;
   vtkNew<vtkRayMapperStatistics> Statistics;
   std::string BuiltKey; // what the particles were built from
@@ -248,8 +253,23 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   int width = 0, height = 0;
   const std::array<double, 16> modelToClip =
     vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
+  // Interactive renders: p x p fewer pixels when the last full frame overran the budget.
+  int p = this->Subsampling;
+  if (p == 0)
+  {
+    const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
+    const double budget = this->FrameBudget > 0 ? this->FrameBudget : (rate > 0 ? 1.0 / rate : 0);
+    p = 1;
+    if (rate >= 1.0 && budget > 0 && Impl->LastFullFrameSeconds > budget)
+    {
+      p = std::clamp(static_cast<int>(std::ceil(std::sqrt(Impl->LastFullFrameSeconds / budget))), 1, 8);
+    }
+  }
+  stats.addCounter("subsampling", p);
+  const int rw = p > 1 ? raymappers::reducedSize(width, p) : width;
+  const int rh = p > 1 ? raymappers::reducedSize(height, p) : height;
   raymappers::ViewRays rays;
-  if (width <= 0 || height <= 0 || !rays.assign(modelToClip, width, height, Impl->Particles.origin))
+  if (width <= 0 || height <= 0 || !rays.assign(modelToClip, rw, rh, Impl->Particles.origin))
   {
     vtkErrorMacro(<< "The camera's projection is degenerate: nothing drawn.");
     Impl->Statistics->Set(stats);
@@ -262,12 +282,18 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   if (this->Translucency && vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
     dw == width && dh == height)
   {
+    if (p > 1)
+    {
+      depth = raymappers::sampleDepth(depth, width, height, rw, rh);
+    }
     stop = raymappers::stopDepthsFromWindowDepth(rays, depth.data());
     params.voxelizer.stopDepth = stop.data();
   }
   stats.setEffect("opaque_depth", params.voxelizer.stopDepth != nullptr);
 
-  if (!raymappers::renderFluid(Impl->Particles, rays, params, Impl->Spans, Impl->Frame, stats))
+  const double start = vtkTimerLog::GetUniversalTime();
+  raymappers::Frame& target = p > 1 ? Impl->Coarse : Impl->Frame;
+  if (!raymappers::renderFluid(Impl->Particles, rays, params, Impl->Spans, target, stats))
   {
     std::ostringstream key;
     key << this->MemoryBudget << '|' << width << 'x' << height << '|' << this->MaximumLayers;
@@ -278,6 +304,16 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
                       << " MB cannot hold one voxel column of " << stats.counter("layers")
                       << " layers: nothing drawn. Raise MemoryBudget or lower MaximumLayers.");
     }
+  }
+  if (p > 1)
+  {
+    Impl->Frame.resize(width, height);
+    raymappers::enlarge(Impl->Coarse, Impl->Frame);
+    raymappers::enlargeDepth(Impl->Coarse, Impl->Frame);
+  }
+  else
+  {
+    Impl->LastFullFrameSeconds = vtkTimerLog::GetUniversalTime() - start;
   }
   {
     raymappers::ScopedPhase phase(stats, "draw");
@@ -301,6 +337,8 @@ void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GapThreshold: " << this->GapThreshold << "\n";
   os << indent << "BoundaryCulling: " << this->BoundaryCulling << "\n";
   os << indent << "CellSize: " << this->CellSize << "\n";
+  os << indent << "Subsampling: " << this->Subsampling << "\n";
+  os << indent << "FrameBudget: " << this->FrameBudget << "\n";
   os << indent << "SmoothingRadius: " << this->SmoothingRadius << "\n";
   os << indent << "SmoothingIterations: " << this->SmoothingIterations << "\n";
   os << indent << "Color: " << this->Color[0] << " " << this->Color[1] << " " << this->Color[2]

@@ -151,6 +151,21 @@ public:
   vtkGetMacro(AmbientOcclusionSamples, int);
   ///@}
 
+  ///@{
+  /**
+   * Interactive rendering: with Subsampling 0 (default), during interactive renders (the
+   * render window's DesiredUpdateRate at least 1 frame per second, as an interactor sets it
+   * while the camera moves), when the last full-resolution frame took longer than the frame
+   * budget, the fluid is voxelized and rendered at p x p fewer pixels (p = ceil(sqrt(last
+   * time / budget)), at most 8: the layers follow the coarser pixels, so the grid shrinks by
+   * p^2 or more) and enlarged; still renders give the full image. FrameBudget in seconds; 0
+   * (default): 1 / DesiredUpdateRate. Subsampling 1 to 8 fixes p (1: always the full image).
+   */
+  vtkSetClampMacro(Subsampling, int, 0, 8);
+  vtkGetMacro(Subsampling, int);
+  vtkSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(FrameBudget, double);
+  ///@}
   /** Statistics of the last render: phase times, counters, effects that ran. */
   vtkRayMapperStatistics* GetStatistics();
 
@@ -175,6 +190,8 @@ protected:
   double GapThreshold = 0.0;
   bool BoundaryCulling = true;
   double CellSize = 0.0;
+  int Subsampling = 0;
+  double FrameBudget = 0.0;
   double SmoothingRadius = 0.0;
   int SmoothingIterations = 20;
   double Color[3] = { 0.55, 0.75, 0.95 };

@@ -47,6 +47,8 @@ public:
   void SetGapThreshold(double g);
   void SetBoundaryCulling(bool on);
   void SetCellSize(double size);
+  void SetSubsampling(int p);
+  void SetFrameBudget(double seconds);
   void SetSmoothingRadius(double radius);
   void SetSmoothingIterations(int iterations);
   void SetFluidColor(double r, double g, double b);

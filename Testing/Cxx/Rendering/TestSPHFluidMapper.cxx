@@ -168,6 +168,23 @@ int TestSPHFluidMapper(int argc, char* argv[])
       "the filter's spans are the mapper's");
   }
 
+  // Interactive renders: p x p fewer pixels, enlarged, when the last full frame overran the
+  // budget; a still render gives the full picture back.
+  {
+    mapper->SetSubsampling(2);
+    const auto reduced = render();
+    const double off = MeanDifference(reduced, picture);
+    std::printf("subsampling 2: mean difference to the full picture %.3f\n", off);
+    check(counter("subsampling") == 2 && off > 0 && off < 3.0,
+      "subsampling 2: an approximation of the full picture");
+    mapper->SetSubsampling(0);
+    win->SetDesiredUpdateRate(1e9); // an interactive render with a 1 ns budget
+    render();
+    check(counter("subsampling") == 8, "interactive, the last full frame over budget: p = 8");
+    win->SetDesiredUpdateRate(0.0001); // a still render
+    check(render() == picture && counter("subsampling") == 1, "a still render: the full picture");
+  }
+
   // Each effect on alone changes the picture and does its work.
   mapper->SetSmoothingRadius(0.03);
   const auto smoothed = render();
