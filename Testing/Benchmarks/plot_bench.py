@@ -27,8 +27,9 @@ For each (suite, dataset) it writes
   <suite>_<dataset>_voxel_error.png
                                the fluid rows (sph-voxel*, sph-contour-surface-
                                grid*; the plots above leave them out): the
-                               front surface's mean depth error (depth_mean_abs)
-                               and the image's rmse against frame_ms (a new
+                               front surface's mean depth error (depth_mean_abs),
+                               its normals' mean angle error (normal_deg) and
+                               the image's rmse against frame_ms (a new
                                time step's first image), one line per sweep
                                (angle, spans, smooth; the contour route over
                                its grids); on the synthetic layers the
@@ -315,12 +316,13 @@ def plot_voxel_errors(suite, dataset, rows, path):
     the swept value. False if no row has an error."""
     sweeps, lone = voxel_sweeps(rows)
     panels = [("depth_mean_abs", "front surface: mean |depth - reference| [world units]"),
+              ("normal_deg", "front surface: mean angle to the reference's normal [deg]"),
               ("rmse", "image RMSE against the reference (layers: exact transmittance)")]
     panels = [(key, label) for key, label in panels
               if any(r.get(key) is not None and r.get("frame_ms") is not None for r in rows)]
     if not panels:
         return False
-    fig, axes = plt.subplots(1, len(panels), figsize=(7.5 * len(panels), 6), squeeze=False)
+    fig, axes = plt.subplots(1, len(panels), figsize=(6.5 * len(panels), 6), squeeze=False)
     markers = "osD^v<>"
     for ax, (key, ylabel) in zip(axes[0], panels):
         drawn = []
