@@ -41,7 +41,7 @@
 //   sph-voxel-smooth-N     SmoothingRadius dx with at most N = 0, 2, 5, 10, 20, 40, 80
 //                          iterations (each point takes min(N, ceil(dx / pixel width))): the
 //                          paper's distance-dependent filter, cut at N
-//   reference              (setting names it) sph-voxel-reference: AngleResolution 2 degrees
+//   sph-voxel-reference    the references: AngleResolution 2 degrees
 //                          with MaximumLayers 131072, MaximumSpans 16, MemoryBudget 2048; one
 //                          without smoothing (for the angle sweep and the contour route) and
 //                          one with SmoothingRadius dx and 1000 iterations (the filter's own
@@ -459,14 +459,21 @@ vtkSmartPointer<vtkPolyData> Refine(vtkPolyData* in, double dx)
   auto out = vtkSmartPointer<vtkPolyData>::New();
   out->SetPoints(points);
   vtkPointData* pin = in->GetPointData();
-  std::vector<std::pair<vtkDataArray*, vtkSmartPointer<vtkFloatArray>>> arrays;
-  for (const char* name : { "h", "m", "rho", "vmag" })
+  struct Refined
+  {
+    vtkDataArray* source;
+    vtkSmartPointer<vtkFloatArray> array;
+    double factor; // h / 2, m / 8, the rest kept
+  };
+  std::vector<Refined> arrays;
+  for (const auto& [name, factor] : { std::make_pair("h", 0.5), std::make_pair("m", 0.125),
+         std::make_pair("rho", 1.0), std::make_pair("vmag", 1.0) })
   {
     auto a = vtkSmartPointer<vtkFloatArray>::New();
     a->SetName(name);
     a->SetNumberOfTuples(8 * n);
     out->GetPointData()->AddArray(a);
-    arrays.emplace_back(pin->GetArray(name), a);
+    arrays.push_back({ pin->GetArray(name), a, factor });
   }
   const double q = 0.25 * dx;
   for (vtkIdType i = 0; i < n; ++i)
@@ -478,11 +485,9 @@ vtkSmartPointer<vtkPolyData> Refine(vtkPolyData* in, double dx)
       const vtkIdType k = 8 * i + c;
       points->SetPoint(
         k, p[0] + (c & 1 ? q : -q), p[1] + (c & 2 ? q : -q), p[2] + (c & 4 ? q : -q));
-      for (auto& [src, dst] : arrays)
+      for (const Refined& a : arrays)
       {
-        const double v = src->GetComponent(i, 0);
-        const std::string name = dst->GetName();
-        dst->SetValue(k, static_cast<float>(name == "h" ? 0.5 * v : (name == "m" ? v / 8 : v)));
+        a.array->SetValue(k, static_cast<float>(a.factor * a.source->GetComponent(i, 0)));
       }
     }
   }
@@ -684,6 +689,10 @@ void PrintStageTable(const std::vector<Stage>& stages)
       label.c_str(), s.particles, s.inView, s.ms[0], s.ms[1], s.ms[2], s.ms[3], s.ms[4],
       translucent, refract, s.memMb);
   }
+  const auto most = std::max_element(stages.begin(), stages.end(),
+    [](const Stage& a, const Stage& b) { return a.memMb < b.memMb; });
+  std::printf("peak temporary memory: at most %.1f MB (%s), budget %.0f MB\n", most->memMb,
+    most->dataset.c_str(), Fluid().budget);
 }
 } // namespace
 
