@@ -35,14 +35,16 @@
 //                          SmoothingIterations 20, no ambient occlusion
 //   sph-voxel-translucent  the same with RefractiveIndex 1 (translucency only): the stage
 //                          table's "render translucent"
-//   sph-voxel-angle-A      A = 28, 14, 7 degrees, MaximumLayers 65536 (so that 7 degrees is
-//                          reached in the close view), no smoothing (the paper's figure 6)
+//   sph-voxel-angle-A      A = 28, 14, 7 degrees, MaximumLayers 131072 (so that 7 degrees is
+//                          reached in the close view up to about 1024 rows; angle_deg says
+//                          what was), no smoothing (the paper's figure 6)
 //   sph-voxel-spans-S      S = 1..7 spans kept
 //   sph-voxel-smooth-N     SmoothingRadius dx with at most N = 0, 2, 5, 10, 20, 40, 80
 //                          iterations (each point takes min(N, ceil(dx / pixel width))): the
 //                          paper's distance-dependent filter, cut at N
-//   sph-voxel-reference    the references: AngleResolution 2 degrees
-//                          with MaximumLayers 131072, MaximumSpans 16, MemoryBudget 2048; one
+//   sph-voxel-reference    the references: AngleResolution 2 degrees with MaximumLayers
+//                          262144 (2 degrees reached in the close view up to 540 rows; at
+//                          1024 rows about 2.6), MaximumSpans 16, MemoryBudget 2048; one
 //                          without smoothing (for the angle sweep and the contour route) and
 //                          one with SmoothingRadius dx and 1000 iterations (the filter's own
 //                          limit, 255: converged) for the rows that smooth. Measured (one
@@ -753,7 +755,7 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
     plain.smoothRadius = 0;
     Fluid reference = plain;
     reference.angle = 2;
-    reference.layers = 1 << 17;
+    reference.layers = 1 << 18;
     reference.spans = 16;
     reference.budget = 2048;
     Fluid smoothReference = reference;
@@ -864,7 +866,7 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
           {
             Fluid f = plain;
             f.angle = a;
-            f.layers = 1 << 16;
+            f.layers = 1 << 17;
             measured.push_back(fluidRow("sph-voxel-angle-" + label(a), "", f, "plain"));
           }
           for (int s = 1; s <= 7; ++s)
