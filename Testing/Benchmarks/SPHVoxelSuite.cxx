@@ -669,7 +669,7 @@ void PrintStageTable(const std::vector<Stage>& stages)
   std::printf("\nStages of vtkSPHFluidMapper (ms, median frame; cf. Zirr 2015, table 2; "
               "translucent and refract: the render phase (and the sum of the stages before "
               "it plus it); mem: peak temporary MB)\n");
-  std::printf("%-40s %10s %10s %8s %8s %8s %8s %8s %16s %16s %7s\n", "dataset (view, size)",
+  std::printf("%-48s %10s %10s %8s %8s %8s %8s %8s %16s %16s %7s\n", "dataset (view, size)",
     "particles", "in view", "splat", "compress", "connect", "filter", "normals",
     "translucent (S)", "refract (S)", "mem");
   for (const Stage& s : stages)
@@ -687,7 +687,7 @@ void PrintStageTable(const std::vector<Stage>& stages)
     }
     const std::string label =
       s.dataset + " " + std::to_string(s.width) + "x" + std::to_string(s.height);
-    std::printf("%-40s %10lld %10lld %8.0f %8.0f %8.1f %8.0f %8.0f %16s %16s %7.0f\n",
+    std::printf("%-48s %10lld %10lld %8.0f %8.0f %8.1f %8.0f %8.0f %16s %16s %7.0f\n",
       label.c_str(), s.particles, s.inView, s.ms[0], s.ms[1], s.ms[2], s.ms[3], s.ms[4],
       translucent, refract, s.memMb);
   }

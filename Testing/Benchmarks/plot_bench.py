@@ -384,7 +384,7 @@ def stage_bars(ax, rows, labels):
     ax.invert_yaxis()
     ax.set_xlabel("time per stage, median frame [ms]")
     ax.grid(axis="x", alpha=0.3)
-    ax.legend(fontsize=7, loc="lower right")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the bars
 
 
 def plot_voxel_stages(suite, dataset, rows, path):
@@ -392,7 +392,7 @@ def plot_voxel_stages(suite, dataset, rows, path):
     rows = [r for r in rows if r.get("splat_ms") is not None]
     if not rows:
         return False
-    fig, ax = plt.subplots(figsize=(10, 1.2 + 0.32 * len(rows)))
+    fig, ax = plt.subplots(figsize=(11, 1.6 + 0.32 * len(rows)))
     stage_bars(ax, rows, [f"{r['method']} {r['setting']}" for r in rows])
     ax.set_title(f"{suite} / {dataset}, {rows[0]['width']}x{rows[0]['height']}: stages")
     fig.tight_layout()
@@ -411,7 +411,7 @@ def plot_stage_table(suite, rows, extra, path):
         return False
     labels = [f"{r['dataset']} {r['width']}x{r['height']}\n{r['method']} "
               f"({r['items']:,} particles, peak {r['mem_mb']:.0f} MB)" for r in chosen]
-    fig, ax = plt.subplots(figsize=(11, 1.2 + 0.55 * len(chosen)))
+    fig, ax = plt.subplots(figsize=(12, 1.2 + 0.55 * len(chosen)))
     stage_bars(ax, chosen, labels)
     ax.set_title(f"{suite}: vtkSPHFluidMapper's stages (cf. Zirr 2015, table 2)")
     fig.tight_layout()
