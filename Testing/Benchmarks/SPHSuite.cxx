@@ -38,6 +38,8 @@
 //   kernel_evaluations, weight_sums, gradient_evaluations, samples, contour_samples
 //                                                 our counters of one frame (the kernel
 //                                                 counters count SIMD lanes, 16 per chunk)
+// then the fluid half's columns (SPHVoxelSuite.cxx: vtkSPHFluidMapper, methods sph-voxel*
+// and sph-contour-surface-grid*, run after these on the same files), empty in these rows.
 #include "BenchData.h"
 #include "BenchRun.h"
 #include "SPHSuite.h"
@@ -336,7 +338,8 @@ void RecordVoxelRow(const Options& opt,
   {
     std::ofstream out(opt.csv, std::ios::app);
     out << Csv(r.row) << "," << Number(times.frameMs) << "," << Number(times.resampleMs) << ","
-        << Number(times.firstFrameMs) << std::string(9, ',') << voxelCsv << std::endl;
+        << Number(times.firstFrameMs) << std::string(9, ',') // grid_ms ... contour_samples
+        << voxelCsv << std::endl;
   }
 }
 
