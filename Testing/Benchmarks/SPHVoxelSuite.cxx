@@ -64,9 +64,12 @@
 // the transmittance T = exp(-kappa l) of its ray's total fluid length l: rmse and max_err
 // compare the image with T computed exactly (l the union of the ray's chords through the
 // spheres), thickness_rel_err the voxelizer's Thickness with l.
-// All voxel methods run by default (no --only); --only sph-voxel selects them all (and the
-// references they need), --only sph-voxel: the water look alone, --only sph-contour the
-// user's route (with the volume half's sph-contour effect).
+// Without --only the fluid half runs what is cheap: sph-voxel and sph-voxel-translucent on
+// every set (the stage table) and the layers24 rows. The sweeps, the references and the
+// contour route (minutes a frame for the references at 1024 rows in the close view) run when
+// --only selects them: --only sph-voxel selects every fluid row (and the references they
+// need), --only sph-voxel: the water look alone, --only sph-contour-surface the user's route
+// (--only sph-contour also selects the volume half's sph-contour effect).
 //
 // Measured per row (CSV columns after the volume half's; VoxelCsvColumns):
 //   build_ms           the particles' rebuild after a new time step (median over --repeat);
@@ -649,6 +652,16 @@ struct Row3
   std::shared_ptr<Surface> surface;
 };
 
+// Whether a fluid row runs: the --only selection, or without --only the cheap rows.
+bool Wanted(const Options& opt, const Method& m, bool layers)
+{
+  if (!opt.only.empty())
+  {
+    return Selected(opt, m);
+  }
+  return layers || m.name == "sph-voxel" || m.name == "sph-voxel-translucent";
+}
+
 // The stage table's entries.
 struct Stage
 {
@@ -967,12 +980,12 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
         return std::any_of(measured.begin(), measured.end(),
                  [&](const Row3& o)
                  {
-                   return o.reference == key && Selected(opt, o.method) &&
+                   return o.reference == key && Wanted(opt, o.method, fd.layers) &&
                      o.method.name != "sph-voxel" && o.method.name != "sph-voxel-translucent";
                  }) ||
           (key == "plain" &&
             std::any_of(contours.begin(), contours.end(),
-              [&](const Contour& c) { return Selected(opt, c.method); }));
+              [&](const Contour& c) { return Wanted(opt, c.method, fd.layers); }));
       };
       std::map<std::string, Result> referenceResults;
       for (const auto& [key, f] : { std::make_pair(std::string("plain"), reference),
@@ -993,7 +1006,7 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
       for (const Row3& o : measured)
       {
         const bool isReference = o.method.name == "sph-voxel-reference";
-        if (!isReference && !Selected(opt, o.method))
+        if (!isReference && !Wanted(opt, o.method, fd.layers))
         {
           continue;
         }
@@ -1094,7 +1107,7 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
       }
       for (const Contour& c : contours)
       {
-        if (!Selected(opt, c.method))
+        if (!Wanted(opt, c.method, fd.layers))
         {
           continue;
         }
