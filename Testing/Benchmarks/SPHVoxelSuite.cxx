@@ -38,7 +38,9 @@
 //   sph-voxel-angle-A      A = 28, 14, 7 degrees, MaximumLayers 131072 (so that 7 degrees is
 //                          reached in the close view up to about 1024 rows; angle_deg says
 //                          what was), no smoothing (the paper's figure 6)
-//   sph-voxel-spans-S      S = 1..7 spans kept
+//   sph-voxel-spans-S      S = 1..7 spans kept (the front depth changes only through the
+//                          smoothing, which keeps each depth between its column's
+//                          neighbours; the refracted image through the march)
 //   sph-voxel-smooth-N     SmoothingRadius dx with at most N = 0, 2, 5, 10, 20, 40, 80
 //                          iterations (each point takes min(N, ceil(dx / pixel width))): the
 //                          paper's distance-dependent filter, cut at N
@@ -59,8 +61,9 @@
 //                          fluid's colour and material; frame_ms = resample + contour + the
 //                          first frame
 // On <fine>-refined2 only sph-voxel and sph-voxel-translucent run (the stage table); on
-// layers24 only sph-voxel-spans-S and sph-voxel-angle-A (with one span), translucent (RefractiveIndex 1) with a black fluid and a grey
-// absorption kappa = 0.04 per unit over a white background, so that a pixel shows exactly
+// layers24 only sph-voxel-spans-S and sph-voxel-angle-A (with one span), translucent
+// (RefractiveIndex 1) with a black fluid and a grey absorption kappa = 0.04 per unit over a
+// white background (Specular 0), so that a pixel shows exactly
 // the transmittance T = exp(-kappa l) of its ray's total fluid length l: rmse and max_err
 // compare the image with T computed exactly (l the union of the ray's chords through the
 // spheres), thickness_rel_err the voxelizer's Thickness with l.
