@@ -44,7 +44,10 @@ double Now()
     .count();
 }
 
-Result Measure(const Options& opt, const Method& m, const std::function<void(vtkCamera*)>& view)
+Result Measure(const Options& opt,
+  const Method& m,
+  const std::function<void(vtkCamera*)>& view,
+  const std::function<void(vtkRenderer*)>& inspect)
 {
   const int repeat = m.repeat > 0 ? m.repeat : opt.repeat;
   vtkNew<vtkRenderer> ren;
@@ -104,6 +107,10 @@ Result Measure(const Options& opt, const Method& m, const std::function<void(vtk
   grab->Update();
   r.image = vtkSmartPointer<vtkImageData>::New();
   r.image->DeepCopy(grab->GetOutput());
+  if (inspect)
+  {
+    inspect(ren);
+  }
   return r;
 }
 

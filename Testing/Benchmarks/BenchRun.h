@@ -64,8 +64,12 @@ double Now();
 
 /// Renders the method in a new off-screen window: the first frame (build), --repeat frames
 /// (render_ms, the median), --repeat rebuilds when the method can be touched (build_ms),
-/// the memory growth over the first frame, and the final image.
-Result Measure(const Options& opt, const Method& m, const std::function<void(vtkCamera*)>& view);
+/// the memory growth over the first frame, and the final image; then `inspect`, if given,
+/// looks at the renderer before its window closes (e.g. reads the depth buffer).
+Result Measure(const Options& opt,
+  const Method& m,
+  const std::function<void(vtkCamera*)>& view,
+  const std::function<void(vtkRenderer*)>& inspect = nullptr);
 
 /// RMSE and maximum absolute difference of two RGB images, channels in 0..1.
 void Compare(vtkImageData* a, vtkImageData* b, double& rmse, double& maxErr);

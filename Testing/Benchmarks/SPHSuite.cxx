@@ -38,8 +38,11 @@
 //   kernel_evaluations, weight_sums, gradient_evaluations, samples, contour_samples
 //                                                 our counters of one frame (the kernel
 //                                                 counters count SIMD lanes, 16 per chunk)
+// then the fluid half's columns (SPHVoxelSuite.cxx: vtkSPHFluidMapper, methods sph-voxel*
+// and sph-contour-surface-grid*, run after these on the same files), empty in these rows.
 #include "BenchData.h"
 #include "BenchRun.h"
+#include "SPHSuite.h"
 #include "vtkRayMapperStatistics.h"
 #include "vtkSPHVolumeMapper.h"
 
@@ -82,21 +85,19 @@ namespace bench
 {
 
 extern const char* const SPHCsvExtraColumns; // declared in raymappers-bench.cxx
-const char* const SPHCsvExtraColumns = "frame_ms,resample_ms,first_frame_ms,grid_ms,raycast_ms,"
-                                       "grid_mb,kernel_evaluations,weight_sums,"
-                                       "gradient_evaluations,samples,contour_samples";
-
 namespace
 {
-struct Dataset
-{
-  std::string file, name;
-  vtkSmartPointer<vtkPolyData> particles;
-  double h = 0;         // the largest smoothing length (PySPH's h is constant)
-  double vmax = 1;      // the largest vmag: the transfer function's top
-  double time = -1;     // simulated time from the file's title, -1 if absent
-};
+const std::string ExtraColumns =
+  std::string("frame_ms,resample_ms,first_frame_ms,grid_ms,raycast_ms,grid_mb,"
+              "kernel_evaluations,weight_sums,gradient_evaluations,samples,contour_samples,") +
+  sph::VoxelCsvColumns;
+}
+const char* const SPHCsvExtraColumns = ExtraColumns.c_str();
 
+namespace sph
+{
+namespace
+{
 // The simulated time "t = X s" in a PySPH legacy file's title line, -1 if there is none.
 double TitleTime(const std::string& file)
 {
@@ -107,6 +108,7 @@ double TitleTime(const std::string& file)
   const std::size_t at = line.find("t = ");
   return at == std::string::npos ? -1.0 : std::atof(line.c_str() + at + 4);
 }
+} // namespace
 
 Dataset Load(const std::string& file)
 {
@@ -142,7 +144,6 @@ Dataset Load(const std::string& file)
   return d;
 }
 
-// The default data: the shipped coarse frame and the fine time step closest to its t = 0.3 s.
 std::vector<std::string> DefaultFiles(const Options& opt)
 {
   std::vector<std::string> files = { std::string(RAYMAPPERS_SOURCE_DIR) +
@@ -183,6 +184,8 @@ std::vector<std::string> DefaultFiles(const Options& opt)
   return files;
 }
 
+namespace
+{
 // TestSPHVolumeMapper's transfer function scaled to the data's largest speed: blue through
 // white to red, opacity 0.15 to 0.6 per 0.1 m. Below 0 (only the interpolator's null voxels,
 // set to -vmax/2) the opacity is 0, so that the grid's empty voxels stay empty as the
@@ -273,6 +276,8 @@ struct Extra
             contourSamples = -1;
 };
 
+} // namespace
+
 std::string Number(double v)
 {
   if (v < 0)
@@ -289,6 +294,8 @@ std::string Count(long long v)
   return v < 0 ? "" : std::to_string(v);
 }
 
+namespace
+{
 // Records the row (table, images) and appends it with the extra columns to --csv.
 void RecordSPH(const Options& opt, const Result& r, const Extra& e, std::vector<Row>& rows)
 {
@@ -313,22 +320,34 @@ void RecordSPH(const Options& opt, const Result& r, const Extra& e, std::vector<
         << Number(e.firstFrameMs) << "," << Number(e.gridMs) << "," << Number(e.raycastMs) << ","
         << Number(e.gridMb) << "," << Count(e.kernelEvaluations) << "," << Count(e.weightSums) << ","
         << Count(e.gradientEvaluations) << "," << Count(e.samples) << ","
-        << Count(e.contourSamples) << std::endl;
+        << Count(e.contourSamples) << "," << EmptyVoxelCsv() << std::endl;
   }
 }
+} // namespace
 
-// A resampled grid, kept for the other view of the same data.
-struct Resampled
+void RecordVoxelRow(const Options& opt,
+  const Result& r,
+  const FrameTimes& times,
+  const std::string& voxelCsv,
+  std::vector<Row>& rows)
 {
-  vtkSmartPointer<vtkImageData> image;
-  double ms = 0;
-  double spacing = 0;
-};
+  Options noCsv = opt;
+  noCsv.csv.clear();
+  Record(noCsv, r, rows);
+  if (!opt.csv.empty())
+  {
+    std::ofstream out(opt.csv, std::ios::app);
+    out << Csv(r.row) << "," << Number(times.frameMs) << "," << Number(times.resampleMs) << ","
+        << Number(times.firstFrameMs) << std::string(9, ',') // grid_ms ... contour_samples
+        << voxelCsv << std::endl;
+  }
+}
 
 // vtkSPHInterpolator onto a grid of `res` voxels along the longest side of the particles'
 // bounds grown by the support, only vmag interpolated (the fastest the filter goes), then
 // the voxels without a neighbour (Shepard sum 0, which ShepardNormalization sets to 0) set
-// to -vmax/2, below the transfer function's visible range.
+// to -vmax/2, below the transfer function's visible range. The Shepard sum is kept beside
+// (the array itself, not a copy).
 Resampled Resample(const Dataset& d, int res)
 {
   Resampled out;
@@ -388,6 +407,7 @@ Resampled Resample(const Dataset& d, int res)
   out.image = vtkSmartPointer<vtkImageData>::New();
   out.image->CopyStructure(result);
   out.image->GetPointData()->SetScalars(scalars);
+  out.image->GetPointData()->AddArray(shepard);
   out.ms = Now() - t0;
   out.spacing = s;
   return out;
@@ -427,10 +447,11 @@ std::function<void(vtkCamera*)> View(const Dataset& d, const std::string& view)
     }
   };
 }
-} // namespace
+} // namespace sph
 
 std::vector<Row> RunSPH(const Options& opt)
 {
+  using namespace sph;
   // vtkSPHInterpolator runs on vtkSMPTools; this VTK's default backend is Sequential: the
   // resample gets both cores (std::thread) as our mapper does with TBB.
   vtkSMPTools::SetBackend("STDThread");
@@ -442,6 +463,10 @@ std::vector<Row> RunSPH(const Options& opt)
   std::vector<Row> rows;
   for (const std::string& file : files)
   {
+    if (!vtksys::SystemTools::FileExists(file, true))
+    {
+      continue; // the voxel half's synthetic and refined sets (or a missing file: it says so)
+    }
     const Dataset d = Load(file);
     if (!d.particles || d.particles->GetNumberOfPoints() == 0)
     {
@@ -723,6 +748,8 @@ std::vector<Row> RunSPH(const Options& opt)
       }
     }
   }
+  const std::vector<Row> voxelRows = RunSPHVoxel(opt, files);
+  rows.insert(rows.end(), voxelRows.begin(), voxelRows.end());
   return rows;
 }
 

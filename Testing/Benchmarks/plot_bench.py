@@ -24,6 +24,21 @@ For each (suite, dataset) it writes
                                render_ms and kernel counters of sph-raycast
                                and its effects (sph-unnormalized, sph-pseudo,
                                sph-gradient, sph-contour), when present
+  <suite>_<dataset>_voxel_error.png
+                               the fluid rows (sph-voxel*, sph-contour-surface-
+                               grid*; the plots above leave them out): the
+                               front surface's mean depth error (depth_mean_abs),
+                               its normals' mean angle error (normal_deg) and
+                               the image's rmse against frame_ms (a new
+                               time step's first image), one line per sweep
+                               (angle, spans, smooth; the contour route over
+                               its grids); on the synthetic layers the
+                               transmittance's rmse against the exact one
+  <suite>_<dataset>_voxel_stages.png
+                               the fluid rows' frames split into the mapper's
+                               stages (splat_ms ... draw_ms)
+  <suite>_voxel_stages.png     sph-voxel and sph-voxel-translucent of every
+                               dataset: the stage table (Zirr 2015, table 2)
 Repeated rows (same method, setting and image size) are reduced to their
 median, so a CSV with several timing runs plots as one bar.
 Run with Debian's /usr/bin/python3 (matplotlib).
@@ -51,6 +66,20 @@ LOG_RATIO = 10.0
 # The sph suite's effects, in the order of the effects chart (the first is the baseline).
 EFFECTS = ["sph-raycast", "sph-unnormalized", "sph-pseudo", "sph-gradient", "sph-contour"]
 COUNTERS = ["kernel_evaluations", "weight_sums", "gradient_evaluations"]
+
+# The fluid half of the sph suite (SPHVoxelSuite.cxx): its stages, in frame order, and the
+# sweeps of its error plot (method stem, label).
+STAGES = ["splat_ms", "compress_ms", "connect_ms", "filter_ms", "normals_ms", "ao_ms",
+          "translucent_ms", "refract_ms", "draw_ms"]
+VOXEL_SWEEPS = [("sph-voxel-angle", "angle resolution [deg]"),
+                ("sph-voxel-spans", "spans kept"),
+                ("sph-voxel-smooth", "smoothing iterations"),
+                ("sph-contour-surface-grid", "contour route: grid")]
+
+
+def is_voxel(method):
+    """A row of the fluid half: drawn by the voxel plots only."""
+    return method.startswith("sph-voxel") or method.startswith("sph-contour-surface")
 
 
 def read_rows(path):
@@ -263,6 +292,146 @@ def plot_effects(suite, dataset, rows, path):
     return True
 
 
+def voxel_sweeps(rows):
+    """The rows of each sweep (VOXEL_SWEEPS order) with their swept value, sorted by it,
+    and the lone rows (sph-voxel, sph-voxel-translucent, the reference)."""
+    sweeps = OrderedDict()
+    lone = []
+    for r in rows:
+        for stem, label in VOXEL_SWEEPS:
+            m = re.fullmatch(re.escape(stem) + r"-?([0-9]+(?:\.[0-9]+)?)", r["method"])
+            if m:
+                sweeps.setdefault(label, []).append((float(m.group(1)), r))
+                break
+        else:
+            lone.append(r)
+    order = [label for _, label in VOXEL_SWEEPS]
+    return (OrderedDict((k, sorted(sweeps[k], key=lambda vr: vr[0]))
+                        for k in order if k in sweeps), lone)
+
+
+def plot_voxel_errors(suite, dataset, rows, path):
+    """Error against frame_ms for the fluid rows: the front surface's depth error
+    (left) and the image's rmse (right), one line per sweep, points labelled by
+    the swept value. False if no row has an error."""
+    sweeps, lone = voxel_sweeps(rows)
+    panels = [("depth_mean_abs", "front surface: mean |depth - reference| [world units]"),
+              ("normal_deg", "front surface: mean angle to the reference's normal [deg]"),
+              ("rmse", "image RMSE against the reference (layers: exact transmittance)")]
+    panels = [(key, label) for key, label in panels
+              if any(r.get(key) is not None and r.get("frame_ms") is not None for r in rows)]
+    if not panels:
+        return False
+    fig, axes = plt.subplots(1, len(panels), figsize=(6.5 * len(panels), 6), squeeze=False)
+    markers = "osD^v<>"
+    for ax, (key, ylabel) in zip(axes[0], panels):
+        drawn = []
+        for index, (label, values) in enumerate(sweeps.items()):
+            pts = [(r["frame_ms"], r[key], v) for v, r in values
+                   if r.get(key) is not None and r.get("frame_ms") is not None]
+            if not pts:
+                continue
+            xs, ys, vs = zip(*pts)
+            line, = ax.plot(xs, ys, marker=markers[index % len(markers)], label=label)
+            for x, y, v in pts:
+                ax.annotate(f"{v:g}", (x, y), xytext=(4, 4), textcoords="offset points",
+                            fontsize=7, color=line.get_color())
+            drawn += pts
+        for r in lone:
+            if r.get(key) is None or r.get("frame_ms") is None:
+                continue
+            ax.plot([r["frame_ms"]], [r[key]], marker="s", markersize=10, linestyle="none",
+                    markeredgecolor="black", zorder=10, label=r["method"])
+            drawn.append((r["frame_ms"], r[key], None))
+        if not drawn:
+            continue
+        if wants_log([x for x, _, _ in drawn]):
+            ax.set_xscale("log")
+        if wants_log([y for _, y, _ in drawn]):
+            ax.set_yscale("log")
+        else:
+            ax.set_ylim(bottom=0)
+        ax.set_xlabel("new time step's first image: rebuild + frame, or resample + "
+                      "contour + frame [ms]", fontsize=8)
+        ax.set_ylabel(ylabel, fontsize=8)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{suite} / {dataset}, {rows[0]['width']}x{rows[0]['height']}: "
+                 "fluid rows, error versus time")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return True
+
+
+def stage_bars(ax, rows, labels):
+    """Horizontal bars of rows split into STAGES, the frame's total at the end."""
+    pos = list(range(len(rows)))
+    left = [0.0] * len(rows)
+    colors = plt.get_cmap("tab10")
+    for k, stage in enumerate(STAGES):
+        values = [r.get(stage) or 0.0 for r in rows]
+        if not any(values):
+            continue
+        ax.barh(pos, values, 0.6, left=left, color=colors(k), label=stage[:-3])
+        left = [a + b for a, b in zip(left, values)]
+    for p, r, total in zip(pos, rows, left):
+        ax.annotate(f"{total:.0f} ms (frame {r['render_ms']:.0f})", (total, p), xytext=(3, 0),
+                    textcoords="offset points", va="center", fontsize=7)
+    ax.margins(x=0.35)
+    ax.set_yticks(pos)
+    ax.set_yticklabels(labels, fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xlabel("time per stage, median frame [ms]")
+    ax.grid(axis="x", alpha=0.3)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the bars
+
+
+def plot_voxel_stages(suite, dataset, rows, path):
+    """The stages of every fluid row of one dataset. False if none has them."""
+    rows = [r for r in rows if r.get("splat_ms") is not None]
+    if not rows:
+        return False
+    fig, ax = plt.subplots(figsize=(11, 1.6 + 0.32 * len(rows)))
+    stage_bars(ax, rows, [f"{r['method']} {r['setting']}" for r in rows])
+    ax.set_title(f"{suite} / {dataset}, {rows[0]['width']}x{rows[0]['height']}: stages")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return True
+
+
+def plot_stage_table(suite, rows, extra, path):
+    """sph-voxel (refraction) and sph-voxel-translucent of every dataset and size: the
+    stage table as bars. False if there are none."""
+    chosen = [r for r in reduce_repeats_by_dataset(rows, extra)
+              if r["method"] in ("sph-voxel", "sph-voxel-translucent")
+              and r.get("splat_ms") is not None]
+    if not chosen:
+        return False
+    labels = [f"{r['dataset']} {r['width']}x{r['height']}\n{r['method']} "
+              f"({r['items']:,} particles, peak {r['mem_mb']:.0f} MB)" for r in chosen]
+    fig, ax = plt.subplots(figsize=(12, 1.2 + 0.55 * len(chosen)))
+    stage_bars(ax, chosen, labels)
+    ax.set_title(f"{suite}: vtkSPHFluidMapper's stages (cf. Zirr 2015, table 2)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return True
+
+
+def reduce_repeats_by_dataset(rows, extra):
+    """reduce_repeats per dataset, the dataset, items and mem_mb kept."""
+    out = []
+    for dataset in OrderedDict((r["dataset"], None) for r in rows):
+        group = [r for r in rows if r["dataset"] == dataset]
+        for merged in reduce_repeats(group, tuple(extra) + ("mem_mb",)):
+            merged["dataset"] = dataset
+            merged["items"] = next(r["items"] for r in group if r["method"] == merged["method"])
+            out.append(merged)
+    return out
+
+
 def main(argv):
     if len(argv) != 3:
         sys.exit(__doc__)
@@ -276,8 +445,16 @@ def main(argv):
     for r in rows:
         groups.setdefault((r["suite"], r["dataset"]), []).append(r)
     for (suite, dataset), group in groups.items():
-        merged = reduce_repeats(group, extra)
+        every = reduce_repeats(group, extra)
+        merged = [r for r in every if not is_voxel(r["method"])]
+        voxel = [r for r in every if is_voxel(r["method"])]
         stem = os.path.join(argv[2], file_stem(suite, dataset))
+        if voxel and plot_voxel_errors(suite, dataset, voxel, stem + "_voxel_error.png"):
+            print(stem + "_voxel_error.png")
+        if voxel and plot_voxel_stages(suite, dataset, voxel, stem + "_voxel_stages.png"):
+            print(stem + "_voxel_stages.png")
+        if not merged:
+            continue
         plot_times(suite, dataset, merged, stem + "_time.png")
         print(stem + "_time.png")
         if plot_errors(suite, dataset, merged, stem + "_error.png"):
@@ -288,6 +465,10 @@ def main(argv):
             print(stem + "_error_frame.png")
         if plot_effects(suite, dataset, merged, stem + "_effects.png"):
             print(stem + "_effects.png")
+    for suite in OrderedDict((r["suite"], None) for r in rows):
+        path = os.path.join(argv[2], file_stem(suite, "voxel_stages") + ".png")
+        if plot_stage_table(suite, [r for r in rows if r["suite"] == suite], extra, path):
+            print(path)
 
 
 if __name__ == "__main__":

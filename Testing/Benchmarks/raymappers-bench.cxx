@@ -7,7 +7,8 @@
 // compare with the suite's reference image (0..1 per channel), empty for the reference
 // itself; mem_mb the growth of the process's resident memory over the method's first frame.
 // The sph suite's CSV has more columns after these (frame_ms, resample_ms, phases and
-// counters: see SPHSuite.cxx).
+// counters: see SPHSuite.cxx; then the fluid rows' stages, counters and surface errors: see
+// SPHVoxelSuite.cxx).
 //
 // usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] [--csv FILE]
 //                               [--images DIR] [--generated DIR] [--only TEXT ...]
