@@ -17,14 +17,13 @@
 //                    0.75 (the spheres overlap: a sheet has no holes), 4 apart along the view
 //                    axis (240,000 particles), seen from 250 in front of the first; --data
 //                    layers24 selects it.
-// Fluid radius on the dam break: r = 0.6 h = 0.78 dx (RadiusArrayName "h", RadiusScale 0.6;
-// PySPH's h = 1.3 dx), with GapThreshold 0.4 h = 0.52 dx. The 0.5 level set of the volume
-// fraction lies about dx/2 beyond the outermost particle centres (each particle fills its
-// cell of side dx); a sphere of 0.78 dx reaches 0.78 dx on its axis and about 0.6 dx on
-// average over the free surface's lattice cells, the smallest radius that still covers the
-// cells' face centres (0.71 dx): with it, the union of spheres and the level set are
-// comparable (the rows' depth_bias measures the offset). The holes left at the cells' body
-// centres (0.87 dx from their particles) are closed by the gap bridging.
+// Fluid radius on the dam break: r = 0.8 h = 1.04 dx (RadiusArrayName "h", RadiusScale 0.8;
+// PySPH's h = 1.3 dx; as TestSPHFluidMapper), no gap bridging. A radius above sqrt(3)/2 dx
+// = 0.87 dx covers a particle lattice's cells whole, so the union of spheres has no holes
+// inside the fluid, and boundary-cell culling (FluidCells.h) can prove the inner cells full
+// (its cover test needs a margin of about 0.1 r). The 0.5 level set of the volume fraction
+// lies about dx/2 beyond the outermost centres, so the spheres' surface lies about 0.5 dx
+// beyond the contour route's: the rows' depth_bias measures it, depth_mean_abs includes it.
 //
 // Methods (CSV method column; views "outside" and "surface" as the volume half):
 //   sph-voxel              the water look: Translucency on, RefractiveIndex 1.33, Bounces 4,
@@ -35,6 +34,9 @@
 //                          SmoothingIterations 20, no ambient occlusion
 //   sph-voxel-translucent  the same with RefractiveIndex 1 (translucency only): the stage
 //                          table's "render translucent"
+//   sph-voxel-noculling    the water look with BoundaryCulling off: every particle splatted
+//                          (same spans; what the culling saves in the splat and costs in
+//                          build_ms)
 //   sph-voxel-angle-A      A = 28, 14, 7 degrees, MaximumLayers 131072 (so that 7 degrees is
 //                          reached in the close view up to about 1024 rows; angle_deg says
 //                          what was), no smoothing (the paper's figure 6)
@@ -75,7 +77,8 @@
 // (--only sph-contour also selects the volume half's sph-contour effect).
 //
 // Measured per row (CSV columns after the volume half's; VoxelCsvColumns):
-//   build_ms           the particles' rebuild after a new time step (median over --repeat);
+//   build_ms           the rebuild after a new time step (median over --repeat): the
+//                      particles and the culling cells (phases particles + cells);
 //                      render_ms the median frame; frame_ms = build_ms + render_ms
 //   splat_ms ... draw_ms
 //                      the mapper's phases (GetStatistics()), median over the frames after
@@ -172,7 +175,8 @@ constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
 struct Fluid
 {
   bool radiusFromH = true; // RadiusArrayName "h" times radiusScale, else radius
-  double radiusScale = 0.6;
+  double radiusScale = 0.8;
+  bool culling = true;
   double radius = 1.0;
   double angle = 14;
   int layers = 16384;
@@ -197,6 +201,10 @@ struct Fluid
       s << ";smooth=" << smoothRadius << "x" << smoothIterations;
     }
     s << ";ior=" << ior;
+    if (!culling)
+    {
+      s << ";culling=off";
+    }
     if (budget != 512)
     {
       s << ";budget=" << budget;
@@ -221,6 +229,7 @@ struct Fluid
     m->SetMaximumSpans(spans);
     m->SetMemoryBudget(budget);
     m->SetGapThreshold(gap);
+    m->SetBoundaryCulling(culling);
     m->SetSmoothingRadius(smoothRadius);
     m->SetSmoothingIterations(smoothIterations);
   }
@@ -765,7 +774,6 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
 
     // The settings of the rows.
     Fluid water;
-    water.gap = 0.4 * 1.3 * fd.dx; // 0.4 h
     water.smoothRadius = fd.dx;
     Fluid plain = water;
     plain.smoothRadius = 0;
@@ -836,7 +844,10 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
           log->Attach(ren);
         };
         o.method.buildMs = [mapper]()
-        { return (*mapper)->GetStatistics()->GetPhaseTime("particles"); };
+        {
+          vtkRayMapperStatistics* st = (*mapper)->GetStatistics();
+          return st->GetPhaseTime("particles") + st->GetPhaseTime("cells");
+        };
         o.method.touch = [particles]() { particles->Modified(); };
         o.inspect = [particles, f, surface, &opt](vtkRenderer* ren)
         { *surface = VoxelSurface(particles, f, ren, opt.width, opt.height); };
@@ -876,6 +887,9 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
         translucent.ior = 1;
         measured.push_back(fluidRow("sph-voxel", "", water, "smooth"));
         measured.push_back(fluidRow("sph-voxel-translucent", "", translucent, "smooth"));
+        Fluid noCulling = water;
+        noCulling.culling = false;
+        measured.push_back(fluidRow("sph-voxel-noculling", "", noCulling, "smooth"));
         if (!fd.stageOnly)
         {
           for (const double a : { 28.0, 14.0, 7.0 })
