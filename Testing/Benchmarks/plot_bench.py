@@ -37,7 +37,7 @@ For each (suite, dataset) it writes
   <suite>_<dataset>_voxel_stages.png
                                the fluid rows' frames split into the mapper's
                                stages (splat_ms ... draw_ms)
-  <suite>_voxel_stages.png     sph-voxel and sph-voxel-translucent of every
+  <suite>_voxel_stages.png     sph-voxel, -translucent and -noculling of every
                                dataset: the stage table (Zirr 2015, table 2)
 Repeated rows (same method, setting and image size) are reduced to their
 median, so a CSV with several timing runs plots as one bar.
@@ -71,6 +71,9 @@ COUNTERS = ["kernel_evaluations", "weight_sums", "gradient_evaluations"]
 # sweeps of its error plot (method stem, label).
 STAGES = ["splat_ms", "compress_ms", "connect_ms", "filter_ms", "normals_ms", "ao_ms",
           "translucent_ms", "refract_ms", "draw_ms"]
+# The fluid's lone rows keep one colour in every panel.
+LONE_COLORS = {"sph-voxel": "tab:red", "sph-voxel-translucent": "tab:purple",
+               "sph-voxel-noculling": "tab:brown", "sph-voxel-reference": "black"}
 VOXEL_SWEEPS = [("sph-voxel-angle", "angle resolution [deg]"),
                 ("sph-voxel-spans", "spans kept"),
                 ("sph-voxel-smooth", "smoothing iterations"),
@@ -341,7 +344,8 @@ def plot_voxel_errors(suite, dataset, rows, path):
             if r.get(key) is None or r.get("frame_ms") is None:
                 continue
             ax.plot([r["frame_ms"]], [r[key]], marker="s", markersize=10, linestyle="none",
-                    markeredgecolor="black", zorder=10, label=r["method"])
+                    markeredgecolor="black", zorder=10, label=r["method"],
+                    color=LONE_COLORS.get(r["method"], "grey"))
             drawn.append((r["frame_ms"], r[key], None))
         if not drawn:
             continue
@@ -402,10 +406,10 @@ def plot_voxel_stages(suite, dataset, rows, path):
 
 
 def plot_stage_table(suite, rows, extra, path):
-    """sph-voxel (refraction) and sph-voxel-translucent of every dataset and size: the
+    """sph-voxel (refraction), sph-voxel-translucent and sph-voxel-noculling of every dataset and size: the
     stage table as bars. False if there are none."""
     chosen = [r for r in reduce_repeats_by_dataset(rows, extra)
-              if r["method"] in ("sph-voxel", "sph-voxel-translucent")
+              if r["method"] in ("sph-voxel", "sph-voxel-translucent", "sph-voxel-noculling")
               and r.get("splat_ms") is not None]
     if not chosen:
         return False
