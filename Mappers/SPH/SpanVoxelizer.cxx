@@ -246,7 +246,8 @@ bool voxelizeFluid(const FluidParticles& particles,
   const bool shell = bridging && params.gapThreshold >= 2.0 * particles.maxRadius;
   stats.setEffect("gap_bridging", bridging);
   stats.setEffect("shell_splat", shell);
-  for (const char* name : { "boxes_in_view",
+  for (const char* name : { "angle_millidegrees",
+         "boxes_in_view",
          "box_pixels",
          "particles_in_view",
          "layers",
@@ -338,6 +339,8 @@ bool voxelizeFluid(const FluidParticles& particles,
   const int words = (L + 63) / 64;
   const std::size_t columnBytes = static_cast<std::size_t>(words) * sizeof(std::uint64_t);
   stats.addCounter("layers", L);
+  stats.addCounter("angle_millidegrees",
+    static_cast<std::int64_t>(std::lround(1000.0 * layers.angleDeg(rays.pixelSize()))));
   stats.addCounter("words_per_column", words);
   const std::size_t gridBudget =
     params.memoryBudget > footprintBytes ? params.memoryBudget - footprintBytes : 0;

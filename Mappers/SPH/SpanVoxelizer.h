@@ -76,10 +76,10 @@ std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* 
 /// particle is). Returns false when the budget cannot hold even one column's bits with the
 /// footprints, or its allocation fails (out then has no spans; counter budget_exceeded = 1).
 /// Phases: splat, compress. Counters: particles_in_view (splatted ones), boxes_in_view,
-/// box_pixels, layers, words_per_column, tiles,
-/// tile_width, tile_height, splat_pixels, stopped_spans, set_bit_ops, spans_found, spans_stored,
-/// spans_hidden, gaps_bridged, peak_temporary_bytes, budget_exceeded. Effects: shell_splat,
-/// gap_bridging.
+/// box_pixels, layers, angle_millidegrees (the angle resolution the layers reach),
+/// words_per_column, tiles, tile_width, tile_height, splat_pixels, stopped_spans, set_bit_ops,
+/// spans_found, spans_stored, spans_hidden, gaps_bridged, peak_temporary_bytes,
+/// budget_exceeded. Effects: shell_splat, gap_bridging.
 bool voxelizeFluid(const FluidParticles& particles,
   const ViewRays& rays,
   const VoxelizerParameters& params,

@@ -279,15 +279,18 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   // fluid. An opaque fluid is depth tested when drawn, a translucent one must stop there.
   std::vector<float> depth, stop;
   int dw = 0, dh = 0;
-  if (this->Translucency && vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
-    dw == width && dh == height)
   {
-    if (p > 1)
+    raymappers::ScopedPhase phase(stats, "opaque_depth"); // read back, converted to stop depths
+    if (this->Translucency && vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
+      dw == width && dh == height)
     {
-      depth = raymappers::sampleDepth(depth, width, height, rw, rh);
+      if (p > 1)
+      {
+        depth = raymappers::sampleDepth(depth, width, height, rw, rh);
+      }
+      stop = raymappers::stopDepthsFromWindowDepth(rays, depth.data());
+      params.voxelizer.stopDepth = stop.data();
     }
-    stop = raymappers::stopDepthsFromWindowDepth(rays, depth.data());
-    params.voxelizer.stopDepth = stop.data();
   }
   stats.setEffect("opaque_depth", params.voxelizer.stopDepth != nullptr);
 

@@ -43,8 +43,8 @@
  * The particles are rebuilt only when the input (a new time step) or the radius settings
  * change (counter particles_built); the voxelization is view-dependent and made every frame.
  *
- * GetStatistics() reports phase times (particles, splat, compress, connect, filter, normals,
- * ao, render or refract, draw), counters and effects of the last render.
+ * GetStatistics() reports phase times (particles, cells, opaque_depth, splat, compress, connect,
+ * filter, normals, ao, render or refract, draw), counters and effects of the last render.
  */
 #ifndef vtkSPHFluidMapper_h
 #define vtkSPHFluidMapper_h

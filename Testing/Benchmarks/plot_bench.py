@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Plot a RayMappers benchmark CSV as PNG charts.
 
-Usage: plot_bench.py CSV OUTDIR
+Usage: plot_bench.py CSV [CSV ...] OUTDIR   (several CSVs of one suite: their rows together)
 
 CSV columns (exactly, in this order, then any extra numeric columns, e.g. the
 sph suite's frame_ms, resample_ms, ..., kernel_evaluations):
@@ -437,13 +437,18 @@ def reduce_repeats_by_dataset(rows, extra):
 
 
 def main(argv):
-    if len(argv) != 3:
+    if len(argv) < 3:
         sys.exit(__doc__)
+    rows, extra = [], []
     try:
-        rows, extra = read_rows(argv[1])
+        for path in argv[1:-1]:  # several CSVs of one suite: their rows together
+            more, columns = read_rows(path)
+            rows += more
+            extra += [c for c in columns if c not in extra]
     except (OSError, ValueError) as e:  # a clear message, not a traceback
         sys.exit(f"plot_bench.py: {e}")
-    os.makedirs(argv[2], exist_ok=True)
+    out = argv[-1]
+    os.makedirs(out, exist_ok=True)
 
     groups = OrderedDict()
     for r in rows:
@@ -452,7 +457,7 @@ def main(argv):
         every = reduce_repeats(group, extra)
         merged = [r for r in every if not is_voxel(r["method"])]
         voxel = [r for r in every if is_voxel(r["method"])]
-        stem = os.path.join(argv[2], file_stem(suite, dataset))
+        stem = os.path.join(out, file_stem(suite, dataset))
         if voxel and plot_voxel_errors(suite, dataset, voxel, stem + "_voxel_error.png"):
             print(stem + "_voxel_error.png")
         if voxel and plot_voxel_stages(suite, dataset, voxel, stem + "_voxel_stages.png"):
@@ -470,7 +475,7 @@ def main(argv):
         if plot_effects(suite, dataset, merged, stem + "_effects.png"):
             print(stem + "_effects.png")
     for suite in OrderedDict((r["suite"], None) for r in rows):
-        path = os.path.join(argv[2], file_stem(suite, "voxel_stages") + ".png")
+        path = os.path.join(out, file_stem(suite, "voxel_stages") + ".png")
         if plot_stage_table(suite, [r for r in rows if r["suite"] == suite], extra, path):
             print(path)
 

@@ -171,6 +171,7 @@ TEST(SPHVoxelizer, OneSphereSpansMatchTheAnalyticIntersectionWithinOneLayer)
     RenderStatistics stats;
     ASSERT_TRUE(voxelize({ s }, rays, VoxelizerParameters(), spans, stats));
     EXPECT_GT(stats.counter("layers"), 50);
+    EXPECT_NEAR(stats.counter("angle_millidegrees"), 14000, 1); // not capped: 14 degrees reached
     int hits = 0;
     for (int j = 0; j < H; ++j)
     {
