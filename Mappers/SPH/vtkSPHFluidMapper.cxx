@@ -254,17 +254,10 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   const std::array<double, 16> modelToClip =
     vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
   // Interactive renders: p x p fewer pixels when the last full frame overran the budget.
-  int p = this->Subsampling;
-  if (p == 0)
-  {
-    const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
-    const double budget = this->FrameBudget > 0 ? this->FrameBudget : (rate > 0 ? 1.0 / rate : 0);
-    p = 1;
-    if (rate >= 1.0 && budget > 0 && Impl->LastFullFrameSeconds > budget)
-    {
-      p = std::clamp(static_cast<int>(std::ceil(std::sqrt(Impl->LastFullFrameSeconds / budget))), 1, 8);
-    }
-  }
+  const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
+  const int p = this->Subsampling > 0
+    ? this->Subsampling
+    : raymappers::interactiveReduction(Impl->LastFullFrameSeconds, this->FrameBudget, rate, 8);
   stats.addCounter("subsampling", p);
   const int rw = p > 1 ? raymappers::reducedSize(width, p) : width;
   const int rh = p > 1 ? raymappers::reducedSize(height, p) : height;

@@ -342,17 +342,10 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   // Time-critical rendering: p x p fewer rays when the last full frame overran the budget.
   // Interactive renders are those VTK asks at least 1 frame per second of (an
   // interactor's DesiredUpdateRate while the user moves the camera; StillUpdateRate after).
-  int p = this->Subsampling;
-  if (p == 0)
-  {
-    const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
-    const double budget = this->FrameBudget > 0 ? this->FrameBudget : (rate > 0 ? 1.0 / rate : 0);
-    p = 1;
-    if (rate >= 1.0 && budget > 0 && Impl->LastFullFrameSeconds > budget)
-    {
-      p = std::clamp(static_cast<int>(std::ceil(std::sqrt(Impl->LastFullFrameSeconds / budget))), 1, 9);
-    }
-  }
+  const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
+  const int p = this->Subsampling > 0
+    ? this->Subsampling
+    : raymappers::interactiveReduction(Impl->LastFullFrameSeconds, this->FrameBudget, rate, 9);
   stats.addCounter("subsampling", p);
   Impl->Frame.resize(width, height);
   const double start = vtkTimerLog::GetUniversalTime();
