@@ -69,8 +69,8 @@
 // the transmittance T = exp(-kappa l) of its ray's total fluid length l: rmse and max_err
 // compare the image with T computed exactly (l the union of the ray's chords through the
 // spheres), thickness_rel_err the voxelizer's Thickness with l.
-// Without --only the fluid half runs what is cheap: sph-voxel and sph-voxel-translucent on
-// every set (the stage table) and the layers24 rows. The sweeps, the references and the
+// Without --only the fluid half runs what is cheap: sph-voxel, sph-voxel-translucent and
+// sph-voxel-noculling on every set (the stage table) and the layers24 rows. The sweeps, the references and the
 // contour route (minutes a frame for the references at 1024 rows in the close view) run when
 // --only selects them: --only sph-voxel selects every fluid row (and the references they
 // need), --only sph-voxel: the water look alone, --only sph-contour-surface the user's route
@@ -671,7 +671,8 @@ bool Wanted(const Options& opt, const Method& m, bool layers)
   {
     return Selected(opt, m);
   }
-  return layers || m.name == "sph-voxel" || m.name == "sph-voxel-translucent";
+  return layers || m.name == "sph-voxel" || m.name == "sph-voxel-translucent" ||
+    m.name == "sph-voxel-noculling";
 }
 
 // The stage table's entries.
