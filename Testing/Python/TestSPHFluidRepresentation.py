@@ -9,6 +9,7 @@ Checks:
   march at index 1, no AO work when off), and refraction marches when the index is 1.33;
 - the SPH Voxelizer filter (Filters menu) with the view's camera and size finds exactly the
   spans and pixels the representation rendered; its arrays are there, with S components;
+- the SPH Boundary Particles filter keeps the particles the representation does not cull;
 - a hidden representation draws nothing; the image matches its baseline.
 
 usage: pvpython TestSPHFluidRepresentation.py PLUGIN BUILD_DIR DATA_FILE BASELINE OUTPUT
@@ -109,6 +110,19 @@ def run_checks(view, source, stem, build_dir, output, baseline):
           'the picture is the plain VTK mapper\'s (rmse %.3f of 255)' % rmse(image, reference))
     if not compare_with_baseline(output, baseline):
         failures.append('baseline comparison')
+
+    # The SPH Boundary Particles filter keeps exactly the particles the representation splats
+    # (boundary-cell culling, on by default in both).
+    check('SPHBoundaryParticles' in globals(), 'the SPH Boundary Particles filter is offered')
+    boundary = globals()['SPHBoundaryParticles'](Input=source)
+    boundary.RadiusArray = 'h'
+    boundary.RadiusScale = 0.8
+    kept = servermanager.Fetch(boundary)
+    culled = kept.GetFieldData().GetArray('CulledParticles').GetValue(0)
+    check(culled > 0 and culled == stats.get('culled_particles')
+          and kept.GetNumberOfPoints() + culled == 9360,
+          'boundary particles: the culling of the representation (%d culled)' % culled)
+    Delete(boundary)
 
     # The filter with the view's camera and size: the same spans.
     # LoadPlugin(..., ns=globals()) made the filter's function in this module.
