@@ -2,6 +2,7 @@
 
 #include "FluidCells.h"
 #include "FluidParticles.h"
+#include "ParticleInput.h"
 
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
@@ -65,38 +66,33 @@ int vtkSPHBoundaryParticles::RequestData(
     }
   }
 
-  // The valid spheres (their input ids kept), relative to the first valid centre.
+  // The valid spheres (their input ids kept), by the particle kernels' own rule
+  // (ParticleTally::admit: finite centre, finite positive radius).
   std::vector<vtkIdType> ids;
   std::vector<raymappers::Vec3d> centers;
   std::vector<double> r;
-  vtkIdType nonFinite = 0, badRadius = 0;
+  raymappers::ParticleTally tally;
   for (vtkIdType i = 0; i < n; ++i)
   {
     double p[3];
     points->GetPoint(i, p);
+    const raymappers::Vec3d c(p[0], p[1], p[2]);
     const double ri = (radii ? radii->GetComponent(i, 0) : this->Radius) * this->RadiusScale;
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-    {
-      ++nonFinite;
-    }
-    else if (!(ri > 0) || !std::isfinite(ri))
-    {
-      ++badRadius;
-    }
-    else
+    if (tally.admit(c, true, ri) > 0.f)
     {
       ids.push_back(i);
-      centers.emplace_back(p[0], p[1], p[2]);
+      centers.push_back(c);
       r.push_back(ri);
     }
   }
-  if (nonFinite > 0)
+  if (tally.nonFinite > 0)
   {
-    vtkWarningMacro(<< nonFinite << " particles have NaN or infinite coordinates and are dropped.");
+    vtkWarningMacro(<< tally.nonFinite
+                    << " particles have NaN or infinite coordinates and are dropped.");
   }
-  if (badRadius > 0)
+  if (tally.badRadius > 0)
   {
-    vtkWarningMacro(<< badRadius
+    vtkWarningMacro(<< tally.badRadius
                     << " particles have a zero, negative or non-finite radius and are dropped.");
   }
   raymappers::FluidParticles particles;
