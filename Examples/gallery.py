@@ -1,5 +1,5 @@
-"""RayMappers demo gallery: renders the bundled data with the ray-traced sphere mapper and
-the SPH volume mapper.
+"""RayMappers demo gallery: renders the bundled data with the ray-traced sphere mapper, the
+SPH volume mapper and the SPH fluid mapper.
 
 Run through ../run.sh demo, or by hand under Xvfb:
     pvpython Examples/gallery.py --build build --out gallery
@@ -104,7 +104,8 @@ def render_view(name, dataset, actors, mapper, camera, count="spheres"):
     win.WaitForCompletion()
     first = (time.perf_counter() - t) * 1000
     stats = mapper.GetStatistics()
-    build = sum(stats.GetPhaseTime(p) for p in ("spheres", "grid_build", "bvh_build", "grid"))
+    build = sum(stats.GetPhaseTime(p)
+                for p in ("spheres", "grid_build", "bvh_build", "grid", "particles", "cells"))
     times = []
     for _ in range(args.frames):
         t = time.perf_counter()
@@ -123,7 +124,9 @@ def render_view(name, dataset, actors, mapper, camera, count="spheres"):
     writer.Write()
     return dict(view=name, dataset=dataset, spheres=stats.GetCounter(count),
                 build=build, first=first, frame=statistics.median(times) if times else first,
-                trace=stats.GetPhaseTime("trace") + stats.GetPhaseTime("raycast"),
+                trace=sum(stats.GetPhaseTime(p) for p in ("trace", "raycast", "splat", "compress",
+                                                          "connect", "filter", "normals",
+                                                          "render", "refract")),
                 png=os.path.relpath(png, os.getcwd()))
 
 
@@ -305,13 +308,49 @@ def paraview_view():
                  png=os.path.relpath(png, os.getcwd()))]
 
 
+def dam_break_fluid_view():
+    """The same dam break frame as water (vtkSPHFluidMapper, Zirr 2015): spheres of 0.8 h
+    voxelized into spans, smoothed over one particle spacing, translucent with refraction
+    (index 1.33), boundary-cell culling on (the default)."""
+    from vtkmodules.vtkRenderingCore import vtkVolume, vtkVolumeProperty
+    reader = vtkPolyDataReader()
+    reader.SetFileName(os.path.join(DATA, "dam_break_coarse_00674.vtk"))
+    reader.ReadAllScalarsOn()
+    reader.Update()
+    mapper = raymappers.vtkSPHFluidMapper()
+    mapper.SetInputData(reader.GetOutput())
+    mapper.SetRadiusArrayName("h")
+    mapper.SetRadiusScale(0.8)
+    mapper.SetSmoothingRadius(0.04)  # dx of the coarse run
+    mapper.SetRefractiveIndex(1.33)
+    mapper.SetAbsorptionColor(4.0, 1.5, 0.8)
+    prop = vtkVolumeProperty()
+    prop.SetAmbient(0.25)
+    prop.SetDiffuse(0.75)
+    prop.SetSpecular(0.3)
+    prop.SetSpecularPower(40)
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+
+    def camera(ren):
+        cam = ren.GetActiveCamera()
+        cam.SetFocalPoint(0.9, 0.0, 0.2)
+        cam.SetPosition(0.0, -3.4, 1.9)
+        cam.SetViewUp(0, 0, 1)
+    return [render_view("dam-break-sph-fluid", "dam_break_coarse_00674", [volume], mapper,
+                        camera, count="particles")]
+
+
 def main():
     os.makedirs(args.out, exist_ok=True)
-    rows = lysozyme_views() + disk_view() + dam_break_view() + paraview_view()
+    rows = lysozyme_views() + disk_view() + dam_break_view() + dam_break_fluid_view() + \
+        paraview_view()
     if not args.skip_generated:
         rows += melt_view()
-    print("\nRayMappers demo gallery: %dx%d, CPU ray-traced spheres (coherent grid traversal)"
-          " and SPH volume ray casting (perspective grid)" % (WIDTH, HEIGHT))
+    print("\nRayMappers demo gallery: %dx%d, CPU ray-traced spheres (coherent grid traversal),"
+          " SPH volume ray casting (perspective grid) and SPH fluid voxelization (spans)"
+          % (WIDTH, HEIGHT))
     header = ("view", "dataset", "points", "build_ms", "first_ms", "frame_ms", "trace_ms", "png")
     print("%-28s %-20s %9s %9s %9s %9s %9s  %s" % header)
     for r in rows:
