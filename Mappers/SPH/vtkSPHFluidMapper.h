@@ -5,15 +5,19 @@
  *
  * Every point i of the input vtkPointSet (cells are ignored) is a sphere of radius
  * r_i = RadiusScale * (RadiusArrayName, else Radius); the union of the spheres is the fluid.
- * Each frame the mapper voxelizes the spheres into a perspective bit grid at the render
- * resolution with logarithmic depth layers (Zirr and Dachsbacher 2015, section 4.2: the
- * layers keep the angle AngleResolution, at most MaximumLayers of them), in tiles that fit
- * MemoryBudget, compresses each pixel's column into at most MaximumSpans spans (the
- * absorption beyond them stays exact), bridges gaps shorter than GapThreshold (world units;
- * 0: none), connects the spans of neighbouring pixels into surfaces, smooths them with a
- * world-space radius SmoothingRadius (0: no smoothing pass; at most SmoothingIterations
- * iterations), takes normals with a Sobel operator along the links and renders (kernels:
- * SpanVoxelizer.h, SurfaceLinks.h, FluidRenderer.h, which give the formulas):
+ * Once per input, boundary-cell culling (BoundaryCulling, CellSize; sections 3.1 and 4.3)
+ * finds the cells of a uniform grid that the spheres provably cover and drops the particles
+ * of cells whose neighbours are all covered: the covered cells are filled as boxes instead,
+ * with the same result. Each frame the mapper voxelizes the spheres into a perspective bit
+ * grid at the render resolution with logarithmic depth layers (Zirr and Dachsbacher 2015,
+ * section 4.2: the layers keep the angle AngleResolution, at most MaximumLayers of them), in
+ * tiles that fit MemoryBudget, compresses each pixel's column into at most MaximumSpans
+ * spans (the absorption beyond them stays exact), bridges gaps shorter than GapThreshold
+ * (world units; 0: none), connects the spans of neighbouring pixels into surfaces, smooths
+ * them with a world-space radius SmoothingRadius (0: no smoothing pass; at most
+ * SmoothingIterations iterations), takes normals with a Sobel operator along the links and
+ * renders (kernels: FluidCells.h, SpanVoxelizer.h, SurfaceLinks.h, FluidRenderer.h, which
+ * give the formulas):
  *   - the front surface lit by the renderer's lights with Color and the vtkVolumeProperty's
  *     Ambient, Diffuse, Specular and SpecularPower;
  *   - Translucency on (default): Beer-Lambert absorption kappa = Density * AbsorptionColor
