@@ -279,4 +279,22 @@ raymappers::TransferFunctionTable SampleScalarsToColors(vtkScalarsToColors* colo
   return table;
 }
 
+raymappers::RegionBox RegionFromBounds(const double bounds[6])
+{
+  raymappers::RegionBox box;
+  for (int a = 0; a < 3; ++a)
+  {
+    const double l = bounds[2 * a], h = bounds[2 * a + 1];
+    if (std::isfinite(l) && l > -VTK_DOUBLE_MAX)
+    {
+      box.lo[a] = l;
+    }
+    if (std::isfinite(h) && h < VTK_DOUBLE_MAX)
+    {
+      box.hi[a] = h;
+    }
+  }
+  return box;
+}
+
 }

@@ -7,6 +7,7 @@
 #include "Lighting.h"
 #include "RayCamera.h"
 #include "RayMappersMappersModule.h" // for export macro
+#include "RegionBox.h"
 #include "TransferFunctionTable.h"
 
 #include "vtkDataArray.h" // for TupleReader
@@ -107,6 +108,10 @@ RAYMAPPERSMAPPERS_EXPORT raymappers::TransferFunctionTable SampleScalarsToColors
   double lo,
   double hi,
   int n);
+
+/// The kernels' region box of a mapper's RegionBounds (xmin, xmax, ymin, ymax, zmin,
+/// zmax): +-VTK_DOUBLE_MAX and beyond are unbounded, NaN faces too.
+RAYMAPPERSMAPPERS_EXPORT raymappers::RegionBox RegionFromBounds(const double bounds[6]);
 
 }
 

@@ -420,7 +420,9 @@ void renderRBF(const RBFParticles& particles,
   std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, passes{ 0 }, samples{ 0 }, visits{ 0 },
     deposits{ 0 }, terminated{ 0 };
 
-  // A ray of the grid: its samples lie in the root's grown box, before opaque geometry.
+  const bool regionBounded = params.region.bounded();
+  // A ray of the grid: its samples lie in the root's grown box (and the region), before
+  // opaque geometry.
   auto setUp = [&](int i, int j, Ray& ray, SampleRange& range)
   {
     ray = camera.pixelRay(i, j);
@@ -435,10 +437,23 @@ void renderRBF(const RBFParticles& particles,
       }
     }
     range = SampleRange();
-    if (clipToBox(ray.org, ray.dir, root.lo, root.hi, sigma * root.rMax, t0, t1))
+    if (!clipToBox(ray.org, ray.dir, root.lo, root.hi, sigma * root.rMax, t0, t1))
+    {
+      return;
+    }
+    if (!regionBounded)
     {
       range.k0 = static_cast<std::int64_t>(std::ceil(t0 / dt));
       range.k1 = static_cast<std::int64_t>(std::floor(t1 / dt));
+      return;
+    }
+    // The region's samples: k dt in [entry, exit), so that neighbouring regions never
+    // both take a sample on their common face.
+    double r0 = t0, r1 = t1;
+    if (params.region.clip(Vec3d(ray.org), Vec3d(ray.dir), particles.origin, r0, r1))
+    {
+      range.k0 = static_cast<std::int64_t>(std::ceil(r0 / dt));
+      range.k1 = static_cast<std::int64_t>(std::ceil(r1 / dt)) - 1;
     }
   };
 

@@ -28,6 +28,7 @@
 #include "ParticleBVH.h"
 #include "RBFParticles.h"
 #include "RayCamera.h"
+#include "RegionBox.h"
 #include "RenderStatistics.h"
 #include "TransferFunctionTable.h"
 
@@ -55,6 +56,8 @@ struct RBFRenderParameters
   Material material;
   double modelToWorld[16] = { 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1 };
   double normalToWorld[9] = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+  // Samples only inside this box (model coordinates; distributed rendering, RegionBox.h).
+  RegionBox region;
 };
 
 /// Renders the particles seen by `camera` into `frame` (premultiplied RGBA; depth stays at

@@ -288,6 +288,7 @@ void vtkRBFVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.packetSide = this->PacketSize;
   params.tileSize = this->TileSize;
   params.direct = this->Method == VTK_RBF_METHOD_DIRECT;
+  params.region = vtkRayMapperRenderHelpers::RegionFromBounds(this->RegionBounds);
   const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(vol);
   std::copy(model.modelToWorld, model.modelToWorld + 16, params.modelToWorld);
   std::copy(model.normalToWorld, model.normalToWorld + 9, params.normalToWorld);

@@ -142,6 +142,17 @@ public:
   vtkGetMacro(Method, int);
   ///@}
 
+  ///@{
+  /**
+   * The box the samples are restricted to (xmin, xmax, ymin, ymax, zmin, zmax in model
+   * coordinates; default: all of space). Distributed rendering sets it to the process's
+   * region of the partition (its particles plus the ghosts whose support reaches in), so
+   * that the regions' images composite front to back to the one-process image.
+   */
+  vtkSetVector6Macro(RegionBounds, double);
+  vtkGetVector6Macro(RegionBounds, double);
+  ///@}
+
   /**
    * Statistics of the last render: phase times, counters, effects that ran.
    */
@@ -172,6 +183,8 @@ protected:
   int LeafSize = 8;
   int TileSize = 32;
   int Method = VTK_RBF_METHOD_COHERENT;
+  double RegionBounds[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
+    -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
 
 private:
   vtkRBFVolumeMapper(const vtkRBFVolumeMapper&) = delete;

@@ -124,6 +124,8 @@ struct Bundle
   std::vector<Vec3f> rowStart, rowDir; // A and B at pixel column 0 of each row (centre 0.5)
   Vec3f startPerX, dirPerX;
   std::vector<float> dirLength, zStop, jitter;
+  // The region's depths: a ray owns the samples with zEnter <= z < zExit (RegionBox.h).
+  std::vector<float> zEnter, zExit;
   std::vector<float> r, g, b, a;
   std::vector<unsigned char> done;
   std::vector<int> activeInRow;
@@ -385,6 +387,7 @@ void renderSPH(const SPHParticles& particles,
     -std::log1p(-std::clamp(params.contourOpacity, 0.0, 1.0 - 1e-7)) / table.unitDistance());
   const float minQ = particles.minQ, maxQ = particles.maxQ;
   const int T = grid.tileSize();
+  const bool regionBounded = params.region.bounded();
   const int tilesX = grid.tilesX(), tiles = grid.tilesX() * grid.tilesY();
   const Vec3d origin = particles.origin;
   std::vector<Counters> perTile(tiles);
@@ -420,6 +423,8 @@ void renderSPH(const SPHParticles& particles,
         }
         bd.dirLength.resize(R);
         bd.zStop.resize(R);
+        bd.zEnter.assign(R, -Infinity);
+        bd.zExit.assign(R, Infinity);
         bd.jitter.assign(P, 0.5f);
         bd.r.assign(R, 0.f);
         bd.g.assign(R, 0.f);
@@ -445,6 +450,20 @@ void renderSPH(const SPHParticles& particles,
               }
             }
             bd.zStop[r] = zStop;
+            if (regionBounded)
+            {
+              double z0 = -Infinity, z1 = Infinity;
+              if (params.region.clip(rays.start(px + 0.5, py + 0.5),
+                    rays.direction(px + 0.5, py + 0.5), particles.origin, z0, z1))
+              {
+                bd.zEnter[r] = static_cast<float>(z0);
+                bd.zExit[r] = static_cast<float>(z1);
+              }
+              else
+              {
+                bd.zExit[r] = -Infinity;
+              }
+            }
             // The sample sits at the fraction j of its step: the midpoint, or the pixel's
             // jitter offset.
             bd.jitter[static_cast<std::size_t>(row) * bd.stride + col] =
@@ -466,7 +485,7 @@ void renderSPH(const SPHParticles& particles,
           const float zCell = static_cast<float>(steps.zeta(static_cast<double>(tz) * S));
           for (int r = 0; r < R; ++r)
           {
-            if (!bd.done[r] && bd.zStop[r] <= zCell)
+            if (!bd.done[r] && std::min(bd.zStop[r], bd.zExit[r]) <= zCell)
             {
               bd.done[r] = 1;
               --bd.activeInRow[r / bd.tw];
@@ -509,12 +528,16 @@ void renderSPH(const SPHParticles& particles,
                 const int row = r / bd.tw, col = r - row * bd.tw;
                 const std::size_t ci = static_cast<std::size_t>(row) * bd.stride + col;
                 const float z = zb[k] + bd.jitter[ci] * (zb[k + 1] - zb[k]);
-                if (z >= bd.zStop[r])
+                if (z >= bd.zStop[r] || z >= bd.zExit[r])
                 {
                   bd.done[r] = 1;
                   --bd.activeInRow[r / bd.tw];
                   --bd.active;
                   continue;
+                }
+                if (z < bd.zEnter[r])
+                {
+                  continue; // the previous region's sample
                 }
                 const float a = A[ci];
                 const float w = weights ? B[ci] : 0.f;

@@ -42,6 +42,7 @@
 #include "Frame.h"
 #include "Lighting.h"
 #include "PerspectiveGrid.h"
+#include "RegionBox.h"
 #include "RenderStatistics.h"
 #include "SPHKernels.h"
 #include "SPHParticles.h"
@@ -79,6 +80,9 @@ struct SPHRenderParameters
   bool contour = false;
   double contourColor[3] = { 0, 0, 0 };
   double contourOpacity = 0.5; // per unit distance of the transfer function
+  // Samples only inside this box (model coordinates; distributed rendering, RegionBox.h).
+  // A sample's segment keeps its whole length: each step is owned by one region.
+  RegionBox region;
 };
 
 /// The reference sum of weights of equation 3.16: n neighbours at half the support radius,

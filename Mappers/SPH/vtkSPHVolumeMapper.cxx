@@ -269,6 +269,7 @@ void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.terminationOpacity = this->TerminationOpacity;
   params.jitter = this->Jitter;
   params.contour = this->ContourShading;
+  params.region = vtkRayMapperRenderHelpers::RegionFromBounds(this->RegionBounds);
   std::copy(this->ContourColor, this->ContourColor + 3, params.contourColor);
   params.contourOpacity = this->ContourOpacity;
   const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(vol);

@@ -161,6 +161,17 @@ public:
   vtkGetMacro(FrameBudget, double);
   ///@}
 
+  ///@{
+  /**
+   * The box the samples are restricted to (xmin, xmax, ymin, ymax, zmin, zmax in model
+   * coordinates; default: all of space). Distributed rendering sets it to the process's
+   * region of the partition (its particles plus the ghosts whose support reaches in), so
+   * that the regions' images composite front to back to the one-process image.
+   */
+  vtkSetVector6Macro(RegionBounds, double);
+  vtkGetVector6Macro(RegionBounds, double);
+  ///@}
+
   /** Statistics of the last render: phase times, counters, effects that ran. */
   vtkRayMapperStatistics* GetStatistics();
 
@@ -198,6 +209,8 @@ protected:
   bool Jitter = false;
   double MaximumReduction = 4.0;
   double FrameBudget = 0.0;
+  double RegionBounds[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
+    -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
 
 private:
   vtkSPHVolumeMapper(const vtkSPHVolumeMapper&) = delete;

@@ -94,20 +94,19 @@ double vtkRBFVolumeRepresentation::GetBoundsMargin()
 
 void vtkRBFVolumeRepresentation::SetDeliveredPiece(vtkDataObject* piece)
 {
+  // The view delivers the representation's point set; after a parallel redistribution
+  // it may be another kind of dataset, whose points are gathered.
   auto* delivered = vtkPolyData::SafeDownCast(piece);
-  if (delivered)
-  {
-    this->Mapper->SetInputData(delivered);
-  }
-  else
-  {
-    vtkNew<vtkPolyData> empty;
-    this->Mapper->SetInputData(empty);
-  }
+  this->Mapper->SetInputData(delivered ? delivered : vtkRayMapperGatherPoints(piece).Get());
   this->UpdateClassification();
 }
 
 //----------------------------------------------------------------------------
+void vtkRBFVolumeRepresentation::SetRegion(const double bounds[6])
+{
+  this->Mapper->SetRegionBounds(bounds);
+}
+
 int vtkRBFVolumeRepresentation::RequestData(vtkInformation* request,
   vtkInformationVector** inputVector,
   vtkInformationVector* outputVector)

@@ -137,6 +137,8 @@ protected:
   vtkDataSet* GetProcessedData() override;
   double GetBoundsMargin() override;
   void SetDeliveredPiece(vtkDataObject* piece) override;
+  Distribution GetDistribution() override { return Distribution::Particles; }
+  void SetRegion(const double bounds[6]) override;
 
   void SetFieldLookupTable(int field, vtkScalarsToColors* lut);
 

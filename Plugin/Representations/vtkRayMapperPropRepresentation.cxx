@@ -2,13 +2,29 @@
 
 #include "vtkDataSet.h"
 #include "vtkInformation.h"
+#include "vtkLogger.h"
 #include "vtkMath.h"
 #include "vtkMatrix4x4.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkPVRenderView.h"
+#include "vtkPVRenderViewDataDeliveryManager.h"
 #include "vtkPVView.h"
+#include "vtkPolyData.h"
 #include "vtkProp3D.h"
+#include "vtkRayMapperGatherPoints.h"
+#include "vtkRayMapperParticleExchange.h"
 #include "vtkRenderer.h"
+
+namespace
+{
+/// The controller of the rendering processes when there are several, else null.
+vtkMultiProcessController* parallelController()
+{
+  vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
+  return c && c->GetNumberOfProcesses() > 1 ? c : nullptr;
+}
+}
 
 vtkRayMapperPropRepresentation::vtkRayMapperPropRepresentation() = default;
 
@@ -56,12 +72,107 @@ int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey*
     vtkNew<vtkMatrix4x4> matrix;
     this->Prop->GetMatrix(matrix);
     vtkPVRenderView::SetGeometryBounds(inInfo, this, bounds, matrix);
+
+    const Distribution distribution = this->GetDistribution();
+    if (distribution != Distribution::Local)
+    {
+      // Translucent: the images of the processes are blended in visibility order.
+      outInfo->Set(vtkPVRenderView::NEED_ORDERED_COMPOSITING(), 1);
+    }
+    if (distribution == Distribution::Particles || distribution == Distribution::GatherToFirst)
+    {
+      // The particles balance the partition (ordered compositing needs one); the view does
+      // not move them (its redistribution moves cells), DistributedPiece() does.
+      vtkPVRenderView::SetOrderedCompositingConfiguration(
+        inInfo, this, vtkPVRenderView::USE_DATA_FOR_LOAD_BALANCING);
+    }
+    else if (distribution == Distribution::Cells)
+    {
+      vtkPVRenderView::SetOrderedCompositingConfiguration(inInfo, this,
+        vtkPVRenderView::DATA_IS_REDISTRIBUTABLE | vtkPVRenderView::USE_DATA_FOR_LOAD_BALANCING);
+    }
   }
   else if (request_type == vtkPVView::REQUEST_RENDER())
   {
-    this->SetDeliveredPiece(vtkPVView::GetDeliveredPiece(inInfo, this));
+    vtkDataObject* piece = vtkPVView::GetDeliveredPiece(inInfo, this);
+    if (parallelController() && (this->GetDistribution() == Distribution::Particles ||
+                                  this->GetDistribution() == Distribution::GatherToFirst))
+    {
+      piece = this->DistributedPiece(piece);
+    }
+    this->SetDeliveredPiece(piece);
   }
   return 1;
+}
+
+vtkDataObject* vtkRayMapperPropRepresentation::DistributedPiece(vtkDataObject* delivered)
+{
+  vtkMultiProcessController* controller = parallelController();
+  auto* view = vtkPVView::SafeDownCast(this->GetView());
+  auto* manager = view
+    ? vtkPVRenderViewDataDeliveryManager::SafeDownCast(view->GetDeliveryManager())
+    : nullptr;
+  const std::vector<vtkBoundingBox> cuts =
+    manager ? manager->GetCuts() : std::vector<vtkBoundingBox>();
+  const int ranks = controller->GetNumberOfProcesses();
+  const bool particles = this->GetDistribution() == Distribution::Particles;
+  if (particles && static_cast<int>(cuts.size()) != ranks)
+  {
+    // No partition this frame (e.g. the view renders without ordered compositing): the
+    // delivered piece as it is, unclipped.
+    const double all[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
+      -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+    this->SetRegion(all);
+    return delivered;
+  }
+
+  // The ghosts reach as far as the largest support of any process's particles.
+  double margin = particles ? this->GetBoundsMargin() : 0.0;
+  double globalMargin = margin;
+  controller->AllReduce(&margin, &globalMargin, 1, vtkCommunicator::MAX_OP);
+
+  // Exchange again only if something changed on some process (a collective decision).
+  const vtkMTimeType cutsTime = manager ? manager->GetCutsMTime().GetMTime() : 0;
+  int changed = !this->ExchangedPiece || delivered != this->ExchangedFrom ||
+    (delivered && delivered->GetMTime() != this->ExchangedFromTime) ||
+    cutsTime != this->ExchangedCutsTime || globalMargin != this->ExchangedMargin;
+  int anyChanged = changed;
+  controller->AllReduce(&changed, &anyChanged, 1, vtkCommunicator::MAX_OP);
+  if (anyChanged)
+  {
+    vtkSmartPointer<vtkPolyData> local = vtkRayMapperGatherPoints(delivered);
+    if (particles)
+    {
+      long long ghosts = 0;
+      this->ExchangedPiece =
+        vtkRayMapperDistributeParticles(local, cuts, globalMargin, controller, ghosts);
+      vtkLogF(TRACE, "rank %d: %lld particles, %lld ghosts", controller->GetLocalProcessId(),
+        static_cast<long long>(local->GetNumberOfPoints()), ghosts);
+    }
+    else
+    {
+      this->ExchangedPiece = vtkRayMapperGatherParticlesToFirst(local, controller);
+      if (!this->WarnedGathered && controller->GetLocalProcessId() == 0)
+      {
+        vtkWarningMacro(<< "with " << ranks
+                        << " rendering processes all particles are gathered to the first "
+                           "one, which renders them alone (refraction and the screen-space "
+                           "effects need the whole fluid): exact, not parallel");
+        this->WarnedGathered = true;
+      }
+    }
+    this->ExchangedFrom = delivered;
+    this->ExchangedFromTime = delivered ? delivered->GetMTime() : 0;
+    this->ExchangedCutsTime = cutsTime;
+    this->ExchangedMargin = globalMargin;
+  }
+  if (particles)
+  {
+    double region[6];
+    vtkRayMapperRegionOf(cuts, controller->GetLocalProcessId(), region);
+    this->SetRegion(region);
+  }
+  return this->ExchangedPiece;
 }
 
 vtkDataObject* vtkRayMapperPropRepresentation::GetRenderedDataObject(int port)

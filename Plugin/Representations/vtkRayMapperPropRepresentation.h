@@ -10,6 +10,24 @@
  * answers the view's requests: on REQUEST_UPDATE it hands the processed data and its bounds
  * (grown by GetBoundsMargin(), for glyphs and kernels that reach beyond the points) to the
  * view; on REQUEST_RENDER it passes the delivered piece to the subclass.
+ *
+ * With several rendering processes (pvbatch or pvserver under mpirun, IceT compositing)
+ * the subclass's GetDistribution() says how its data take part:
+ * - Local: opaque geometry with depth; every process draws its own piece and IceT keeps
+ *   the nearest fragment (the spheres).
+ * - Particles: a particle volume. The view partitions space into one box per process
+ *   (ParaView's kd-tree cuts, balanced on the particles); every process then receives the
+ *   particles whose support (GetBoundsMargin(), the largest over all processes) reaches
+ *   into its box, its own and the neighbours' ghosts, and renders only inside its box
+ *   (SetRegion), so that the boxes' images, blended front to back in visibility order
+ *   (ordered compositing), are the one-process image.
+ * - Cells: a volume of cells; the view redistributes the cells into the boxes, splitting
+ *   the cells on box faces (ParaView's own unstructured-grid volumes do the same), and
+ *   blends the boxes' images in order.
+ * - GatherToFirst: nothing of it can be split (refraction and screen-space effects see the
+ *   whole fluid): all particles are gathered to the first process, which alone renders
+ *   them; the others' images are empty, so ordered blending leaves its image unchanged.
+ *   Exact, but not parallel; the representation says so once.
  */
 
 #ifndef vtkRayMapperPropRepresentation_h
@@ -90,10 +108,40 @@ protected:
    */
   virtual void SetDeliveredPiece(vtkDataObject* piece) = 0;
 
+  /**
+   * How several rendering processes share this representation's data (see above).
+   */
+  enum class Distribution
+  {
+    Local,
+    Particles,
+    Cells,
+    GatherToFirst
+  };
+  virtual Distribution GetDistribution() { return Distribution::Local; }
+
+  /**
+   * The box (xmin, xmax, ymin, ymax, zmin, zmax) this process renders in (Particles
+   * distribution); +-VTK_DOUBLE_MAX on unbounded sides, all of space with one process.
+   */
+  virtual void SetRegion(const double bounds[6]) {}
+
   vtkSmartPointer<vtkProp3D> Prop;
   bool Selectable = false;
 
 private:
+  /// The piece to render in parallel runs: the delivered particles with their ghosts
+  /// (Particles) or all particles on the first process (GatherToFirst). Collective.
+  vtkDataObject* DistributedPiece(vtkDataObject* delivered);
+
+  // The last exchange, redone only when the delivered piece, the cuts or the margin change.
+  vtkSmartPointer<vtkDataObject> ExchangedPiece;
+  vtkDataObject* ExchangedFrom = nullptr;
+  vtkMTimeType ExchangedFromTime = 0;
+  vtkMTimeType ExchangedCutsTime = 0;
+  double ExchangedMargin = -1.0;
+  bool WarnedGathered = false;
+
   vtkRayMapperPropRepresentation(const vtkRayMapperPropRepresentation&) = delete;
   void operator=(const vtkRayMapperPropRepresentation&) = delete;
 };

@@ -77,16 +77,10 @@ double vtkRayTracedSpheresRepresentation::GetBoundsMargin()
 
 void vtkRayTracedSpheresRepresentation::SetDeliveredPiece(vtkDataObject* piece)
 {
+  // The view delivers the representation's point set; after a parallel redistribution
+  // it may be another kind of dataset, whose points are gathered.
   auto* delivered = vtkPolyData::SafeDownCast(piece);
-  if (delivered)
-  {
-    this->Mapper->SetInputData(delivered);
-  }
-  else
-  {
-    vtkNew<vtkPolyData> empty;
-    this->Mapper->SetInputData(empty);
-  }
+  this->Mapper->SetInputData(delivered ? delivered : vtkRayMapperGatherPoints(piece).Get());
   this->UpdateColoringParameters();
 }
 

@@ -72,15 +72,10 @@ double vtkSPHFluidRepresentation::GetBoundsMargin()
 
 void vtkSPHFluidRepresentation::SetDeliveredPiece(vtkDataObject* piece)
 {
-  if (auto* delivered = vtkPolyData::SafeDownCast(piece))
-  {
-    this->Mapper->SetInputData(delivered);
-  }
-  else
-  {
-    vtkNew<vtkPolyData> empty;
-    this->Mapper->SetInputData(empty);
-  }
+  // The view delivers the representation's point set; after a parallel redistribution
+  // it may be another kind of dataset, whose points are gathered.
+  auto* delivered = vtkPolyData::SafeDownCast(piece);
+  this->Mapper->SetInputData(delivered ? delivered : vtkRayMapperGatherPoints(piece).Get());
 }
 
 int vtkSPHFluidRepresentation::RequestData(vtkInformation* request,

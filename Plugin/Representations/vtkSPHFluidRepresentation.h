@@ -85,6 +85,7 @@ protected:
   vtkDataSet* GetProcessedData() override;
   double GetBoundsMargin() override;
   void SetDeliveredPiece(vtkDataObject* piece) override;
+  Distribution GetDistribution() override { return Distribution::GatherToFirst; }
 
   vtkSmartPointer<vtkVolume> Volume;
   vtkSmartPointer<vtkSPHFluidMapper> Mapper;

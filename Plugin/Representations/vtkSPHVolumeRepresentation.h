@@ -102,6 +102,8 @@ protected:
   vtkDataSet* GetProcessedData() override;
   double GetBoundsMargin() override;
   void SetDeliveredPiece(vtkDataObject* piece) override;
+  Distribution GetDistribution() override { return Distribution::Particles; }
+  void SetRegion(const double bounds[6]) override;
 
   /** Pushes the color array (the quantity Q) to the mapper and the maps to the property. */
   void UpdateClassification();

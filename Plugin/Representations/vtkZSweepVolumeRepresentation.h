@@ -67,6 +67,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   vtkDataSet* GetProcessedData() override;
   void SetDeliveredPiece(vtkDataObject* piece) override;
+  Distribution GetDistribution() override { return Distribution::Cells; }
 
   /**
    * Selects the color array (point or cell data) on the mapper and hands the color and

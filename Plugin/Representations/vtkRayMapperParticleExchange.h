@@ -1,0 +1,37 @@
+/**
+ * vtkRayMapperParticleExchange: what the particle representations exchange between
+ * rendering processes (see vtkRayMapperPropRepresentation's Distribution). All functions
+ * taking a controller are collective: every process calls them with the same cuts.
+ */
+#ifndef vtkRayMapperParticleExchange_h
+#define vtkRayMapperParticleExchange_h
+
+#include "vtkBoundingBox.h"  // for vtkBoundingBox
+#include "vtkSmartPointer.h" // for vtkSmartPointer
+
+#include <vector>
+
+class vtkMultiProcessController;
+class vtkPolyData;
+
+/// The region process `rank` renders: its cut, with the faces that lie on the boundary of
+/// the union of all cuts moved to +-VTK_DOUBLE_MAX (particles reach beyond the cuts, which
+/// only bound the particles' centres; only the faces between cuts order the images).
+void vtkRayMapperRegionOf(const std::vector<vtkBoundingBox>& cuts, int rank, double bounds[6]);
+
+/// The particles this process renders in its region, from every process's `local` ones:
+/// those whose support sphere (radius `margin`) meets the region, its own and the ghosts
+/// of the neighbours (the view leaves particle data where it is; this moves it).
+/// Point arrays: those all processes share. `ghosts` receives the number of particles
+/// received whose centre lies outside the region.
+vtkSmartPointer<vtkPolyData> vtkRayMapperDistributeParticles(vtkPolyData* local,
+  const std::vector<vtkBoundingBox>& cuts,
+  double margin,
+  vtkMultiProcessController* controller,
+  long long& ghosts);
+
+/// All processes' particles on process 0 (in rank order), an empty point set elsewhere.
+vtkSmartPointer<vtkPolyData> vtkRayMapperGatherParticlesToFirst(vtkPolyData* local,
+  vtkMultiProcessController* controller);
+
+#endif

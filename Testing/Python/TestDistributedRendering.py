@@ -1,0 +1,96 @@
+"""ctest: one RayMappers representation rendered by pvbatch on several MPI ranks gives the
+one-rank image.
+
+Runs distributed_scene.py under `mpirun -np 1 pvbatch` and `mpirun -np N pvbatch` (the data
+redistributed across the ranks by ParaView's kd-tree, composited by IceT) and checks:
+- on N ranks every rank holds part of the data (ProcessIdScalars spans 0..N-1) and all the
+  data is there (the same number of cells, points shared by cells on both sides of a
+  partition face counted on both);
+- the picture is not empty, and the N-rank picture matches the one-rank picture within the
+  representation's tolerance (over 8-bit RGB: root mean square, 99.9th percentile and
+  maximum of the per-channel difference). A seam at a partition face would be a line of
+  large differences: the percentile catches it even when the mean does not.
+The expected tolerances: opaque spheres are depth composited (exact up to one level where
+IceT's and one window's blending round differently); the RBF field and ZSweep's cells are
+integrated on the same sample grid or cell faces on either side of a face; the SPH volume's
+sample depths follow each rank's perspective grid (a different grid per rank, so samples
+shift: a sampling difference, no seam); the fluid is gathered to rank 0 (exact).
+
+usage: pvpython TestDistributedRendering.py --launcher RAYMAPPERS_ENV --plugin PLUGIN
+         --data-dir DATA --representation NAME --ranks N --output-dir DIR
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from raymappers_testing import check, failures, pixels  # noqa: E402
+
+# (rmse, 99.9th percentile, maximum) of |N ranks - 1 rank| per channel, 0..255.
+TOLERANCES = {'spheres': (0.1, 1, 2), 'rbf': (0.5, 3, 8), 'sph': (2.0, 20, 80),
+              'zsweep': (0.8, 4, 8), 'fluid': (0.0, 0, 0)}
+
+
+def run(args, ranks):
+    output = os.path.join(args.output_dir, 'Distributed-%s-%d.png' % (args.representation, ranks))
+    command = [args.launcher, 'mpirun', '--allow-run-as-root', '--oversubscribe', '-x',
+               'LD_PRELOAD', '-np', str(ranks), 'pvbatch',
+               os.path.join(os.path.dirname(os.path.abspath(__file__)), 'distributed_scene.py'),
+               '--plugin', args.plugin, '--data-dir', args.data_dir,
+               '--representation', args.representation, '--output', output]
+    print(' '.join(command))
+    # pvpython itself runs as an MPI singleton; a nested mpirun must not inherit its
+    # Open MPI / PMIx environment.
+    env = {k: v for k, v in os.environ.items() if not k.startswith(('OMPI_', 'PMIX_', 'OPAL_'))}
+    done = subprocess.run(command, capture_output=True, text=True, timeout=600, env=env)
+    sys.stdout.write(done.stdout)
+    sys.stderr.write(done.stderr[-4000:])
+    check(done.returncode == 0, 'pvbatch on %d ranks exits cleanly (%d)' % (ranks, done.returncode))
+    lines = [l for l in done.stdout.splitlines() if l.startswith('{')]
+    return (json.loads(lines[-1]) if lines else {}), output
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument('--launcher', required=True)
+    parser.add_argument('--plugin', required=True)
+    parser.add_argument('--data-dir', required=True)
+    parser.add_argument('--representation', required=True, choices=sorted(TOLERANCES))
+    parser.add_argument('--ranks', type=int, default=2)
+    parser.add_argument('--output-dir', required=True)
+    args = parser.parse_args()
+    os.makedirs(args.output_dir, exist_ok=True)
+
+    one, one_png = run(args, 1)
+    many, many_png = run(args, args.ranks)
+    if not one or not many:
+        check(False, 'both runs report their data')
+        return 1
+    check(many['ranks'] == args.ranks, '%d ranks ran' % many['ranks'])
+    check(many['process_id_range'] == [0.0, args.ranks - 1.0],
+          'every rank holds part of the data (process ids %s)' % many['process_id_range'])
+    # Cells keep their count; the points on partition faces belong to cells on both sides.
+    check(many['cells'] == one['cells'] and many['points'] >= one['points'],
+          'all the data on %d ranks (%d points, %d cells) as on one (%d, %d)'
+          % (args.ranks, many['points'], many['cells'], one['points'], one['cells']))
+
+    a, b = pixels(one_png), pixels(many_png)
+    covered = float((a.sum(axis=1) > 0).mean())
+    check(covered > 0.1, 'the one-rank picture shows the data (%.1f%% of the pixels)'
+          % (100 * covered))
+    diff = abs(a - b)
+    rmse = float((diff ** 2).mean() ** 0.5)
+    import numpy
+    p999 = float(numpy.percentile(diff, 99.9))
+    worst = float(diff.max())
+    tol = TOLERANCES[args.representation]
+    check(rmse <= tol[0] and p999 <= tol[1] and worst <= tol[2],
+          '%d ranks vs 1: rmse %.3f (<= %g), 99.9th percentile %g (<= %g), max %g (<= %g)'
+          % (args.ranks, rmse, tol[0], p999, tol[1], worst, tol[2]))
+    return 1 if failures else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
