@@ -293,6 +293,45 @@ TEST(RBFVolume, MatchesBruteForceForPacketsPassesAndLeaves)
   EXPECT_LT(maxDifference(render(in, { 0.2, 0.1, -0.3 }, cam, params, tf).frame, ref), 2e-4);
 }
 
+// Distributed rendering (RegionBox.h): every region renders all particles but only its own
+// samples; the regions' images blended front to back in visibility order are the whole
+// image. Space is cut as a kd-tree: x = 0.3, then z = 0 on the eye's side (the eye is at
+// x = 1, z = 9), so the order is (x >= 0.3, z >= 0), (x >= 0.3, z < 0), (x < 0.3).
+TEST(RBFVolume, RegionsCompositeToTheWholeImage)
+{
+  const Input in = randomCloud(150, 2.0, 11);
+  const auto tf = linearExtinction(4.0, 0.8);
+  const RayCamera cam = camera({ 1, 2, 9 }, { 0, 0, 0 }, { 0.2, 0.1, -0.3 });
+  RBFRenderParameters params;
+  params.sampleDistance = 0.05;
+  params.terminationOpacity = 1.0; // a region cannot know the opacity in front of it
+  const Frame whole = render(in, { 0.2, 0.1, -0.3 }, cam, params, tf).frame;
+  EXPECT_GT(coverage(whole), 50.0);
+
+  RegionBox front, middle, back;
+  front.lo[0] = middle.lo[0] = 0.3;
+  front.lo[2] = 0.0;
+  middle.hi[2] = 0.0;
+  back.hi[0] = 0.3;
+  Frame composite;
+  composite.resize(cam.width(), cam.height());
+  for (const RegionBox& region : { front, middle, back })
+  {
+    params.region = region;
+    const Frame part = render(in, { 0.2, 0.1, -0.3 }, cam, params, tf).frame;
+    EXPECT_GT(coverage(part), 1.0);
+    for (std::size_t i = 0; i < composite.rgba.size(); i += 4)
+    {
+      const float t = 1.f - composite.rgba[i + 3];
+      for (int c = 0; c < 4; ++c)
+      {
+        composite.rgba[i + c] += t * part.rgba[i + c];
+      }
+    }
+  }
+  EXPECT_LT(maxDifference(composite, whole), 2e-5);
+}
+
 // Two fields, each with its own transfer function, blended per sample; and shading, whose
 // gradients must agree between the coherent and the direct method.
 TEST(RBFVolume, MultiFieldAndShadingMatchTheDirectMethod)

@@ -350,6 +350,60 @@ TEST(SPH, OpaqueGeometryStopsTheRays)
   EXPECT_LT(left, 0.9 * leftOpen);
 }
 
+// Distributed rendering (RegionBox.h): every region renders all particles but only its own
+// samples (a sample's segment keeps its whole length); the regions' images blended front to
+// back in visibility order are the whole image. A kd-tree cut: x = 0.1, then z = 0 on the
+// eye's side (eye at x = 0.5, z = 4), so the order is (x >= 0.1, z >= 0), (x >= 0.1,
+// z < 0), (x < 0.1).
+TEST(SPH, RegionsCompositeToTheWholeImage)
+{
+  const SPHParticles P = makeParticles(cloud(200, 0.2, 3, 7));
+  const ViewRays rays = perspectiveRays({ 0.5, 0.5, 4 }, { 0, 0, 0 }, P.origin, 32, 32, 1, 10);
+  const TransferFunctionTable tf = rampTable(0, 6, [](double v) { return std::min(0.9, 0.1 * v); }, 64);
+  for (const bool shade : { false, true })
+  {
+    SPHRenderParameters params;
+    params.terminationOpacity = 1.0; // a region cannot know the opacity in front of it
+    params.shade = shade;
+    params.lights.push_back(Light{});
+    PerspectiveGrid grid;
+    Frame whole;
+    RenderStatistics stats;
+    renderSPH(P, rays, params, tf, nullptr, grid, whole, stats);
+
+    RegionBox front, middle, back;
+    front.lo[0] = middle.lo[0] = 0.1;
+    front.lo[2] = 0.0;
+    middle.hi[2] = 0.0;
+    back.hi[0] = 0.1;
+    Frame composite;
+    composite.resize(32, 32);
+    double alphaWhole = 0;
+    for (const RegionBox& region : { front, middle, back })
+    {
+      params.region = region;
+      Frame part;
+      renderSPH(P, rays, params, tf, nullptr, grid, part, stats);
+      for (std::size_t i = 0; i < composite.rgba.size(); i += 4)
+      {
+        const float t = 1.f - composite.rgba[i + 3];
+        for (int c = 0; c < 4; ++c)
+        {
+          composite.rgba[i + c] += t * part.rgba[i + c];
+        }
+      }
+    }
+    std::vector<double> ref(whole.rgba.begin(), whole.rgba.end());
+    for (std::size_t i = 3; i < ref.size(); i += 4)
+    {
+      alphaWhole += ref[i];
+    }
+    EXPECT_GT(alphaWhole, 0.2 * 32 * 32);
+    EXPECT_TRUE(allFinite(composite));
+    EXPECT_LT(maxDifference(composite, ref), 2e-5) << (shade ? "shaded" : "unshaded");
+  }
+}
+
 TEST(SPH, OpacityCorrectionMakesTheStepIrrelevantInAHomogeneousMedium)
 {
   // The normalized field of a constant-Q lattice is constant, so the opacity along a ray
