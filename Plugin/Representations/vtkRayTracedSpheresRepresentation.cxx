@@ -5,6 +5,7 @@
 #include "vtkDataObject.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMultiProcessController.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPolyData.h"
@@ -81,6 +82,17 @@ void vtkRayTracedSpheresRepresentation::SetDeliveredPiece(vtkDataObject* piece)
   // it may be another kind of dataset, whose points are gathered.
   auto* delivered = vtkPolyData::SafeDownCast(piece);
   this->Mapper->SetInputData(delivered ? delivered : vtkRayMapperGatherPoints(piece).Get());
+  // Each rank traces shadow and occlusion rays against its own spheres only.
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (!this->WarnedLocalShadows && controller && controller->GetNumberOfProcesses() > 1 &&
+    controller->GetLocalProcessId() == 0 &&
+    (this->Mapper->GetShadowRays() > 0 || this->Mapper->GetAmbientOcclusionSamples() > 0))
+  {
+    vtkWarningMacro(<< "with " << controller->GetNumberOfProcesses()
+                    << " rendering processes, soft shadows and ambient occlusion see only the "
+                       "spheres of each process's own piece");
+    this->WarnedLocalShadows = true;
+  }
   this->UpdateColoringParameters();
 }
 

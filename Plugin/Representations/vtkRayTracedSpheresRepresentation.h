@@ -181,6 +181,7 @@ protected:
   double RadiusScale = 1.0;
   bool UseRadiusArray = false;
   std::string RadiusArrayName;
+  bool WarnedLocalShadows = false;
 
 private:
   vtkRayTracedSpheresRepresentation(const vtkRayTracedSpheresRepresentation&) = delete;
