@@ -101,6 +101,12 @@ int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey*
       piece = this->DistributedPiece(piece);
     }
     this->SetDeliveredPiece(piece);
+    // Nothing to draw here (the client of a remote render, a rank with an empty piece):
+    // the prop stays out of the frame and of the renderer's bounds (a vtkVolume would
+    // report [-1, 1]^3 for an empty mapper and move ParaView's Reset Camera).
+    auto* data = vtkDataSet::SafeDownCast(piece);
+    this->HasPiece = data && data->GetNumberOfPoints() > 0;
+    this->Prop->SetVisibility(this->GetVisibility() && this->HasPiece);
   }
   return 1;
 }
@@ -213,7 +219,7 @@ bool vtkRayMapperPropRepresentation::RemoveFromView(vtkView* view)
 
 void vtkRayMapperPropRepresentation::SetVisibility(bool val)
 {
-  this->Prop->SetVisibility(val ? 1 : 0);
+  this->Prop->SetVisibility(val && this->HasPiece);
   this->Superclass::SetVisibility(val);
 }
 

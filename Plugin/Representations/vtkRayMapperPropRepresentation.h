@@ -128,6 +128,8 @@ protected:
 
   vtkSmartPointer<vtkProp3D> Prop;
   bool Selectable = false;
+  // Whether the last delivered piece has points: the prop is shown only then.
+  bool HasPiece = false;
 
 private:
   /// The piece to render in parallel runs: the delivered particles with their ghosts

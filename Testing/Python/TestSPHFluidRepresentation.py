@@ -78,6 +78,10 @@ def run_checks(view, source, stem, build_dir, output, baseline):
                  'SPHFluidBounces', 'SPHFluidAmbientOcclusion', 'SPHFluidAORadius',
                  'SPHFluidAOSamples'):
         check(rep.GetProperty(name) is not None, 'property %s exists' % name)
+    # The radius array starts as None: the domain's default (the active scalars, rho here)
+    # would make every particle a sphere 1000 times the data.
+    check(rep.SPHFluidRadiusArray[1] in ('', 'None'),
+          'SPHFluidRadiusArray defaults to None (%s)' % rep.SPHFluidRadiusArray[1])
     rep.ColorArrayName = ['POINTS', '']
     # Ambient light only, so the comparison with a plain VTK renderer (a headlight, where
     # ParaView has its light kit) sees the same shading.

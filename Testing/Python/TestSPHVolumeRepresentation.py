@@ -79,6 +79,11 @@ def run_checks(view, source, stem, build_dir, output, baseline):
                  'ScalarOpacityFunction', 'ScalarOpacityUnitDistance', 'Shade'):
         check(rep.GetProperty(name) is not None, 'property %s exists' % name)
 
+    # The optional arrays start as None: the domain's default (the active scalars, rho here)
+    # would make every particle's support 1000 times the data.
+    for name in ('SPHSmoothingLengthArray', 'SPHMassArray', 'SPHDensityArray', 'SPHVolumeArray'):
+        check(rep.GetProperty(name)[1] in ('', 'None'),
+              '%s defaults to None (%s)' % (name, rep.GetProperty(name)[1]))
     rep.SPHKernel = 'Wendland C2'
     rep.SPHSmoothingLengthArray = ['POINTS', 'h']
     rep.SPHMassArray = ['POINTS', 'm']
