@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bitset>
 #include <cmath>
 #include <limits>
 
@@ -43,12 +44,34 @@ int trianglesOf(ZSweepCellType type)
   return n;
 }
 
+// Calls f(a, b, c) for each triangle of a cell (global vertex ids `ids` in VTK's order), in
+// slot order: its faces in order, a quad split along the diagonal through its smallest
+// global id into two triangles.
+template <typename F>
+void forEachTriangle(const ZSweepCellFaces& faces, const std::uint32_t* ids, F&& f)
+{
+  for (int i = 0; i < faces.count; ++i)
+  {
+    const int* l = faces.local[i];
+    if (faces.sizes[i] == 3)
+    {
+      f(ids[l[0]], ids[l[1]], ids[l[2]]);
+      continue;
+    }
+    const std::uint32_t q[4] = { ids[l[0]], ids[l[1]], ids[l[2]], ids[l[3]] };
+    const int m = static_cast<int>(std::min_element(q, q + 4) - q);
+    f(q[m], q[(m + 1) % 4], q[(m + 2) % 4]);
+    f(q[m], q[(m + 2) % 4], q[(m + 3) % 4]);
+  }
+}
+
 // One cell's side of one triangle, keyed by the triangle's sorted vertex ids.
 struct SideRecord
 {
   std::uint32_t key[3];
   std::int32_t cell;
-  std::int32_t side; // +1: the cell is on the sorted triangle's normal side, -1: against it
+  std::int8_t side;   // +1: the cell is on the sorted triangle's normal side, -1: against it
+  std::uint8_t slot;  // the triangle's slot in the cell (forEachTriangle's order)
 };
 
 bool keyLess(const SideRecord& a, const SideRecord& b)
@@ -93,10 +116,57 @@ const ZSweepCellFaces& cellFaces(ZSweepCellType type)
 std::size_t ZSweepMesh::memoryBytes() const
 {
   return Points.capacity() * sizeof(Vec3d) + Triangles.capacity() * sizeof(ZSweepTriangle) +
-    Scalars.capacity() * sizeof(double);
+    Scalars.capacity() * sizeof(double) + KeptIds.capacity() * sizeof(std::int32_t) +
+    KeptTypes.capacity() * sizeof(ZSweepCellType) +
+    KeptConnectivity.capacity() * sizeof(std::uint32_t) +
+    (OwnedMask.capacity() + BackMask.capacity()) * sizeof(std::uint16_t) +
+    Others.capacity() * sizeof(std::int32_t);
 }
 
-void ZSweepMesh::build(const ZSweepGrid& grid)
+const std::vector<ZSweepTriangle>& ZSweepMesh::triangles(std::vector<ZSweepTriangle>& scratch) const
+{
+  if (!Sparse)
+  {
+    return Triangles;
+  }
+  // Where each kept cell's vertices and owned triangles start.
+  const std::size_t kept = KeptIds.size();
+  std::vector<std::size_t> vertexStart(kept + 1, 0), triangleStart(kept + 1, 0);
+  for (std::size_t k = 0; k < kept; ++k)
+  {
+    vertexStart[k + 1] = vertexStart[k] + static_cast<std::size_t>(cellFaces(KeptTypes[k]).vertices);
+    triangleStart[k + 1] = triangleStart[k] + std::bitset<16>(OwnedMask[k]).count();
+  }
+  scratch.resize(NumTriangles);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kept),
+    [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
+      {
+        std::size_t out = triangleStart[k];
+        unsigned slot = 0;
+        forEachTriangle(cellFaces(KeptTypes[k]), KeptConnectivity.data() + vertexStart[k],
+          [&](std::uint32_t a, std::uint32_t b, std::uint32_t d) {
+            const unsigned s = slot++;
+            if (!(OwnedMask[k] >> s & 1u))
+            {
+              return;
+            }
+            ZSweepTriangle& t = scratch[out];
+            t.v[0] = a;
+            t.v[1] = b;
+            t.v[2] = d;
+            std::sort(t.v, t.v + 3);
+            const bool isBack = BackMask[k] >> s & 1u;
+            t.front = isBack ? Others[out] : KeptIds[k];
+            t.back = isBack ? KeptIds[k] : Others[out];
+            ++out;
+          });
+      }
+    });
+  return scratch;
+}
+
+void ZSweepMesh::build(const ZSweepGrid& grid, bool sparsify)
 {
   Stats = Counts();
   CellScalars = grid.cellScalars;
@@ -221,14 +291,15 @@ void ZSweepMesh::build(const ZSweepGrid& grid)
         }
         used[c] = 1;
         int slot = 0;
-        auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t d) {
+        forEachTriangle(faces, ids, [&](std::uint32_t a, std::uint32_t b, std::uint32_t d) {
           std::uint32_t k[3] = { a, b, d };
           std::sort(k, k + 3);
           const Vec3d& p0 = Points[k[0]];
           const Vec3d e1 = Points[k[1]] - p0, e2 = Points[k[2]] - p0;
           const Vec3d n = cross(e1, e2);
           const double s = dot(n, centroid - p0);
-          SideRecord& rec = out[slot++];
+          SideRecord& rec = out[slot];
+          rec.slot = static_cast<std::uint8_t>(slot++);
           if (!(length(n) > 1e-12 * length(e1) * length(e2)) || s == 0)
           {
             return; // zero area (no pixel), or no side: the slot stays unused
@@ -236,21 +307,7 @@ void ZSweepMesh::build(const ZSweepGrid& grid)
           std::copy(k, k + 3, rec.key);
           rec.cell = static_cast<std::int32_t>(c);
           rec.side = s > 0 ? 1 : -1;
-        };
-        for (int f = 0; f < faces.count; ++f)
-        {
-          const int* l = faces.local[f];
-          if (faces.sizes[f] == 3)
-          {
-            emit(ids[l[0]], ids[l[1]], ids[l[2]]);
-            continue;
-          }
-          // Quad: split along the diagonal through its smallest global id.
-          std::uint32_t q[4] = { ids[l[0]], ids[l[1]], ids[l[2]], ids[l[3]] };
-          const int m = static_cast<int>(std::min_element(q, q + 4) - q);
-          emit(q[m], q[(m + 1) % 4], q[(m + 2) % 4]);
-          emit(q[m], q[(m + 2) % 4], q[(m + 3) % 4]);
-        }
+        });
       }
     });
   Stats.badIndex = badIndex;
@@ -298,6 +355,183 @@ void ZSweepMesh::build(const ZSweepGrid& grid)
     i = j;
   }
   Triangles.shrink_to_fit();
+  NumTriangles = Triangles.size();
+  Stats.cellsKept = Stats.cellsUsed;
+  Sparse = false;
+  KeptIds.clear();
+  KeptTypes.clear();
+  KeptConnectivity.clear();
+  OwnedMask.clear();
+  BackMask.clear();
+  Others.clear();
+  if (sparsify)
+  {
+    // The dual graph (section 4.3.5): per cell, the cells across its triangles (CSR). A
+    // cell alone on a triangle (the boundary, or beside a skipped cell) is essential.
+    enum : char { Undecided, Essential, Dropped };
+    std::vector<char> state(numCells, Undecided);
+    std::vector<std::size_t> adjacentStart(numCells + 1, 0);
+    for (const ZSweepTriangle& t : Triangles)
+    {
+      if (t.front >= 0 && t.back >= 0 && t.front != t.back)
+      {
+        ++adjacentStart[static_cast<std::size_t>(t.front) + 1];
+        ++adjacentStart[static_cast<std::size_t>(t.back) + 1];
+      }
+      else
+      {
+        state[static_cast<std::size_t>(t.front >= 0 ? t.front : t.back)] = Essential;
+      }
+    }
+    for (std::size_t c = 0; c < numCells; ++c)
+    {
+      adjacentStart[c + 1] += adjacentStart[c];
+    }
+    std::vector<std::int32_t> adjacent(adjacentStart[numCells]);
+    {
+      std::vector<std::size_t> cursor(adjacentStart.begin(), adjacentStart.end() - 1);
+      for (const ZSweepTriangle& t : Triangles)
+      {
+        if (t.front >= 0 && t.back >= 0 && t.front != t.back)
+        {
+          adjacent[cursor[static_cast<std::size_t>(t.front)]++] = t.back;
+          adjacent[cursor[static_cast<std::size_t>(t.back)]++] = t.front;
+        }
+      }
+    }
+    // The greedy heuristic: drop an undecided cell and make its neighbours essential, until
+    // no cell is undecided. A neighbour is never one dropped before (that drop would have
+    // made this cell essential), so the dropped cells are independent, and every cell ends
+    // up dropped or essential (the dropped set is maximal). The next cell dropped is one
+    // with the fewest undecided neighbours (the minimum-degree greedy for independent sets:
+    // it removes the fewest candidates; in cell order, 68% of a lattice's tetrahedra stay),
+    // from buckets by that degree, entries made stale by a later change skipped.
+    std::vector<std::uint32_t> degree(numCells, 0);
+    std::vector<std::vector<std::uint32_t>> buckets;
+    auto push = [&](std::size_t c) {
+      if (degree[c] >= buckets.size())
+      {
+        buckets.resize(degree[c] + 1);
+      }
+      buckets[degree[c]].push_back(static_cast<std::uint32_t>(c));
+    };
+    for (std::size_t c = 0; c < numCells; ++c)
+    {
+      if (used[c] && state[c] == Undecided)
+      {
+        for (std::size_t k = adjacentStart[c]; k < adjacentStart[c + 1]; ++k)
+        {
+          degree[c] += state[static_cast<std::size_t>(adjacent[k])] == Undecided;
+        }
+        push(c);
+      }
+    }
+    for (std::size_t d = 0; d < buckets.size();)
+    {
+      if (buckets[d].empty())
+      {
+        ++d;
+        continue;
+      }
+      const std::size_t c = buckets[d].back();
+      buckets[d].pop_back();
+      if (state[c] != Undecided || degree[c] != d)
+      {
+        continue; // decided, or its degree dropped since (it sits in a lower bucket too)
+      }
+      state[c] = Dropped;
+      for (std::size_t k = adjacentStart[c]; k < adjacentStart[c + 1]; ++k)
+      {
+        const std::size_t n = static_cast<std::size_t>(adjacent[k]);
+        if (state[n] != Undecided)
+        {
+          continue;
+        }
+        state[n] = Essential;
+        for (std::size_t q = adjacentStart[n]; q < adjacentStart[n + 1]; ++q)
+        {
+          const std::size_t m = static_cast<std::size_t>(adjacent[q]);
+          if (state[m] == Undecided)
+          {
+            --degree[m];
+            push(m);
+            d = std::min(d, static_cast<std::size_t>(degree[m]));
+          }
+        }
+      }
+    }
+    adjacent = std::vector<std::int32_t>();
+    adjacentStart = std::vector<std::size_t>();
+
+    // Each triangle is owned by a kept cell on one of its sides (the front one when both
+    // are kept); the owner's record in the triangle's group gives its slot.
+    std::vector<std::uint16_t> owned(numCells, 0), back(numCells, 0);
+    std::vector<std::int32_t> otherAt(recordStart[numCells], -1);
+    std::size_t tri = 0;
+    for (std::size_t i = 0; i < records.size(); ++tri)
+    {
+      std::size_t j = i + 1;
+      while (j < records.size() && sameKey(records[i], records[j]))
+      {
+        ++j;
+      }
+      const ZSweepTriangle& t = Triangles[tri];
+      const bool frontOwns = t.front >= 0 && state[static_cast<std::size_t>(t.front)] == Essential;
+      const std::int32_t owner = frontOwns ? t.front : t.back;
+      const std::int8_t side = frontOwns ? -1 : 1;
+      std::size_t k = i;
+      while (records[k].cell != owner || records[k].side != side)
+      {
+        ++k; // the owner is the first cell of its side in the group: found before j
+      }
+      const std::uint16_t bit = static_cast<std::uint16_t>(1u << records[k].slot);
+      owned[static_cast<std::size_t>(owner)] |= bit;
+      if (!frontOwns)
+      {
+        back[static_cast<std::size_t>(owner)] |= bit;
+      }
+      otherAt[recordStart[static_cast<std::size_t>(owner)] + records[k].slot] =
+        frontOwns ? t.back : t.front;
+      i = j;
+    }
+
+    // The store: the kept cells with their vertices, masks and owned triangles' other sides.
+    for (std::size_t c = 0; c < numCells; ++c)
+    {
+      if (!used[c] || state[c] != Essential)
+      {
+        continue;
+      }
+      KeptIds.push_back(static_cast<std::int32_t>(c));
+      KeptTypes.push_back(grid.cellTypes[c]);
+      const int n = cellFaces(grid.cellTypes[c]).vertices;
+      for (int k = 0; k < n; ++k)
+      {
+        KeptConnectivity.push_back(
+          static_cast<std::uint32_t>(grid.connectivity[static_cast<std::size_t>(grid.cellOffsets[c] + k)]));
+      }
+      OwnedMask.push_back(owned[c]);
+      BackMask.push_back(back[c]);
+      for (std::size_t slot = 0; slot < recordStart[c + 1] - recordStart[c]; ++slot)
+      {
+        if (owned[c] >> slot & 1u)
+        {
+          Others.push_back(otherAt[recordStart[c] + slot]);
+        }
+      }
+    }
+    for (auto* v : { &KeptIds, &Others })
+    {
+      v->shrink_to_fit();
+    }
+    KeptTypes.shrink_to_fit();
+    KeptConnectivity.shrink_to_fit();
+    OwnedMask.shrink_to_fit();
+    BackMask.shrink_to_fit();
+    Triangles = std::vector<ZSweepTriangle>();
+    Sparse = true;
+    Stats.cellsKept = KeptIds.size();
+  }
 
   ScalarMin = std::numeric_limits<double>::max();
   ScalarMax = -std::numeric_limits<double>::max();

@@ -16,6 +16,30 @@
 // Cells left out, each counted: a vertex index out of range, a vertex with a non-finite
 // coordinate, a non-finite scalar (the cell's, or one of its vertices'), zero volume
 // (nothing to integrate). Triangles of zero area are dropped (they cover no pixel centre).
+//
+// Sparsification (Farias 2001, section 4.3.5, "Sparse Data Representation"): the faces can
+// be stored through a subset of the cells that contains every face. In the dual graph
+// (nodes: the cells; an edge: a triangle with a cell on each side) a set D of cells may be
+// dropped when no triangle loses both of its cells, i.e. when D is an independent set; the
+// kept cells K = the rest. The paper's greedy heuristic: a cell with a triangle on the
+// boundary (a triangle with no cell on its other side, also beside a skipped cell) is
+// essential; then each cell not yet essential is dropped and its neighbours become
+// essential, the next cell dropped being one with the fewest undecided neighbours.
+// Every kept cell is then essential: it has a triangle whose other side is outside or a
+// dropped cell, so none can be dropped without uncovering a triangle (the set D is maximal).
+//
+// Here the dense mesh already stores each face once (the sort dedupes the shared faces the
+// paper's sweep would project twice), so what sparsification buys is the store: a sparse
+// mesh keeps, instead of the triangles (3 vertex ids and 2 cells, 20 bytes each), the kept
+// cells' vertices, and per triangle one kept cell owns it and stores only the cell on the
+// triangle's other side (4 bytes). A tetrahedron's 4 ids serve its 4 triangles, a
+// hexahedron's 8 ids its 12. The renderer decodes the triangles per frame (same vertex ids,
+// same cells on both sides, in another order, so the same image: ZSweepRenderer.h); the
+// dropped cells stay known as those other sides (the tie rule at shared vertices and
+// edges, ZSweepRenderer.h, compares cells; cell data integrates the dropped cell's scalar,
+// so all cells' scalars are kept).
+// The build runs the dense build first (the dual graph comes from its sort), so it takes
+// longer; the gain is the memory the mesh holds between frames.
 #ifndef RayMappers_ZSweepMesh_h
 #define RayMappers_ZSweepMesh_h
 
@@ -57,21 +81,31 @@ struct ZSweepTriangle
 class ZSweepMesh
 {
 public:
-  /// Builds the triangles (in parallel). Replaces any previous content.
-  void build(const ZSweepGrid& grid);
+  /// Builds the triangles (in parallel). Replaces any previous content. With `sparsify`,
+  /// stores them through the kept cells (see above).
+  void build(const ZSweepGrid& grid, bool sparsify = false);
 
   const Vec3d& origin() const { return Origin; }
   /// Largest coordinate of the points relative to origin() (half the bounds' longest side).
   double extent() const { return Extent; }
   /// Points relative to origin().
   const std::vector<Vec3d>& points() const { return Points; }
-  const std::vector<ZSweepTriangle>& triangles() const { return Triangles; }
+  /// Whether the triangles are stored through the kept cells.
+  bool sparse() const { return Sparse; }
+  std::size_t numTriangles() const { return NumTriangles; }
+  /// The triangles, in the dense mesh's order for a dense mesh (sorted by vertex ids), in
+  /// kept-cell order for a sparse one: the stored list, or for a sparse mesh the list
+  /// decoded from the kept cells (in parallel) into `scratch`.
+  const std::vector<ZSweepTriangle>& triangles(std::vector<ZSweepTriangle>& scratch) const;
+  /// A sparse mesh's kept cells (ascending ids); empty for a dense mesh.
+  const std::vector<std::int32_t>& keptCells() const { return KeptIds; }
   bool cellScalars() const { return CellScalars; }
   /// Per point, or per cell (indexed like the grid's cells).
   const std::vector<double>& scalars() const { return Scalars; }
   std::size_t numCells() const { return NumCells; }
   double scalarMin() const { return ScalarMin; }
   double scalarMax() const { return ScalarMax; }
+  /// What the mesh holds: points, scalars, and the triangles or the sparse cell store.
   std::size_t memoryBytes() const;
 
   struct Counts
@@ -83,6 +117,7 @@ public:
     std::size_t zeroVolume = 0;
     std::size_t boundaryTriangles = 0;
     std::size_t nonManifoldTriangles = 0; // shared by more than two cells
+    std::size_t cellsKept = 0;            // sparse: the kept cells; dense: cellsUsed
   };
   const Counts& counts() const { return Stats; }
 
@@ -90,7 +125,19 @@ private:
   Vec3d Origin;
   double Extent = 0;
   std::vector<Vec3d> Points;
-  std::vector<ZSweepTriangle> Triangles;
+  std::vector<ZSweepTriangle> Triangles; // dense
+  std::size_t NumTriangles = 0;
+  bool Sparse = false;
+  // The sparse store, one entry per kept cell: its id, type, vertex ids (KeptConnectivity,
+  // consecutive), and two masks over its triangle slots (the order of forEachTriangle):
+  // the triangles it owns, and of those the ones it is on the normal side of (the back
+  // cell). Others: per owned triangle, in kept-cell and slot order, the cell on the
+  // triangle's other side (-1: outside).
+  std::vector<std::int32_t> KeptIds;
+  std::vector<ZSweepCellType> KeptTypes;
+  std::vector<std::uint32_t> KeptConnectivity;
+  std::vector<std::uint16_t> OwnedMask, BackMask;
+  std::vector<std::int32_t> Others;
   std::vector<double> Scalars;
   bool CellScalars = false;
   std::size_t NumCells = 0;

@@ -72,6 +72,7 @@ struct Segment
 } // namespace
 
 std::size_t nearPlaneTriangles(const ZSweepMesh& mesh,
+  const std::vector<ZSweepTriangle>& triangles,
   const std::array<double, 16>& M,
   int width,
   int height,
@@ -104,7 +105,7 @@ std::size_t nearPlaneTriangles(const ZSweepMesh& mesh,
 
   for (const std::uint32_t f : crossingTriangles)
   {
-    const ZSweepTriangle& tri = mesh.triangles()[f];
+    const ZSweepTriangle& tri = triangles[f];
     ClipVertex v[3];
     for (int k = 0; k < 3; ++k)
     {

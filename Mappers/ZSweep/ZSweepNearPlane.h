@@ -41,12 +41,14 @@ struct DrawTriangle
   std::int32_t entered, exited;
 };
 
-/// The clipped parts of the `crossing` triangles (those with vertices on both sides of the
-/// near plane) and the caps of the cells they bound. `M`: origin-relative model to clip;
+/// The clipped parts of the `crossing` triangles (indices into `triangles`, the mesh's, with
+/// vertices on both sides of the near plane) and the caps of the cells they bound. `M`:
+/// origin-relative model to clip;
 /// `forward[f]`: whether the rays cross triangle f from its front cell to its back cell.
 /// Returns the number of caps that could not be closed (a degenerate cross-section; left
 /// out).
 std::size_t nearPlaneTriangles(const ZSweepMesh& mesh,
+  const std::vector<ZSweepTriangle>& triangles,
   const std::array<double, 16>& M,
   int width,
   int height,

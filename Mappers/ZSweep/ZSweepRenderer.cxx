@@ -144,13 +144,23 @@ void renderZSweep(const ZSweepMesh& mesh,
   const bool cellData = mesh.cellScalars();
   stats.setEffect("cell_data", cellData);
   stats.setEffect("early_termination", params.terminationOpacity < 1.0);
+  stats.setEffect("sparse_mesh", mesh.sparse());
   const auto& points = mesh.points();
-  const auto& triangles = mesh.triangles();
   const auto& scalars = mesh.scalars();
-  if (W <= 0 || H <= 0 || triangles.empty() || optics.empty())
+  if (W <= 0 || H <= 0 || mesh.numTriangles() == 0 || optics.empty())
   {
     return;
   }
+  // A sparse mesh's triangles, decoded from its kept cells for this frame.
+  std::vector<ZSweepTriangle> decoded;
+  const std::vector<ZSweepTriangle>& triangles = [&]() -> const std::vector<ZSweepTriangle>& {
+    if (!mesh.sparse())
+    {
+      return mesh.triangles(decoded);
+    }
+    ScopedPhase phase(stats, "decode");
+    return mesh.triangles(decoded);
+  }();
   const RayCamera camera(modelToClip, W, H, mesh.origin());
 
   // Origin-relative model -> clip: M T(origin).
@@ -305,6 +315,12 @@ void renderZSweep(const ZSweepMesh& mesh,
       crossing.push_back(static_cast<std::uint32_t>(f));
     }
   }
+  // In the order of their vertex ids (a dense mesh's own order; a sparse mesh decodes its
+  // triangles in another): the caps' fans start at their first segment, so this order makes
+  // the caps the same for both.
+  std::sort(crossing.begin(), crossing.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return std::lexicographical_compare(triangles[a].v, triangles[a].v + 3, triangles[b].v, triangles[b].v + 3);
+  });
   std::vector<DrawTriangle> extras;
   std::size_t openCaps = 0;
   std::vector<std::vector<std::uint32_t>> tileExtras(tileCount.size());
@@ -313,7 +329,7 @@ void renderZSweep(const ZSweepMesh& mesh,
   if (!crossing.empty())
   {
     ScopedPhase nearPhase(stats, "near_plane");
-    openCaps = nearPlaneTriangles(mesh, M, W, H, crossing, forward, extras);
+    openCaps = nearPlaneTriangles(mesh, triangles, M, W, H, crossing, forward, extras);
     for (std::size_t e = 0; e < extras.size(); ++e)
     {
       const auto& v = extras[e].v;
@@ -670,6 +686,7 @@ void renderZSweep(const ZSweepMesh& mesh,
     maxList = std::max(maxList, w.maxList);
   }
   stats.addCounter("triangles", static_cast<std::int64_t>(triangles.size()));
+  stats.addCounter("decoded_triangles", static_cast<std::int64_t>(decoded.size()));
   stats.addCounter("binned_triangles", static_cast<std::int64_t>(binned.size()));
   stats.addCounter("entries", entries);
   stats.addCounter("flushes", flushes);

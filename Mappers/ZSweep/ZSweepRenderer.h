@@ -23,6 +23,11 @@
 //    linearly, cell data: constant). Entries closer than a tie tolerance (a ray through a
 //    shared vertex or edge) form one crossing: the ray ends up in the cell that some
 //    member entered and no member left.
+// A sparse mesh (ZSweepMesh.h) is decoded into its triangles first (phase decode), in
+// another order than the dense mesh's. The order matters only among the triangles of one
+// event whose entries in a pixel tie exactly (inserted in triangle order) and for the caps
+// (their fans start at the first face across the near plane: these faces are taken in
+// vertex-id order); the kernel tests find the images of both identical.
 // A camera close to or inside the grid: faces across the near plane are clipped and the
 // cells across it get caps (ZSweepNearPlane.h). Opaque geometry (a window depth per pixel)
 // ends the rays; a pixel stops collecting entries once its opacity reaches the termination
@@ -53,7 +58,8 @@ struct ZSweepParameters
 /// coordinates; `opaqueDepth`, when not null, the window depth of opaque geometry per pixel
 /// (rows from the bottom). Counters: triangles, binned_triangles, entries, flushes,
 /// k_growths, segments, transparent_segments, near_plane_triangles (clipped faces and
-/// caps), open_caps, max_list, tie_groups. Effects: cell_data, early_termination.
+/// caps), open_caps, max_list, tie_groups, decoded_triangles (0 for a dense mesh). Effects:
+/// cell_data, early_termination, sparse_mesh.
 void renderZSweep(const ZSweepMesh& mesh,
   const OpticalModel& optics,
   const std::array<double, 16>& modelToClip,

@@ -47,6 +47,7 @@ struct vtkZSweepVolumeMapper::Internals
   vtkDataArray* BuiltScalars = nullptr;
   vtkMTimeType BuiltScalarsTime = 0;
   int BuiltCellFlag = -1;
+  bool BuiltSparse = false;
   vtkMTimeType ReportedNoScalarsTime = 0;
 };
 
@@ -169,7 +170,7 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
   }
   if (Impl->HasMesh && Impl->BuiltInputTime == input->GetMTime() &&
       Impl->BuiltScalars == scalars && Impl->BuiltScalarsTime == scalars->GetMTime() &&
-      Impl->BuiltCellFlag == cellFlag)
+      Impl->BuiltCellFlag == cellFlag && Impl->BuiltSparse == this->Sparsification)
   {
     return true;
   }
@@ -256,7 +257,7 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
         i < available ? reader.get(static_cast<std::size_t>(i), 0) : std::nan("");
     }
   }
-  Impl->Mesh.build(grid);
+  Impl->Mesh.build(grid, this->Sparsification);
   ++Impl->Builds;
 
   const auto& counts = Impl->Mesh.counts();
@@ -294,6 +295,7 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
   Impl->BuiltScalars = scalars;
   Impl->BuiltScalarsTime = scalars->GetMTime();
   Impl->BuiltCellFlag = cellFlag;
+  Impl->BuiltSparse = this->Sparsification;
   return true;
 }
 
@@ -317,6 +319,7 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   stats.addCounter("builds", Impl->Builds);
   stats.addCounter("cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsUsed));
   stats.addCounter("mesh_bytes", static_cast<std::int64_t>(Impl->Mesh.memoryBytes()));
+  stats.addCounter("kept_cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsKept));
 
   vtkVolumeProperty* property = vol->GetProperty();
   const raymappers::OpticalModel optics =
@@ -391,4 +394,5 @@ void vtkZSweepVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";
   os << indent << "Subsampling: " << this->Subsampling << "\n";
   os << indent << "FrameBudget: " << this->FrameBudget << "\n";
+  os << indent << "Sparsification: " << this->Sparsification << "\n";
 }

@@ -97,6 +97,20 @@ public:
   vtkGetMacro(FrameBudget, double);
   ///@}
 
+  ///@{
+  /**
+   * Sparsification (Farias 2001, section 4.3.5): the mesh stores its faces through a subset
+   * of the cells that contains every face (a greedy maximal independent set of the dual
+   * graph dropped; about 55% of a tetrahedral grid's cells kept) instead of as a list of
+   * triangles, and decodes them every frame. Same image; the mesh holds about 40% less
+   * memory between frames (tetrahedra; 60% for hexahedra), its build and every frame take
+   * a little longer (counters mesh_bytes, kept_cells; phase decode). Default off.
+   */
+  vtkSetMacro(Sparsification, bool);
+  vtkGetMacro(Sparsification, bool);
+  vtkBooleanMacro(Sparsification, bool);
+  ///@}
+
   /**
    * Statistics of the last render (counter "subsampling": the p used).
    */
@@ -115,12 +129,14 @@ protected:
   double TerminationOpacity = 1.0;
   int Subsampling = 0;
   double FrameBudget = 0.0;
+  bool Sparsification = false;
 
 private:
   vtkZSweepVolumeMapper(const vtkZSweepVolumeMapper&) = delete;
   void operator=(const vtkZSweepVolumeMapper&) = delete;
 
-  /// Rebuilds the mesh when the input, the scalar selection or the scalars changed.
+  /// Rebuilds the mesh when the input, the scalar selection, the scalars or Sparsification
+  /// changed.
   /// Returns false (with an error) when there is no scalar to render.
   bool UpdateMesh(vtkUnstructuredGridBase* input);
 

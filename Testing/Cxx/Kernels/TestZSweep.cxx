@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -252,10 +253,11 @@ struct Image
 Image sweep(const ZSweepGrid& g,
   const RefTransferFunction& tf,
   const TestCamera& cam,
-  ZSweepParameters params = ZSweepParameters())
+  ZSweepParameters params = ZSweepParameters(),
+  bool sparse = false)
 {
   ZSweepMesh mesh;
-  mesh.build(g);
+  mesh.build(g, sparse);
   Image im;
   im.frame.resize(cam.width, cam.height);
   renderZSweep(mesh, opticsOf(tf), cam.matrix(), params, nullptr, im.frame, im.stats);
@@ -313,6 +315,99 @@ double maxDifference(const Frame& a, const Frame& b)
     worst = std::max(worst, std::fabs(double(a.rgba[k]) - double(b.rgba[k])));
   }
   return worst;
+}
+
+// Hexahedra, wedges (a cube cut in 2), pyramids (a cube cut in 6 around its centre) and
+// tetrahedra in one grid of 3^3 cubes, with a linear point field (which every cell type
+// interpolates exactly).
+ZSweepGrid mixedGrid()
+{
+  Lattice L;
+  L.n = 3;
+  L.lo = { -1.5, -1.5, -1.5 };
+  L.h = 1.0;
+  const auto linear = [](const Vec3d& p) { return 0.5 + 0.2 * p.x - 0.1 * p.y + 0.15 * p.z; };
+  ZSweepGrid g;
+  g.points = L.points();
+  for (int k = 0; k < L.n; ++k)
+  {
+    for (int j = 0; j < L.n; ++j)
+    {
+      for (int i = 0; i < L.n; ++i)
+      {
+        const auto c = L.hex(i, j, k);
+        switch ((i + j + k) % 4)
+        {
+          case 0:
+            addCell(g, ZSweepCellType::Hexahedron, { c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7] });
+            break;
+          case 1:
+            addCell(g, ZSweepCellType::Wedge, { c[0], c[1], c[2], c[4], c[5], c[6] });
+            addCell(g, ZSweepCellType::Wedge, { c[0], c[2], c[3], c[4], c[6], c[7] });
+            break;
+          case 2:
+          {
+            const int centre = static_cast<int>(g.points.size());
+            g.points.push_back(L.lo + Vec3d(i + 0.5, j + 0.5, k + 0.5) * L.h);
+            const int faces[6][4] = { { 0, 3, 2, 1 }, { 4, 5, 6, 7 }, { 0, 1, 5, 4 },
+              { 1, 2, 6, 5 }, { 2, 3, 7, 6 }, { 3, 0, 4, 7 } };
+            for (const auto& f : faces)
+            {
+              addCell(g, ZSweepCellType::Pyramid, { c[f[0]], c[f[1]], c[f[2]], c[f[3]], centre });
+            }
+            break;
+          }
+          default:
+            for (const auto& t : freudenthal(c))
+            {
+              addCell(g, ZSweepCellType::Tetra, { t[0], t[1], t[2], t[3] });
+            }
+        }
+      }
+    }
+  }
+  for (const Vec3d& p : g.points)
+  {
+    g.scalars.push_back(linear(p));
+  }
+  return g;
+}
+
+ZSweepGrid hexLattice(const Lattice& L, const std::function<double(const Vec3d&)>& field)
+{
+  ZSweepGrid g;
+  g.points = L.points();
+  for (const Vec3d& p : g.points)
+  {
+    g.scalars.push_back(field(p));
+  }
+  for (int k = 0; k < L.n; ++k)
+  {
+    for (int j = 0; j < L.n; ++j)
+    {
+      for (int i = 0; i < L.n; ++i)
+      {
+        if (L.keep(i, j, k))
+        {
+          const auto c = L.hex(i, j, k);
+          addCell(g, ZSweepCellType::Hexahedron, { c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7] });
+        }
+      }
+    }
+  }
+  return g;
+}
+
+// The grid with cell data instead: a scalar per cell, varied.
+ZSweepGrid withCellData(ZSweepGrid g)
+{
+  g.cellScalars = true;
+  g.scalars.clear();
+  for (std::size_t c = 0; c < g.cellTypes.size(); ++c)
+  {
+    g.scalars.push_back(0.15 + 0.7 * double((c * 37) % 11) / 10.0);
+  }
+  return g;
 }
 
 double smoothField(const Vec3d& p)
@@ -445,9 +540,10 @@ TEST(ZSweepMesh, TrianglesOfALatticeAreSharedOnce)
   const std::size_t boundary = 6 * 9 * 2; // 6 sides, 9 squares each, 2 triangles
   EXPECT_EQ(mesh.counts().cellsUsed, tets);
   EXPECT_EQ(mesh.counts().boundaryTriangles, boundary);
-  EXPECT_EQ(mesh.triangles().size(), (4 * tets + boundary) / 2);
+  EXPECT_EQ(mesh.numTriangles(), (4 * tets + boundary) / 2);
   EXPECT_EQ(mesh.counts().nonManifoldTriangles, 0u);
-  for (const ZSweepTriangle& t : mesh.triangles())
+  std::vector<ZSweepTriangle> scratch;
+  for (const ZSweepTriangle& t : mesh.triangles(scratch))
   {
     EXPECT_NE(t.front, t.back);
   }
@@ -467,7 +563,7 @@ TEST(ZSweepMesh, HexahedraSplitSharedQuadsTheSameWay)
   ZSweepMesh mesh;
   mesh.build(g);
   EXPECT_EQ(mesh.counts().cellsUsed, 2u);
-  EXPECT_EQ(mesh.triangles().size(), 22u); // 11 quads, 2 triangles each
+  EXPECT_EQ(mesh.numTriangles(), 22u); // 11 quads, 2 triangles each
   EXPECT_EQ(mesh.counts().boundaryTriangles, 20u);
 }
 
@@ -644,56 +740,7 @@ TEST(ZSweepImage, CavityAndDisconnectedPartsMatchTheReference)
 
 TEST(ZSweepImage, MixedCellTypesWithALinearFieldMatchTheReference)
 {
-  // Hexahedra, wedges (a cube cut in 2), pyramids (a cube cut in 6 around its centre) and
-  // tetrahedra in one grid; with a linear field every cell type interpolates exactly.
-  Lattice L;
-  L.n = 3;
-  L.lo = { -1.5, -1.5, -1.5 };
-  L.h = 1.0;
-  const auto linear = [](const Vec3d& p) { return 0.5 + 0.2 * p.x - 0.1 * p.y + 0.15 * p.z; };
-  ZSweepGrid g;
-  g.points = L.points();
-  for (int k = 0; k < L.n; ++k)
-  {
-    for (int j = 0; j < L.n; ++j)
-    {
-      for (int i = 0; i < L.n; ++i)
-      {
-        const auto c = L.hex(i, j, k);
-        switch ((i + j + k) % 4)
-        {
-          case 0:
-            addCell(g, ZSweepCellType::Hexahedron, { c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7] });
-            break;
-          case 1:
-            addCell(g, ZSweepCellType::Wedge, { c[0], c[1], c[2], c[4], c[5], c[6] });
-            addCell(g, ZSweepCellType::Wedge, { c[0], c[2], c[3], c[4], c[6], c[7] });
-            break;
-          case 2:
-          {
-            const int centre = static_cast<int>(g.points.size());
-            g.points.push_back(L.lo + Vec3d(i + 0.5, j + 0.5, k + 0.5) * L.h);
-            const int faces[6][4] = { { 0, 3, 2, 1 }, { 4, 5, 6, 7 }, { 0, 1, 5, 4 },
-              { 1, 2, 6, 5 }, { 2, 3, 7, 6 }, { 3, 0, 4, 7 } };
-            for (const auto& f : faces)
-            {
-              addCell(g, ZSweepCellType::Pyramid, { c[f[0]], c[f[1]], c[f[2]], c[f[3]], centre });
-            }
-            break;
-          }
-          default:
-            for (const auto& t : freudenthal(c))
-            {
-              addCell(g, ZSweepCellType::Tetra, { t[0], t[1], t[2], t[3] });
-            }
-        }
-      }
-    }
-  }
-  for (const Vec3d& p : g.points)
-  {
-    g.scalars.push_back(linear(p));
-  }
+  const ZSweepGrid g = mixedGrid();
   const RefTransferFunction tf = testTransferFunction();
   TestCamera cam;
   cam.eye = { 4.2, 3.3, 5.0 };
@@ -832,5 +879,184 @@ TEST(ZSweepImage, CameraInsideTheGridMatchesTheReference)
       EXPECT_GT(im.stats.counter("near_plane_triangles"), 0);
       EXPECT_EQ(im.stats.counter("open_caps"), 0);
     }
+  }
+}
+
+// =======================================================================================
+// Sparsification (section 4.3.5).
+
+namespace
+{
+// Builds `g` dense and sparse and checks the sparse mesh against the dense one exactly: the
+// same counts, the same triangles (vertex ids and the cells on both sides) once both lists
+// are in vertex-id order, and kept cells that cover every triangle (at least one of its
+// cells kept) and of which none can be dropped (each is the only kept cell of one of its
+// triangles: the dropped set is a maximal independent set of the dual graph). Returns the
+// number of kept cells.
+std::size_t checkSparsification(const ZSweepGrid& g)
+{
+  ZSweepMesh dense, sparse;
+  dense.build(g);
+  sparse.build(g, true);
+  EXPECT_FALSE(dense.sparse());
+  EXPECT_TRUE(sparse.sparse());
+  const auto& a = dense.counts();
+  const auto& b = sparse.counts();
+  EXPECT_EQ(a.cellsUsed, b.cellsUsed);
+  EXPECT_EQ(a.cellsKept, a.cellsUsed);
+  EXPECT_EQ(b.cellsKept, sparse.keptCells().size());
+  EXPECT_EQ(a.boundaryTriangles, b.boundaryTriangles);
+  EXPECT_EQ(a.badIndex + a.nonFinitePoint + a.nonFiniteScalar + a.zeroVolume,
+    b.badIndex + b.nonFinitePoint + b.nonFiniteScalar + b.zeroVolume);
+  EXPECT_EQ(dense.numTriangles(), sparse.numTriangles());
+
+  std::vector<ZSweepTriangle> none, decoded;
+  const std::vector<ZSweepTriangle>& expected = dense.triangles(none);
+  std::vector<ZSweepTriangle> got = sparse.triangles(decoded);
+  std::sort(got.begin(), got.end(), [](const ZSweepTriangle& x, const ZSweepTriangle& y) {
+    return std::lexicographical_compare(x.v, x.v + 3, y.v, y.v + 3);
+  });
+  EXPECT_EQ(got.size(), expected.size());
+  std::size_t same = 0;
+  for (std::size_t k = 0; k < std::min(got.size(), expected.size()); ++k)
+  {
+    const ZSweepTriangle& x = got[k];
+    const ZSweepTriangle& y = expected[k];
+    same += std::equal(x.v, x.v + 3, y.v) && x.front == y.front && x.back == y.back;
+  }
+  EXPECT_EQ(same, expected.size());
+
+  std::vector<char> kept(g.cellTypes.size(), 0);
+  for (const std::int32_t c : sparse.keptCells())
+  {
+    kept[static_cast<std::size_t>(c)] = 1;
+  }
+  EXPECT_TRUE(std::is_sorted(sparse.keptCells().begin(), sparse.keptCells().end()));
+  std::vector<char> needed(g.cellTypes.size(), 0); // the only kept cell of some triangle
+  std::size_t uncovered = 0;
+  for (const ZSweepTriangle& t : expected)
+  {
+    const bool f = t.front >= 0 && kept[static_cast<std::size_t>(t.front)];
+    const bool k = t.back >= 0 && kept[static_cast<std::size_t>(t.back)];
+    uncovered += !f && !k;
+    if (f != k)
+    {
+      needed[static_cast<std::size_t>(f ? t.front : t.back)] = 1;
+    }
+  }
+  EXPECT_EQ(uncovered, 0u);
+  std::size_t droppable = 0;
+  for (const std::int32_t c : sparse.keptCells())
+  {
+    droppable += !needed[static_cast<std::size_t>(c)];
+  }
+  EXPECT_EQ(droppable, 0u);
+  EXPECT_LT(sparse.memoryBytes(), dense.memoryBytes());
+  return sparse.keptCells().size();
+}
+} // namespace
+
+TEST(ZSweepSparsification, KeptCellsCoverEveryFaceAndNoneCanBeDropped)
+{
+  Lattice L;
+  L.jitter = 0.3;
+  const ZSweepGrid tets = tetLattice(L, smoothField); // 384 tetrahedra
+  EXPECT_EQ(checkSparsification(tets), 276u);
+  const ZSweepGrid hexes = hexLattice(L, smoothField); // 64 hexahedra, 56 on the boundary
+  EXPECT_EQ(checkSparsification(hexes), 60u);
+  EXPECT_EQ(checkSparsification(mixedGrid()), 81u); // of 101 cells
+  EXPECT_EQ(checkSparsification(withCellData(tets)), checkSparsification(tets));
+
+  Lattice holes = L;
+  holes.n = 5;
+  holes.keep = [](int i, int j, int k) { return !(i >= 1 && i <= 3 && j >= 1 && j <= 3 && k == 2) && i != 2; };
+  EXPECT_EQ(checkSparsification(tetLattice(holes, smoothField)), 446u); // of 552
+}
+
+TEST(ZSweepSparsification, KeepsAtMostTheFractionThePaperReports)
+{
+  // The dissertation keeps at most 56% of the cells (Table 5) of grids of 13K to 1M
+  // tetrahedra. Every cell with a boundary face is kept, so small grids keep more.
+  Lattice L;
+  L.n = 20;
+  L.h = 2.0 / 20;
+  L.jitter = 0.3;
+  const ZSweepGrid tets = tetLattice(L, smoothField); // 48,000 tetrahedra
+  const std::size_t kept = checkSparsification(tets);
+  EXPECT_EQ(kept, 26379u); // 55.0%
+  EXPECT_LE(double(kept) / tets.cellTypes.size(), 0.56);
+  // Hexahedra: the 20^3 - 18^3 = 2168 on the boundary are kept, and of the 5832 inside at
+  // least half (a dropped hexahedron's 6 neighbours are kept; a kept one has at most 6), so
+  // the chessboard's 2168 + 2916 = 5084 is the least possible; the greedy keeps 28 more.
+  const ZSweepGrid hexes = hexLattice(L, smoothField);
+  const std::size_t keptHexes = checkSparsification(hexes);
+  EXPECT_EQ(keptHexes, 5112u); // 63.9%
+}
+
+TEST(ZSweepSparsification, SkippedCellsStayOutAndTheirNeighboursKeepTheirFaces)
+{
+  // Bad cells are skipped before sparsification: a face beside a skipped cell is a boundary
+  // face, so the cell on its other side is kept.
+  Lattice L;
+  L.n = 3;
+  ZSweepGrid g = tetLattice(L, smoothField);
+  g.scalars[static_cast<std::size_t>(L.id(1, 1, 1))] = std::numeric_limits<double>::quiet_NaN();
+  addCell(g, ZSweepCellType::Tetra, { 0, 1, 2, 1 });     // zero volume
+  addCell(g, ZSweepCellType::Tetra, { 0, 1, 2, 99999 }); // bad index
+  ZSweepMesh mesh;
+  mesh.build(g, true);
+  EXPECT_EQ(mesh.counts().nonFiniteScalar, 24u); // the tetrahedra around the NaN vertex
+  EXPECT_EQ(mesh.counts().zeroVolume, 1u);
+  EXPECT_EQ(mesh.counts().badIndex, 1u);
+  for (const std::int32_t c : mesh.keptCells())
+  {
+    EXPECT_LT(static_cast<std::size_t>(c), g.cellTypes.size() - 2);
+  }
+  checkSparsification(g);
+}
+
+TEST(ZSweepSparsification, SameImageWithAndWithoutSparsification)
+{
+  const RefTransferFunction tf = testTransferFunction();
+  Lattice L;
+  L.jitter = 0.3;
+  TestCamera cam;
+  cam.eye = { 3.1, 2.3, 4.2 };
+  cam.at = { 0.1, -0.1, 0.05 };
+  TestCamera inside = cam;
+  inside.eye = { 0.13, 0.21, 0.37 };
+  inside.at = { 1.0, 0.45, -0.2 };
+  inside.fovy = 70;
+  inside.nearD = 0.3;
+  Lattice edges; // rays through vertices and edges (see RaysThroughVerticesAndEdges...)
+  edges.lo = { -1.025, -1.025, -1.0 };
+  TestCamera straight;
+  straight.parallel = true;
+  straight.width = straight.height = 60;
+  straight.eye = { 0, 0, 6 };
+  straight.at = { 0, 0, 0 };
+  const ZSweepGrid tets = tetLattice(L, smoothField);
+  const ZSweepGrid hexes = hexLattice(L, smoothField);
+  const struct
+  {
+    const char* name;
+    ZSweepGrid grid;
+    TestCamera camera;
+  } cases[] = { { "tetrahedra", tets, cam }, { "tetrahedra, cell data", withCellData(tets), cam },
+    { "hexahedra", hexes, cam }, { "hexahedra, cell data", withCellData(hexes), cam },
+    { "mixed", mixedGrid(), cam }, { "mixed, cell data", withCellData(mixedGrid()), cam },
+    { "inside, cell data", withCellData(tets), inside }, { "inside, hexahedra", hexes, inside },
+    { "vertices and edges", tetLattice(edges, smoothField), straight },
+    { "vertices and edges, cell data", withCellData(tetLattice(edges, smoothField)), straight } };
+  for (const auto& c : cases)
+  {
+    const Image dense = sweep(c.grid, tf, c.camera);
+    const Image sparse = sweep(c.grid, tf, c.camera, ZSweepParameters(), true);
+    EXPECT_LE(maxDifference(dense.frame, sparse.frame), 1e-6) << c.name;
+    EXPECT_EQ(maxDifference(dense.frame, sparse.frame), 0.0) << c.name;
+    EXPECT_TRUE(sparse.stats.effect("sparse_mesh"));
+    EXPECT_FALSE(dense.stats.effect("sparse_mesh"));
+    EXPECT_EQ(sparse.stats.counter("decoded_triangles"), sparse.stats.counter("triangles"));
+    EXPECT_EQ(dense.stats.counter("decoded_triangles"), 0);
   }
 }

@@ -3,8 +3,8 @@
 // (vtkUnstructuredGridVolumeRayCastMapper, Bunyk et al.) on the same tetrahedra; the native
 // hexahedra give nearly the same picture; an opaque sphere inside stops the rays as it does
 // for VTK's ray caster; a new transfer function redraws without rebuilding the mesh;
-// time-critical subsampling approximates the picture and refines back to it; the picture
-// matches the baseline.
+// time-critical subsampling approximates the picture and refines back to it; sparsification
+// gives the same picture; the picture matches the baseline.
 //
 // usage: TestZSweepVolumeMapper -D <dir with bluntfinxyz.bin, bluntfinq.bin> -T <tmp> -V <png>
 #include "RenderingTestHelpers.h"
@@ -194,6 +194,23 @@ int TestZSweepVolumeMapper(int argc, char* argv[])
   const auto refined = show(zsweep, tetra->GetOutput());
   check(zsweep->GetStatistics()->GetCounter("subsampling") == 1 && refined == ours,
     "a still render: the exact image again");
+
+  // Sparsification: the mesh rebuilt through the kept cells, the same picture, less memory.
+  show(zsweep, tetra->GetOutput());
+  const auto denseBytes = zsweep->GetStatistics()->GetCounter("mesh_bytes");
+  const auto denseBuilds = zsweep->GetStatistics()->GetCounter("builds");
+  zsweep->SparsificationOn();
+  const auto sparsePicture = show(zsweep, tetra->GetOutput());
+  vtkRayMapperStatistics* st = zsweep->GetStatistics();
+  std::printf("sparsification: %lld of %lld cells kept, mesh %lld instead of %lld bytes\n",
+    static_cast<long long>(st->GetCounter("kept_cells")),
+    static_cast<long long>(st->GetCounter("cells")), static_cast<long long>(st->GetCounter("mesh_bytes")),
+    static_cast<long long>(denseBytes));
+  check(st->GetCounter("builds") == denseBuilds + 1 && sparsePicture == ours &&
+      st->GetCounter("kept_cells") < 0.56 * st->GetCounter("cells") &&
+      st->GetCounter("mesh_bytes") < 0.7 * denseBytes,
+    "sparsification: the same picture from 56% of the cells, in less memory");
+  zsweep->SparsificationOff();
 
   // The tetrahedralization leaves slivers of zero volume: skipped with one warning.
   check(events.Errors == 0, "no error");
