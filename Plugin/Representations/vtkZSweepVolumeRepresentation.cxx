@@ -190,6 +190,12 @@ void vtkZSweepVolumeRepresentation::SetListThreshold(int k)
   this->Modified();
 }
 
+void vtkZSweepVolumeRepresentation::SetSparsification(bool on)
+{
+  this->Mapper->SetSparsification(on);
+  this->Modified();
+}
+
 void vtkZSweepVolumeRepresentation::SetTerminationOpacity(double opacity)
 {
   this->Mapper->SetTerminationOpacity(opacity);

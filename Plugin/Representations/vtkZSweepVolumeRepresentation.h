@@ -48,6 +48,7 @@ public:
   void SetIntegrator(int integrator);
   void SetTileSize(int size);
   void SetListThreshold(int k);
+  void SetSparsification(bool on);
   void SetTerminationOpacity(double opacity);
   void SetSubsampling(int p);
   void SetFrameBudget(double seconds);

@@ -132,6 +132,14 @@ def run_checks(view, source, stem, build_dir, output, baseline):
           'K = 2: K grows (%d times), same picture (rmse %.3f)'
           % (statistics(rep).get('k_growths'), rmse(small, image)))
     rep.ZSweepListThreshold = 16
+    # Sparsification (4.3.5): the faces stored through a subset of the cells; same picture.
+    rep.ZSweepSparsification = 1
+    sparse = shot(view, stem + '-sparse.png')
+    kept = statistics(rep).get('kept_cells')
+    check(kept is not None and 0 < kept < 37479 and rmse(sparse, image) == 0.0,
+          'Sparsification: %s of 37479 cells kept, the same picture (rmse %.3f)'
+          % (kept, rmse(sparse, image)))
+    rep.ZSweepSparsification = 0
     rep.ZSweepIntegrator = 'Farias (second order)'
     farias = shot(view, stem + '-farias.png')
     check(0 < rmse(farias, image) < 8.0,
