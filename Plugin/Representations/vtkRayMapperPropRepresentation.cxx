@@ -14,6 +14,7 @@
 #include "vtkProp3D.h"
 #include "vtkRayMapperGatherPoints.h"
 #include "vtkRayMapperParticleExchange.h"
+#include "vtkRayMapperThreads.h"
 #include "vtkRenderer.h"
 
 namespace
@@ -26,7 +27,10 @@ vtkMultiProcessController* parallelController()
 }
 }
 
-vtkRayMapperPropRepresentation::vtkRayMapperPropRepresentation() = default;
+vtkRayMapperPropRepresentation::vtkRayMapperPropRepresentation()
+{
+  vtkRayMapperLimitThreads();
+}
 
 vtkRayMapperPropRepresentation::~vtkRayMapperPropRepresentation() = default;
 
