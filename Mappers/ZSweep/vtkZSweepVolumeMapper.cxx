@@ -290,6 +290,13 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
   {
     vtkWarningMacro(<< counts.zeroVolume << " cells of zero volume were skipped.");
   }
+  if (counts.nonManifoldTriangles)
+  {
+    vtkWarningMacro(<< counts.nonManifoldTriangles
+                    << " faces are shared by more than two cells, or by two cells on the same "
+                       "side: cells overlap (duplicated or intersecting cells), and the picture "
+                       "is undefined where they do.");
+  }
   Impl->HasMesh = true;
   Impl->BuiltInputTime = input->GetMTime();
   Impl->BuiltScalars = scalars;

@@ -592,6 +592,24 @@ TEST(ZSweepMesh, BadCellsAreCountedAndLeftOut)
   EXPECT_EQ(mesh.counts().zeroVolume, 1u);
 }
 
+// Overlapping cells are not a valid grid: a duplicated tetrahedron puts two cells on the
+// same side of each of its 4 faces, and a third cell on an interior face makes it shared by
+// three; both are counted (the mapper warns) and the valid lattice counts none.
+TEST(ZSweepMesh, OverlappingCellsAreCounted)
+{
+  Lattice L;
+  L.n = 2;
+  ZSweepGrid g = tetLattice(L, smoothField);
+  ZSweepMesh mesh;
+  mesh.build(g);
+  EXPECT_EQ(mesh.counts().nonManifoldTriangles, 0u);
+  const std::int64_t first = g.cellOffsets[0];
+  const std::vector<int> cell(g.connectivity.begin() + first, g.connectivity.begin() + first + 4);
+  addCell(g, ZSweepCellType::Tetra, cell);
+  mesh.build(g);
+  EXPECT_EQ(mesh.counts().nonManifoldTriangles, 4u);
+}
+
 // =======================================================================================
 // Images against the reference ray caster.
 

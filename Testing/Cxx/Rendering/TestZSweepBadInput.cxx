@@ -2,7 +2,8 @@
 // an empty grid draws nothing; a grid without scalars is an error; unsupported cells
 // (pentagonal and hexagonal prisms of PentaHexa.vtk, a quadratic tetrahedron, polygons)
 // and cells with NaN points or scalars are skipped with a warning while the picture of the
-// valid cells is exactly what they alone give, with no NaN anywhere.
+// valid cells is exactly what they alone give, with no NaN anywhere; a duplicated
+// (overlapping) cell is warned about.
 //
 // usage: TestZSweepBadInput -D <dir with PentaHexa.vtk>
 #include "RenderingTestHelpers.h"
@@ -12,6 +13,7 @@
 #include "vtkCellType.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDoubleArray.h"
+#include "vtkIdList.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkTestUtilities.h"
@@ -130,6 +132,18 @@ int TestZSweepBadInput(int argc, char* argv[])
   check(events.Warnings - warningsBefore == 4, "one warning each: NaN point, NaN scalar, "
                                                 "unsupported type, cells below 3D");
   check(mapper->GetStatistics()->GetCounter("cells") == 5, "the 5 good cells are rendered");
+
+  // A duplicated cell overlaps its original: one warning naming the overlap, no NaN pixel
+  // (the picture is drawn; what it shows there is undefined).
+  auto overlapping = Cube();
+  vtkNew<vtkIdList> firstCell;
+  overlapping->GetCellPoints(0, firstCell);
+  overlapping->InsertNextCell(overlapping->GetCellType(0), firstCell);
+  const int beforeOverlap = events.Warnings;
+  const auto overlapPicture = show(overlapping);
+  check(events.Warnings == beforeOverlap + 1 && events.Last.find("overlap") != std::string::npos &&
+      lit(overlapPicture) > 1000,
+    "a duplicated cell: one warning naming the overlap, the cube still drawn");
 
   // Real cells VTK has but ZSweep does not split: pentagonal and hexagonal prisms.
   char* name = vtkTestUtilities::ExpandDataFileName(argc, argv, "PentaHexa.vtk");
