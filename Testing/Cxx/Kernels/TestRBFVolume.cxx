@@ -5,6 +5,7 @@
 #include "FastExp.h"
 #include "ParticleBVH.h"
 #include "RBFVolumeRenderer.h"
+#include "RegionFixtures.h"
 
 #include <gtest/gtest.h>
 
@@ -308,26 +309,14 @@ TEST(RBFVolume, RegionsCompositeToTheWholeImage)
   const Frame whole = render(in, { 0.2, 0.1, -0.3 }, cam, params, tf).frame;
   EXPECT_GT(coverage(whole), 50.0);
 
-  RegionBox front, middle, back;
-  front.lo[0] = middle.lo[0] = 0.3;
-  front.lo[2] = 0.0;
-  middle.hi[2] = 0.0;
-  back.hi[0] = 0.3;
   Frame composite;
   composite.resize(cam.width(), cam.height());
-  for (const RegionBox& region : { front, middle, back })
+  for (const RegionBox& region : kdCutFrontToBack(0.3, 0.0))
   {
     params.region = region;
     const Frame part = render(in, { 0.2, 0.1, -0.3 }, cam, params, tf).frame;
     EXPECT_GT(coverage(part), 1.0);
-    for (std::size_t i = 0; i < composite.rgba.size(); i += 4)
-    {
-      const float t = 1.f - composite.rgba[i + 3];
-      for (int c = 0; c < 4; ++c)
-      {
-        composite.rgba[i + c] += t * part.rgba[i + c];
-      }
-    }
+    blendBehind(composite, part);
   }
   EXPECT_LT(maxDifference(composite, whole), 2e-5);
 }

@@ -1,6 +1,7 @@
 // SPH volume ray casting (Limper 2012): the kernels, the perspective grid and the renderer,
 // against closed forms and the brute-force reference of SPHReference.h, and its hard cases.
 #include "CameraFixtures.h"
+#include "RegionFixtures.h"
 #include "SPHReference.h"
 #include "SPHVolumeRenderer.h"
 
@@ -371,27 +372,15 @@ TEST(SPH, RegionsCompositeToTheWholeImage)
     RenderStatistics stats;
     renderSPH(P, rays, params, tf, nullptr, grid, whole, stats);
 
-    RegionBox front, middle, back;
-    front.lo[0] = middle.lo[0] = 0.1;
-    front.lo[2] = 0.0;
-    middle.hi[2] = 0.0;
-    back.hi[0] = 0.1;
     Frame composite;
     composite.resize(32, 32);
     double alphaWhole = 0;
-    for (const RegionBox& region : { front, middle, back })
+    for (const RegionBox& region : kdCutFrontToBack(0.1, 0.0))
     {
       params.region = region;
       Frame part;
       renderSPH(P, rays, params, tf, nullptr, grid, part, stats);
-      for (std::size_t i = 0; i < composite.rgba.size(); i += 4)
-      {
-        const float t = 1.f - composite.rgba[i + 3];
-        for (int c = 0; c < 4; ++c)
-        {
-          composite.rgba[i + c] += t * part.rgba[i + c];
-        }
-      }
+      blendBehind(composite, part);
     }
     std::vector<double> ref(whole.rgba.begin(), whole.rgba.end());
     for (std::size_t i = 3; i < ref.size(); i += 4)
