@@ -134,7 +134,8 @@ void addCell(ZSweepGrid& g, ZSweepCellType type, const std::vector<int>& ids)
   g.cellOffsets.push_back(static_cast<std::int64_t>(g.connectivity.size()));
 }
 
-ZSweepGrid tetLattice(const Lattice& L, const std::function<double(const Vec3d&)>& field)
+/// The lattice's points with the field's values, no cells yet.
+ZSweepGrid latticePoints(const Lattice& L, const std::function<double(const Vec3d&)>& field)
 {
   ZSweepGrid g;
   g.points = L.points();
@@ -142,6 +143,12 @@ ZSweepGrid tetLattice(const Lattice& L, const std::function<double(const Vec3d&)
   {
     g.scalars.push_back(field(p));
   }
+  return g;
+}
+
+ZSweepGrid tetLattice(const Lattice& L, const std::function<double(const Vec3d&)>& field)
+{
+  ZSweepGrid g = latticePoints(L, field);
   for (int k = 0; k < L.n; ++k)
   {
     for (int j = 0; j < L.n; ++j)
@@ -375,12 +382,7 @@ ZSweepGrid mixedGrid()
 
 ZSweepGrid hexLattice(const Lattice& L, const std::function<double(const Vec3d&)>& field)
 {
-  ZSweepGrid g;
-  g.points = L.points();
-  for (const Vec3d& p : g.points)
-  {
-    g.scalars.push_back(field(p));
-  }
+  ZSweepGrid g = latticePoints(L, field);
   for (int k = 0; k < L.n; ++k)
   {
     for (int j = 0; j < L.n; ++j)
