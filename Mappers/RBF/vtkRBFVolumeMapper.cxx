@@ -346,5 +346,8 @@ void vtkRBFVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PacketSize: " << this->PacketSize << "\n";
   os << indent << "LeafSize: " << this->LeafSize << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "RegionBounds: (" << this->RegionBounds[0] << ", " << this->RegionBounds[1]
+     << ", " << this->RegionBounds[2] << ", " << this->RegionBounds[3] << ", "
+     << this->RegionBounds[4] << ", " << this->RegionBounds[5] << ")\n";
   os << indent << "Method: " << this->Method << "\n";
 }

@@ -357,6 +357,9 @@ void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Volume: " << this->Volume << "\n";
   os << indent << "Normalization: " << this->Normalization << "\n";
   os << indent << "ReferenceWeightSum: " << this->ReferenceWeightSum << "\n";
+  os << indent << "RegionBounds: (" << this->RegionBounds[0] << ", " << this->RegionBounds[1]
+     << ", " << this->RegionBounds[2] << ", " << this->RegionBounds[3] << ", "
+     << this->RegionBounds[4] << ", " << this->RegionBounds[5] << ")\n";
   os << indent << "ContourShading: " << this->ContourShading << "\n";
   os << indent << "ContourColor: " << this->ContourColor[0] << " " << this->ContourColor[1] << " "
      << this->ContourColor[2] << "\n";

@@ -94,10 +94,7 @@ double vtkRBFVolumeRepresentation::GetBoundsMargin()
 
 void vtkRBFVolumeRepresentation::SetDeliveredPiece(vtkDataObject* piece)
 {
-  // The view delivers the representation's point set; after a parallel redistribution
-  // it may be another kind of dataset, whose points are gathered.
-  auto* delivered = vtkPolyData::SafeDownCast(piece);
-  this->Mapper->SetInputData(delivered ? delivered : vtkRayMapperGatherPoints(piece).Get());
+  this->Mapper->SetInputData(vtkRayMapperDeliveredPoints(piece));
   this->UpdateClassification();
 }
 

@@ -148,6 +148,15 @@ vtkSmartPointer<vtkPolyData> vtkRayMapperGatherPoints(vtkDataObject* input)
   return output;
 }
 
+vtkSmartPointer<vtkPolyData> vtkRayMapperDeliveredPoints(vtkDataObject* piece)
+{
+  if (auto* points = vtkPolyData::SafeDownCast(piece))
+  {
+    return points;
+  }
+  return vtkRayMapperGatherPoints(piece);
+}
+
 double vtkRayMapperLargestRadius(vtkPolyData* points,
   const char* radiusArray,
   double radius,

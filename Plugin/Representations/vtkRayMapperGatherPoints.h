@@ -18,6 +18,12 @@ class vtkPolyData;
 /// input: the client, or the render server of a client-server session).
 vtkSmartPointer<vtkPolyData> vtkRayMapperGatherPoints(vtkDataObject* input);
 
+/// The point set a particle representation renders from the piece the view delivered: the
+/// piece itself when it is a vtkPolyData (the representation's own point set, or the one
+/// its parallel exchange made), else its gathered points (an empty point set for no piece:
+/// the client of a remote render).
+vtkSmartPointer<vtkPolyData> vtkRayMapperDeliveredPoints(vtkDataObject* piece);
+
 /// The largest particle radius: |scale| times the largest finite |value| of the point array
 /// `radiusArray` (first component) of `points`, or times `radius` when the array is null or
 /// empty; 0 when not finite.

@@ -78,10 +78,7 @@ double vtkRayTracedSpheresRepresentation::GetBoundsMargin()
 
 void vtkRayTracedSpheresRepresentation::SetDeliveredPiece(vtkDataObject* piece)
 {
-  // The view delivers the representation's point set; after a parallel redistribution
-  // it may be another kind of dataset, whose points are gathered.
-  auto* delivered = vtkPolyData::SafeDownCast(piece);
-  this->Mapper->SetInputData(delivered ? delivered : vtkRayMapperGatherPoints(piece).Get());
+  this->Mapper->SetInputData(vtkRayMapperDeliveredPoints(piece));
   // Each rank traces shadow and occlusion rays against its own spheres only.
   vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
   if (!this->WarnedLocalShadows && controller && controller->GetNumberOfProcesses() > 1 &&

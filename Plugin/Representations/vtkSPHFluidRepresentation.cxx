@@ -72,10 +72,7 @@ double vtkSPHFluidRepresentation::GetBoundsMargin()
 
 void vtkSPHFluidRepresentation::SetDeliveredPiece(vtkDataObject* piece)
 {
-  // The view delivers the representation's point set; after a parallel redistribution
-  // it may be another kind of dataset, whose points are gathered.
-  auto* delivered = vtkPolyData::SafeDownCast(piece);
-  this->Mapper->SetInputData(delivered ? delivered : vtkRayMapperGatherPoints(piece).Get());
+  this->Mapper->SetInputData(vtkRayMapperDeliveredPoints(piece));
 }
 
 int vtkSPHFluidRepresentation::RequestData(vtkInformation* request,
