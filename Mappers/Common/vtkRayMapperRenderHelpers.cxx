@@ -1,5 +1,6 @@
 #include "vtkRayMapperRenderHelpers.h"
 
+#include "vtkActor2D.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataSet.h"
@@ -15,9 +16,11 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkProp3D.h"
+#include "vtkPropCollection.h"
 #include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
 #include "vtkScalarsToColors.h"
+#include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
 #include <algorithm>
@@ -203,8 +206,36 @@ raymappers::Vec3d FiniteCenter(vtkPoints* points)
            : raymappers::Vec3d();
 }
 
+bool HasOpaqueGeometry(vtkRenderer* ren)
+{
+  if (ren->GetPreserveDepthBuffer())
+  {
+    return true; // the depth of an earlier renderer's geometry is kept
+  }
+  vtkPropCollection* props = ren->GetViewProps();
+  vtkCollectionSimpleIterator it;
+  props->InitTraversal(it);
+  while (vtkProp* prop = props->GetNextProp(it))
+  {
+    // Volumes write no depth, and 2D overlays are drawn after the 3D props.
+    if (!prop->GetVisibility() || vtkVolume::SafeDownCast(prop) || vtkActor2D::SafeDownCast(prop))
+    {
+      continue;
+    }
+    if (prop->HasOpaqueGeometry())
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
 bool ReadOpaqueDepth(vtkRenderer* ren, std::vector<float>& depth, int& width, int& height)
 {
+  if (!HasOpaqueGeometry(ren))
+  {
+    return false;
+  }
   int x0 = 0, y0 = 0;
   ren->GetTiledSizeAndOrigin(&width, &height, &x0, &y0);
   vtkRenderWindow* win = ren->GetRenderWindow();

@@ -88,8 +88,14 @@ RAYMAPPERSMAPPERS_EXPORT raymappers::RayCamera GatherCamera(vtkRenderer* ren,
 /// The renderer's switched-on lights in world space.
 RAYMAPPERSMAPPERS_EXPORT std::vector<raymappers::Light> GatherLights(vtkRenderer* ren);
 
+/// Whether the renderer may hold opaque geometry in the depth buffer: a visible prop that is
+/// neither a volume nor a 2D overlay and has opaque geometry, or a preserved depth buffer.
+RAYMAPPERSMAPPERS_EXPORT bool HasOpaqueGeometry(vtkRenderer* ren);
+
 /// Window depth of what has been drawn so far in the renderer's tiled viewport, row 0 at
-/// the bottom (width x height values). Returns false when it cannot be read.
+/// the bottom (width x height values). Returns false when it cannot be read, and without
+/// reading when the renderer has no opaque geometry (the depth buffer then holds only the
+/// far plane, which stops no ray).
 RAYMAPPERSMAPPERS_EXPORT bool ReadOpaqueDepth(vtkRenderer* ren,
   std::vector<float>& depth,
   int& width,

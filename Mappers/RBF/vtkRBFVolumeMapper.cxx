@@ -305,8 +305,13 @@ void vtkRBFVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     vtkRayMapperRenderHelpers::GatherCamera(ren, model, Impl->Particles.origin);
   std::vector<float> depth;
   int dw = 0, dh = 0;
-  const bool haveDepth = vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
-                         dw == camera.width() && dh == camera.height();
+  bool haveDepth = false;
+  {
+    raymappers::ScopedPhase phase(stats, "opaque_depth");
+    haveDepth = vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
+      dw == camera.width() && dh == camera.height();
+  }
+  stats.setEffect("opaque_depth", haveDepth);
 
   // 3. Trace, 4. show.
   {

@@ -24,7 +24,8 @@
  * rays reach TerminationOpacity. Method DIRECT gathers the particles at every sample
  * instead (the reference method, much slower). Changing Kappa, Sigma, SampleDistance, the
  * transfer functions or the lights never rebuilds the BVH. Opaque geometry already drawn
- * stops the rays.
+ * stops the rays; the depth buffer is read only when the renderer holds some (effect
+ * opaque_depth).
  *
  * Bad input never poisons the image: points with NaN/Inf coordinates or values, and radii
  * that are NaN, zero or negative, are skipped with one warning saying how many.

@@ -311,6 +311,7 @@ void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   int dw = 0, dh = 0;
   const bool haveDepth =
     vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) && dw == width && dh == height;
+  stats.setEffect("opaque_depth", haveDepth);
   const int rw = r > 1.0 ? std::max(1, static_cast<int>(std::ceil(width / r))) : width;
   const int rh = r > 1.0 ? std::max(1, static_cast<int>(std::ceil(height / r))) : height;
   raymappers::ViewRays rays;

@@ -32,7 +32,8 @@
  * last frame took longer than FrameBudget (0: 1 / DesiredUpdateRate) and stays otherwise; a
  * still render uses r = 1.
  *
- * Opaque geometry already drawn stops the rays. Bad input never poisons the image:
+ * Opaque geometry already drawn stops the rays (the depth buffer is read only when the
+ * renderer holds some: effect opaque_depth). Bad input never poisons the image:
  * particles with NaN/Inf coordinates, quantities or volumes, smoothing lengths that are
  * NaN, zero or negative, and negative volumes are skipped with one warning saying how
  * many; missing arrays fall back as above with a warning.

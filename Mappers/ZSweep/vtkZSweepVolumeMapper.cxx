@@ -340,6 +340,7 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   int dw = 0, dh = 0;
   const bool haveDepth = vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
     dw == width && dh == height;
+  stats.setEffect("opaque_depth", haveDepth);
 
   raymappers::ZSweepParameters params;
   params.integrator = this->Integrator == VTK_ZSWEEP_INTEGRATOR_FARIAS

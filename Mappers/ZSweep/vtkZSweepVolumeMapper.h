@@ -20,7 +20,8 @@
  * their nodes; FARIAS uses the dissertation's second-order closed form; MIDPOINT a constant
  * segment. Details in Mappers/ZSweep/ZSweepRenderer.h and OpticalModel.h.
  *
- * Opaque geometry drawn before the volume stops the rays. Cells with a bad point index, a
+ * Opaque geometry drawn before the volume stops the rays (the depth buffer is read only when
+ * the renderer holds some: effect opaque_depth). Cells with a bad point index, a
  * non-finite point or scalar, or zero volume, and cells of other types (quadratic cells,
  * polyhedra, prisms of more sides) are skipped with one warning each kind.
  *

@@ -96,6 +96,8 @@ int TestRBFVolumeMapper(int argc, char* argv[])
   RM_CHECK(s->GetCounter("builds") == 1 && s->GetCounter("particles") == 1500);
   RM_CHECK(s->GetCounter("fields") == 1 && !s->GetEffect("multi_field"));
   RM_CHECK(!s->GetEffect("shading"));
+  // Nothing opaque in the scene: the depth buffer is not read.
+  RM_CHECK(!s->GetEffect("opaque_depth"));
 
   // An opaque ball between the camera and the cloud stops the rays that meet it: they take
   // no sample at all.
@@ -106,6 +108,7 @@ int TestRBFVolumeMapper(int argc, char* argv[])
   std::printf("samples without the ball %lld, behind a ball in front %lld\n", samplesAlone,
     s->GetCounter("samples"));
   RM_CHECK(s->GetCounter("samples") < 0.8 * samplesAlone);
+  RM_CHECK(s->GetEffect("opaque_depth"));
   // The ball inside the shell: the volume in front of it is thin.
   ball->SetCenter(0, 0, 0);
   ball->SetRadius(0.9);
