@@ -60,7 +60,7 @@ inline double oneMinusExpSmall(double E)
                            E * (1.0 / 24 - E * (1.0 / 120 - E * (1.0 / 720 - E * (1.0 / 5040)))))));
 }
 
-DepthIntegrals depthIntegrals(double A, double B)
+inline DepthIntegrals depthIntegrals(double A, double B)
 {
   DepthIntegrals out;
   const double total = A + B;
@@ -119,14 +119,8 @@ DepthIntegrals depthIntegrals(double A, double B)
   out.oneMinusG += 1.0 - xmax;
   return out;
 }
-} // namespace
-
-double gaussianDepthIntegral(double A, double B)
-{
-  return 1.0 - depthIntegrals(A, B).oneMinusG;
-}
-
-SegmentLight integrateLinearPiece(double tauA,
+// The light of one linear piece (see integrateLinearPiece), inlined into the integrators.
+inline SegmentLight linearPiece(double tauA,
   const double cA[3],
   double tauB,
   const double cB[3],
@@ -146,6 +140,21 @@ SegmentLight integrateLinearPiece(double tauA,
   out.g = cA[1] * d.oneMinusG + cB[1] * d.gMinusT;
   out.b = cA[2] * d.oneMinusG + cB[2] * d.gMinusT;
   return out;
+}
+} // namespace
+
+double gaussianDepthIntegral(double A, double B)
+{
+  return 1.0 - depthIntegrals(A, B).oneMinusG;
+}
+
+SegmentLight integrateLinearPiece(double tauA,
+  const double cA[3],
+  double tauB,
+  const double cB[3],
+  double l)
+{
+  return linearPiece(tauA, cA, tauB, cB, l);
 }
 
 void OpticalModel::assign(const std::vector<double>& s,
@@ -174,7 +183,7 @@ void OpticalModel::assign(const std::vector<double>& s,
   }
 }
 
-int OpticalModel::intervalOf(double s) const
+inline int OpticalModel::intervalOf(double s) const
 {
   // Few nodes (the usual transfer function): a linear scan beats a binary search.
   const int n = static_cast<int>(Nodes.size());
@@ -192,7 +201,7 @@ int OpticalModel::intervalOf(double s) const
   return static_cast<int>(it - Nodes.begin()) - 1;
 }
 
-void OpticalModel::valueIn(int k, double s, double& tau, double rgb[3]) const
+inline void OpticalModel::valueIn(int k, double s, double& tau, double rgb[3]) const
 {
   const int last = static_cast<int>(Nodes.size()) - 1;
   if (k < 0 || k >= last)
@@ -285,6 +294,10 @@ SegmentLight OpticalModel::integrateExact(double s0, double s1, double L) const
   {
     return integrateHomogeneous(s0, L);
   }
+  if (k0 == k1)
+  {
+    return linearPiece(tauA, cA, tauEnd, cEnd, L); // no node between: one linear piece
+  }
   // Pieces between the nodes the ray meets strictly between s0 and s1, in its order.
   const double ds = s1 - s0;
   auto piece = [&](double sb, double tauB, const double cB[3])
@@ -292,7 +305,7 @@ SegmentLight OpticalModel::integrateExact(double s0, double s1, double L) const
     const double l = L * ((sb - sa) / ds);
     if (tauA > 0 || tauB > 0)
     {
-      compositeBehind(out, integrateLinearPiece(tauA, cA, tauB, cB, l));
+      compositeBehind(out, linearPiece(tauA, cA, tauB, cB, l));
     }
     sa = sb;
     tauA = tauB;
