@@ -1,5 +1,6 @@
 #include "vtkRayMapperRenderHelpers.h"
 
+#include "vtkAbstractVolumeMapper.h"
 #include "vtkActor2D.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
@@ -217,9 +218,18 @@ bool HasOpaqueGeometry(vtkRenderer* ren)
   props->InitTraversal(it);
   while (vtkProp* prop = props->GetNextProp(it))
   {
-    // Volumes write no depth, and 2D overlays are drawn after the 3D props.
-    if (!prop->GetVisibility() || vtkVolume::SafeDownCast(prop) || vtkActor2D::SafeDownCast(prop))
+    // Volumes write no depth, except vtkSPHFluidMapper's surface, and 2D overlays are drawn
+    // after the 3D props.
+    if (!prop->GetVisibility() || vtkActor2D::SafeDownCast(prop))
     {
+      continue;
+    }
+    if (auto* volume = vtkVolume::SafeDownCast(prop))
+    {
+      if (volume->GetMapper() && volume->GetMapper()->IsA("vtkSPHFluidMapper"))
+      {
+        return true;
+      }
       continue;
     }
     if (prop->HasOpaqueGeometry())

@@ -89,7 +89,8 @@ RAYMAPPERSMAPPERS_EXPORT raymappers::RayCamera GatherCamera(vtkRenderer* ren,
 RAYMAPPERSMAPPERS_EXPORT std::vector<raymappers::Light> GatherLights(vtkRenderer* ren);
 
 /// Whether the renderer may hold opaque geometry in the depth buffer: a visible prop that is
-/// neither a volume nor a 2D overlay and has opaque geometry, or a preserved depth buffer.
+/// neither a volume nor a 2D overlay and has opaque geometry, a volume of vtkSPHFluidMapper
+/// (its surface writes depth), or a preserved depth buffer.
 RAYMAPPERSMAPPERS_EXPORT bool HasOpaqueGeometry(vtkRenderer* ren);
 
 /// Window depth of what has been drawn so far in the renderer's tiled viewport, row 0 at

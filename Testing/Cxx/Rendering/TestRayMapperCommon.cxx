@@ -4,7 +4,8 @@
 //  - a frame drawn in blend mode composites premultiplied colour over the framebuffer,
 //    src + (1 - src.a) dst; in opaque mode it writes depth and is hidden where an
 //    ordinary polygon is nearer;
-//  - transfer functions sampled from a vtkVolumeProperty and a lookup table.
+//  - transfer functions sampled from a vtkVolumeProperty and a lookup table;
+//  - which props make the volume mappers read the depth buffer (HasOpaqueGeometry).
 #include "RenderingTestHelpers.h"
 #include "vtkRayMapperFrameDrawer.h"
 #include "vtkRayMapperRenderHelpers.h"
@@ -16,6 +17,10 @@
 #include "vtkPlaneSource.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
+#include "vtkRBFVolumeMapper.h"
+#include "vtkSPHFluidMapper.h"
+#include "vtkTextActor.h"
+#include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
 namespace
@@ -189,6 +194,29 @@ int TestRayMapperCommon(int, char*[])
     lut->GetColor(v, rgb);
     const auto c = lt.lookup(v);
     RM_CHECK(std::fabs(c[0] - rgb[0]) < 0.02 && std::fabs(c[2] - rgb[2]) < 0.02);
+  }
+  // Opaque geometry for the volume mappers: a volume writes no depth, nor does a 2D
+  // overlay; an actor with opaque geometry and the SPH fluid's surface do.
+  {
+    vtkNew<vtkRenderer> scene;
+    vtkNew<vtkVolume> cloud;
+    vtkNew<vtkRBFVolumeMapper> cloudMapper;
+    cloud->SetMapper(cloudMapper);
+    scene->AddVolume(cloud);
+    vtkNew<vtkTextActor> label;
+    scene->AddActor2D(label);
+    RM_CHECK(!vtkRayMapperRenderHelpers::HasOpaqueGeometry(scene));
+    vtkNew<vtkVolume> fluid;
+    vtkNew<vtkSPHFluidMapper> fluidMapper;
+    fluid->SetMapper(fluidMapper);
+    scene->AddVolume(fluid);
+    RM_CHECK(vtkRayMapperRenderHelpers::HasOpaqueGeometry(scene));
+    fluid->VisibilityOff();
+    RM_CHECK(!vtkRayMapperRenderHelpers::HasOpaqueGeometry(scene));
+    scene->AddActor(pa);
+    RM_CHECK(vtkRayMapperRenderHelpers::HasOpaqueGeometry(scene));
+    pa->VisibilityOff();
+    RM_CHECK(!vtkRayMapperRenderHelpers::HasOpaqueGeometry(scene));
   }
   std::printf("common adapters: all checks passed\n");
   return EXIT_SUCCESS;
