@@ -380,7 +380,9 @@ std::vector<Row> RunZSweep(const Options& opt)
           << st->GetPhaseTime("decode") << " ms, project " << st->GetPhaseTime("project") << " ms, bin " << st->GetPhaseTime("bin")
           << " ms, sweep " << st->GetPhaseTime("sweep") << " ms; entries " << st->GetCounter("entries")
           << ", segments " << st->GetCounter("segments") << ", max list "
-          << st->GetCounter("max_list") << ", K growths " << st->GetCounter("k_growths");
+          << st->GetCounter("max_list") << ", K growths " << st->GetCounter("k_growths")
+          << ", flushes " << st->GetCounter("flushes") << ", transparent segments "
+          << st->GetCounter("transparent_segments");
         return s.str();
       };
       auto vtkMapper = [&](vtkUnstructuredGridVolumeMapper* mapper) {
