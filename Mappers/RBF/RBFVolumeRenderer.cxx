@@ -178,6 +178,7 @@ struct Classifier
 // Lanes are padded to a multiple of 16 (the widest SIMD width); a padding lane, like a ray
 // without samples in the pass, has an empty interval and an empty sample range.
 constexpr int MaxPacketRays = MaxRBFPacketSide * MaxRBFPacketSide;
+static_assert(MaxPacketRays <= 64, "a packet's rays fit a 64-bit mask");
 constexpr int LaneMultiple = 16;
 // Samples a particle deposits into one ray's buffer row at a time (one SIMD vector).
 constexpr int DepositBlock = 8;
@@ -216,12 +217,15 @@ struct PacketLanes
   alignas(64) std::int32_t open[MaxPacketRays];
 };
 
-// Integrates a pass's buffer front to back for the n rays of the packet at once, without
-// shading (section 5.3: "all samples for the packet are integrated, iterating using a
-// uniform t variable spanning minimum and maximum sample positions"): ray r blends its
-// samples [from[r], to[r]] while open[r], with the arithmetic of Classifier::blend, and
-// closes when its opacity reaches the threshold. phi(m, r) is the buffer row of field m and
-// ray r. Returns the samples blended; the rays closed are added to `terminated`.
+// Integrates a pass's buffer front to back for the n rays of the packet, without shading
+// (section 5.3: "all samples for the packet are integrated, iterating using a uniform t
+// variable spanning minimum and maximum sample positions"): ray r blends its samples
+// [from[r], to[r]] while open[r], with the arithmetic of Classifier::blend, and closes when
+// its opacity reaches the threshold. The uniform t runs per SIMD block of LaneMultiple rays,
+// over that block's span of samples only (the rays' spans differ most where they cross a
+// thin layer obliquely), and a block with no open ray costs nothing. phi(m, r) is the
+// buffer row of field m and ray r. Returns the samples blended; the rays closed are added
+// to `terminated`.
 template<typename RowFn>
 std::int64_t integrateLanes(const std::vector<StepTable>& tables,
   int numFields,
@@ -231,57 +235,66 @@ std::int64_t integrateLanes(const std::vector<StepTable>& tables,
   PacketLanes& P,
   std::int64_t& terminated)
 {
-  std::int32_t kLo = std::numeric_limits<std::int32_t>::max(), kHi = -1;
-  for (int r = 0; r < n; ++r)
-  {
-    if (P.open[r] && P.from[r] <= P.to[r])
-    {
-      kLo = std::min(kLo, P.from[r]);
-      kHi = std::max(kHi, P.to[r]);
-    }
-  }
   // The buffer as one pointer and strides, for the SIMD loop.
   const float* base = phi(0, 0);
   const int rayStride = n > 1 ? static_cast<int>(phi(0, 1) - base) : 0; // (int: a SIMD gather)
   const std::ptrdiff_t fieldStride = numFields > 1 ? phi(1, 0) - base : 0;
   std::int64_t blended = 0, closed = 0;
-  for (std::int32_t k = kLo; k <= kHi; ++k)
+  for (int b0 = 0; b0 < n; b0 += LaneMultiple)
   {
-    for (int m = 0; m < numFields; ++m)
+    // The block's lanes past n are padding: never open.
+    const int b1 = std::min(n, b0 + LaneMultiple);
+    std::int32_t kLo = std::numeric_limits<std::int32_t>::max(), kHi = -1;
+    for (int r = b0; r < b1; ++r)
     {
-      const StepTable& table = tables[std::min<std::size_t>(m, tables.size() - 1)];
-      const float* rgba = table.rgba.data();
-      const int size = table.size();
-      const float* column = base + m * fieldStride + k;
-#pragma omp simd
-      for (int r = 0; r < n; ++r)
+      if (P.open[r] && P.from[r] <= P.to[r])
       {
-        const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
-        const float v = column[r * rayStride]; // (a row every ray has: no masked load)
-        const bool valid = on & (v == v);      // NaN: transparent black
-        const RGBA c = table.lookupIn(rgba, size, valid ? v : 0.f);
-        const float w = (1.f - P.ca[r]) * c.a;
-        const bool add = valid & (c.a > 0.f);
-        P.cr[r] = add ? P.cr[r] + w * c.r : P.cr[r];
-        P.cg[r] = add ? P.cg[r] + w * c.g : P.cg[r];
-        P.cb[r] = add ? P.cb[r] + w * c.b : P.cb[r];
-        P.ca[r] = add ? P.ca[r] + w : P.ca[r];
+        kLo = std::min(kLo, P.from[r]);
+        kHi = std::max(kHi, P.to[r]);
       }
     }
-    int stillOpen = 0;
-#pragma omp simd reduction(+ : blended, closed, stillOpen)
-    for (int r = 0; r < n; ++r)
+    for (int r = b1; r < b0 + LaneMultiple; ++r)
     {
-      const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
-      const bool stop = on & (P.ca[r] >= threshold);
-      blended += on;
-      closed += stop;
-      P.open[r] = stop ? 0 : P.open[r];
-      stillOpen += (P.open[r] != 0) & (P.to[r] > k);
+      P.open[r] = 0;
     }
-    if (stillOpen == 0)
+    for (std::int32_t k = kLo; k <= kHi; ++k)
     {
-      break;
+      for (int m = 0; m < numFields; ++m)
+      {
+        const StepTable& table = tables[std::min<std::size_t>(m, tables.size() - 1)];
+        const float* rgba = table.rgba.data();
+        const int size = table.size();
+        const float* column = base + m * fieldStride + k;
+#pragma omp simd
+        for (int r = b0; r < b0 + LaneMultiple; ++r)
+        {
+          const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
+          const float v = on ? column[r * rayStride] : 0.f;
+          const bool valid = on & (v == v); // NaN: transparent black
+          const RGBA c = table.lookupIn(rgba, size, valid ? v : 0.f);
+          const float w = (1.f - P.ca[r]) * c.a;
+          const bool add = valid & (c.a > 0.f);
+          P.cr[r] = add ? P.cr[r] + w * c.r : P.cr[r];
+          P.cg[r] = add ? P.cg[r] + w * c.g : P.cg[r];
+          P.cb[r] = add ? P.cb[r] + w * c.b : P.cb[r];
+          P.ca[r] = add ? P.ca[r] + w : P.ca[r];
+        }
+      }
+      int stillOpen = 0;
+#pragma omp simd reduction(+ : blended, closed, stillOpen)
+      for (int r = b0; r < b0 + LaneMultiple; ++r)
+      {
+        const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
+        const bool stop = on & (P.ca[r] >= threshold);
+        blended += on;
+        closed += stop;
+        P.open[r] = stop ? 0 : P.open[r];
+        stillOpen += (P.open[r] != 0) & (P.to[r] > k);
+      }
+      if (stillOpen == 0)
+      {
+        break;
+      }
     }
   }
   terminated += closed;
@@ -301,7 +314,8 @@ inline void clipToSlab(float l, float h, float o, float inv, float& t0, float& t
 }
 
 // Whether some ray of the packet meets the box grown by `grow` within its pass interval
-// (every lane at once, no early exit: a SIMD test of 16 rays costs about one of a ray).
+// (a SIMD block of LaneMultiple rays at a time, all of its lanes at once: a block costs
+// about one ray; the first block with a hit answers).
 inline bool packetMeetsBox(const PacketLanes& P,
   int lanes,
   const float lo[3],
@@ -310,17 +324,24 @@ inline bool packetMeetsBox(const PacketLanes& P,
 {
   const float lx = lo[0] - grow, ly = lo[1] - grow, lz = lo[2] - grow;
   const float hx = hi[0] + grow, hy = hi[1] + grow, hz = hi[2] + grow;
-  int hit = 0;
-#pragma omp simd reduction(| : hit)
-  for (int r = 0; r < lanes; ++r)
+  for (int b0 = 0; b0 < lanes; b0 += LaneMultiple)
   {
-    float t0 = P.t0[r], t1 = P.t1[r];
-    clipToSlab(lx, hx, P.ox[r], P.ix[r], t0, t1);
-    clipToSlab(ly, hy, P.oy[r], P.iy[r], t0, t1);
-    clipToSlab(lz, hz, P.oz[r], P.iz[r], t0, t1);
-    hit |= t0 <= t1;
+    int hit = 0;
+#pragma omp simd reduction(| : hit)
+    for (int r = b0; r < b0 + LaneMultiple; ++r)
+    {
+      float t0 = P.t0[r], t1 = P.t1[r];
+      clipToSlab(lx, hx, P.ox[r], P.ix[r], t0, t1);
+      clipToSlab(ly, hy, P.oy[r], P.iy[r], t0, t1);
+      clipToSlab(lz, hz, P.oz[r], P.iz[r], t0, t1);
+      hit |= t0 <= t1;
+    }
+    if (hit)
+    {
+      return true;
+    }
   }
-  return hit != 0;
+  return false;
 }
 
 // ceil(q) and floor(q) for q in [-2^31, 2^31) (callers clamp first): std::ceil and
@@ -629,6 +650,10 @@ void renderRBF(const RBFParticles& particles,
               P.t1[r] = 0.f;
               P.first[r] = K;
               P.last[r] = -1;
+              if (!real)
+              {
+                P.cr[r] = P.cg[r] = P.cb[r] = P.ca[r] = 0.f;
+              }
             }
             // Passes of K samples (section 4.2) until every ray is opaque or done.
             for (std::int64_t s0 = kFirst; s0 <= kLast; s0 += K)
@@ -669,7 +694,7 @@ void renderRBF(const RBFParticles& particles,
               }
               // (Locals, not the captured references: read through a reference, the SIMD
               // loops below would gather them from memory in every lane.)
-              const float step = dt, s0f = static_cast<float>(s0);
+              const float invStep = 1.f / dt, s0f = static_cast<float>(s0);
               const std::int32_t slots = K;
               const float lastSlot = static_cast<float>(K);
               // Coherent BVH traversal: a node is entered when any ray's pass interval
@@ -700,8 +725,8 @@ void renderRBF(const RBFParticles& particles,
                   // Every ray at once: h^2, and the samples inside the support,
                   // t = k dt in [-b - w, -b + w], w = sqrt(R^2 - h^2), as indices
                   // relative to the pass (clamped to the pass and the ray's samples).
-                  // (t / dt - s0 is exact near the pass while sample indices stay below
-                  // 2^24, as t = k dt itself needs.)
+                  // (t / dt - s0 is taken as t (1 / dt) - s0: a sample within an ulp of
+                  // the support's edge may fall either way, as its own t = k dt may.)
                   int any = 0;
 #pragma omp simd reduction(| : any)
                   for (int r = 0; r < lanes; ++r)
@@ -711,7 +736,7 @@ void renderRBF(const RBFParticles& particles,
                     const float lx = fx - P.dx[r] * b, ly = fy - P.dy[r] * b, lz = fz - P.dz[r] * b;
                     const float h2 = lx * lx + ly * ly + lz * lz;
                     const float w = std::sqrt(h2 < R2 ? R2 - h2 : 0.f);
-                    float qa = (-b - w) / step - s0f, qb = (-b + w) / step - s0f;
+                    float qa = (-b - w) * invStep - s0f, qb = (-b + w) * invStep - s0f;
                     // (Clamped for the conversion to int, with one select each: a nested
                     // one keeps the loop from vectorizing.)
                     qa = qa < -1.f ? -1.f : qa;
@@ -733,13 +758,17 @@ void renderRBF(const RBFParticles& particles,
                   }
                   const float amp = kappa * particles.values[p];
                   const int field = particles.fields[p];
+                  // The rays the support reaches, as a bit mask (a branch per ray would
+                  // be mispredicted: a particle reaches few of the packet's rays).
+                  std::uint64_t reached = 0;
                   for (int r = 0; r < n; ++r)
                   {
+                    reached |= static_cast<std::uint64_t>(P.ka[r] <= P.kb[r]) << r;
+                  }
+                  for (; reached != 0; reached &= reached - 1)
+                  {
+                    const int r = __builtin_ctzll(reached);
                     const std::int32_t ka = P.ka[r], kb = P.kb[r];
-                    if (ka > kb)
-                    {
-                      continue;
-                    }
                     ++tileDeposits;
                     touchedFirst[r] = std::min(touchedFirst[r], ka);
                     touchedLast[r] = std::max(touchedLast[r], kb);
