@@ -77,18 +77,6 @@ bool invert4x4(const std::array<double, 16>& m, std::array<double, 16>& inv)
   return true;
 }
 
-double RayDepthMap::depthOf(double t) const
-{
-  return 0.5 * (z0 + t * zd) / (w0 + t * wd) + 0.5;
-}
-
-double RayDepthMap::distanceOf(double depth) const
-{
-  // (2d - 1)(w0 + t wd) = z0 + t zd  =>  t = (z0 - n w0) / (n wd - zd), n = 2d - 1.
-  const double n = 2.0 * depth - 1.0;
-  return (z0 - n * w0) / (n * wd - zd);
-}
-
 RayCamera::RayCamera(const std::array<double, 16>& modelToClip,
   int width,
   int height,

@@ -33,9 +33,15 @@ struct RayDepthMap
 {
   double z0 = 0, zd = 0, w0 = 1, wd = 0;
   /// Window depth d(t) = ((z0 + t zd)/(w0 + t wd) + 1)/2.
-  double depthOf(double t) const;
-  /// Inverse of depthOf: t such that d(t) = d.
-  double distanceOf(double depth) const;
+  double depthOf(double t) const { return 0.5 * (z0 + t * zd) / (w0 + t * wd) + 0.5; }
+  /// Inverse of depthOf: t such that d(t) = d. (Inline: the sweep calls it for every
+  /// face crossing of every pixel.)
+  double distanceOf(double depth) const
+  {
+    // (2d - 1)(w0 + t wd) = z0 + t zd  =>  t = (z0 - n w0) / (n wd - zd), n = 2d - 1.
+    const double n = 2.0 * depth - 1.0;
+    return (z0 - n * w0) / (n * wd - zd);
+  }
 };
 
 class RayCamera

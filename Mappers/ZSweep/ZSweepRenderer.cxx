@@ -85,7 +85,13 @@ struct EdgeEquation
   double row(double py) const { return dx * (py - uy); }
   double at(double rowTerm, double px) const { return sign * (rowTerm - dy * (px - ux)); }
   bool inside(double e) const { return e > 0 || (e == 0 && owned); }
-  // Narrows [lo, hi] to where E >= 0 along the row (in real x; empty when E < 0 all along).
+  // Narrows [lo, hi] to where E >= 0 along the row (in real x; empty when E < 0 all along),
+  // widened by a tolerance that covers the rounding of both this bound and E itself: a
+  // pixel centre outside the widened bound has E < 0 as computed by at(), so the exact test
+  // of the pixels left inside decides alone. (The bound x = ux - q, q = sign row / m, is off
+  // by a few ulps of |ux| + |q|; at() is off by a few ulps of |row| + |m| |px - ux|. A margin
+  // of 1e-9 (|ux| + |q| + 1) pixels exceeds both by orders of magnitude for any pixel
+  // coordinate below 1e6.)
   void narrow(double rowTerm, double& lo, double& hi, bool& empty) const
   {
     const double m = -sign * dy; // E = sign row + m (px - ux)
@@ -94,14 +100,16 @@ struct EdgeEquation
       empty = empty || sign * rowTerm < 0;
       return;
     }
-    const double bound = ux - sign * rowTerm / m;
+    const double q = sign * rowTerm / m;
+    const double bound = ux - q;
+    const double margin = 1e-9 * (std::abs(ux) + std::abs(q) + 1.0);
     if (m > 0)
     {
-      lo = std::max(lo, bound);
+      lo = std::max(lo, bound - margin);
     }
     else
     {
-      hi = std::min(hi, bound);
+      hi = std::min(hi, bound + margin);
     }
   }
 };
@@ -538,9 +546,9 @@ void renderZSweep(const ZSweepMesh& mesh,
         {
           const double py = y + 0.5;
           double rows[3];
-          // The row's span inside all three edges, widened by a pixel: the exact test below
-          // decides each pixel.
-          double lo = x0, hi = x1;
+          // The row's span inside all three edges (with narrow's margin): the exact test
+          // below decides each pixel of it.
+          double lo = x0 + 0.5, hi = x1 + 0.5; // pixel centres
           bool empty = false;
           for (int q = 0; q < 3; ++q)
           {
@@ -551,8 +559,12 @@ void renderZSweep(const ZSweepMesh& mesh,
           {
             continue;
           }
-          const int xs = std::max(x0, static_cast<int>(std::floor(lo - 0.5)) - 1);
-          const int xe = std::min(x1, static_cast<int>(std::ceil(hi - 0.5)) + 1);
+          if (lo > hi)
+          {
+            continue;
+          }
+          const int xs = std::max(x0, static_cast<int>(std::ceil(lo - 0.5)));
+          const int xe = std::min(x1, static_cast<int>(std::floor(hi - 0.5)));
           for (int xi = xs; xi <= xe; ++xi)
           {
             const double pxc = xi + 0.5;
