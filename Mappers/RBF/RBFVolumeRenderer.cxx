@@ -242,7 +242,7 @@ std::int64_t integrateLanes(const std::vector<StepTable>& tables,
   std::int64_t blended = 0, closed = 0;
   for (int b0 = 0; b0 < n; b0 += LaneMultiple)
   {
-    // The block's lanes past n are padding: never open.
+    // (The block's lanes past n are padding, closed with empty ranges.)
     const int b1 = std::min(n, b0 + LaneMultiple);
     std::int32_t kLo = std::numeric_limits<std::int32_t>::max(), kHi = -1;
     for (int r = b0; r < b1; ++r)
@@ -252,10 +252,6 @@ std::int64_t integrateLanes(const std::vector<StepTable>& tables,
         kLo = std::min(kLo, P.from[r]);
         kHi = std::max(kHi, P.to[r]);
       }
-    }
-    for (int r = b1; r < b0 + LaneMultiple; ++r)
-    {
-      P.open[r] = 0;
     }
     for (std::int32_t k = kLo; k <= kHi; ++k)
     {
@@ -652,7 +648,11 @@ void renderRBF(const RBFParticles& particles,
               P.last[r] = -1;
               if (!real)
               {
+                // A padding lane stays closed, transparent and without samples.
                 P.cr[r] = P.cg[r] = P.cb[r] = P.ca[r] = 0.f;
+                P.open[r] = 0;
+                P.from[r] = 0;
+                P.to[r] = -1;
               }
             }
             // Passes of K samples (section 4.2) until every ray is opaque or done.
