@@ -181,6 +181,50 @@ void OpticalModel::assign(const std::vector<double>& s,
   {
     OpaqueBefore[j + 1] = OpaqueBefore[j] + (Nodes[j].tau > 0);
   }
+  // The interval tables of the SIMD lanes (see the header), as valueIn evaluates them.
+  const std::size_t n = Nodes.size();
+  NodeS.resize(n);
+  for (auto* table : { &From, &Tau, &TauSlope, &R, &RSlope, &G, &GSlope, &B, &BSlope })
+  {
+    table->assign(n + 1, 0.0);
+  }
+  for (std::size_t j = 0; j < n; ++j)
+  {
+    NodeS[j] = Nodes[j].s;
+  }
+  for (std::size_t i = 0; i <= n && n > 0; ++i)
+  {
+    // Index i: interval k = i - 1; the end nodes hold outside.
+    const bool inner = i >= 1 && i < n;
+    const Node& a = Nodes[i == 0 ? 0 : i - 1];
+    const double span = inner ? Nodes[i].s - a.s : 0.0;
+    auto slope = [&](double va, double vb) { return span > 0 ? (vb - va) / span : 0.0; };
+    From[i] = a.s;
+    Tau[i] = a.tau;
+    R[i] = a.rgb[0];
+    G[i] = a.rgb[1];
+    B[i] = a.rgb[2];
+    if (inner)
+    {
+      const Node& b = Nodes[i];
+      TauSlope[i] = slope(a.tau, b.tau);
+      RSlope[i] = slope(a.rgb[0], b.rgb[0]);
+      GSlope[i] = slope(a.rgb[1], b.rgb[1]);
+      BSlope[i] = slope(a.rgb[2], b.rgb[2]);
+    }
+  }
+}
+
+void SegmentBatch::grow()
+{
+  const std::size_t n = std::max<std::size_t>(64, 2 * s0.size());
+  for (auto* v : { &s0, &s1, &length, &r, &g, &b, &transmittance })
+  {
+    v->resize(n);
+  }
+  Interval0.resize(n);
+  Interval1.resize(n);
+  Deferred.resize(n);
 }
 
 inline int OpticalModel::intervalOf(double s) const
@@ -273,6 +317,104 @@ SegmentLight OpticalModel::integrate(ZSweepIntegrator method, double s0, double 
   }
   return method == ZSweepIntegrator::Farias ? integrateFarias(s0, s1, L)
                                             : integrateHomogeneous(0.5 * (s0 + s1), L);
+}
+
+void OpticalModel::integrate(ZSweepIntegrator method, SegmentBatch& batch) const
+{
+  // The lanes count the nodes at or below s one by one: for the usual few nodes.
+  constexpr std::size_t MaxLaneNodes = 64;
+  if (method == ZSweepIntegrator::Exact && !Nodes.empty() && Nodes.size() <= MaxLaneNodes)
+  {
+    integrateExactLanes(batch);
+    return;
+  }
+  for (std::size_t i = 0; i < batch.size(); ++i)
+  {
+    const SegmentLight l = integrate(method, batch.s0[i], batch.s1[i], batch.length[i]);
+    batch.r[i] = l.r;
+    batch.g[i] = l.g;
+    batch.b[i] = l.b;
+    batch.transmittance[i] = l.transmittance;
+  }
+}
+
+void OpticalModel::integrateHomogeneous(SegmentBatch& batch) const
+{
+  for (std::size_t i = 0; i < batch.size(); ++i)
+  {
+    const SegmentLight l = integrateHomogeneous(batch.s0[i], batch.length[i]);
+    batch.r[i] = l.r;
+    batch.g[i] = l.g;
+    batch.b[i] = l.b;
+    batch.transmittance[i] = l.transmittance;
+  }
+}
+
+void OpticalModel::integrateExactLanes(SegmentBatch& batch) const
+{
+  const std::size_t count = batch.size();
+  const int n = static_cast<int>(NodeS.size());
+  const double* nodeS = NodeS.data();
+  const double *from = From.data(), *tau = Tau.data(), *tauSlope = TauSlope.data();
+  const double *red = R.data(), *redSlope = RSlope.data(), *green = G.data(),
+               *greenSlope = GSlope.data(), *blue = B.data(), *blueSlope = BSlope.data();
+  const double *in0 = batch.s0.data(), *in1 = batch.s1.data(), *len = batch.length.data();
+  double *outR = batch.r.data(), *outG = batch.g.data(), *outB = batch.b.data(),
+         *outT = batch.transmittance.data();
+  unsigned char* deferred = batch.Deferred.data();
+  // Interval index + 1 of each end: the number of nodes at or below it.
+  int *interval0 = batch.Interval0.data(), *interval1 = batch.Interval1.data();
+  std::fill(interval0, interval0 + count, 0);
+  std::fill(interval1, interval1 + count, 0);
+  for (int j = 0; j < n; ++j)
+  {
+    const double sj = nodeS[j];
+#pragma omp simd
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      interval0[i] += sj <= in0[i];
+      interval1[i] += sj <= in1[i];
+    }
+  }
+#pragma omp simd
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const double s0 = in0[i], s1 = in1[i], L = len[i];
+    const int c0 = interval0[i], c1 = interval1[i];
+    const double f0 = s0 - from[c0], f1 = s1 - from[c0];
+    const double tauA = tau[c0] + f0 * tauSlope[c0], tauB = tau[c0] + f1 * tauSlope[c0];
+    // One linear piece (integrateLinearPiece) when no node lies between the ends, with
+    // the series branch of depthIntegrals when E' <= SeriesDepth all along.
+    const double A = tauA * L, Bq = 0.5 * (tauB - tauA) * L;
+    const bool lane = c0 == c1 && std::max(A, A + 2.0 * Bq) <= SeriesDepth;
+    deferred[i] = !lane;
+    const double a = lane ? A : 0.0, b = lane ? Bq : 0.0;
+    double oneMinusG = 0;
+    for (int k = 0; k < 4; ++k)
+    {
+      const double x = 0.5 * (1.0 + GL4x[k]);
+      oneMinusG += 0.5 * GL4w[k] * oneMinusExpSmall(x * (a + b * x));
+    }
+    const double oneMinusT = oneMinusExpSmall(a + b);
+    const double gMinusT = oneMinusT - oneMinusG;
+    outT[i] = 1.0 - oneMinusT;
+    outR[i] = (red[c0] + f0 * redSlope[c0]) * oneMinusG + (red[c0] + f1 * redSlope[c0]) * gMinusT;
+    outG[i] =
+      (green[c0] + f0 * greenSlope[c0]) * oneMinusG + (green[c0] + f1 * greenSlope[c0]) * gMinusT;
+    outB[i] =
+      (blue[c0] + f0 * blueSlope[c0]) * oneMinusG + (blue[c0] + f1 * blueSlope[c0]) * gMinusT;
+  }
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    if (deferred[i])
+    {
+      const SegmentLight l = integrateExact(in0[i], in1[i], len[i]);
+      outR[i] = l.r;
+      outG[i] = l.g;
+      outB[i] = l.b;
+      outT[i] = l.transmittance;
+    }
+  }
 }
 
 SegmentLight OpticalModel::integrateExact(double s0, double s1, double L) const

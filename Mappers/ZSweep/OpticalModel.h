@@ -24,6 +24,11 @@
 // - Midpoint: tau and c at the middle scalar, then the homogeneous formula.
 // Cell data (s constant in a cell): the homogeneous formula, exact:
 //   T = exp(-tau L),  C = c (1 - T).
+//
+// Segments are independent of each other until they are composited, so the renderer hands
+// them over in batches (SegmentBatch); the exact integrator's common case, a segment inside
+// one interval of the nodes with an optical depth below 0.1, runs in SIMD lanes over the
+// batch, the others one by one.
 #ifndef RayMappers_OpticalModel_h
 #define RayMappers_OpticalModel_h
 
@@ -44,6 +49,37 @@ struct SegmentLight
 {
   double r = 0, g = 0, b = 0; // emitted light reaching the segment's front
   double transmittance = 1;
+};
+
+/// Ray segments integrated together: inputs s0 (front scalar), s1 (back scalar) and length;
+/// outputs the light of each segment on its own (r, g, b premultiplied, transmittance).
+struct SegmentBatch
+{
+  std::vector<double> s0, s1, length;
+  std::vector<double> r, g, b, transmittance;
+
+  std::size_t size() const { return Count; }
+  void clear() { Count = 0; }
+  void push(double front, double back, double L)
+  {
+    if (Count == s0.size())
+    {
+      grow();
+    }
+    s0[Count] = front;
+    s1[Count] = back;
+    length[Count] = L;
+    ++Count;
+  }
+
+private:
+  friend class OpticalModel;
+  void grow();
+  std::size_t Count = 0;
+  // Scratch of the SIMD lanes: each end's interval index + 1, and whether the lanes left
+  // the segment to integrateExact.
+  std::vector<int> Interval0, Interval1;
+  std::vector<unsigned char> Deferred;
 };
 
 class OpticalModel
@@ -79,6 +115,11 @@ public:
   /// Light of a segment of length L with the constant scalar s (cell data).
   SegmentLight integrateHomogeneous(double s, double L) const;
 
+  /// Light of each segment of the batch (as integrate, one by one).
+  void integrate(ZSweepIntegrator method, SegmentBatch& batch) const;
+  /// Light of each segment of the batch with its constant scalar s0 (as integrateHomogeneous).
+  void integrateHomogeneous(SegmentBatch& batch) const;
+
 private:
   SegmentLight integrateExact(double s0, double s1, double L) const;
   SegmentLight integrateFarias(double s0, double s1, double L) const;
@@ -91,9 +132,19 @@ private:
   /// Whether a node with tau > 0 lies strictly between scalars in intervals k0 and k1.
   bool opaqueNodeBetween(int k0, int k1) const;
 
+  /// The exact integrator's SIMD lanes over a batch: the segments inside one interval with
+  /// an optical depth at most SeriesDepth; the others are left to integrateExact.
+  void integrateExactLanes(SegmentBatch& batch) const;
+
   std::vector<Node> Nodes;
   // OpaqueBefore[j]: how many of the first j nodes have tau > 0 (for skipping).
   std::vector<int> OpaqueBefore;
+  // The same model for SIMD lanes: node positions, and per interval k = -1 .. n-1 (index
+  // k + 1) the values at its start From and their slopes in s (0 beyond the end nodes):
+  // value(s) = Value[k + 1] + (s - From[k + 1]) Slope[k + 1], for tau, r, g, b.
+  std::vector<double> NodeS;
+  std::vector<double> From, Tau, TauSlope, R, RSlope, G, GSlope, B, BSlope;
+
 };
 
 /// G(A, B) = int_0^1 exp(-A x - B x^2) dx for A >= 0, A + 2B >= 0 (see above).

@@ -126,9 +126,21 @@ struct PixelState
   SegmentLight light;
 };
 
+// Pixels a flush integrates as one batch (their segments stay in the L1/L2 caches).
+constexpr std::size_t FlushChunk = 64;
+
+// A pixel's segments in a flush's batch.
+struct FlushRange
+{
+  std::size_t pixel, begin, end;
+  bool opaque; // opaque geometry ends the ray within them
+};
+
 struct TileWork
 {
   std::vector<std::vector<Entry>> lists;
+  SegmentBatch batch;
+  std::vector<FlushRange> ranges;
   std::vector<PixelState> pixels;
   std::vector<int> dirty; // pixels whose list is not empty
   std::vector<char> isDirty;
@@ -386,6 +398,7 @@ void renderZSweep(const ZSweepMesh& mesh,
       work.pixels.assign(numPixels, PixelState());
       work.isDirty.assign(numPixels, 0);
       work.dirty.clear();
+      work.ranges.resize(FlushChunk);
       for (int j = 0; j < TH; ++j)
       {
         for (int i = 0; i < TW; ++i)
@@ -403,49 +416,13 @@ void renderZSweep(const ZSweepMesh& mesh,
         }
       }
 
-      // Integrates the segment from the pixel's last crossing to t, which ends in entry e
-      // (s: its scalar).
-      auto segment = [&](PixelState& px, double t, double s) {
-        if (px.done)
-        {
-          return;
-        }
-        double tEnd = t, sEnd = s;
-        if (t > px.tOpaque)
-        {
-          // Opaque geometry ends the ray inside this segment.
-          tEnd = px.tOpaque;
-          sEnd = t > px.prevT ? px.prevS + (s - px.prevS) * (tEnd - px.prevT) / (t - px.prevT) : s;
-          px.done = true;
-        }
-        const double L = tEnd - px.prevT;
-        if (px.cell < 0 || !(L > 0))
-        {
-          return;
-        }
-        ++work.segments;
-        const double s0 = cellData ? scalars[static_cast<std::size_t>(px.cell)] : px.prevS;
-        const double s1 = cellData ? s0 : sEnd;
-        const SegmentLight seg = cellData ? optics.integrateHomogeneous(s0, L)
-                                          : optics.integrate(params.integrator, s0, s1, L);
-        if (seg.transmittance == 1.0 && seg.r == 0.0 && seg.g == 0.0 && seg.b == 0.0)
-        {
-          ++work.transparentSegments; // no opacity over the segment's scalars
-          return;
-        }
-        compositeBehind(px.light, seg);
-        if (1.0 - px.light.transmittance >= termination)
-        {
-          px.done = true;
-        }
-      };
-
-      // Composites a pixel's list up to (not including) distance tLimit.
-      auto flushPixel = [&](std::size_t p, double tLimit) {
-        PixelState& px = work.pixels[p];
-        std::vector<Entry>& list = work.lists[p];
+      // Moves the final crossings of a pixel's list (tie groups wholly before distance
+      // tLimit) into segments of the batch: from the pixel's last crossing to each group's
+      // first; returns whether opaque geometry ends the ray there.
+      auto gather = [&](PixelState& px, std::vector<Entry>& list, double tLimit) {
+        bool opaque = false;
         std::size_t i = 0;
-        while (i < list.size())
+        while (i < list.size() && !opaque)
         {
           // The tie group starting at i: it must be final as a whole.
           std::size_t j = i + 1;
@@ -457,7 +434,22 @@ void renderZSweep(const ZSweepMesh& mesh,
           {
             break;
           }
-          segment(px, list[i].t, list[i].s);
+          double tEnd = list[i].t, sEnd = list[i].s;
+          if (tEnd > px.tOpaque)
+          {
+            // Opaque geometry ends the ray inside this segment.
+            sEnd = tEnd > px.prevT
+              ? px.prevS + (sEnd - px.prevS) * (px.tOpaque - px.prevT) / (tEnd - px.prevT)
+              : sEnd;
+            tEnd = px.tOpaque;
+            opaque = true;
+          }
+          const double L = tEnd - px.prevT;
+          if (px.cell >= 0 && L > 0)
+          {
+            const double s0 = cellData ? scalars[static_cast<std::size_t>(px.cell)] : px.prevS;
+            work.batch.push(s0, cellData ? s0 : sEnd, L);
+          }
           std::int32_t cell = list[j - 1].entered;
           if (j - i > 1)
           {
@@ -483,32 +475,78 @@ void renderZSweep(const ZSweepMesh& mesh,
           i = j;
         }
         list.erase(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(i));
-        if (px.done)
+        return opaque;
+      };
+
+      // Composites the batch's segments [begin, end) behind the pixel's light, in order, up
+      // to the termination opacity.
+      auto composite = [&](PixelState& px, std::size_t begin, std::size_t end) {
+        const SegmentBatch& batch = work.batch;
+        for (std::size_t q = begin; q < end && !px.done; ++q)
         {
-          list.clear();
+          ++work.segments;
+          const SegmentLight seg{ batch.r[q], batch.g[q], batch.b[q], batch.transmittance[q] };
+          if (seg.transmittance == 1.0 && seg.r == 0.0 && seg.g == 0.0 && seg.b == 0.0)
+          {
+            ++work.transparentSegments; // no opacity over the segment's scalars
+            continue;
+          }
+          compositeBehind(px.light, seg);
+          px.done = 1.0 - px.light.transmittance >= termination;
         }
       };
 
+      // Composites the dirty pixels' lists up to window depth depthLimit (everything when
+      // it is >= 1). The pixels go in chunks: a chunk's segments are gathered, integrated
+      // as one batch (independent of each other), then composited pixel by pixel in order.
       auto flush = [&](double depthLimit) {
         ++work.flushes;
         std::size_t longest = 0;
         std::size_t keep = 0;
-        for (std::size_t k = 0; k < work.dirty.size(); ++k)
+        for (std::size_t c0 = 0; c0 < work.dirty.size(); c0 += FlushChunk)
         {
-          const int p = work.dirty[k];
-          PixelState& px = work.pixels[static_cast<std::size_t>(p)];
-          const double tLimit = depthLimit >= 1.0 ? std::numeric_limits<double>::infinity()
-                                                  : px.map.distanceOf(depthLimit);
-          flushPixel(static_cast<std::size_t>(p), tLimit);
-          const std::size_t n = work.lists[static_cast<std::size_t>(p)].size();
-          longest = std::max(longest, n);
-          if (n > 0)
+          const std::size_t c1 = std::min(work.dirty.size(), c0 + FlushChunk);
+          work.batch.clear();
+          for (std::size_t k = c0; k < c1; ++k)
           {
-            work.dirty[keep++] = p;
+            const std::size_t p = static_cast<std::size_t>(work.dirty[k]);
+            PixelState& px = work.pixels[p];
+            const double tLimit = depthLimit >= 1.0 ? std::numeric_limits<double>::infinity()
+                                                    : px.map.distanceOf(depthLimit);
+            FlushRange& chunkRange = work.ranges[k - c0];
+            chunkRange.pixel = p;
+            chunkRange.begin = work.batch.size();
+            chunkRange.opaque = gather(px, work.lists[p], tLimit);
+            chunkRange.end = work.batch.size();
+          }
+          if (cellData)
+          {
+            optics.integrateHomogeneous(work.batch);
           }
           else
           {
-            work.isDirty[static_cast<std::size_t>(p)] = 0;
+            optics.integrate(params.integrator, work.batch);
+          }
+          for (std::size_t k = c0; k < c1; ++k)
+          {
+            const FlushRange& chunkRange = work.ranges[k - c0];
+            PixelState& px = work.pixels[chunkRange.pixel];
+            std::vector<Entry>& list = work.lists[chunkRange.pixel];
+            composite(px, chunkRange.begin, chunkRange.end);
+            px.done = px.done || chunkRange.opaque;
+            if (px.done)
+            {
+              list.clear();
+            }
+            longest = std::max(longest, list.size());
+            if (!list.empty())
+            {
+              work.dirty[keep++] = static_cast<int>(chunkRange.pixel);
+            }
+            else
+            {
+              work.isDirty[chunkRange.pixel] = 0;
+            }
           }
         }
         work.dirty.resize(keep);

@@ -497,6 +497,88 @@ TEST(ZSweepOptics, ExactSegmentMatchesReferenceAcrossNodes)
     EXPECT_NEAR(e.r, rgb[0], 1e-7);
     EXPECT_NEAR(e.g, rgb[1], 1e-7);
     EXPECT_NEAR(e.b, rgb[2], 1e-7);
+    // The batch (SIMD lanes) on the same segment, scaled down into the lanes' series range
+    // too (L / 400: optical depth below 0.1) against the same quadrature.
+    for (const double scale : { 1.0, 1.0 / 400 })
+    {
+      SegmentBatch batch;
+      batch.push(s0, s1, L * scale);
+      m.integrate(ZSweepIntegrator::Exact, batch);
+      double Ts = 1, rgbs[3] = { 0, 0, 0 };
+      const double hs = h * scale;
+      for (int i = 0; i < n; ++i)
+      {
+        const double s = s0 + (s1 - s0) * (i + 0.5) / n;
+        double tau, col[3];
+        tf.at(s, tau, col);
+        const double a = -std::expm1(-tau * hs);
+        for (int ch = 0; ch < 3; ++ch)
+        {
+          rgbs[ch] += Ts * col[ch] * a;
+        }
+        Ts *= 1 - a;
+      }
+      EXPECT_NEAR(batch.transmittance[0], Ts, 1e-7) << s0 << " " << s1 << " " << L * scale;
+      EXPECT_NEAR(batch.r[0], rgbs[0], 1e-7);
+      EXPECT_NEAR(batch.g[0], rgbs[1], 1e-7);
+      EXPECT_NEAR(batch.b[0], rgbs[2], 1e-7);
+    }
+  }
+}
+
+TEST(ZSweepOptics, BatchMatchesSegmentBySegment)
+{
+  // Random segments (inside one interval, across nodes, beyond the end nodes, constant,
+  // shallow and deep) through a batch against integrate() one at a time, with 4 nodes and
+  // 40 nodes (SIMD lanes) and 100 nodes (the batch goes one by one).
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const int nodes : { 4, 40, 100 })
+  {
+    RefTransferFunction tf;
+    for (int j = 0; j < nodes; ++j)
+    {
+      tf.s.push_back(double(j) / (nodes - 1));
+      tf.alpha.push_back(j % 3 == 1 ? 0.0 : 0.9 * u(rng));
+      for (int c = 0; c < 3; ++c)
+      {
+        tf.rgb.push_back(u(rng));
+      }
+    }
+    tf.unitDistance = 0.5;
+    const OpticalModel m = opticsOf(tf);
+    SegmentBatch batch;
+    std::vector<std::array<double, 3>> segments;
+    for (int i = 0; i < 3000; ++i)
+    {
+      const double s0 = -0.2 + 1.4 * u(rng);
+      const double s1 =
+        i % 5 == 0 ? s0 : (i % 2 ? s0 + 0.02 * (u(rng) - 0.5) : -0.2 + 1.4 * u(rng));
+      const double L = std::pow(10.0, -6 + 7 * u(rng));
+      segments.push_back({ s0, s1, L });
+      batch.push(s0, s1, L);
+    }
+    for (const auto method : { ZSweepIntegrator::Exact, ZSweepIntegrator::Farias })
+    {
+      m.integrate(method, batch);
+      for (std::size_t i = 0; i < segments.size(); ++i)
+      {
+        const auto& c = segments[i];
+        const SegmentLight e = m.integrate(method, c[0], c[1], c[2]);
+        const double tol = 1e-11;
+        EXPECT_NEAR(batch.transmittance[i], e.transmittance, tol)
+          << nodes << " " << c[0] << " " << c[1] << " " << c[2];
+        EXPECT_NEAR(batch.r[i], e.r, tol);
+        EXPECT_NEAR(batch.g[i], e.g, tol);
+        EXPECT_NEAR(batch.b[i], e.b, tol);
+      }
+    }
+    SegmentBatch homogeneous;
+    homogeneous.push(0.45, 0.45, 2.0);
+    m.integrateHomogeneous(homogeneous);
+    const SegmentLight h = m.integrateHomogeneous(0.45, 2.0);
+    EXPECT_EQ(homogeneous.transmittance[0], h.transmittance);
+    EXPECT_EQ(homogeneous.r[0], h.r);
   }
 }
 
