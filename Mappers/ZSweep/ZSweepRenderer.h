@@ -48,7 +48,7 @@ namespace raymappers
 struct ZSweepParameters
 {
   ZSweepIntegrator integrator = ZSweepIntegrator::Exact;
-  int tileSize = 64;
+  int tileSize = 32;
   int listThreshold = 16;           // K
   double terminationOpacity = 1.0;  // stop a pixel once its opacity reaches this
 };

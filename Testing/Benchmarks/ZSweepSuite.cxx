@@ -399,25 +399,25 @@ std::vector<Row> RunZSweep(const Options& opt)
       auto meshMs = [&]() { return ours->GetStatistics()->GetPhaseTime("mesh"); };
       auto touch = [&]() { ours->GetInput()->Modified(); };
       std::vector<Method> methods;
-      methods.push_back({ "zsweep", "exact", zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, 64, 16),
+      methods.push_back({ "zsweep", "exact", zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, 32, 16),
         meshMs, touch, detail });
       // Sparsification (section 4.3.5): the same image, the mesh stored through the kept cells.
       methods.push_back({ "zsweep", "exact;sparse",
-        zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, 64, 16, 1, true), meshMs, touch, detail });
+        zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, 32, 16, 1, true), meshMs, touch, detail });
       if (g.native)
       {
         methods.push_back({ "zsweep", "native-cells;exact",
-          zsweep(g.native, VTK_ZSWEEP_INTEGRATOR_EXACT, 64, 16), meshMs, touch, detail });
+          zsweep(g.native, VTK_ZSWEEP_INTEGRATOR_EXACT, 32, 16), meshMs, touch, detail });
         methods.push_back({ "zsweep", "native-cells;sparse",
-          zsweep(g.native, VTK_ZSWEEP_INTEGRATOR_EXACT, 64, 16, 1, true), meshMs, touch, detail });
+          zsweep(g.native, VTK_ZSWEEP_INTEGRATOR_EXACT, 32, 16, 1, true), meshMs, touch, detail });
       }
-      methods.push_back({ "zsweep", "farias", zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_FARIAS, 64, 16),
+      methods.push_back({ "zsweep", "farias", zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_FARIAS, 32, 16),
         nullptr, nullptr, detail });
       methods.push_back({ "zsweep", "midpoint",
-        zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_MIDPOINT, 64, 16), nullptr, nullptr, detail });
+        zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_MIDPOINT, 32, 16), nullptr, nullptr, detail });
       if (view == "far")
       {
-        for (const int tile : { 32, 128 })
+        for (const int tile : { 16, 64, 128 })
         {
           methods.push_back({ "zsweep", "tile=" + std::to_string(tile),
             zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, tile, 16), nullptr, nullptr, detail });
@@ -425,13 +425,13 @@ std::vector<Row> RunZSweep(const Options& opt)
         for (const int K : { 4, 64 })
         {
           methods.push_back({ "zsweep", "K=" + std::to_string(K),
-            zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, 64, K), nullptr, nullptr, detail });
+            zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, 32, K), nullptr, nullptr, detail });
         }
         // Time-critical rendering: p x p fewer rays (chapter 3).
         for (const int p : { 2, 3, 4, 6, 9 })
         {
           methods.push_back({ "zsweep", "p=" + std::to_string(p),
-            zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, 64, 16, p), nullptr, nullptr, detail });
+            zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_EXACT, 32, 16, p), nullptr, nullptr, detail });
         }
       }
       vtkNew<vtkUnstructuredGridVolumeZSweepMapper> vtkZSweep;
