@@ -180,8 +180,6 @@ struct Classifier
 constexpr int MaxPacketRays = MaxRBFPacketSide * MaxRBFPacketSide;
 static_assert(MaxPacketRays <= 64, "a packet's rays fit a 64-bit mask");
 constexpr int LaneMultiple = 16;
-// Samples a particle deposits into one ray's buffer row at a time (one SIMD vector).
-constexpr int DepositBlock = 8;
 
 struct PacketLanes
 {
@@ -206,6 +204,10 @@ struct PacketLanes
   alignas(64) float h2[MaxPacketRays];
   alignas(64) std::int32_t ka[MaxPacketRays];
   alignas(64) std::int32_t kb[MaxPacketRays];
+  // The pass's samples some particle reached, [touchedFirst, touchedLast] (empty: first >
+  // last).
+  alignas(64) std::int32_t touchedFirst[MaxPacketRays];
+  alignas(64) std::int32_t touchedLast[MaxPacketRays];
   // Front-to-back state (premultiplied colour and opacity), and for the pass's
   // integration the samples to blend [from, to] and whether the ray is still open.
   alignas(64) float cr[MaxPacketRays];
@@ -223,22 +225,19 @@ struct PacketLanes
 // [from[r], to[r]] while open[r], with the arithmetic of Classifier::blend, and closes when
 // its opacity reaches the threshold. The uniform t runs per SIMD block of LaneMultiple rays,
 // over that block's span of samples only (the rays' spans differ most where they cross a
-// thin layer obliquely), and a block with no open ray costs nothing. phi(m, r) is the
-// buffer row of field m and ray r. Returns the samples blended; the rays closed are added
-// to `terminated`.
-template<typename RowFn>
+// thin layer obliquely), and a block with no open ray costs nothing. The buffer holds the
+// value of field m at sample k of ray r at base[m fieldStride + k sampleStride + r].
+// Returns the samples blended; the rays closed are added to `terminated`.
 std::int64_t integrateLanes(const std::vector<StepTable>& tables,
   int numFields,
-  RowFn phi,
+  const float* base,
+  std::ptrdiff_t fieldStride,
+  std::ptrdiff_t sampleStride,
   int n,
   float threshold,
   PacketLanes& P,
   std::int64_t& terminated)
 {
-  // The buffer as one pointer and strides, for the SIMD loop.
-  const float* base = phi(0, 0);
-  const int rayStride = n > 1 ? static_cast<int>(phi(0, 1) - base) : 0; // (int: a SIMD gather)
-  const std::ptrdiff_t fieldStride = numFields > 1 ? phi(1, 0) - base : 0;
   std::int64_t blended = 0, closed = 0;
   for (int b0 = 0; b0 < n; b0 += LaneMultiple)
   {
@@ -260,12 +259,12 @@ std::int64_t integrateLanes(const std::vector<StepTable>& tables,
         const StepTable& table = tables[std::min<std::size_t>(m, tables.size() - 1)];
         const float* rgba = table.rgba.data();
         const int size = table.size();
-        const float* column = base + m * fieldStride + k;
+        const float* row = base + m * fieldStride + k * sampleStride;
 #pragma omp simd
         for (int r = b0; r < b0 + LaneMultiple; ++r)
         {
           const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
-          const float v = on ? column[r * rayStride] : 0.f;
+          const float v = on ? row[r] : 0.f;
           const bool valid = on & (v == v); // NaN: transparent black
           const RGBA c = table.lookupIn(rgba, size, valid ? v : 0.f);
           const float w = (1.f - P.ca[r]) * c.a;
@@ -581,17 +580,19 @@ void renderRBF(const RBFParticles& particles,
         std::int64_t tileRays = 0, tilePackets = 0, tilePasses = 0, tileSamples = 0, tileVisits = 0,
                      tileDeposits = 0, tileTerminated = 0;
         const int maxRays = side * side;
-        // The packet's sample buffer, one row of `stride` samples per field and ray (and
-        // per gradient component and ray when shading), reused for every pass. A row has
-        // room for a deposit block starting at its last sample.
-        const int stride = (K + DepositBlock - 1 + LaneMultiple - 1) / LaneMultiple * LaneMultiple;
-        std::vector<float> phiBuf(static_cast<std::size_t>(numFields) * maxRays * stride);
-        std::vector<float> gradBuf(grads ? static_cast<std::size_t>(3) * maxRays * stride : 0);
-        auto phiRow = [&](int m, int r)
-        { return &phiBuf[(static_cast<std::size_t>(m) * maxRays + r) * stride]; };
-        auto gradRow = [&](int axis, int r)
-        { return &gradBuf[(static_cast<std::size_t>(axis) * maxRays + r) * stride]; };
-        std::vector<float> tPass(stride); // t of the pass's samples
+        // The packet's sample buffer, reused for every pass: per field (and per gradient
+        // component when shading) K rows, one per sample of the pass, of the packet's
+        // rays side by side, so that a particle deposits one sample into a SIMD block of
+        // rays at a time and the integration reads a block's samples in one load.
+        const int laneStride = (maxRays + LaneMultiple - 1) / LaneMultiple * LaneMultiple;
+        const std::ptrdiff_t fieldStride = static_cast<std::ptrdiff_t>(K) * laneStride;
+        std::vector<float> phiBuf(static_cast<std::size_t>(numFields) * fieldStride);
+        std::vector<float> gradBuf(grads ? static_cast<std::size_t>(3) * fieldStride : 0);
+        auto phiAt = [&](int m, std::int32_t k)
+        { return &phiBuf[static_cast<std::size_t>(m * fieldStride + k * laneStride)]; };
+        auto gradAt = [&](int axis, std::int32_t k)
+        { return &gradBuf[static_cast<std::size_t>(axis * fieldStride + k * laneStride)]; };
+        std::vector<float> tPass(K); // t of the pass's samples
         std::vector<std::uint32_t> stack;
         stack.reserve(128);
         PacketLanes P;
@@ -599,7 +600,6 @@ void renderRBF(const RBFParticles& particles,
         SampleRange range[MaxPacketRays];
         bool active[MaxPacketRays];
         int pi[MaxPacketRays], pj[MaxPacketRays];
-        std::int32_t touchedFirst[MaxPacketRays], touchedLast[MaxPacketRays];
         for (int by = tile.y0; by < tile.y1; by += side)
         {
           for (int bx = tile.x0; bx < tile.x1; bx += side)
@@ -685,10 +685,13 @@ void renderRBF(const RBFParticles& particles,
                 P.last[r] = in ? static_cast<std::int32_t>(passLast - s0) : -1;
                 P.t0[r] = in ? static_cast<float>(passFirst) * dt : 1.f;
                 P.t1[r] = in ? static_cast<float>(passLast) * dt : 0.f;
-                touchedFirst[r] = K;
-                touchedLast[r] = -1;
               }
-              for (int k = 0; k < stride; ++k)
+              for (int r = 0; r < lanes; ++r)
+              {
+                P.touchedFirst[r] = K;
+                P.touchedLast[r] = -1;
+              }
+              for (int k = 0; k < K; ++k)
               {
                 tPass[k] = static_cast<float>(s0 + k) * dt;
               }
@@ -758,55 +761,58 @@ void renderRBF(const RBFParticles& particles,
                   }
                   const float amp = kappa * particles.values[p];
                   const int field = particles.fields[p];
-                  // The rays the support reaches, as a bit mask (a branch per ray would
-                  // be mispredicted: a particle reaches few of the packet's rays).
-                  std::uint64_t reached = 0;
-                  for (int r = 0; r < n; ++r)
+                  // Deposit into each SIMD block of rays the support reaches, sample by
+                  // sample over the block's samples in the support: the Gaussian
+                  // g = kappa k_i exp(-(u^2 + h^2) / 2r^2) with u = t + b (section 3.1) in
+                  // the rays whose own support samples hold k, zero in the others.
+                  const float s = -2.f * inv2r2;
+                  for (int b0 = 0; b0 < lanes; b0 += LaneMultiple)
                   {
-                    reached |= static_cast<std::uint64_t>(P.ka[r] <= P.kb[r]) << r;
-                  }
-                  for (; reached != 0; reached &= reached - 1)
-                  {
-                    const int r = __builtin_ctzll(reached);
-                    const std::int32_t ka = P.ka[r], kb = P.kb[r];
-                    ++tileDeposits;
-                    touchedFirst[r] = std::min(touchedFirst[r], ka);
-                    touchedLast[r] = std::max(touchedLast[r], kb);
-                    // The Gaussian at each sample, g = kappa k_i exp(-(u^2 + h^2) / 2r^2)
-                    // with u = t + b (section 3.1), a block of samples per SIMD vector.
-                    const float b = P.b[r], h2 = P.h2[r];
-                    float* phi = phiRow(field, r);
-                    for (std::int32_t k0 = ka; k0 <= kb; k0 += DepositBlock)
+                    std::int32_t kLo = slots, kHi = -1;
+                    int reached = 0;
+#pragma omp simd reduction(min : kLo) reduction(max : kHi) reduction(+ : reached)
+                    for (int r = b0; r < b0 + LaneMultiple; ++r)
                     {
-#pragma omp simd
-                      for (int l = 0; l < DepositBlock; ++l)
-                      {
-                        const std::int32_t k = k0 + l;
-                        const float u = tPass[k] + b;
-                        const float g = amp * fastExp(-(u * u + h2) * inv2r2);
-                        phi[k] += k <= kb ? g : 0.f;
-                      }
+                      const bool in = P.ka[r] <= P.kb[r];
+                      kLo = std::min(kLo, P.ka[r]);
+                      kHi = std::max(kHi, P.kb[r]);
+                      reached += in;
+                      const std::int32_t first = P.touchedFirst[r], last = P.touchedLast[r];
+                      P.touchedFirst[r] = in && P.ka[r] < first ? P.ka[r] : first;
+                      P.touchedLast[r] = in && P.kb[r] > last ? P.kb[r] : last;
                     }
-                    if (grads)
+                    if (reached == 0)
                     {
-                      // Equation 4: grad phi = -phi (x - x_i) / r^2, x - x_i = f + t d.
-                      const float s = -2.f * inv2r2;
-                      const float fx = P.ox[r] - c.x, fy = P.oy[r] - c.y, fz = P.oz[r] - c.z;
-                      const float dx = P.dx[r], dy = P.dy[r], dz = P.dz[r];
-                      float *gx = gradRow(0, r), *gy = gradRow(1, r), *gz = gradRow(2, r);
-                      for (std::int32_t k0 = ka; k0 <= kb; k0 += DepositBlock)
+                      continue;
+                    }
+                    tileDeposits += reached;
+                    for (std::int32_t k = kLo; k <= kHi; ++k)
+                    {
+                      const float t = tPass[k];
+                      float* phi = phiAt(field, k);
+                      if (!grads)
                       {
 #pragma omp simd
-                        for (int l = 0; l < DepositBlock; ++l)
+                        for (int r = b0; r < b0 + LaneMultiple; ++r)
                         {
-                          const std::int32_t k = k0 + l;
-                          const float t = tPass[k], u = t + b;
-                          const float g = amp * fastExp(-(u * u + h2) * inv2r2);
-                          const float sg = k <= kb ? s * g : 0.f;
-                          gx[k] += sg * (fx + t * dx);
-                          gy[k] += sg * (fy + t * dy);
-                          gz[k] += sg * (fz + t * dz);
+                          const float u = t + P.b[r];
+                          const float g = amp * fastExp(-(u * u + P.h2[r]) * inv2r2);
+                          phi[r] += (k >= P.ka[r]) & (k <= P.kb[r]) ? g : 0.f;
                         }
+                        continue;
+                      }
+                      // Equation 4: grad phi = -phi (x - x_i) / r^2, x - x_i = f + t d.
+                      float *gx = gradAt(0, k), *gy = gradAt(1, k), *gz = gradAt(2, k);
+#pragma omp simd
+                      for (int r = b0; r < b0 + LaneMultiple; ++r)
+                      {
+                        const float u = t + P.b[r];
+                        const bool on = (k >= P.ka[r]) & (k <= P.kb[r]);
+                        const float g = on ? amp * fastExp(-(u * u + P.h2[r]) * inv2r2) : 0.f;
+                        phi[r] += g;
+                        gx[r] += s * g * (P.ox[r] - c.x + t * P.dx[r]);
+                        gy[r] += s * g * (P.oy[r] - c.y + t * P.dy[r]);
+                        gz[r] += s * g * (P.oz[r] - c.z + t * P.dz[r]);
                       }
                     }
                   }
@@ -816,14 +822,15 @@ void renderRBF(const RBFParticles& particles,
               for (int r = 0; r < n; ++r)
               {
                 // With a clear empty field only the reached samples can add anything.
-                P.from[r] = emptyIsClear ? touchedFirst[r] : P.first[r];
-                P.to[r] = emptyIsClear ? touchedLast[r] : P.last[r];
+                P.from[r] = emptyIsClear ? P.touchedFirst[r] : P.first[r];
+                P.to[r] = emptyIsClear ? P.touchedLast[r] : P.last[r];
                 P.open[r] = active[r];
               }
               if (!grads)
               {
                 tileSamples +=
-                  integrateLanes(tables, numFields, phiRow, n, threshold, P, tileTerminated);
+                  integrateLanes(tables, numFields, phiBuf.data(), fieldStride, laneStride, n,
+                    threshold, P, tileTerminated);
               }
               else
               {
@@ -836,9 +843,9 @@ void renderRBF(const RBFParticles& particles,
                     float phi[MaxRBFFields] = { 0, 0, 0, 0 };
                     for (int m = 0; m < numFields; ++m)
                     {
-                      phi[m] = phiRow(m, r)[k];
+                      phi[m] = phiAt(m, k)[r];
                     }
-                    const float grad[3] = { gradRow(0, r)[k], gradRow(1, r)[k], gradRow(2, r)[k] };
+                    const float grad[3] = { gradAt(0, k)[r], gradAt(1, k)[r], gradAt(2, k)[r] };
                     ++tileSamples;
                     classifier.blend(phi, grad, ray[r].org, ray[r].dir, tPass[k], sum);
                     if (sum.a >= threshold)
@@ -854,24 +861,25 @@ void renderRBF(const RBFParticles& particles,
                 }
               }
               int stillActive = 0;
+              std::int32_t clearFirst = K, clearLast = -1;
               for (int r = 0; r < n; ++r)
               {
                 active[r] = P.open[r] != 0;
                 stillActive += active[r];
-                // Leave the buffer zero for the next pass: only the reached samples changed.
-                if (touchedFirst[r] <= touchedLast[r])
+                clearFirst = std::min(clearFirst, P.touchedFirst[r]);
+                clearLast = std::max(clearLast, P.touchedLast[r]);
+              }
+              // Leave the buffer zero for the next pass: only the reached samples changed.
+              if (clearFirst <= clearLast)
+              {
+                const std::size_t rows = static_cast<std::size_t>(clearLast - clearFirst + 1);
+                for (int m = 0; m < numFields; ++m)
                 {
-                  for (int m = 0; m < numFields; ++m)
-                  {
-                    std::fill(
-                      phiRow(m, r) + touchedFirst[r], phiRow(m, r) + touchedLast[r] + 1, 0.f);
-                  }
-                  for (int axis = 0; grads && axis < 3; ++axis)
-                  {
-                    std::fill(gradRow(axis, r) + touchedFirst[r],
-                      gradRow(axis, r) + touchedLast[r] + 1,
-                      0.f);
-                  }
+                  std::fill_n(phiAt(m, clearFirst), rows * laneStride, 0.f);
+                }
+                for (int axis = 0; grads && axis < 3; ++axis)
+                {
+                  std::fill_n(gradAt(axis, clearFirst), rows * laneStride, 0.f);
                 }
               }
               if (stillActive == 0)

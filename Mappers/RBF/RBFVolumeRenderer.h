@@ -13,10 +13,12 @@
 // distance from x_i to the ray's line,
 //   g(t) = kappa k_i exp(-(u^2 + h^2) / 2r^2)   for t = k dt in [-b - w, -b + w],
 //   w = sqrt(sigma^2 r^2 - h^2),
-// evaluated for a block of a ray's samples per SIMD vector with a polynomial exp
-// (FastExp.h). The buffer is then integrated, and the packet stops when every ray's
-// opacity reaches the termination threshold. Gradients (equation 4, for the Gaussian above
-// grad phi = -phi (x - x_i)/r^2) are accumulated only when shading is on.
+// evaluated one sample at a time for a SIMD block of 16 rays (the buffer holds a sample's
+// values of the packet's rays side by side) with a polynomial exp (FastExp.h), over the
+// block's samples in the support. The buffer is then integrated, and the packet stops
+// when every ray's opacity reaches the termination threshold. Gradients (equation 4, for
+// the Gaussian above grad phi = -phi (x - x_i)/r^2) are accumulated only when shading is
+// on.
 //
 // Direct method (section 3.3, the reference): every sample gathers the particles whose
 // support holds it through the same BVH, one point query per sample.
