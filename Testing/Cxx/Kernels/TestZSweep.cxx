@@ -466,62 +466,58 @@ TEST(ZSweepOptics, HomogeneousSegmentIsBeerLambert)
   }
 }
 
+namespace
+{
+// Direct quadrature of the model along a segment of length L whose scalar goes linearly from
+// s0 to s1: 200,000 homogeneous steps at the midpoints.
+SegmentLight quadratureOf(const RefTransferFunction& tf, double s0, double s1, double L)
+{
+  const int n = 200000;
+  const double h = L / n;
+  SegmentLight out;
+  double* rgb[3] = { &out.r, &out.g, &out.b };
+  for (int i = 0; i < n; ++i)
+  {
+    const double s = s0 + (s1 - s0) * (i + 0.5) / n;
+    double tau, col[3];
+    tf.at(s, tau, col);
+    const double a = -std::expm1(-tau * h);
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      *rgb[ch] += out.transmittance * col[ch] * a;
+    }
+    out.transmittance *= 1 - a;
+  }
+  return out;
+}
+} // namespace
+
 TEST(ZSweepOptics, ExactSegmentMatchesReferenceAcrossNodes)
 {
   const RefTransferFunction tf = testTransferFunction();
   const OpticalModel m = opticsOf(tf);
   // Segments inside one node interval, across several, backwards, beyond the end nodes,
-  // constant, and tiny.
+  // constant, and tiny; each also scaled down into the SIMD lanes' series range (L / 400:
+  // optical depth below 0.1) and integrated one by one and through a batch.
   for (const auto& c : std::vector<std::array<double, 3>>{ { 0.1, 0.9, 1.3 }, { 0.95, 0.05, 0.7 },
          { 0.3, 0.6, 2.0 }, { -0.5, 1.5, 3.0 }, { 0.45, 0.45, 1.0 }, { 0.2, 0.25, 1e-5 } })
   {
-    const double s0 = c[0], s1 = c[1], L = c[2];
-    // Direct quadrature of the model on [0, L]: 200,000 homogeneous steps at the midpoints.
-    const int n = 200000;
-    const double h = L / n;
-    double T = 1, rgb[3] = { 0, 0, 0 };
-    for (int i = 0; i < n; ++i)
-    {
-      const double s = s0 + (s1 - s0) * (i + 0.5) / n;
-      double tau, col[3];
-      tf.at(s, tau, col);
-      const double a = -std::expm1(-tau * h);
-      for (int ch = 0; ch < 3; ++ch)
-      {
-        rgb[ch] += T * col[ch] * a;
-      }
-      T *= 1 - a;
-    }
-    const SegmentLight e = m.integrate(ZSweepIntegrator::Exact, s0, s1, L);
-    EXPECT_NEAR(e.transmittance, T, 1e-7) << s0 << " " << s1 << " " << L;
-    EXPECT_NEAR(e.r, rgb[0], 1e-7);
-    EXPECT_NEAR(e.g, rgb[1], 1e-7);
-    EXPECT_NEAR(e.b, rgb[2], 1e-7);
-    // The batch (SIMD lanes) on the same segment, scaled down into the lanes' series range
-    // too (L / 400: optical depth below 0.1) against the same quadrature.
     for (const double scale : { 1.0, 1.0 / 400 })
     {
+      const double s0 = c[0], s1 = c[1], L = c[2] * scale;
+      const SegmentLight q = quadratureOf(tf, s0, s1, L);
       SegmentBatch batch;
-      batch.push(s0, s1, L * scale);
+      batch.push(s0, s1, L);
       m.integrate(ZSweepIntegrator::Exact, batch);
-      double Ts = 1, rgbs[3] = { 0, 0, 0 };
-      const double hs = h * scale;
-      for (int i = 0; i < n; ++i)
+      const SegmentLight one = m.integrate(ZSweepIntegrator::Exact, s0, s1, L);
+      const SegmentLight batched{ batch.r[0], batch.g[0], batch.b[0], batch.transmittance[0] };
+      for (const SegmentLight& e : { one, batched })
       {
-        const double s = s0 + (s1 - s0) * (i + 0.5) / n;
-        double tau, col[3];
-        tf.at(s, tau, col);
-        const double a = -std::expm1(-tau * hs);
-        for (int ch = 0; ch < 3; ++ch)
-        {
-          rgbs[ch] += Ts * col[ch] * a;
-        }
-        Ts *= 1 - a;
+        EXPECT_NEAR(e.transmittance, q.transmittance, 1e-7) << s0 << " " << s1 << " " << L;
+        EXPECT_NEAR(e.r, q.r, 1e-7);
+        EXPECT_NEAR(e.g, q.g, 1e-7);
+        EXPECT_NEAR(e.b, q.b, 1e-7);
       }
-      EXPECT_NEAR(batch.transmittance[0], Ts, 1e-7) << s0 << " " << s1 << " " << L * scale;
-      EXPECT_NEAR(batch.r[0], rgbs[0], 1e-7);
-      EXPECT_NEAR(batch.g[0], rgbs[1], 1e-7);
-      EXPECT_NEAR(batch.b[0], rgbs[2], 1e-7);
     }
   }
 }
