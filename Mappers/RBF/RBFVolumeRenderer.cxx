@@ -352,6 +352,54 @@ inline std::int32_t floorToInt(float q)
   return c - (static_cast<float>(c) > q);
 }
 
+// Whether some ray of a packet can meet the box [lo - grow, hi + grow], from the packet's
+// four corner rays in order around it. A pixel's ray is affine in the pixel's position (its
+// points on the near and on the far plane are), so every ray of the packet lies in the cone
+// (perspective: the corner rays meet at the eye) or slab (parallel) bounded by the four
+// planes that each hold two adjacent corner rays: the plane of rays a and b holds o_a and
+// the directions d_a and o_b - o_a. The box is out of reach when it lies wholly outside one
+// of them, by a margin far above the rounding of the float rays (1e-4 of the box's and the
+// rays' scale). A packet one pixel wide or high spans no cone: never culled.
+bool packetMayMeetBox(const Ray corner[4], const float lo[3], const float hi[3], float grow)
+{
+  Vec3d inside(0.0, 0.0, 0.0); // a point in the cone: the mean of the corners' o + d
+  for (int c = 0; c < 4; ++c)
+  {
+    inside = inside + (Vec3d(corner[c].org) + Vec3d(corner[c].dir)) * 0.25;
+  }
+  const Vec3d bl(lo[0] - grow, lo[1] - grow, lo[2] - grow);
+  const Vec3d bh(hi[0] + grow, hi[1] + grow, hi[2] + grow);
+  const double scale = length(bh - bl) + length(Vec3d(corner[0].org)) + length(inside);
+  for (int e = 0; e < 4; ++e)
+  {
+    const Vec3d oa(corner[e].org), da(corner[e].dir), ob(corner[(e + 1) % 4].org);
+    Vec3d n = cross(da, ob - oa);
+    const double norm = length(n);
+    if (!(norm > 0))
+    {
+      return true;
+    }
+    n = n * (1.0 / norm);
+    const double in = dot(n, inside - oa);
+    if (!(std::abs(in) > 1e-4 * scale))
+    {
+      return true; // degenerate: no cone to cull by
+    }
+    const double side = in > 0 ? 1.0 : -1.0;
+    bool outside = true;
+    for (int k = 0; k < 8 && outside; ++k)
+    {
+      const Vec3d x((k & 1) ? bh.x : bl.x, (k & 2) ? bh.y : bl.y, (k & 4) ? bh.z : bl.z);
+      outside = side * dot(n, x - oa) < -1e-4 * scale;
+    }
+    if (outside)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 // The sample range [k0, k1] of a ray: t in [tEnter, tExit] with t = k dt.
 struct SampleRange
 {
@@ -409,6 +457,7 @@ void renderRBF(const RBFParticles& particles,
   stats.declareCounter("node_visits");
   stats.declareCounter("deposits");
   stats.declareCounter("terminated_rays");
+  stats.declareCounter("culled_packets");
   const int numFields = std::max(1, particles.numFields);
   stats.setEffect("shading", params.shade);
   stats.setEffect("multi_field", numFields > 1);
@@ -434,7 +483,7 @@ void renderRBF(const RBFParticles& particles,
   const int K = std::clamp(params.samplesPerPass, 1, MaxRBFSamplesPerPass);
 
   std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, passes{ 0 }, samples{ 0 }, visits{ 0 },
-    deposits{ 0 }, terminated{ 0 };
+    deposits{ 0 }, terminated{ 0 }, culled{ 0 };
 
   const bool regionBounded = params.region.bounded();
   // A ray of the grid: its samples lie in the root's grown box (and the region), before
@@ -578,7 +627,7 @@ void renderRBF(const RBFParticles& particles,
       [&](const Tile& tile)
       {
         std::int64_t tileRays = 0, tilePackets = 0, tilePasses = 0, tileSamples = 0, tileVisits = 0,
-                     tileDeposits = 0, tileTerminated = 0;
+                     tileDeposits = 0, tileTerminated = 0, tileCulled = 0;
         const int maxRays = side * side;
         // The packet's sample buffer, reused for every pass: per field (and per gradient
         // component when shading) K rows, one per sample of the pass, of the packet's
@@ -604,6 +653,24 @@ void renderRBF(const RBFParticles& particles,
         {
           for (int bx = tile.x0; bx < tile.x1; bx += side)
           {
+            // A packet whose rays cannot reach the root's grown box takes no ray set-up.
+            const int i1 = std::min(bx + side, tile.x1) - 1, j1 = std::min(by + side, tile.y1) - 1;
+            const Ray corners[4] = { camera.pixelRay(bx, by), camera.pixelRay(i1, by),
+              camera.pixelRay(i1, j1), camera.pixelRay(bx, j1) };
+            if (!packetMayMeetBox(corners, root.lo, root.hi, sigma * root.rMax))
+            {
+              for (int j = by; j <= j1; ++j)
+              {
+                for (int i = bx; i <= i1; ++i)
+                {
+                  store(i, j, RayAccumulator{});
+                }
+              }
+              tileRays += (i1 - bx + 1) * (j1 - by + 1);
+              ++tilePackets;
+              ++tileCulled;
+              continue;
+            }
             int n = 0;
             std::int64_t kFirst = std::numeric_limits<std::int64_t>::max(),
                          kLast = std::numeric_limits<std::int64_t>::min();
@@ -895,6 +962,7 @@ void renderRBF(const RBFParticles& particles,
         }
         rays += tileRays;
         packets += tilePackets;
+        culled += tileCulled;
         passes += tilePasses;
         samples += tileSamples;
         visits += tileVisits;
@@ -909,6 +977,7 @@ void renderRBF(const RBFParticles& particles,
   stats.addCounter("node_visits", visits);
   stats.addCounter("deposits", deposits);
   stats.addCounter("terminated_rays", terminated);
+  stats.addCounter("culled_packets", culled);
 }
 
 } // namespace raymappers

@@ -294,6 +294,37 @@ TEST(RBFVolume, MatchesBruteForceForPacketsPassesAndLeaves)
   EXPECT_LT(maxDifference(render(in, { 0.2, 0.1, -0.3 }, cam, params, tf).frame, ref), 2e-4);
 }
 
+// A cloud in one corner of the view, perspective and parallel: the packets whose rays
+// cannot reach its box are culled before their rays are set up (the counter shows it), and
+// the picture still matches the brute-force one everywhere, packet edges included.
+TEST(RBFVolume, PacketsOutOfReachAreCulledWithoutChangingThePicture)
+{
+  const Input in = randomCloud(60, 1.0, 5);
+  const auto tf = linearExtinction(4.0, 0.8);
+  const Vec3d origin{ 0.1, 0.0, 0.2 };
+  RBFRenderParameters params;
+  params.sampleDistance = 0.05;
+  params.terminationOpacity = 1.0;
+  params.sigma = 4.0;
+  const int w = 64, h = 48;
+  const Mat4 view = lookAt({ 4, 3, 12 }, { 4, 3, 0 }, { 0, 1, 0 });
+  for (const Mat4& projection :
+    { perspective(35, double(w) / h, 0.5, 100), orthographic(6.5, 4.9, 0.5, 100) })
+  {
+    const RayCamera cam(multiply(projection, view), w, h, origin);
+    const Frame ref = bruteForce(in, origin, cam, params, tf);
+    EXPECT_GT(coverage(ref), 5.0);
+    for (const int side : { 3, 8 })
+    {
+      params.packetSide = side;
+      const Rendered out = render(in, origin, cam, params, tf);
+      EXPECT_LT(maxDifference(out.frame, ref), 2e-4) << "packet " << side;
+      EXPECT_GT(out.stats.counter("culled_packets"), out.stats.counter("packets") / 4)
+        << "packet " << side;
+    }
+  }
+}
+
 // Distributed rendering (RegionBox.h): every region renders all particles but only its own
 // samples; the regions' images blended front to back in visibility order are the whole
 // image. Space is cut as a kd-tree: x = 0.3, then z = 0 on the eye's side (the eye is at
