@@ -362,13 +362,17 @@ inline std::int32_t floorToInt(float q)
 // rays' scale). A packet one pixel wide or high spans no cone: never culled.
 bool packetMayMeetBox(const Ray corner[4], const float lo[3], const float hi[3], float grow)
 {
-  Vec3d inside(0.0, 0.0, 0.0); // a point in the cone: the mean of the corners' o + d
-  for (int c = 0; c < 4; ++c)
-  {
-    inside = inside + (Vec3d(corner[c].org) + Vec3d(corner[c].dir)) * 0.25;
-  }
   const Vec3d bl(lo[0] - grow, lo[1] - grow, lo[2] - grow);
   const Vec3d bh(hi[0] + grow, hi[1] + grow, hi[2] + grow);
+  // A point in the cone, as far along the rays as the box (so that its distance to the
+  // planes, the packet's width there, is measured at the scale of the margin): the mean of
+  // the corners' o + D d.
+  const double D = length((bl + bh) * 0.5 - Vec3d(corner[0].org)) + length(bh - bl);
+  Vec3d inside(0.0, 0.0, 0.0);
+  for (int c = 0; c < 4; ++c)
+  {
+    inside = inside + (Vec3d(corner[c].org) + Vec3d(corner[c].dir) * D) * 0.25;
+  }
   const double scale = length(bh - bl) + length(Vec3d(corner[0].org)) + length(inside);
   for (int e = 0; e < 4; ++e)
   {

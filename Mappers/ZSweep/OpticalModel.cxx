@@ -60,6 +60,24 @@ inline double oneMinusExpSmall(double E)
                            E * (1.0 / 24 - E * (1.0 / 120 - E * (1.0 / 720 - E * (1.0 / 5040)))))));
 }
 
+// The integrals below SeriesDepth (E' <= SeriesDepth on [0, 1]); inlined into the SIMD
+// lanes of a batch too.
+inline DepthIntegrals seriesDepthIntegrals(double A, double B)
+{
+  double oneMinusG = 0;
+  for (int k = 0; k < 4; ++k)
+  {
+    const double x = 0.5 * (1.0 + GL4x[k]);
+    oneMinusG += 0.5 * GL4w[k] * oneMinusExpSmall(x * (A + B * x));
+  }
+  const double oneMinusT = oneMinusExpSmall(A + B);
+  DepthIntegrals out;
+  out.oneMinusG = oneMinusG;
+  out.gMinusT = oneMinusT - oneMinusG;
+  out.transmittance = 1.0 - oneMinusT;
+  return out;
+}
+
 inline DepthIntegrals depthIntegrals(double A, double B)
 {
   DepthIntegrals out;
@@ -71,17 +89,7 @@ inline DepthIntegrals depthIntegrals(double A, double B)
   const double slope = std::max(A, A + 2.0 * B); // E' is affine: largest at an end
   if (slope <= SeriesDepth)
   {
-    double oneMinusG = 0;
-    for (int k = 0; k < 4; ++k)
-    {
-      const double x = 0.5 * (1.0 + GL4x[k]);
-      oneMinusG += 0.5 * GL4w[k] * oneMinusExpSmall(x * (A + B * x));
-    }
-    const double oneMinusT = oneMinusExpSmall(total);
-    out.oneMinusG = oneMinusG;
-    out.gMinusT = oneMinusT - oneMinusG;
-    out.transmittance = 1.0 - oneMinusT;
-    return out;
+    return seriesDepthIntegrals(A, B);
   }
   // Integrate up to xmax, where E reaches the cutoff (E rises monotonically), and count
   // the rest as fully absorbed (1 - e^-E = 1 there, e^-E - e^-E(1) = 0).
@@ -388,21 +396,13 @@ void OpticalModel::integrateExactLanes(SegmentBatch& batch) const
     const double A = tauA * L, Bq = 0.5 * (tauB - tauA) * L;
     const bool lane = c0 == c1 && std::max(A, A + 2.0 * Bq) <= SeriesDepth;
     deferred[i] = !lane;
-    const double a = lane ? A : 0.0, b = lane ? Bq : 0.0;
-    double oneMinusG = 0;
-    for (int k = 0; k < 4; ++k)
-    {
-      const double x = 0.5 * (1.0 + GL4x[k]);
-      oneMinusG += 0.5 * GL4w[k] * oneMinusExpSmall(x * (a + b * x));
-    }
-    const double oneMinusT = oneMinusExpSmall(a + b);
-    const double gMinusT = oneMinusT - oneMinusG;
-    outT[i] = 1.0 - oneMinusT;
-    outR[i] = (red[c0] + f0 * redSlope[c0]) * oneMinusG + (red[c0] + f1 * redSlope[c0]) * gMinusT;
-    outG[i] =
-      (green[c0] + f0 * greenSlope[c0]) * oneMinusG + (green[c0] + f1 * greenSlope[c0]) * gMinusT;
+    const DepthIntegrals d = seriesDepthIntegrals(lane ? A : 0.0, lane ? Bq : 0.0);
+    outT[i] = d.transmittance;
+    outR[i] = (red[c0] + f0 * redSlope[c0]) * d.oneMinusG + (red[c0] + f1 * redSlope[c0]) * d.gMinusT;
+    outG[i] = (green[c0] + f0 * greenSlope[c0]) * d.oneMinusG +
+      (green[c0] + f1 * greenSlope[c0]) * d.gMinusT;
     outB[i] =
-      (blue[c0] + f0 * blueSlope[c0]) * oneMinusG + (blue[c0] + f1 * blueSlope[c0]) * gMinusT;
+      (blue[c0] + f0 * blueSlope[c0]) * d.oneMinusG + (blue[c0] + f1 * blueSlope[c0]) * d.gMinusT;
   }
   for (std::size_t i = 0; i < count; ++i)
   {

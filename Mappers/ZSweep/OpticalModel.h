@@ -144,7 +144,6 @@ private:
   // value(s) = Value[k + 1] + (s - From[k + 1]) Slope[k + 1], for tau, r, g, b.
   std::vector<double> NodeS;
   std::vector<double> From, Tau, TauSlope, R, RSlope, G, GSlope, B, BSlope;
-
 };
 
 /// G(A, B) = int_0^1 exp(-A x - B x^2) dx for A >= 0, A + 2B >= 0 (see above).

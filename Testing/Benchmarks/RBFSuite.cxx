@@ -264,7 +264,8 @@ std::vector<Row> RunRBF(const Options& opt)
           << st->GetPhaseTime("bvh_build") << " ms (" << st->GetCounter("bvh_bytes") / 1048576.0
           << " MB = " << 100.0 * st->GetCounter("bvh_bytes") / particles
           << "% of the particle data), trace " << st->GetPhaseTime("trace") << " ms, samples "
-          << st->GetCounter("samples") << ", passes " << st->GetCounter("passes")
+          << st->GetCounter("samples") << ", culled packets " << st->GetCounter("culled_packets")
+          << " of " << st->GetCounter("packets") << ", passes " << st->GetCounter("passes")
           << ", node visits " << st->GetCounter("node_visits") << ", deposits "
           << st->GetCounter("deposits")
           << ", opaque depth " << st->GetPhaseTime("opaque_depth") << " ms, draw "
