@@ -15,11 +15,11 @@
 namespace
 {
 // texCoord spans the viewport; with NEAREST sampling each fragment reads its own texel.
-const char* const FrameFragmentShader = R"(//VTK::System::Dec
+// Opaque mode writes the frame's depth; blend mode reads no depth texture at all.
+const char* const OpaqueFragmentShader = R"(//VTK::System::Dec
 in vec2 texCoord;
 uniform sampler2D colorTexture;
 uniform sampler2D depthTexture;
-uniform int writeDepth;
 //VTK::Output::Dec
 void main()
 {
@@ -29,16 +29,53 @@ void main()
     discard;
   }
   gl_FragData[0] = c;
-  gl_FragDepth = writeDepth != 0 ? texture(depthTexture, texCoord).r : gl_FragCoord.z;
+  gl_FragDepth = texture(depthTexture, texCoord).r;
 }
 )";
+
+const char* const BlendFragmentShader = R"(//VTK::System::Dec
+in vec2 texCoord;
+uniform sampler2D colorTexture;
+//VTK::Output::Dec
+void main()
+{
+  vec4 c = texture(colorTexture, texCoord);
+  if (c.a <= 0.0)
+  {
+    discard;
+  }
+  gl_FragData[0] = c;
+}
+)";
+
+// Uploads w x h texels of `components` floats: into the texture's storage when it already
+// has that shape in this window (no reallocation of the driver's copy each frame), else as
+// new storage.
+void Upload(vtkTextureObject* tex, bool sameWindow, int w, int h, int components,
+  const float* data)
+{
+  if (sameWindow && tex->GetHandle() != 0 && static_cast<int>(tex->GetWidth()) == w &&
+    static_cast<int>(tex->GetHeight()) == h && tex->GetComponents() == components &&
+    tex->GetVTKDataType() == VTK_FLOAT)
+  {
+    tex->Bind();
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, tex->GetFormat(VTK_FLOAT, components, false),
+      GL_FLOAT, data);
+    return;
+  }
+  tex->Create2DFromRaw(w, h, components, VTK_FLOAT, const_cast<float*>(data));
+}
 }
 
 struct vtkRayMapperFrameDrawer::GL
 {
   vtkNew<vtkTextureObject> Color;
   vtkNew<vtkTextureObject> Depth;
-  std::unique_ptr<vtkOpenGLQuadHelper> Quad;
+  std::unique_ptr<vtkOpenGLQuadHelper> OpaqueQuad;
+  std::unique_ptr<vtkOpenGLQuadHelper> BlendQuad;
+  // The windows the textures were last uploaded in.
+  const vtkOpenGLRenderWindow* ColorWindow = nullptr;
+  const vtkOpenGLRenderWindow* DepthWindow = nullptr;
 };
 
 vtkRayMapperFrameDrawer::vtkRayMapperFrameDrawer()
@@ -52,10 +89,13 @@ void vtkRayMapperFrameDrawer::ReleaseGraphicsResources(vtkWindow* win)
 {
   Impl->Color->ReleaseGraphicsResources(win);
   Impl->Depth->ReleaseGraphicsResources(win);
-  if (Impl->Quad)
+  for (auto* quad : { &Impl->OpaqueQuad, &Impl->BlendQuad })
   {
-    Impl->Quad->ReleaseGraphicsResources(win);
-    Impl->Quad.reset();
+    if (*quad)
+    {
+      (*quad)->ReleaseGraphicsResources(win);
+      quad->reset();
+    }
   }
 }
 
@@ -68,6 +108,7 @@ void vtkRayMapperFrameDrawer::Draw(vtkRenderer* ren, const raymappers::Frame& fr
   }
   vtkOpenGLState* ostate = renWin->GetState();
 
+  const bool opaque = mode == Mode::OpaqueWithDepth;
   for (vtkTextureObject* tex : { Impl->Color.Get(), Impl->Depth.Get() })
   {
     tex->SetContext(renWin);
@@ -76,29 +117,33 @@ void vtkRayMapperFrameDrawer::Draw(vtkRenderer* ren, const raymappers::Frame& fr
     tex->SetWrapS(vtkTextureObject::ClampToEdge);
     tex->SetWrapT(vtkTextureObject::ClampToEdge);
   }
-  Impl->Color->Create2DFromRaw(
-    frame.width, frame.height, 4, VTK_FLOAT, const_cast<float*>(frame.rgba.data()));
-  Impl->Depth->Create2DFromRaw(
-    frame.width, frame.height, 1, VTK_FLOAT, const_cast<float*>(frame.depth.data()));
-
-  if (!Impl->Quad)
+  Upload(Impl->Color, Impl->ColorWindow == renWin, frame.width, frame.height, 4,
+    frame.rgba.data());
+  Impl->ColorWindow = renWin;
+  if (opaque)
   {
-    Impl->Quad.reset(new vtkOpenGLQuadHelper(renWin,
+    Upload(Impl->Depth, Impl->DepthWindow == renWin, frame.width, frame.height, 1,
+      frame.depth.data());
+    Impl->DepthWindow = renWin;
+  }
+
+  std::unique_ptr<vtkOpenGLQuadHelper>& quad = opaque ? Impl->OpaqueQuad : Impl->BlendQuad;
+  if (!quad)
+  {
+    quad.reset(new vtkOpenGLQuadHelper(renWin,
       vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(),
-      FrameFragmentShader,
-      ""));
+      opaque ? OpaqueFragmentShader : BlendFragmentShader, ""));
   }
   else
   {
-    renWin->GetShaderCache()->ReadyShaderProgram(Impl->Quad->Program);
+    renWin->GetShaderCache()->ReadyShaderProgram(quad->Program);
   }
-  if (!Impl->Quad->Program || !Impl->Quad->Program->GetCompiled())
+  if (!quad->Program || !quad->Program->GetCompiled())
   {
     vtkGenericWarningMacro("RayMappers: the frame shader failed to compile; nothing drawn.");
     return;
   }
 
-  const bool opaque = mode == Mode::OpaqueWithDepth;
   vtkOpenGLState::ScopedglEnableDisable depthTest(ostate, GL_DEPTH_TEST);
   vtkOpenGLState::ScopedglEnableDisable blend(ostate, GL_BLEND);
   vtkOpenGLState::ScopedglDepthMask depthMask(ostate);
@@ -120,11 +165,16 @@ void vtkRayMapperFrameDrawer::Draw(vtkRenderer* ren, const raymappers::Frame& fr
   }
 
   Impl->Color->Activate();
-  Impl->Depth->Activate();
-  Impl->Quad->Program->SetUniformi("colorTexture", Impl->Color->GetTextureUnit());
-  Impl->Quad->Program->SetUniformi("depthTexture", Impl->Depth->GetTextureUnit());
-  Impl->Quad->Program->SetUniformi("writeDepth", opaque ? 1 : 0);
-  Impl->Quad->Render();
+  quad->Program->SetUniformi("colorTexture", Impl->Color->GetTextureUnit());
+  if (opaque)
+  {
+    Impl->Depth->Activate();
+    quad->Program->SetUniformi("depthTexture", Impl->Depth->GetTextureUnit());
+  }
+  quad->Render();
   Impl->Color->Deactivate();
-  Impl->Depth->Deactivate();
+  if (opaque)
+  {
+    Impl->Depth->Deactivate();
+  }
 }

@@ -132,6 +132,33 @@ int TestRayMapperCommon(int, char*[])
     corner[2]);
   RM_CHECK(std::abs(centre[0] - 191) <= 1 && std::abs(centre[1] - 128) <= 1);
   RM_CHECK(std::abs(corner[0] - 64) <= 1 && corner[1] == 0);
+  // The next frame of the same size goes into the texture the first one left (the drawer
+  // keeps its storage): premultiplied (0, 0.25, 0, 0.5) over white = (0.5, 0.75, 0.5). Then
+  // a smaller window and frame take new storage: the frame covers the whole window again.
+  for (std::size_t k = 0; k < overlay.Frame.depth.size(); ++k)
+  {
+    overlay.Frame.rgba[4 * k] = 0.f;
+    overlay.Frame.rgba[4 * k + 1] = 0.25f;
+  }
+  win->Render();
+  const auto second = Pixel(win, 100, 80);
+  std::printf("blend, next frame: (%d %d %d)\n", second[0], second[1], second[2]);
+  RM_CHECK(std::abs(second[0] - 128) <= 1 && std::abs(second[1] - 191) <= 1);
+  win->SetSize(120, 100);
+  overlay.Frame.resize(120, 100);
+  for (std::size_t k = 0; k < overlay.Frame.depth.size(); ++k)
+  {
+    overlay.Frame.rgba[4 * k + 2] = 0.5f;
+    overlay.Frame.rgba[4 * k + 3] = 0.5f;
+  }
+  win->Render();
+  const auto resized = Pixel(win, 118, 98), resizedCorner = Pixel(win, 1, 1);
+  std::printf("blend, resized window: top right (%d %d %d), bottom left (%d %d %d)\n",
+    resized[0], resized[1], resized[2], resizedCorner[0], resizedCorner[1], resizedCorner[2]);
+  RM_CHECK(resized[0] == 0 && std::abs(resized[2] - 128) <= 1);
+  RM_CHECK(resizedCorner[0] == 0 && std::abs(resizedCorner[2] - 128) <= 1);
+  win->SetSize(200, 160);
+  overlay.Frame.resize(w, h);
 
   // 3. Opaque mode: a green frame just in front of the plane's depth shows; just behind
   //    it, the plane hides it.
