@@ -24,6 +24,16 @@ struct Frame
     rgba.assign(4 * n, 0.f);
     depth.assign(n, 1.f);
   }
+  /// The same size without clearing when it is unchanged, for a kernel that writes every
+  /// pixel's colour each frame and leaves the depth as it was (resized storage is empty).
+  void reshape(int w, int h)
+  {
+    const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    if (w != width || h != height || rgba.size() != 4 * n || depth.size() != n)
+    {
+      resize(w, h);
+    }
+  }
   std::size_t index(int i, int j) const
   {
     return static_cast<std::size_t>(j) * static_cast<std::size_t>(width) +

@@ -453,7 +453,8 @@ void renderRBF(const RBFParticles& particles,
   RenderStatistics& stats)
 {
   const int width = camera.width(), height = camera.height();
-  frame.resize(width, height);
+  // Every pixel's colour is written below (or cleared here); the depth stays 1.
+  frame.reshape(width, height);
   stats.declareCounter("rays");
   stats.declareCounter("packets");
   stats.declareCounter("passes");
@@ -469,6 +470,7 @@ void renderRBF(const RBFParticles& particles,
   const double dtD = params.sampleDistance;
   if (bvh.empty() || fields.empty() || !(dtD > 0) || !std::isfinite(dtD))
   {
+    std::fill(frame.rgba.begin(), frame.rgba.end(), 0.f);
     return;
   }
   const float dt = static_cast<float>(dtD);

@@ -325,6 +325,53 @@ TEST(RBFVolume, PacketsOutOfReachAreCulledWithoutChangingThePicture)
   }
 }
 
+// The renderer keeps the frame's storage from one render to the next and writes every
+// pixel: a frame full of an earlier picture comes out as a fresh one, for the coherent
+// method (packets culled or not) and the direct one, and empty when nothing can be drawn.
+TEST(RBFVolume, AReusedFrameIsWhollyRewritten)
+{
+  const Input in = randomCloud(60, 1.0, 5);
+  const auto tf = linearExtinction(4.0, 0.8);
+  const Vec3d origin{ 0.1, 0.0, 0.2 };
+  const int w = 64, h = 48;
+  const RayCamera cam(multiply(perspective(35, double(w) / h, 0.5, 100),
+                        lookAt({ 4, 3, 12 }, { 4, 3, 0 }, { 0, 1, 0 })),
+    w, h, origin);
+  RBFParticles s = makeParticles(in, origin);
+  ParticleBVH bvh;
+  bvh.build(s, 8);
+  auto stale = [&]()
+  {
+    Frame f;
+    f.resize(w, h);
+    std::fill(f.rgba.begin(), f.rgba.end(), 0.5f);
+    return f;
+  };
+  for (const bool direct : { false, true })
+  {
+    RBFRenderParameters params;
+    params.sampleDistance = 0.05;
+    params.direct = direct;
+    Frame fresh, reused = stale();
+    RenderStatistics a, b;
+    renderRBF(s, bvh, cam, params, tf, nullptr, fresh, a);
+    renderRBF(s, bvh, cam, params, tf, nullptr, reused, b);
+    EXPECT_GT(coverage(fresh), 5.0);
+    EXPECT_EQ(maxDifference(reused, fresh), 0.0) << (direct ? "direct" : "coherent");
+    if (!direct)
+    {
+      EXPECT_GT(b.counter("culled_packets"), 0);
+    }
+  }
+  RBFParticles none = makeParticles(Input{}, origin);
+  ParticleBVH emptyBVH;
+  emptyBVH.build(none, 8);
+  Frame reused = stale();
+  RenderStatistics stats;
+  renderRBF(none, emptyBVH, cam, RBFRenderParameters{}, tf, nullptr, reused, stats);
+  EXPECT_EQ(coverage(reused), 0.0);
+}
+
 // Distributed rendering (RegionBox.h): every region renders all particles but only its own
 // samples; the regions' images blended front to back in visibility order are the whole
 // image. Space is cut as a kd-tree: x = 0.3, then z = 0 on the eye's side (the eye is at
