@@ -223,11 +223,14 @@ struct PacketLanes
 // (section 5.3: "all samples for the packet are integrated, iterating using a uniform t
 // variable spanning minimum and maximum sample positions"): ray r blends its samples
 // [from[r], to[r]] while open[r], with the arithmetic of Classifier::blend, and closes when
-// its opacity reaches the threshold. The uniform t runs per SIMD block of LaneMultiple rays,
-// over that block's span of samples only (the rays' spans differ most where they cross a
-// thin layer obliquely), and a block with no open ray costs nothing. The buffer holds the
-// value of field m at sample k of ray r at base[m fieldStride + k sampleStride + r].
-// Returns the samples blended; the rays closed are added to `terminated`.
+// its opacity reaches the threshold. The loop runs per SIMD block of LaneMultiple rays, and
+// a block with no open ray costs nothing. Step i of a block blends, in each ray, either the
+// block's sample kLo + i (the uniform t over the block's span) or the ray's own sample
+// from[r] + i (read by a gather): the latter when the rays' spans are staggered, as where
+// they cross a thin layer obliquely, so that the block takes as many steps as its longest
+// ray has samples instead of its whole span. The buffer holds the value of field m at
+// sample k of ray r at base[m fieldStride + k sampleStride + r]. Returns the samples
+// blended; the rays closed are added to `terminated`, the staggered blocks to `staggered`.
 std::int64_t integrateLanes(const std::vector<StepTable>& tables,
   int numFields,
   const float* base,
@@ -236,55 +239,73 @@ std::int64_t integrateLanes(const std::vector<StepTable>& tables,
   int n,
   float threshold,
   PacketLanes& P,
-  std::int64_t& terminated)
+  std::int64_t& terminated,
+  std::int64_t& staggeredBlocks)
 {
   std::int64_t blended = 0, closed = 0;
   for (int b0 = 0; b0 < n; b0 += LaneMultiple)
   {
     // (The block's lanes past n are padding, closed with empty ranges.)
     const int b1 = std::min(n, b0 + LaneMultiple);
-    std::int32_t kLo = std::numeric_limits<std::int32_t>::max(), kHi = -1;
+    std::int32_t kLo = std::numeric_limits<std::int32_t>::max(), kHi = -1, longest = 0;
     for (int r = b0; r < b1; ++r)
     {
       if (P.open[r] && P.from[r] <= P.to[r])
       {
         kLo = std::min(kLo, P.from[r]);
         kHi = std::max(kHi, P.to[r]);
+        longest = std::max(longest, P.to[r] - P.from[r] + 1);
       }
     }
-    for (std::int32_t k = kLo; k <= kHi; ++k)
+    const bool staggered = kHi - kLo + 1 > longest;
+    staggeredBlocks += staggered;
+    const std::int32_t steps = staggered ? longest : kHi - kLo + 1;
+    // Step i's sample of lane r is first[r] + i.
+    alignas(64) std::int32_t first[LaneMultiple];
+    for (int r = 0; r < LaneMultiple; ++r)
+    {
+      first[r] = staggered ? P.from[b0 + r] : kLo;
+    }
+    for (std::int32_t i = 0; i < steps; ++i)
     {
       for (int m = 0; m < numFields; ++m)
       {
         const StepTable& table = tables[std::min<std::size_t>(m, tables.size() - 1)];
         const float* rgba = table.rgba.data();
         const int size = table.size();
-        const float* row = base + m * fieldStride + k * sampleStride;
+        const float* field = base + m * fieldStride + b0;
+        const std::int32_t rowStride = static_cast<std::int32_t>(sampleStride);
+        const std::int32_t lastRow = static_cast<std::int32_t>(fieldStride / sampleStride) - 1;
 #pragma omp simd
-        for (int r = b0; r < b0 + LaneMultiple; ++r)
+        for (int r = 0; r < LaneMultiple; ++r)
         {
-          const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
-          const float v = on ? row[r] : 0.f;
-          const bool valid = on & (v == v); // NaN: transparent black
+          const int q = b0 + r;
+          const std::int32_t k = first[r] + i;
+          // (Read in every lane, at a row of the buffer: a gather the loop can vectorize.)
+          const float v = field[(k < lastRow ? k : lastRow) * rowStride + r];
+          const bool on = (P.open[q] != 0) & (k >= P.from[q]) & (k <= P.to[q]);
+          const bool valid = on & (v == v); // off, or NaN: transparent black
           const RGBA c = table.lookupIn(rgba, size, valid ? v : 0.f);
-          const float w = (1.f - P.ca[r]) * c.a;
+          const float w = (1.f - P.ca[q]) * c.a;
           const bool add = valid & (c.a > 0.f);
-          P.cr[r] = add ? P.cr[r] + w * c.r : P.cr[r];
-          P.cg[r] = add ? P.cg[r] + w * c.g : P.cg[r];
-          P.cb[r] = add ? P.cb[r] + w * c.b : P.cb[r];
-          P.ca[r] = add ? P.ca[r] + w : P.ca[r];
+          P.cr[q] = add ? P.cr[q] + w * c.r : P.cr[q];
+          P.cg[q] = add ? P.cg[q] + w * c.g : P.cg[q];
+          P.cb[q] = add ? P.cb[q] + w * c.b : P.cb[q];
+          P.ca[q] = add ? P.ca[q] + w : P.ca[q];
         }
       }
       int stillOpen = 0;
 #pragma omp simd reduction(+ : blended, closed, stillOpen)
-      for (int r = b0; r < b0 + LaneMultiple; ++r)
+      for (int r = 0; r < LaneMultiple; ++r)
       {
-        const bool on = (P.open[r] != 0) & (k >= P.from[r]) & (k <= P.to[r]);
-        const bool stop = on & (P.ca[r] >= threshold);
+        const int q = b0 + r;
+        const std::int32_t k = first[r] + i;
+        const bool on = (P.open[q] != 0) & (k >= P.from[q]) & (k <= P.to[q]);
+        const bool stop = on & (P.ca[q] >= threshold);
         blended += on;
         closed += stop;
-        P.open[r] = stop ? 0 : P.open[r];
-        stillOpen += (P.open[r] != 0) & (P.to[r] > k);
+        P.open[q] = stop ? 0 : P.open[q];
+        stillOpen += (P.open[q] != 0) & (P.to[q] > k);
       }
       if (stillOpen == 0)
       {
@@ -463,6 +484,7 @@ void renderRBF(const RBFParticles& particles,
   stats.declareCounter("deposits");
   stats.declareCounter("terminated_rays");
   stats.declareCounter("culled_packets");
+  stats.declareCounter("staggered_blocks");
   const int numFields = std::max(1, particles.numFields);
   stats.setEffect("shading", params.shade);
   stats.setEffect("multi_field", numFields > 1);
@@ -489,7 +511,7 @@ void renderRBF(const RBFParticles& particles,
   const int K = std::clamp(params.samplesPerPass, 1, MaxRBFSamplesPerPass);
 
   std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, passes{ 0 }, samples{ 0 }, visits{ 0 },
-    deposits{ 0 }, terminated{ 0 }, culled{ 0 };
+    deposits{ 0 }, terminated{ 0 }, culled{ 0 }, staggered{ 0 };
 
   const bool regionBounded = params.region.bounded();
   // A ray of the grid: its samples lie in the root's grown box (and the region), before
@@ -633,7 +655,7 @@ void renderRBF(const RBFParticles& particles,
       [&](const Tile& tile)
       {
         std::int64_t tileRays = 0, tilePackets = 0, tilePasses = 0, tileSamples = 0, tileVisits = 0,
-                     tileDeposits = 0, tileTerminated = 0, tileCulled = 0;
+                     tileDeposits = 0, tileTerminated = 0, tileCulled = 0, tileStaggered = 0;
         const int maxRays = side * side;
         // The packet's sample buffer, reused for every pass: per field (and per gradient
         // component when shading) K rows, one per sample of the pass, of the packet's
@@ -903,7 +925,7 @@ void renderRBF(const RBFParticles& particles,
               {
                 tileSamples +=
                   integrateLanes(tables, numFields, phiBuf.data(), fieldStride, laneStride, n,
-                    threshold, P, tileTerminated);
+                    threshold, P, tileTerminated, tileStaggered);
               }
               else
               {
@@ -969,6 +991,7 @@ void renderRBF(const RBFParticles& particles,
         rays += tileRays;
         packets += tilePackets;
         culled += tileCulled;
+        staggered += tileStaggered;
         passes += tilePasses;
         samples += tileSamples;
         visits += tileVisits;
@@ -984,6 +1007,7 @@ void renderRBF(const RBFParticles& particles,
   stats.addCounter("deposits", deposits);
   stats.addCounter("terminated_rays", terminated);
   stats.addCounter("culled_packets", culled);
+  stats.addCounter("staggered_blocks", staggered);
 }
 
 } // namespace raymappers

@@ -62,12 +62,14 @@ struct RBFRenderParameters
   RegionBox region;
 };
 
-/// Renders the particles seen by `camera` into `frame` (premultiplied RGBA; depth stays at
-/// the far plane: a volume writes no depth). `fields[m]` classifies field m (missing
-/// fields use the last table). `opaqueDepth`, when not null, holds the window depth of
-/// opaque geometry per pixel (camera grid, row 0 at the bottom): rays stop there.
+/// Renders the particles seen by `camera` into `frame` (premultiplied RGBA, every pixel
+/// written; its depth is left as it is: a volume writes no depth). `fields[m]` classifies
+/// field m (missing fields use the last table). `opaqueDepth`, when not null, holds the
+/// window depth of opaque geometry per pixel (camera grid, row 0 at the bottom): rays stop
+/// there.
 /// Counters: rays, packets, culled_packets (packets whose frustum misses the data: no ray set
-/// up), passes, samples, node_visits, deposits, terminated_rays.
+/// up), staggered_blocks (SIMD blocks of rays integrated each from its own first sample),
+/// passes, samples, node_visits, deposits, terminated_rays.
 /// Effects: shading, multi_field, early_termination, empty_space_skipping.
 void renderRBF(const RBFParticles& particles,
   const ParticleBVH& bvh,
