@@ -265,7 +265,8 @@ std::vector<Row> RunRBF(const Options& opt)
           << " MB = " << 100.0 * st->GetCounter("bvh_bytes") / particles
           << "% of the particle data), trace " << st->GetPhaseTime("trace") << " ms, samples "
           << st->GetCounter("samples") << ", culled packets " << st->GetCounter("culled_packets")
-          << " of " << st->GetCounter("packets") << ", passes " << st->GetCounter("passes")
+          << " of " << st->GetCounter("packets") << ", staggered blocks "
+          << st->GetCounter("staggered_blocks") << ", passes " << st->GetCounter("passes")
           << ", node visits " << st->GetCounter("node_visits") << ", deposits "
           << st->GetCounter("deposits")
           << ", opaque depth " << st->GetPhaseTime("opaque_depth") << " ms, draw "
