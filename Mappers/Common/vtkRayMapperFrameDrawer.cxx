@@ -11,15 +11,19 @@
 #include "vtk_glew.h"
 
 #include <memory>
+#include <string>
 
 namespace
 {
 // texCoord spans the viewport; with NEAREST sampling each fragment reads its own texel.
-// Opaque mode writes the frame's depth; blend mode reads no depth texture at all.
-const char* const OpaqueFragmentShader = R"(//VTK::System::Dec
+// Opaque mode (WRITE_DEPTH defined) writes the frame's depth; blend mode reads no depth
+// texture at all.
+const char* const FrameFragmentShaderBody = R"(
 in vec2 texCoord;
 uniform sampler2D colorTexture;
+#ifdef WRITE_DEPTH
 uniform sampler2D depthTexture;
+#endif
 //VTK::Output::Dec
 void main()
 {
@@ -29,24 +33,17 @@ void main()
     discard;
   }
   gl_FragData[0] = c;
+#ifdef WRITE_DEPTH
   gl_FragDepth = texture(depthTexture, texCoord).r;
+#endif
 }
 )";
 
-const char* const BlendFragmentShader = R"(//VTK::System::Dec
-in vec2 texCoord;
-uniform sampler2D colorTexture;
-//VTK::Output::Dec
-void main()
+std::string FrameFragmentShader(bool writeDepth)
 {
-  vec4 c = texture(colorTexture, texCoord);
-  if (c.a <= 0.0)
-  {
-    discard;
-  }
-  gl_FragData[0] = c;
+  return std::string("//VTK::System::Dec\n") + (writeDepth ? "#define WRITE_DEPTH\n" : "") +
+    FrameFragmentShaderBody;
 }
-)";
 
 // Uploads w x h texels of `components` floats: into the texture's storage when it already
 // has that shape in this window (no reallocation of the driver's copy each frame), else as
@@ -132,7 +129,7 @@ void vtkRayMapperFrameDrawer::Draw(vtkRenderer* ren, const raymappers::Frame& fr
   {
     quad.reset(new vtkOpenGLQuadHelper(renWin,
       vtkOpenGLRenderUtilities::GetFullScreenQuadVertexShader().c_str(),
-      opaque ? OpaqueFragmentShader : BlendFragmentShader, ""));
+      FrameFragmentShader(opaque).c_str(), ""));
   }
   else
   {
