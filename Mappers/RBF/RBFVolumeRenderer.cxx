@@ -230,7 +230,8 @@ struct PacketLanes
 // they cross a thin layer obliquely, so that the block takes as many steps as its longest
 // ray has samples instead of its whole span. The buffer holds the value of field m at
 // sample k of ray r at base[m fieldStride + k sampleStride + r]. Returns the samples
-// blended; the rays closed are added to `terminated`, the staggered blocks to `staggered`.
+// blended; the rays closed are added to `terminated`, the staggered blocks to
+// `staggeredBlocks`.
 std::int64_t integrateLanes(const std::vector<StepTable>& tables,
   int numFields,
   const float* base,
