@@ -6,6 +6,8 @@
 // Blend mode: the frame is composited over what is drawn, premultiplied
 // (src + (1 - src.a) dst), without writing depth; a volume kernel has already stopped its
 // rays at the opaque depth (see vtkRayMapperRenderHelpers::ReadOpaqueDepth).
+// The frame goes to the GPU as float textures (colour; depth in opaque mode only) that keep
+// their storage from one frame to the next while the size and the window stay the same.
 #ifndef vtkRayMapperFrameDrawer_h
 #define vtkRayMapperFrameDrawer_h
 
