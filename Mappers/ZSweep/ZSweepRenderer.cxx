@@ -156,7 +156,8 @@ void renderZSweep(const ZSweepMesh& mesh,
   const ZSweepParameters& params,
   const float* opaqueDepth,
   Frame& frame,
-  RenderStatistics& stats)
+  RenderStatistics& stats,
+  ZSweepEventOrder* previousOrder)
 {
   const int W = frame.width, H = frame.height;
   std::fill(frame.rgba.begin(), frame.rgba.end(), 0.f);
@@ -216,10 +217,11 @@ void renderZSweep(const ZSweepMesh& mesh,
       });
   }
 
-  // 2. Bin the triangles into tiles; sort each tile's triangles into event order.
+  // 2. Bin the triangles into tiles, in event order.
   const int S = std::max(8, params.tileSize);
   const int nx = (W + S - 1) / S, ny = (H + S - 1) / S;
   std::vector<std::uint32_t> eventVertex(triangles.size());
+  std::vector<double> eventDepth(triangles.size());
   std::vector<std::int32_t> box(4 * triangles.size()); // pixel bounds, x0 < 0: not drawn
   std::vector<char> forward(triangles.size());          // the rays cross front -> back
   std::vector<std::atomic<std::uint32_t>> tileCount(static_cast<std::size_t>(nx) * ny);
@@ -234,6 +236,20 @@ void renderZSweep(const ZSweepMesh& mesh,
           const ProjectedVertex& a = proj[t.v[0]];
           const ProjectedVertex& b = proj[t.v[1]];
           const ProjectedVertex& c = proj[t.v[2]];
+          // The event: the nearest vertex (ties to the lowest id), also of the triangles
+          // not drawn this frame, for the event order below (a depth that is not finite,
+          // of a vertex behind the eye, orders last).
+          std::uint32_t ev = t.v[0];
+          for (int k = 1; k < 3; ++k)
+          {
+            const std::uint32_t v = t.v[k];
+            if (proj[v].d < proj[ev].d || (proj[v].d == proj[ev].d && v < ev))
+            {
+              ev = v;
+            }
+          }
+          eventVertex[f] = ev;
+          eventDepth[f] = std::isfinite(proj[ev].d) ? proj[ev].d : std::numeric_limits<double>::infinity();
           box[4 * f] = -1;
           if (!a.valid || !b.valid || !c.valid)
           {
@@ -267,16 +283,6 @@ void renderZSweep(const ZSweepMesh& mesh,
           box[4 * f + 1] = y0;
           box[4 * f + 2] = x1;
           box[4 * f + 3] = y1;
-          std::uint32_t ev = t.v[0];
-          for (int k = 1; k < 3; ++k)
-          {
-            const std::uint32_t v = t.v[k];
-            if (proj[v].d < proj[ev].d || (proj[v].d == proj[ev].d && v < ev))
-            {
-              ev = v;
-            }
-          }
-          eventVertex[f] = ev;
           // The side the rays cross from: constant over the triangle's plane, read from the
           // ray through the projection's centroid.
           const Ray ray = camera.primaryRay((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0);
@@ -297,33 +303,75 @@ void renderZSweep(const ZSweepMesh& mesh,
   for (std::size_t k = 0; k < tileCount.size(); ++k)
   {
     tileStart[k + 1] = tileStart[k] + tileCount[k].load();
-    tileCount[k].store(0);
   }
-  std::vector<TriangleKey> binned(tileStart.back());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size()),
-    [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t f = r.begin(); f != r.end(); ++f)
+  // The event order of all the triangles, sorted from the previous frame's order (the
+  // previous order as the start of the next sort): a camera that stayed (an edited transfer
+  // function, a re-render) leaves it sorted, and an insertion sort checks it with one
+  // comparison per triangle; a small move costs a move per inversion. Past a budget of 8
+  // moves a triangle (the camera moved farther), or for a new mesh, a full sort. (Triangles
+  // out of view keep their place by the same key, so that they rejoin in order when they
+  // come back into view.)
+  std::vector<std::uint32_t> localOrder;
+  std::vector<std::uint32_t>& order = previousOrder ? previousOrder->triangles : localOrder;
+  std::int64_t orderMoves = 0, orderSorts = 0;
+  {
+    ScopedPhase orderPhase(stats, "order");
+    auto less = [&](std::uint32_t a, std::uint32_t b) {
+      return eventLess(TriangleKey{ eventDepth[a], eventVertex[a], a },
+        TriangleKey{ eventDepth[b], eventVertex[b], b });
+    };
+    const std::int64_t budget = 8 * static_cast<std::int64_t>(triangles.size());
+    bool full = order.size() != triangles.size();
+    if (full)
+    {
+      order.resize(triangles.size());
+      for (std::size_t f = 0; f < order.size(); ++f)
       {
-        if (box[4 * f] < 0)
+        order[f] = static_cast<std::uint32_t>(f);
+      }
+    }
+    for (std::size_t i = 1; !full && i < order.size(); ++i)
+    {
+      const std::uint32_t f = order[i];
+      std::size_t j = i;
+      for (; j > 0 && less(f, order[j - 1]); --j)
+      {
+        order[j] = order[j - 1];
+      }
+      order[j] = f;
+      orderMoves += static_cast<std::int64_t>(i - j);
+      full = orderMoves > budget;
+    }
+    if (full)
+    {
+      tbb::parallel_sort(order.begin(), order.end(), less);
+      orderSorts = 1;
+    }
+  }
+  stats.addCounter("order_moves", orderMoves);
+  stats.addCounter("order_sorts", orderSorts);
+  // Each tile's triangles in event order: filled in that order.
+  std::vector<TriangleKey> binned(tileStart.back());
+  std::vector<std::size_t> cursor(tileStart.begin(), tileStart.end() - 1);
+  {
+    ScopedPhase fillPhase(stats, "bin");
+    for (const std::uint32_t f : order)
+    {
+      if (box[4 * static_cast<std::size_t>(f)] < 0)
+      {
+        continue;
+      }
+      const TriangleKey key{ proj[eventVertex[f]].d, eventVertex[f], f };
+      for (int ty = box[4 * f + 1] / S; ty <= box[4 * f + 3] / S; ++ty)
+      {
+        for (int tx = box[4 * f] / S; tx <= box[4 * f + 2] / S; ++tx)
         {
-          continue;
-        }
-        const TriangleKey key{ proj[eventVertex[f]].d, eventVertex[f], static_cast<std::uint32_t>(f) };
-        for (int ty = box[4 * f + 1] / S; ty <= box[4 * f + 3] / S; ++ty)
-        {
-          for (int tx = box[4 * f] / S; tx <= box[4 * f + 2] / S; ++tx)
-          {
-            const std::size_t tile = static_cast<std::size_t>(ty) * nx + tx;
-            binned[tileStart[tile] + tileCount[tile].fetch_add(1, std::memory_order_relaxed)] = key;
-          }
+          const std::size_t tile = static_cast<std::size_t>(ty) * nx + tx;
+          binned[cursor[tile]++] = key;
         }
       }
-    });
-  tbb::parallel_for(std::size_t(0), tileCount.size(), [&](std::size_t tile) {
-    std::sort(binned.begin() + static_cast<std::ptrdiff_t>(tileStart[tile]),
-      binned.begin() + static_cast<std::ptrdiff_t>(tileStart[tile + 1]),
-      eventLess);
-  });
+    }
+  }
 
   // The faces across the near plane, clipped, and the caps of the cells they bound (a
   // camera close to or inside the grid), binned into per-tile lists in event order.

@@ -2,10 +2,12 @@
 //
 // Per frame:
 // 1. The vertices are projected (window x, y, depth; 1/w for perspective-correct scalars).
-// 2. Every triangle of the mesh is binned into the screen tiles its projection touches
-//    (chapter 5: a tile sweeps only the faces in its shaft), and each tile's triangles are
-//    sorted by the depth of their nearest vertex: the sweep's event order (section 4.2).
-//    Each face is projected once per tile: the mesh stores every face once.
+// 2. The triangles are sorted by the depth of their nearest vertex: the sweep's event order
+//    (section 4.2), sorted from the previous frame's order when the caller keeps it (an
+//    insertion sort, linear when the camera stayed or moved a little). Every triangle is
+//    binned into the screen tiles its projection touches (chapter 5: a tile sweeps only the
+//    faces in its shaft), in that order. Each face is projected once per tile: the mesh
+//    stores every face once.
 // 3. Each tile (in parallel, TBB) sweeps its events: the triangles whose nearest vertex is
 //    the event vertex are scan converted exactly (pixel centres, a top-left fill rule whose
 //    edge functions are evaluated identically by both faces sharing an edge, so a ray
@@ -41,6 +43,8 @@
 #include "ZSweepMesh.h"
 
 #include <array>
+#include <cstdint>
+#include <vector>
 
 namespace raymappers
 {
@@ -53,20 +57,31 @@ struct ZSweepParameters
   double terminationOpacity = 1.0;  // stop a pixel once its opacity reaches this
 };
 
+/// The event order of a mesh's triangles from the previous frame, kept by the caller
+/// between frames as the start of the next frame's sort (a permutation of the triangles;
+/// any permutation gives the same image, the previous one only a faster sort).
+struct ZSweepEventOrder
+{
+  std::vector<std::uint32_t> triangles;
+};
+
 /// Renders `mesh` classified by `optics` into `frame` (premultiplied RGBA; the depth stays at
 /// the far plane). `modelToClip`: row-major 4x4 model (not origin-relative) to OpenGL clip
 /// coordinates; `opaqueDepth`, when not null, the window depth of opaque geometry per pixel
 /// (rows from the bottom). Counters: triangles, binned_triangles, entries, flushes,
 /// k_growths, segments, transparent_segments, near_plane_triangles (clipped faces and
-/// caps), open_caps, max_list, tie_groups, decoded_triangles (0 for a dense mesh). Effects:
-/// cell_data, early_termination, sparse_mesh.
+/// caps), open_caps, max_list, tie_groups, decoded_triangles (0 for a dense mesh),
+/// order_moves (the insertion sort's moves from `previousOrder`), order_sorts (1 when the
+/// frame took a full sort instead). `previousOrder`, when not null, is read and replaced by
+/// this frame's event order. Effects: cell_data, early_termination, sparse_mesh.
 void renderZSweep(const ZSweepMesh& mesh,
   const OpticalModel& optics,
   const std::array<double, 16>& modelToClip,
   const ZSweepParameters& params,
   const float* opaqueDepth,
   Frame& frame,
-  RenderStatistics& stats);
+  RenderStatistics& stats,
+  ZSweepEventOrder* previousOrder = nullptr);
 
 } // namespace raymappers
 

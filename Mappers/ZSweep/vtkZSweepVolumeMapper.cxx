@@ -40,6 +40,7 @@ struct vtkZSweepVolumeMapper::Internals
   std::int64_t Builds = 0;
   double LastFullFrameSeconds = 0; // of the last full-resolution render (0: none yet)
   raymappers::Frame Coarse;        // the reduced frame of a time-critical render
+  raymappers::ZSweepEventOrder Order; // the last frame's event order, the next sort's start
 
   // What the mesh was built from.
   bool HasMesh = false;
@@ -368,7 +369,8 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       params,
       haveDepth ? depth.data() : nullptr,
       Impl->Frame,
-      stats);
+      stats,
+      &Impl->Order);
     Impl->LastFullFrameSeconds = vtkTimerLog::GetUniversalTime() - start;
   }
   else
@@ -383,7 +385,8 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
       params,
       haveDepth ? coarseDepth.data() : nullptr,
       Impl->Coarse,
-      stats);
+      stats,
+      &Impl->Order);
     raymappers::enlarge(Impl->Coarse, Impl->Frame);
   }
   {

@@ -378,7 +378,8 @@ std::vector<Row> RunZSweep(const Options& opt)
         s << "mesh " << st->GetPhaseTime("mesh") << " ms (" << st->GetCounter("mesh_bytes") / 1048576.0
           << " MB, " << st->GetCounter("kept_cells") << " cells kept), decode "
           << st->GetPhaseTime("decode") << " ms, project " << st->GetPhaseTime("project") << " ms, bin " << st->GetPhaseTime("bin")
-          << " ms, sweep " << st->GetPhaseTime("sweep") << " ms; entries " << st->GetCounter("entries")
+          << " ms, order " << st->GetPhaseTime("order") << " ms (" << st->GetCounter("order_moves")
+          << " moves, " << st->GetCounter("order_sorts") << " full sorts), sweep " << st->GetPhaseTime("sweep") << " ms; entries " << st->GetCounter("entries")
           << ", segments " << st->GetCounter("segments") << ", max list "
           << st->GetCounter("max_list") << ", K growths " << st->GetCounter("k_growths")
           << ", flushes " << st->GetCounter("flushes") << ", transparent segments "

@@ -849,14 +849,20 @@ TEST(ZSweepImage, MixedCellTypesWithALinearFieldMatchTheReference)
   EXPECT_GT(covered, 500);
 }
 
-TEST(ZSweepImage, ParametersAndCellOrientationDoNotChangeThePicture)
+// A jittered 6 x 6 x 6 lattice of tetrahedralized cubes around the origin.
+ZSweepGrid jitteredLattice()
 {
   Lattice L;
   L.n = 6;
   L.lo = { -1.2, -1.2, -1.2 };
   L.h = 0.4;
   L.jitter = 0.25;
-  ZSweepGrid g = tetLattice(L, smoothField);
+  return tetLattice(L, smoothField);
+}
+
+TEST(ZSweepImage, ParametersAndCellOrientationDoNotChangeThePicture)
+{
+  ZSweepGrid g = jitteredLattice();
   const RefTransferFunction tf = testTransferFunction();
   TestCamera cam;
   cam.eye = { 2.5, -3.0, 3.5 };
@@ -879,6 +885,49 @@ TEST(ZSweepImage, ParametersAndCellOrientationDoNotChangeThePicture)
   }
   const Image inverted = sweep(g, tf, cam);
   EXPECT_LT(maxDifference(base.frame, inverted.frame), 1e-6);
+}
+
+// The event order kept between frames is only the start of the next frame's sort: the
+// pictures equal those of a fresh sort; a camera that stays costs no move, one that moves a
+// little some moves and no full sort, one that moves far a full sort.
+TEST(ZSweepImage, TheEventOrderKeptBetweenFramesChangesNoPicture)
+{
+  const ZSweepGrid g = jitteredLattice();
+  const RefTransferFunction tf = testTransferFunction();
+  ZSweepMesh mesh;
+  mesh.build(g, false);
+  ZSweepEventOrder order;
+  auto render = [&](const TestCamera& cam, ZSweepEventOrder* kept) {
+    Image im;
+    im.frame.resize(cam.width, cam.height);
+    renderZSweep(mesh, opticsOf(tf), cam.matrix(), ZSweepParameters(), nullptr, im.frame,
+      im.stats, kept);
+    return im;
+  };
+  TestCamera cam;
+  cam.eye = { 2.5, -3.0, 3.5 };
+  cam.at = { 0, 0, 0 };
+  const Image first = render(cam, &order);
+  EXPECT_EQ(first.stats.counter("order_sorts"), 1); // nothing kept yet
+  EXPECT_EQ(maxDifference(first.frame, render(cam, nullptr).frame), 0.0);
+  const Image still = render(cam, &order);
+  EXPECT_EQ(still.stats.counter("order_sorts"), 0);
+  EXPECT_EQ(still.stats.counter("order_moves"), 0);
+  EXPECT_EQ(maxDifference(still.frame, first.frame), 0.0);
+
+  TestCamera moved = cam;
+  moved.eye = { 2.51, -3.0, 3.5 };
+  const Image near = render(moved, &order);
+  EXPECT_EQ(near.stats.counter("order_sorts"), 0);
+  EXPECT_GT(near.stats.counter("order_moves"), 0);
+  EXPECT_EQ(maxDifference(near.frame, render(moved, nullptr).frame), 0.0);
+  EXPECT_LT(maxErrorToReference(near, g, tf, moved), 1e-5);
+
+  TestCamera behind = cam;
+  behind.eye = { -2.5, 3.0, -3.5 };
+  const Image far = render(behind, &order);
+  EXPECT_EQ(far.stats.counter("order_sorts"), 1);
+  EXPECT_EQ(maxDifference(far.frame, render(behind, nullptr).frame), 0.0);
 }
 
 TEST(ZSweepImage, BadCellsLeaveTheRestOfThePictureAndNoNaN)

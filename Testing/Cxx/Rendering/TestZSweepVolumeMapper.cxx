@@ -166,13 +166,16 @@ int TestZSweepVolumeMapper(int argc, char* argv[])
     "the opaque sphere stops the rays as in VTK's ray caster");
   ren->RemoveActor(ball);
 
-  // A new transfer function: a new picture, no new mesh.
+  // A new transfer function: a new picture, no new mesh, no new sort.
   show(zsweep, tetra->GetOutput());
   const auto builds = zsweep->GetStatistics()->GetCounter("builds");
   opacity->AddPoint(0.5 * (range[0] + range[1]), 0.3);
   const auto edited = show(zsweep, tetra->GetOutput());
   check(zsweep->GetStatistics()->GetCounter("builds") == builds && Compare(edited, ours).mean > 1,
     "editing the opacity function redraws without rebuilding the mesh");
+  check(zsweep->GetStatistics()->GetCounter("order_sorts") == 0 &&
+      zsweep->GetStatistics()->GetCounter("order_moves") == 0,
+    "the same camera: the last frame's event order is kept, no sort");
   opacity->RemovePoint(0.5 * (range[0] + range[1]));
 
   // Time-critical rendering: p x p fewer rays, enlarged; a budget the last full frame
