@@ -5,10 +5,10 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -224,7 +224,7 @@ void renderZSweep(const ZSweepMesh& mesh,
   std::vector<double> eventDepth(triangles.size());
   std::vector<std::int32_t> box(4 * triangles.size()); // pixel bounds, x0 < 0: not drawn
   std::vector<char> forward(triangles.size());          // the rays cross front -> back
-  std::vector<std::atomic<std::uint32_t>> tileCount(static_cast<std::size_t>(nx) * ny);
+  const std::size_t numTiles = static_cast<std::size_t>(nx) * ny;
   std::vector<char> crosses(triangles.size(), 0); // across the near plane
   {
     ScopedPhase phase(stats, "bin");
@@ -289,20 +289,8 @@ void renderZSweep(const ZSweepMesh& mesh,
           const Vec3d& p0 = points[t.v[0]];
           const Vec3d n = cross(points[t.v[1]] - p0, points[t.v[2]] - p0);
           forward[f] = dot(Vec3d(ray.dir), n) > 0;
-          for (int ty = y0 / S; ty <= y1 / S; ++ty)
-          {
-            for (int tx = x0 / S; tx <= x1 / S; ++tx)
-            {
-              tileCount[static_cast<std::size_t>(ty) * nx + tx].fetch_add(1, std::memory_order_relaxed);
-            }
-          }
         }
       });
-  }
-  std::vector<std::size_t> tileStart(tileCount.size() + 1, 0);
-  for (std::size_t k = 0; k < tileCount.size(); ++k)
-  {
-    tileStart[k + 1] = tileStart[k] + tileCount[k].load();
   }
   // The event order of all the triangles, sorted from the previous frame's order (the
   // previous order as the start of the next sort): a camera that stayed (an edited transfer
@@ -330,7 +318,19 @@ void renderZSweep(const ZSweepMesh& mesh,
         order[f] = static_cast<std::uint32_t>(f);
       }
     }
-    for (std::size_t i = 1; !full && i < order.size(); ++i)
+    // (A still camera: the check in parallel first.)
+    const bool sorted = !full &&
+      tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(1, std::max<std::size_t>(order.size(), 1)), true,
+        [&](const tbb::blocked_range<std::size_t>& r, bool ok) {
+          for (std::size_t i = r.begin(); ok && i != r.end(); ++i)
+          {
+            ok = !less(order[i], order[i - 1]);
+          }
+          return ok;
+        },
+        [](bool a, bool b) { return a && b; });
+    for (std::size_t i = 1; !full && !sorted && i < order.size(); ++i)
     {
       const std::uint32_t f = order[i];
       std::size_t j = i;
@@ -350,27 +350,55 @@ void renderZSweep(const ZSweepMesh& mesh,
   }
   stats.addCounter("order_moves", orderMoves);
   stats.addCounter("order_sorts", orderSorts);
-  // Each tile's triangles in event order: filled in that order.
-  std::vector<TriangleKey> binned(tileStart.back());
-  std::vector<std::size_t> cursor(tileStart.begin(), tileStart.end() - 1);
+  // Each tile's triangles in event order: the order cut into chunks, each chunk's
+  // triangles counted per tile and then written, in parallel, from where the chunks
+  // before it end in each tile's list.
+  const std::size_t chunks =
+    std::clamp<std::size_t>(order.size() / 8192, 1, 16);
+  const std::size_t chunkSize = (order.size() + chunks - 1) / chunks;
+  std::vector<std::size_t> chunkStart(chunks * numTiles, 0); // count, then write position
+  std::vector<std::size_t> tileStart(numTiles + 1, 0);
+  std::vector<TriangleKey> binned;
   {
     ScopedPhase fillPhase(stats, "bin");
-    for (const std::uint32_t f : order)
-    {
-      if (box[4 * static_cast<std::size_t>(f)] < 0)
+    auto forEachTileOf = [&](std::size_t c, auto&& visit) {
+      const std::size_t end = std::min(order.size(), (c + 1) * chunkSize);
+      for (std::size_t k = c * chunkSize; k < end; ++k)
       {
-        continue;
-      }
-      const TriangleKey key{ proj[eventVertex[f]].d, eventVertex[f], f };
-      for (int ty = box[4 * f + 1] / S; ty <= box[4 * f + 3] / S; ++ty)
-      {
-        for (int tx = box[4 * f] / S; tx <= box[4 * f + 2] / S; ++tx)
+        const std::uint32_t f = order[k];
+        if (box[4 * static_cast<std::size_t>(f)] < 0)
         {
-          const std::size_t tile = static_cast<std::size_t>(ty) * nx + tx;
-          binned[cursor[tile]++] = key;
+          continue;
+        }
+        for (int ty = box[4 * f + 1] / S; ty <= box[4 * f + 3] / S; ++ty)
+        {
+          for (int tx = box[4 * f] / S; tx <= box[4 * f + 2] / S; ++tx)
+          {
+            visit(f, static_cast<std::size_t>(ty) * nx + tx);
+          }
         }
       }
+    };
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+      forEachTileOf(c, [&](std::uint32_t, std::size_t tile) { ++chunkStart[c * numTiles + tile]; });
+    });
+    for (std::size_t tile = 0; tile < numTiles; ++tile)
+    {
+      std::size_t at = tileStart[tile];
+      for (std::size_t c = 0; c < chunks; ++c)
+      {
+        const std::size_t count = chunkStart[c * numTiles + tile];
+        chunkStart[c * numTiles + tile] = at;
+        at += count;
+      }
+      tileStart[tile + 1] = at;
     }
+    binned.resize(tileStart.back());
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+      forEachTileOf(c, [&](std::uint32_t f, std::size_t tile) {
+        binned[chunkStart[c * numTiles + tile]++] = TriangleKey{ proj[eventVertex[f]].d, eventVertex[f], f };
+      });
+    });
   }
 
   // The faces across the near plane, clipped, and the caps of the cells they bound (a
@@ -391,7 +419,7 @@ void renderZSweep(const ZSweepMesh& mesh,
   });
   std::vector<DrawTriangle> extras;
   std::size_t openCaps = 0;
-  std::vector<std::vector<std::uint32_t>> tileExtras(tileCount.size());
+  std::vector<std::vector<std::uint32_t>> tileExtras(numTiles);
   std::vector<std::array<int, 4>> extraBox;
   std::vector<double> extraEvent;
   if (!crossing.empty())
