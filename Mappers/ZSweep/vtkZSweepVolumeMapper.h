@@ -15,7 +15,10 @@
  * The method (Farias 2001, chapters 4 and 5): the faces are swept in depth order of their
  * nearest vertex, scan converted exactly into per-pixel lists, and composited in delayed
  * stages (a z-target and a list-size threshold K that doubles when needed), in screen
- * tiles in parallel. Integrator EXACT (default) integrates the emission-absorption model
+ * tiles in parallel. The mapper keeps the last render's depth order of the faces and starts
+ * the next render's sort from it, so a render from the same camera (a new transfer
+ * function, say) only checks the order (counters order_moves, order_sorts).
+ * Integrator EXACT (default) integrates the emission-absorption model
  * exactly for transfer functions that are piecewise linear in extinction and color between
  * their nodes; FARIAS uses the dissertation's second-order closed form; MIDPOINT a constant
  * segment. Details in Mappers/ZSweep/ZSweepRenderer.h and OpticalModel.h.
