@@ -826,14 +826,30 @@ void renderRBF(const RBFParticles& particles,
                   // relative to the pass (clamped to the pass and the ray's samples).
                   // (t / dt - s0 is taken as t (1 / dt) - s0: a sample within an ulp of
                   // the support's edge may fall either way, as its own t = k dt may.)
-                  int any = 0;
-#pragma omp simd reduction(| : any)
+                  // First only h^2, whether some ray passes within the support at all (of
+                  // the particles in a leaf the packet reaches, most reach none of its rays
+                  // where the particles are small on the screen), then the samples.
+                  int near = 0;
+#pragma omp simd reduction(| : near)
                   for (int r = 0; r < lanes; ++r)
                   {
                     const float fx = P.ox[r] - c.x, fy = P.oy[r] - c.y, fz = P.oz[r] - c.z;
                     const float b = fx * P.dx[r] + fy * P.dy[r] + fz * P.dz[r];
                     const float lx = fx - P.dx[r] * b, ly = fy - P.dy[r] * b, lz = fz - P.dz[r] * b;
                     const float h2 = lx * lx + ly * ly + lz * lz;
+                    P.b[r] = b;
+                    P.h2[r] = h2;
+                    near |= h2 <= R2;
+                  }
+                  if (!near)
+                  {
+                    continue;
+                  }
+                  int any = 0;
+#pragma omp simd reduction(| : any)
+                  for (int r = 0; r < lanes; ++r)
+                  {
+                    const float b = P.b[r], h2 = P.h2[r];
                     const float w = std::sqrt(h2 < R2 ? R2 - h2 : 0.f);
                     float qa = (-b - w) * invStep - s0f, qb = (-b + w) * invStep - s0f;
                     // (Clamped for the conversion to int, with one select each: a nested
@@ -845,8 +861,6 @@ void renderRBF(const RBFParticles& particles,
                     const std::int32_t ka = std::max(P.first[r], ceilToInt(qa));
                     const std::int32_t kb = std::min(P.last[r], floorToInt(qb));
                     const bool in = h2 <= R2 && ka <= kb;
-                    P.b[r] = b;
-                    P.h2[r] = h2;
                     P.ka[r] = in ? ka : slots;
                     P.kb[r] = in ? kb : -1;
                     any |= in;
