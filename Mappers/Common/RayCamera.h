@@ -62,6 +62,18 @@ public:
   /// (i + 0.5, j + 0.5), row 0 at the bottom (OpenGL convention).
   Ray primaryRay(double px, double py) const;
   Ray pixelRay(int i, int j) const { return primaryRay(i + 0.5, j + 0.5); }
+  /// The rays of pixels (i[k], j[k]), k < n, bit for bit as pixelRay makes them, in SIMD
+  /// lanes, into structure-of-arrays form: origin o, unit direction d and tfar (tnear 0).
+  void pixelRays(const int* i,
+    const int* j,
+    int n,
+    float* ox,
+    float* oy,
+    float* oz,
+    float* dx,
+    float* dy,
+    float* dz,
+    float* tfar) const;
 
   /// Depth mapping along a ray of this camera (as returned by primaryRay).
   RayDepthMap depthMap(const Ray& ray) const;

@@ -517,9 +517,9 @@ void renderRBF(const RBFParticles& particles,
   const bool regionBounded = params.region.bounded();
   // A ray of the grid: its samples lie in the root's grown box (and the region), before
   // opaque geometry.
-  auto setUp = [&](int i, int j, Ray& ray, SampleRange& range)
+  // (The ray of pixel (i, j) made by the caller: one by one, or a packet's in SIMD lanes.)
+  auto setUp = [&](int i, int j, const Ray& ray, SampleRange& range)
   {
-    ray = camera.pixelRay(i, j);
     float t0 = ray.tnear, t1 = ray.tfar;
     if (opaqueDepth)
     {
@@ -577,7 +577,7 @@ void renderRBF(const RBFParticles& particles,
           for (int i = tile.x0; i < tile.x1; ++i)
           {
             ++tileRays;
-            Ray ray;
+            const Ray ray = camera.pixelRay(i, j);
             SampleRange range;
             setUp(i, j, ray, range);
             RayAccumulator acc;
@@ -678,6 +678,7 @@ void renderRBF(const RBFParticles& particles,
         SampleRange range[MaxPacketRays];
         bool active[MaxPacketRays];
         int pi[MaxPacketRays], pj[MaxPacketRays];
+        float tFar[MaxPacketRays];
         for (int by = tile.y0; by < tile.y1; by += side)
         {
           for (int bx = tile.x0; bx < tile.x1; bx += side)
@@ -701,43 +702,53 @@ void renderRBF(const RBFParticles& particles,
               continue;
             }
             int n = 0;
-            std::int64_t kFirst = std::numeric_limits<std::int64_t>::max(),
-                         kLast = std::numeric_limits<std::int64_t>::min();
             for (int q = 0; q < side * side; ++q)
             {
               const int i = bx + q % side, j = by + q / side;
-              if (i >= tile.x1 || j >= tile.y1)
+              if (i < tile.x1 && j < tile.y1)
               {
-                continue;
+                pi[n] = i;
+                pj[n] = j;
+                ++n;
               }
-              pi[n] = i;
-              pj[n] = j;
-              setUp(i, j, ray[n], range[n]);
-              P.cr[n] = P.cg[n] = P.cb[n] = P.ca[n] = 0.f;
-              active[n] = range[n].k0 <= range[n].k1;
-              if (active[n])
-              {
-                kFirst = std::min(kFirst, range[n].k0);
-                kLast = std::max(kLast, range[n].k1);
-              }
-              ++n;
             }
             tileRays += n;
             ++tilePackets;
             const int lanes = (n + LaneMultiple - 1) / LaneMultiple * LaneMultiple;
+            // The packet's rays in SIMD lanes (a padding lane: origin and direction 0).
+            camera.pixelRays(pi, pj, n, P.ox, P.oy, P.oz, P.dx, P.dy, P.dz, tFar);
+            for (int r = n; r < lanes; ++r)
+            {
+              P.ox[r] = P.oy[r] = P.oz[r] = P.dx[r] = P.dy[r] = P.dz[r] = 0.f;
+            }
+#pragma omp simd
             for (int r = 0; r < lanes; ++r)
             {
               const bool real = r < n;
-              const Vec3f o = real ? ray[r].org : Vec3f(), d = real ? ray[r].dir : Vec3f();
-              P.ox[r] = o.x;
-              P.oy[r] = o.y;
-              P.oz[r] = o.z;
-              P.dx[r] = d.x;
-              P.dy[r] = d.y;
-              P.dz[r] = d.z;
-              P.ix[r] = real ? 1.f / d.x : 0.f;
-              P.iy[r] = real ? 1.f / d.y : 0.f;
-              P.iz[r] = real ? 1.f / d.z : 0.f;
+              P.ix[r] = real ? 1.f / P.dx[r] : 0.f;
+              P.iy[r] = real ? 1.f / P.dy[r] : 0.f;
+              P.iz[r] = real ? 1.f / P.dz[r] : 0.f;
+            }
+            std::int64_t kFirst = std::numeric_limits<std::int64_t>::max(),
+                         kLast = std::numeric_limits<std::int64_t>::min();
+            for (int r = 0; r < n; ++r)
+            {
+              ray[r].org = Vec3f(P.ox[r], P.oy[r], P.oz[r]);
+              ray[r].dir = Vec3f(P.dx[r], P.dy[r], P.dz[r]);
+              ray[r].tnear = 0.f;
+              ray[r].tfar = tFar[r];
+              setUp(pi[r], pj[r], ray[r], range[r]);
+              P.cr[r] = P.cg[r] = P.cb[r] = P.ca[r] = 0.f;
+              active[r] = range[r].k0 <= range[r].k1;
+              if (active[r])
+              {
+                kFirst = std::min(kFirst, range[r].k0);
+                kLast = std::max(kLast, range[r].k1);
+              }
+            }
+            for (int r = 0; r < lanes; ++r)
+            {
+              const bool real = r < n;
               P.t0[r] = 1.f;
               P.t1[r] = 0.f;
               P.first[r] = K;
