@@ -101,11 +101,11 @@ RayCamera::RayCamera(const std::array<double, 16>& modelToClip,
   // x_ndc = 2 px / W - 1: the column of Minv for x, scaled by 2/W, per pixel step.
   for (int r = 0; r < 4; ++r)
   {
-    PixelDx[r] = Minv[4 * r] * 2.0 / Width;
-    PixelDy[r] = Minv[4 * r + 1] * 2.0 / Height;
+    Planes.dx[r] = Minv[4 * r] * 2.0 / Width;
+    Planes.dy[r] = Minv[4 * r + 1] * 2.0 / Height;
     const double corner = -Minv[4 * r] - Minv[4 * r + 1] + Minv[4 * r + 3];
-    NearBase[r] = corner - Minv[4 * r + 2];
-    FarBase[r] = corner + Minv[4 * r + 2];
+    Planes.near[r] = corner - Minv[4 * r + 2];
+    Planes.far[r] = corner + Minv[4 * r + 2];
   }
 }
 
@@ -126,17 +126,12 @@ namespace
 // primaryRay and pixelRays, so that both compute every ray bit for bit alike. (Written
 // without local arrays: in a SIMD loop GCC 12 would keep them per lane in memory and leave
 // the loop scalar.)
-struct RayPoints
-{
-  double near[4], far[4], dx[4], dy[4];
-};
-
 struct RayLane
 {
   float ox, oy, oz, dx, dy, dz, len;
 };
 
-inline RayLane rayThrough(const RayPoints& c, double px, double py)
+inline RayLane rayThrough(const RayCamera::PlanePoints& c, double px, double py)
 {
   const double nx = c.near[0] + px * c.dx[0] + py * c.dy[0];
   const double ny = c.near[1] + px * c.dx[1] + py * c.dy[1];
@@ -151,23 +146,19 @@ inline RayLane rayThrough(const RayPoints& c, double px, double py)
   const double vx = fx * inf - ax, vy = fy * inf - ay, vz = fz * inf - az;
   const double l = std::sqrt(vx * vx + vy * vy + vz * vz);
   const double il = 1.0 / l;
-  return RayLane{ static_cast<float>(ax), static_cast<float>(ay), static_cast<float>(az),
-    static_cast<float>(vx * il), static_cast<float>(vy * il), static_cast<float>(vz * il),
+  return RayLane{ static_cast<float>(ax),
+    static_cast<float>(ay),
+    static_cast<float>(az),
+    static_cast<float>(vx * il),
+    static_cast<float>(vy * il),
+    static_cast<float>(vz * il),
     static_cast<float>(l) };
 }
 }
 
 Ray RayCamera::primaryRay(double px, double py) const
 {
-  RayPoints c;
-  for (int r = 0; r < 4; ++r)
-  {
-    c.near[r] = NearBase[r];
-    c.far[r] = FarBase[r];
-    c.dx[r] = PixelDx[r];
-    c.dy[r] = PixelDy[r];
-  }
-  const RayLane l = rayThrough(c, px, py);
+  const RayLane l = rayThrough(Planes, px, py);
   Ray ray;
   ray.org = Vec3f(l.ox, l.oy, l.oz);
   ray.dir = Vec3f(l.dx, l.dy, l.dz);
@@ -179,22 +170,12 @@ Ray RayCamera::primaryRay(double px, double py) const
 void RayCamera::pixelRays(const int* i,
   const int* j,
   int n,
-  float* ox,
-  float* oy,
-  float* oz,
-  float* dx,
-  float* dy,
-  float* dz,
+  float* const org[3],
+  float* const dir[3],
   float* tfar) const
 {
-  RayPoints c; // (a local: the lanes read it from registers)
-  for (int r = 0; r < 4; ++r)
-  {
-    c.near[r] = NearBase[r];
-    c.far[r] = FarBase[r];
-    c.dx[r] = PixelDx[r];
-    c.dy[r] = PixelDy[r];
-  }
+  const PlanePoints c = Planes; // (a local: the lanes read it from registers)
+  float *ox = org[0], *oy = org[1], *oz = org[2], *dx = dir[0], *dy = dir[1], *dz = dir[2];
 #pragma omp simd
   for (int k = 0; k < n; ++k)
   {

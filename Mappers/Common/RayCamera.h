@@ -62,17 +62,20 @@ public:
   /// (i + 0.5, j + 0.5), row 0 at the bottom (OpenGL convention).
   Ray primaryRay(double px, double py) const;
   Ray pixelRay(int i, int j) const { return primaryRay(i + 0.5, j + 0.5); }
+  /// Homogeneous unprojection of the near (z_ndc = -1) and far (z_ndc = +1) planes, linear in
+  /// the pixel position: P(px, py) = base + px dx + py dy (4-vectors, then / w).
+  struct PlanePoints
+  {
+    double near[4], far[4], dx[4], dy[4];
+  };
   /// The rays of pixels (i[k], j[k]), k < n, bit for bit as pixelRay makes them, in SIMD
-  /// lanes, into structure-of-arrays form: origin o, unit direction d and tfar (tnear 0).
+  /// lanes, into structure-of-arrays form: origins org[axis][k], unit directions
+  /// dir[axis][k] and tfar[k] (tnear 0).
   void pixelRays(const int* i,
     const int* j,
     int n,
-    float* ox,
-    float* oy,
-    float* oz,
-    float* dx,
-    float* dy,
-    float* dz,
+    float* const org[3],
+    float* const dir[3],
     float* tfar) const;
 
   /// Depth mapping along a ray of this camera (as returned by primaryRay).
@@ -88,9 +91,7 @@ public:
 private:
   std::array<double, 16> M;    // origin-relative model -> clip
   std::array<double, 16> Minv; // clip -> origin-relative model
-  // Homogeneous unprojection of the near (z_ndc = -1) and far (z_ndc = +1) planes is linear
-  // in the pixel position: P(px, py) = base + px * dx + py * dy (4-vectors, then / w).
-  std::array<double, 4> NearBase, FarBase, PixelDx, PixelDy;
+  PlanePoints Planes;
   int Width, Height;
   Vec3d Origin;
   bool Parallel;

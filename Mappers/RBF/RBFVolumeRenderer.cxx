@@ -716,7 +716,9 @@ void renderRBF(const RBFParticles& particles,
             ++tilePackets;
             const int lanes = (n + LaneMultiple - 1) / LaneMultiple * LaneMultiple;
             // The packet's rays in SIMD lanes (a padding lane: origin and direction 0).
-            camera.pixelRays(pi, pj, n, P.ox, P.oy, P.oz, P.dx, P.dy, P.dz, tFar);
+            float* const org[3] = { P.ox, P.oy, P.oz };
+            float* const dir[3] = { P.dx, P.dy, P.dz };
+            camera.pixelRays(pi, pj, n, org, dir, tFar);
             for (int r = n; r < lanes; ++r)
             {
               P.ox[r] = P.oy[r] = P.oz[r] = P.dx[r] = P.dy[r] = P.dz[r] = 0.f;
