@@ -834,14 +834,14 @@ void renderRBF(const RBFParticles& particles,
                   const float R = sigma * rad;
                   const float R2 = R * R;
                   const float inv2r2 = 0.5f / (rad * rad);
-                  // Every ray at once: h^2, and the samples inside the support,
-                  // t = k dt in [-b - w, -b + w], w = sqrt(R^2 - h^2), as indices
-                  // relative to the pass (clamped to the pass and the ray's samples).
-                  // (t / dt - s0 is taken as t (1 / dt) - s0: a sample within an ulp of
-                  // the support's edge may fall either way, as its own t = k dt may.)
-                  // First only h^2, whether some ray passes within the support at all (of
-                  // the particles in a leaf the packet reaches, most reach none of its rays
-                  // where the particles are small on the screen), then the samples.
+                  // Every ray at once, in two steps. First only h^2: whether some ray
+                  // passes within the support at all (where the particles are small on
+                  // the screen, most particles of a leaf the packet reaches meet none of
+                  // its rays). Then the samples inside the support, t = k dt in
+                  // [-b - w, -b + w], w = sqrt(R^2 - h^2), as indices relative to the pass
+                  // (clamped to the pass and the ray's samples). (t / dt - s0 is taken as
+                  // t (1 / dt) - s0: a sample within an ulp of the support's edge may fall
+                  // either way, as its own t = k dt may.)
                   int near = 0;
 #pragma omp simd reduction(| : near)
                   for (int r = 0; r < lanes; ++r)
