@@ -78,6 +78,12 @@ public:
     float* const dir[3],
     float* tfar) const;
 
+  /// Whether this camera's rays cross the plane through the origin-relative point p with
+  /// normal n along n (d . n > 0 for their directions d where they meet it in front of the
+  /// eye): from the eye (perspective: d is along q - eye for every point q of the plane, and
+  /// (q - eye) . n = (p - eye) . n) or the common direction (parallel), without a ray.
+  bool raysAlong(const Vec3d& p, const Vec3d& n) const;
+
   /// Depth mapping along a ray of this camera (as returned by primaryRay).
   RayDepthMap depthMap(const Ray& ray) const;
   RayDepthMap pixelDepthMap(int i, int j) const { return depthMap(pixelRay(i, j)); }
@@ -92,6 +98,9 @@ private:
   std::array<double, 16> M;    // origin-relative model -> clip
   std::array<double, 16> Minv; // clip -> origin-relative model
   PlanePoints Planes;
+  // The rays' common point (perspective: the eye, clip coordinates (0, 0, 1, 0) up to a
+  // factor) or common direction (parallel), origin-relative.
+  Vec3d Eye, ViewDirection;
   int Width, Height;
   Vec3d Origin;
   bool Parallel;

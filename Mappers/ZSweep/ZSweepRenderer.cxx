@@ -226,6 +226,12 @@ void renderZSweep(const ZSweepMesh& mesh,
   std::vector<char> forward(triangles.size());          // the rays cross front -> back
   const std::size_t numTiles = static_cast<std::size_t>(nx) * ny;
   std::vector<char> crosses(triangles.size(), 0); // across the near plane
+  // The side the rays cross a triangle from: whether they go along its normal
+  // (v1 - v0) x (v2 - v0), the same over its whole plane.
+  auto forwardOf = [&](const ZSweepTriangle& t) {
+    const Vec3d& p0 = points[t.v[0]];
+    return camera.raysAlong(p0, cross(points[t.v[1]] - p0, points[t.v[2]] - p0));
+  };
   {
     ScopedPhase phase(stats, "bin");
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size()),
@@ -256,12 +262,8 @@ void renderZSweep(const ZSweepMesh& mesh,
             if (a.valid || b.valid || c.valid)
             {
               // Across the near plane: clipped below. The rays cross its plane from the
-              // same side everywhere; read it through a vertex beyond the near plane.
-              const ProjectedVertex& in = a.valid ? a : (b.valid ? b : c);
-              const Ray ray = camera.primaryRay(in.x, in.y);
-              const Vec3d& p0 = points[t.v[0]];
-              const Vec3d n = cross(points[t.v[1]] - p0, points[t.v[2]] - p0);
-              forward[f] = dot(Vec3d(ray.dir), n) > 0;
+              // same side everywhere.
+              forward[f] = forwardOf(t);
               crosses[f] = 1;
             }
             continue;
@@ -283,12 +285,7 @@ void renderZSweep(const ZSweepMesh& mesh,
           box[4 * f + 1] = y0;
           box[4 * f + 2] = x1;
           box[4 * f + 3] = y1;
-          // The side the rays cross from: constant over the triangle's plane, read from the
-          // ray through the projection's centroid.
-          const Ray ray = camera.primaryRay((a.x + b.x + c.x) / 3.0, (a.y + b.y + c.y) / 3.0);
-          const Vec3d& p0 = points[t.v[0]];
-          const Vec3d n = cross(points[t.v[1]] - p0, points[t.v[2]] - p0);
-          forward[f] = dot(Vec3d(ray.dir), n) > 0;
+          forward[f] = forwardOf(t);
         }
       });
   }
