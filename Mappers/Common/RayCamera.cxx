@@ -107,15 +107,18 @@ RayCamera::RayCamera(const std::array<double, 16>& modelToClip,
     Planes.near[r] = corner - Minv[4 * r + 2];
     Planes.far[r] = corner + Minv[4 * r + 2];
   }
-  if (!Parallel)
+  if (Parallel)
+  {
+    // The far point minus the near point of the corner pixel, the same for all.
+    ViewDirection = Vec3d(Planes.far[0] / Planes.far[3] - Planes.near[0] / Planes.near[3],
+      Planes.far[1] / Planes.far[3] - Planes.near[1] / Planes.near[3],
+      Planes.far[2] / Planes.far[3] - Planes.near[2] / Planes.near[3]);
+  }
+  else
   {
     const double ew = Minv[14];
     Eye = Vec3d(Minv[2] / ew, Minv[6] / ew, Minv[10] / ew);
   }
-  // (Parallel: the far point minus the near point of the corner pixel, the same for all.)
-  ViewDirection = Vec3d(Planes.far[0] / Planes.far[3] - Planes.near[0] / Planes.near[3],
-    Planes.far[1] / Planes.far[3] - Planes.near[1] / Planes.near[3],
-    Planes.far[2] / Planes.far[3] - Planes.near[2] / Planes.near[3]);
 }
 
 bool RayCamera::raysAlong(const Vec3d& p, const Vec3d& n) const

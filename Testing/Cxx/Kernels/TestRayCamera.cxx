@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 using namespace raymappers;
 using namespace raymappers::test;
 
@@ -130,6 +133,73 @@ TEST(RayCamera, TilesOfALargeImageHaveTheRaysOfTheLargeImage)
       }
     }
   }
+}
+
+TEST(RayCamera, PixelRaysInLanesAreThePixelRaysBitForBit)
+{
+  const Mat4 view = lookAt(Eye, At, Up);
+  for (const Mat4& m : { multiply(perspective(35, 1.5, 0.5, 80), view),
+         multiply(tileTransform(3, 2, 1), multiply(perspective(35, 1.5, 0.5, 80), view)),
+         multiply(orthographic(4, 3, 1, 21), view) })
+  {
+    const RayCamera cam(m, 60, 40, {});
+    // A packet's pixels, not in row order, one count that is no multiple of a SIMD width.
+    std::vector<int> pi, pj;
+    for (int q = 0; q < 37; ++q)
+    {
+      pi.push_back((q * 17) % 60);
+      pj.push_back((q * 7) % 40);
+    }
+    const int n = static_cast<int>(pi.size());
+    std::vector<float> o[3], d[3], tfar(n);
+    for (int a = 0; a < 3; ++a)
+    {
+      o[a].resize(n);
+      d[a].resize(n);
+    }
+    float* const org[3] = { o[0].data(), o[1].data(), o[2].data() };
+    float* const dir[3] = { d[0].data(), d[1].data(), d[2].data() };
+    cam.pixelRays(pi.data(), pj.data(), n, org, dir, tfar.data());
+    for (int k = 0; k < n; ++k)
+    {
+      const Ray r = cam.pixelRay(pi[k], pj[k]);
+      for (int a = 0; a < 3; ++a)
+      {
+        EXPECT_EQ(o[a][k], r.org[a]) << k << " axis " << a;
+        EXPECT_EQ(d[a][k], r.dir[a]) << k << " axis " << a;
+      }
+      EXPECT_EQ(tfar[k], r.tfar) << k;
+    }
+  }
+}
+
+TEST(RayCamera, RaysAlongTellsTheSideTheRaysCrossAPlaneFrom)
+{
+  // Planes through points in front of the camera, normals all around: the rays go along n
+  // when (p - eye) . n > 0 (perspective), when (0, 0, -1) . n > 0 (parallel, looking down
+  // -z), with the eye and the view direction of the lookAt, not of the camera's matrices.
+  const Mat4 view = lookAt(Eye, At, Up);
+  const RayCamera persp(
+    multiply(tileTransform(3, 0, 2), multiply(perspective(40, 1, 0.5, 80), view)), 32, 32, {});
+  const RayCamera parallel(multiply(orthographic(4, 3, 1, 21), view), 32, 32, {});
+  int along = 0, against = 0;
+  for (int q = 0; q < 200; ++q)
+  {
+    const Vec3d p(At.x + std::sin(q * 1.7) * 3, At.y + std::cos(q * 2.3) * 2, std::sin(q * 0.9) * 4);
+    const Vec3d n(std::sin(q * 0.37), std::cos(q * 1.13), std::sin(q * 2.71 + 1));
+    const double dp = dot(p - Eye, n), dq = dot(Vec3d(0, 0, -1), n);
+    if (std::abs(dp) > 1e-9 * length(p - Eye) * length(n))
+    {
+      EXPECT_EQ(persp.raysAlong(p, n), dp > 0) << q;
+      (dp > 0 ? along : against) += 1;
+    }
+    if (std::abs(dq) > 1e-9 * length(n))
+    {
+      EXPECT_EQ(parallel.raysAlong(p, n), dq > 0) << q;
+    }
+  }
+  EXPECT_GT(along, 20);
+  EXPECT_GT(against, 20);
 }
 
 TEST(RayCamera, Invert4x4)
