@@ -144,7 +144,8 @@ void WritePng(vtkImageData* image, const std::string& path)
 
 bool Selected(const Options& opt, const Method& m)
 {
-  const std::string key = m.name + ":" + m.setting;
+  // The leading ':' lets "--only :rbf:" pick the method rbf and not direct-rbf.
+  const std::string key = ":" + m.name + ":" + m.setting;
   return opt.only.empty() ||
          std::any_of(opt.only.begin(),
            opt.only.end(),

@@ -13,7 +13,8 @@
 // usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] [--csv FILE]
 //                               [--images DIR] [--generated DIR] [--only TEXT ...]
 //                               [--threads N]
-// --only runs just the methods whose "method:setting" contains TEXT (and the references).
+// --only runs just the methods whose ":method:setting" contains TEXT (and the references);
+// a leading ':' anchors TEXT at the method's name.
 // --threads limits TBB (our mappers' parallel work) to N threads, for parallel efficiency.
 // build_ms of our mapper is the median over --repeat rebuilds after the data is marked
 // modified (a new time step), and the breakdown is printed.
