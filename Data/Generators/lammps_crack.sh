@@ -35,6 +35,13 @@ command -v lmp >/dev/null || { echo "lmp not found (Debian package 'lammps')" >&
 work=$(mktemp -d)
 trap 'rm -rf "$work" "$output.part"' EXIT
 
+# Run the simulator as an MPI job of its own: a caller that is itself an MPI process
+# (pvpython and pvbatch start one) hands down its Open MPI and PMIx variables, with which
+# mpirun and the simulator fail before they start.
+for v in $(compgen -e); do
+  case "$v" in OMPI_* | PMIX_* | OPAL_* | PRTE_*) unset "$v" ;; esac
+done
+
 lmp_cmd=(lmp -sf opt)
 if [[ "$np" -gt 1 ]] && command -v mpirun >/dev/null; then
   lmp_cmd=(mpirun --allow-run-as-root -np "$np" "${lmp_cmd[@]}")

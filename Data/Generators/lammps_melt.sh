@@ -33,6 +33,13 @@ command -v lmp >/dev/null || { echo "lmp not found (Debian package 'lammps')" >&
 work=$(mktemp -d)
 trap 'rm -rf "$work" "$output.part"' EXIT
 
+# Run the simulator as an MPI job of its own: a caller that is itself an MPI process
+# (pvpython and pvbatch start one) hands down its Open MPI and PMIx variables, with which
+# mpirun and the simulator fail before they start.
+for v in $(compgen -e); do
+  case "$v" in OMPI_* | PMIX_* | OPAL_* | PRTE_*) unset "$v" ;; esac
+done
+
 # MPI ranks split the box (measured, 1M atoms on 2 cores: 2 ranks run 1.9x as
 # fast as 1); -sf opt selects the OPT package's lj/cut, about 10 % faster.
 lmp_cmd=(lmp -sf opt)

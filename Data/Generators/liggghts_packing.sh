@@ -34,6 +34,13 @@ command -v liggghts >/dev/null || { echo "liggghts not found (Debian package 'li
 work=$(mktemp -d)
 trap 'rm -rf "$work" "$output.part"' EXIT
 
+# Run the simulator as an MPI job of its own: a caller that is itself an MPI process
+# (pvpython and pvbatch start one) hands down its Open MPI and PMIx variables, with which
+# mpirun and the simulator fail before they start.
+for v in $(compgen -e); do
+  case "$v" in OMPI_* | PMIX_* | OPAL_* | PRTE_*) unset "$v" ;; esac
+done
+
 liggghts_cmd=(liggghts)
 if [[ "$np" -gt 1 ]] && command -v mpirun >/dev/null; then
   liggghts_cmd=(mpirun --allow-run-as-root -np "$np" "${liggghts_cmd[@]}")
