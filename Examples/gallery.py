@@ -1,5 +1,6 @@
 """RayMappers demo gallery: renders the bundled data with the ray-traced sphere mapper, the
-SPH volume mapper and the SPH fluid mapper.
+RBF volume mapper, the ZSweep unstructured-grid mapper, the SPH volume mapper and the SPH
+fluid mapper.
 
 Run through ../run.sh demo, or by hand under Xvfb:
     pvpython Examples/gallery.py --build build --out gallery
@@ -105,7 +106,8 @@ def render_view(name, dataset, actors, mapper, camera, count="spheres"):
     first = (time.perf_counter() - t) * 1000
     stats = mapper.GetStatistics()
     build = sum(stats.GetPhaseTime(p)
-                for p in ("spheres", "grid_build", "bvh_build", "grid", "particles", "cells"))
+                for p in ("spheres", "grid_build", "bvh_build", "grid", "particles", "cells",
+                          "mesh"))
     times = []
     for _ in range(args.frames):
         t = time.perf_counter()
@@ -126,7 +128,8 @@ def render_view(name, dataset, actors, mapper, camera, count="spheres"):
                 build=build, first=first, frame=statistics.median(times) if times else first,
                 trace=sum(stats.GetPhaseTime(p) for p in ("trace", "raycast", "splat", "compress",
                                                           "connect", "filter", "normals",
-                                                          "render", "refract")),
+                                                          "render", "refract", "project",
+                                                          "bin", "order", "sweep")),
                 png=os.path.relpath(png, os.getcwd()))
 
 
@@ -204,6 +207,90 @@ def disk_view():
     oa.SetMapper(om)
     return [render_view("disk-out-ref-temperature", "disk_out_ref.ex2", [actor, oa], mapper,
                         look((1.0, 0.6, 0.8), up=(0, 0, 1), zoom=1.4))]
+
+
+def lysozyme_rbf_view():
+    """2LYZ as a Gaussian RBF field (Knoll et al.), the atoms' van der Waals radii as r_i,
+    in two fields classified apart: the carbon atoms (warm colours) and the rest (green)."""
+    from vtkmodules.vtkCommonCore import vtkFloatArray
+    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolume, vtkVolumeProperty
+    reader = vtkPDBReader()
+    reader.SetFileName(os.path.join(DATA, "2LYZ.pdb"))
+    reader.Update()
+    atoms = points_only(reader.GetOutput())
+    types = atoms.GetPointData().GetArray("atom_type")
+    carbon = vtkFloatArray()
+    carbon.SetName("carbon_or_not")
+    carbon.SetNumberOfTuples(types.GetNumberOfTuples())
+    for i in range(types.GetNumberOfTuples()):
+        carbon.SetValue(i, 0.0 if types.GetComponent(i, 0) == 6 else 1.0)
+    atoms.GetPointData().AddArray(carbon)
+    mapper = raymappers.vtkRBFVolumeMapper()
+    mapper.SetInputData(atoms)
+    mapper.SetRadiusArrayName("radius")
+    mapper.SetFieldArrayName("carbon_or_not")
+    prop = vtkVolumeProperty()
+    prop.SetIndependentComponents(1)
+    peak = 1.5  # about the largest field value (kappa 1, sigma 2)
+    for m, points in enumerate(([(0.0, 0.6, 0.2, 0.1), (peak, 1.0, 0.8, 0.3)],
+                                [(0.0, 0.1, 0.5, 0.3), (peak, 0.6, 0.95, 0.7)])):
+        color = vtkColorTransferFunction()
+        for v, r, g, b in points:
+            color.AddRGBPoint(v, r, g, b)
+        opacity = vtkPiecewiseFunction()
+        opacity.AddPoint(0.0, 0.0)
+        opacity.AddPoint(0.1 * peak, 0.0)
+        opacity.AddPoint(peak, 0.35)
+        prop.SetColor(m, color)
+        prop.SetScalarOpacity(m, opacity)
+        prop.SetScalarOpacityUnitDistance(m, 1.7)
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+    return [render_view("lysozyme-rbf-two-fields", "2LYZ.pdb", [volume], mapper,
+                        look((0.3, 0.25, 1.0), zoom=1.8), count="particles")]
+
+
+def disk_zsweep_view():
+    """disk_out_ref's temperature, volume rendered exactly through its tetrahedra by the
+    sweep (Farias et al.)."""
+    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+    from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
+    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolume, vtkVolumeProperty
+    reader = vtkExodusIIReader()
+    reader.SetFileName(os.path.join(DATA, "disk_out_ref.ex2"))
+    reader.UpdateInformation()
+    reader.SetAllArrayStatus(vtkExodusIIReader.NODAL, 1)
+    reader.Update()
+    append = vtkAppendFilter()
+    append.SetInputData(reader.GetOutput().GetBlock(0).GetBlock(0))
+    tets = vtkDataSetTriangleFilter()
+    tets.SetInputConnection(append.GetOutputPort())
+    tets.Update()
+    grid = tets.GetOutput()
+    lo, hi = grid.GetPointData().GetArray("Temp").GetRange()
+    mapper = raymappers.vtkZSweepVolumeMapper()
+    mapper.SetInputData(grid)
+    mapper.SetScalarModeToUsePointFieldData()
+    mapper.SelectScalarArray("Temp")
+    color = vtkColorTransferFunction()
+    color.AddRGBPoint(lo, 0.23, 0.30, 0.75)
+    color.AddRGBPoint(0.5 * (lo + hi), 0.87, 0.87, 0.87)
+    color.AddRGBPoint(hi, 0.71, 0.02, 0.15)
+    opacity = vtkPiecewiseFunction()
+    opacity.AddPoint(lo, 0.02)
+    opacity.AddPoint(0.5 * (lo + hi), 0.15)
+    opacity.AddPoint(hi, 0.9)
+    prop = vtkVolumeProperty()
+    prop.SetColor(color)
+    prop.SetScalarOpacity(opacity)
+    prop.SetScalarOpacityUnitDistance(1.0)
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+    return [render_view("disk-out-ref-zsweep", "disk_out_ref.ex2", [volume], mapper,
+                        look((1.0, 0.6, 0.5), up=(0, 0, 1), zoom=2.2), count="cells")]
 
 
 def melt_view():
@@ -344,13 +431,14 @@ def dam_break_fluid_view():
 
 def main():
     os.makedirs(args.out, exist_ok=True)
-    rows = lysozyme_views() + disk_view() + dam_break_view() + dam_break_fluid_view() + \
-        paraview_view()
+    rows = lysozyme_views() + lysozyme_rbf_view() + disk_view() + disk_zsweep_view() + \
+        dam_break_view() + dam_break_fluid_view() + paraview_view()
     if not args.skip_generated:
         rows += melt_view()
     print("\nRayMappers demo gallery: %dx%d, CPU ray-traced spheres (coherent grid traversal),"
-          " SPH volume ray casting (perspective grid) and SPH fluid voxelization (spans)"
-          % (WIDTH, HEIGHT))
+          " RBF volume ray casting (coherent BVH), exact unstructured-grid volume rendering"
+          " (ZSweep), SPH volume ray casting (perspective grid) and SPH fluid voxelization"
+          " (spans)" % (WIDTH, HEIGHT))
     header = ("view", "dataset", "points", "build_ms", "first_ms", "frame_ms", "trace_ms", "png")
     print("%-28s %-20s %9s %9s %9s %9s %9s  %s" % header)
     for r in rows:
