@@ -150,11 +150,29 @@ def look(position, focal=None, up=(0, 1, 0), angle=30, parallel_scale=None, zoom
     return setup
 
 
-def lysozyme_views():
+def read_lysozyme():
+    """2LYZ.pdb: the protein (atoms and bonds) as vtkPDBReader gives it."""
     reader = vtkPDBReader()
     reader.SetFileName(os.path.join(DATA, "2LYZ.pdb"))
     reader.Update()
-    protein = reader.GetOutput()
+    return reader.GetOutput()
+
+
+def read_disk():
+    """disk_out_ref.ex2's first block with all nodal arrays, as one unstructured grid."""
+    reader = vtkExodusIIReader()
+    reader.SetFileName(os.path.join(DATA, "disk_out_ref.ex2"))
+    reader.UpdateInformation()
+    reader.SetAllArrayStatus(vtkExodusIIReader.NODAL, 1)
+    reader.Update()
+    append = vtkAppendFilter()
+    append.SetInputData(reader.GetOutput().GetBlock(0).GetBlock(0))
+    append.Update()
+    return append.GetOutput()
+
+
+def lysozyme_views():
+    protein = read_lysozyme()
     atoms = points_only(protein)
     views = []
     actor, mapper = sphere_actor(atoms, "radius", color_array="rgb_colors", direct_colors=True)
@@ -187,15 +205,7 @@ def lysozyme_views():
 
 
 def disk_view():
-    reader = vtkExodusIIReader()
-    reader.SetFileName(os.path.join(DATA, "disk_out_ref.ex2"))
-    reader.UpdateInformation()
-    reader.SetAllArrayStatus(vtkExodusIIReader.NODAL, 1)
-    reader.Update()
-    append = vtkAppendFilter()
-    append.SetInputData(reader.GetOutput().GetBlock(0).GetBlock(0))
-    append.Update()
-    grid = append.GetOutput()
+    grid = read_disk()
     points = points_only(grid)
     actor, mapper = sphere_actor(points, radius=0.16, color_array="Temp",
                                  scalar_range=grid.GetPointData().GetArray("Temp").GetRange())
@@ -215,10 +225,7 @@ def lysozyme_rbf_view():
     from vtkmodules.vtkCommonCore import vtkFloatArray
     from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
     from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolume, vtkVolumeProperty
-    reader = vtkPDBReader()
-    reader.SetFileName(os.path.join(DATA, "2LYZ.pdb"))
-    reader.Update()
-    atoms = points_only(reader.GetOutput())
+    atoms = points_only(read_lysozyme())
     types = atoms.GetPointData().GetArray("atom_type")
     carbon = vtkFloatArray()
     carbon.SetName("carbon_or_not")
@@ -258,15 +265,8 @@ def disk_zsweep_view():
     from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
     from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
     from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolume, vtkVolumeProperty
-    reader = vtkExodusIIReader()
-    reader.SetFileName(os.path.join(DATA, "disk_out_ref.ex2"))
-    reader.UpdateInformation()
-    reader.SetAllArrayStatus(vtkExodusIIReader.NODAL, 1)
-    reader.Update()
-    append = vtkAppendFilter()
-    append.SetInputData(reader.GetOutput().GetBlock(0).GetBlock(0))
     tets = vtkDataSetTriangleFilter()
-    tets.SetInputConnection(append.GetOutputPort())
+    tets.SetInputData(read_disk())
     tets.Update()
     grid = tets.GetOutput()
     lo, hi = grid.GetPointData().GetArray("Temp").GetRange()
