@@ -79,6 +79,20 @@ def sphere_actor(points, radius_array=None, radius=1.0, scale=1.0, color_array=N
     return actor, mapper
 
 
+def volume_of(mapper, color, opacity, unit):
+    """A vtkVolume of `mapper` classified by one colour and one opacity function, the
+    opacity per `unit` of length."""
+    from vtkmodules.vtkRenderingCore import vtkVolume, vtkVolumeProperty
+    prop = vtkVolumeProperty()
+    prop.SetColor(color)
+    prop.SetScalarOpacity(opacity)
+    prop.SetScalarOpacityUnitDistance(unit)
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+    return volume
+
+
 def points_only(dataset):
     """All points of a data set with their point data (cells dropped)."""
     pd = vtkPolyData()
@@ -264,7 +278,7 @@ def disk_zsweep_view():
     sweep (Farias et al.)."""
     from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
     from vtkmodules.vtkFiltersGeneral import vtkDataSetTriangleFilter
-    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolume, vtkVolumeProperty
+    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction
     tets = vtkDataSetTriangleFilter()
     tets.SetInputData(read_disk())
     tets.Update()
@@ -282,13 +296,7 @@ def disk_zsweep_view():
     opacity.AddPoint(lo, 0.02)
     opacity.AddPoint(0.5 * (lo + hi), 0.15)
     opacity.AddPoint(hi, 0.9)
-    prop = vtkVolumeProperty()
-    prop.SetColor(color)
-    prop.SetScalarOpacity(opacity)
-    prop.SetScalarOpacityUnitDistance(1.0)
-    volume = vtkVolume()
-    volume.SetMapper(mapper)
-    volume.SetProperty(prop)
+    volume = volume_of(mapper, color, opacity, 1.0)
     return [render_view("disk-out-ref-zsweep", "disk_out_ref.ex2", [volume], mapper,
                         look((1.0, 0.6, 0.5), up=(0, 0, 1), zoom=2.2), count="cells")]
 
@@ -320,7 +328,7 @@ def dam_break_view():
     """A PySPH dam break frame (t = 0.3 s) as its SPH field: velocity magnitude, normalized,
     PySPH's kernel and smoothing lengths, contour shading at the free surface, jittered
     samples."""
-    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolume, vtkVolumeProperty
+    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction
     from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
     reader = vtkPolyDataReader()
     reader.SetFileName(os.path.join(DATA, "dam_break_coarse_00674.vtk"))
@@ -343,13 +351,7 @@ def dam_break_view():
     opacity = vtkPiecewiseFunction()
     opacity.AddPoint(0.0, 0.15)
     opacity.AddPoint(2.8, 0.6)
-    prop = vtkVolumeProperty()
-    prop.SetColor(color)
-    prop.SetScalarOpacity(opacity)
-    prop.SetScalarOpacityUnitDistance(0.1)
-    volume = vtkVolume()
-    volume.SetMapper(mapper)
-    volume.SetProperty(prop)
+    volume = volume_of(mapper, color, opacity, 0.1)
 
     def camera(ren):
         cam = ren.GetActiveCamera()
