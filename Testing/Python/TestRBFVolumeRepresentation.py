@@ -14,7 +14,12 @@ heights from the atomic numbers, ParaView's color and opacity maps) and checks:
 - multi-field classification: with atom_type as the field array and a fully transparent
   color map for fields 2 to 4, the picture is that of the carbon atoms alone (an
   unstructured grid of the carbons, shown with one field);
-- a hidden representation draws nothing; the image matches its baseline.
+- a hidden representation draws nothing; the image matches its baseline;
+- the picture against the independent RBF reference (raymappers_reference: the untruncated
+  Gaussians of every atom, a fixed step of r / 32, no early termination) at the
+  representation's defaults (Sigma 2, the automatic step, termination 0.99), at Sigma 3, and
+  at Sigma 4 with a step of r / 8 and no termination, at 160 x 160; the bounds are 1.5 times
+  the errors measured on this machine (REFERENCE_BOUNDS).
 
 usage: pvpython TestRBFVolumeRepresentation.py PLUGIN BUILD_DIR PDB BASELINE OUTPUT
 """
@@ -31,10 +36,18 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from raymappers_testing import (  # noqa: E402
     check, compare_with_baseline, copy_camera, failures, finish, prepare_view, render_to_png, rmse)
 import raymappers_testing  # noqa: E402
+import raymappers_reference  # noqa: E402
 
 REPRESENTATION = 'RBF Volume'
 BACKGROUND = [0.0, 0.0, 0.0]
 SIZE = [300, 300]
+REFERENCE_SIZE = [128, 128]
+# (rmse, differing fraction, tolerance, max error) against the reference.
+REFERENCE_BOUNDS = {
+    'defaults': (20.4, 1.0, 2, 104),
+    'Sigma 3': (1.95, 0.215, 2, 11),
+    'Sigma 4, step r/8, no termination': (0.41, 0.0005, 2, 2),
+}
 
 
 
@@ -100,6 +113,36 @@ def carbon_atoms(data):
 
 
 
+def check_reference(view, rep, data, lut, opacity, stem):
+    """The picture against the reference of the same camera and maps (heights atom_type,
+    radius 1, kappa 1, unit distance 2)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    view.ViewSize = REFERENCE_SIZE
+    xyz = vtk_to_numpy(data.GetPoints().GetData())
+    k = vtk_to_numpy(data.GetPointData().GetArray('atom_type'))
+    lines = raymappers_reference.camera_lines(view, REFERENCE_SIZE)
+    lines += raymappers_reference.transfer_lines(lut, opacity, 2.0)
+    lines.append('rbf 1.0 6.0 %r' % (1.0 / 32))
+    lines += ['gaussian %r %r %r 1.0 %r' % (x[0], x[1], x[2], float(w)) for x, w in zip(xyz, k)]
+    lines.append('render rbf')
+    expected = raymappers_reference.render(lines, REFERENCE_SIZE, stem + '-reference')
+    raymappers_reference.write_over(expected, BACKGROUND, REFERENCE_SIZE, stem + '-reference.png')
+    settings = (('defaults', {}), ('Sigma 3', {'Sigma': 3.0}),
+                ('Sigma 4, step r/8, no termination',
+                 {'Sigma': 4.0, 'SampleDistance': 0.125, 'TerminationOpacity': 1.0}))
+    for name, properties in settings:
+        before = raymappers_testing.property_values(rep, properties)
+        for key, value in properties.items():
+            setattr(rep, key, value)
+        picture = stem + '-reference-test-%s.png' % name.split(',')[0].replace(' ', '-')
+        raymappers_testing.screenshot(view, picture, REFERENCE_SIZE)
+        raymappers_reference.check_against(picture, stem + '-reference.png',
+                                           REFERENCE_BOUNDS[name], 'RBF Volume, ' + name)
+        for key, value in before.items():
+            setattr(rep, key, value)
+    view.ViewSize = SIZE
+
+
 def shot(view, path):
     return raymappers_testing.screenshot(view, path, SIZE)
 
@@ -162,6 +205,8 @@ def run_checks(view, source, stem, build_dir, output, baseline):
 
     if not compare_with_baseline(output, baseline):
         failures.append('baseline comparison')
+    check_reference(view, rep, data, lut.GetClientSideObject(), opacity.GetClientSideObject(),
+                    stem)
 
     # Interactive parameters redraw without a BVH build.
     before = image

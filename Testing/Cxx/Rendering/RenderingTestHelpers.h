@@ -1,5 +1,5 @@
 // Shared pieces of the VTK rendering tests: a small sphere scene with closed-form
-// geometry, a warning counter, and pixel / depth probes.
+// geometry, a warning counter, pixel / depth probes, and the baseline check.
 #ifndef RayMappers_RenderingTestHelpers_h
 #define RayMappers_RenderingTestHelpers_h
 
@@ -20,8 +20,11 @@
 #include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
 
+#include "ImageFiles.h"
+
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -169,6 +172,39 @@ inline std::vector<unsigned char> ReadRGB(vtkRenderWindow* win)
   vtkNew<vtkUnsignedCharArray> a;
   win->GetPixelData(0, 0, s[0] - 1, s[1] - 1, 0, a, 0);
   return std::vector<unsigned char>(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfValues());
+}
+
+/// The value after `flag` on the command line ("" when absent).
+inline std::string ArgumentAfter(const char* flag, int argc, char* argv[])
+{
+  for (int i = 0; i + 1 < argc; ++i)
+  {
+    if (std::string(argv[i]) == flag)
+    {
+      return argv[i + 1];
+    }
+  }
+  return "";
+}
+
+/// The image check of a test: the picture against the baseline given as -V, under its
+/// thresholds (Testing/ImageComparison), the picture written to the -T folder.
+inline int CompareWithBaseline(const raymappers::test::RGBImage& image, int argc, char* argv[])
+{
+  const std::string baseline = ArgumentAfter("-V", argc, argv);
+  const std::string folder = ArgumentAfter("-T", argc, argv);
+  if (baseline.empty() || folder.empty())
+  {
+    std::printf("an image test needs -V BASELINE and -T FOLDER\n");
+    return EXIT_FAILURE;
+  }
+  return raymappers::test::checkAgainstBaseline(image, baseline, folder) ? EXIT_SUCCESS
+                                                                         : EXIT_FAILURE;
+}
+
+inline int CompareWithBaseline(vtkRenderWindow* win, int argc, char* argv[])
+{
+  return CompareWithBaseline(raymappers::test::fromWindow(win), argc, argv);
 }
 
 #define RM_CHECK(cond)                                                                             \

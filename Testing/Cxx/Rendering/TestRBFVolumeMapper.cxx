@@ -13,7 +13,6 @@
 #include "vtkPiecewiseFunction.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
-#include "vtkRegressionTestImage.h"
 #include "vtkSphereSource.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -148,6 +147,5 @@ int TestRBFVolumeMapper(int argc, char* argv[])
   win->Render();
   RM_CHECK(s->GetCounter("builds") == 3);
 
-  const int result = vtkRegressionTestImageThreshold(win, 0.05);
-  return result == vtkTesting::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
+  return rmtest::CompareWithBaseline(win, argc, argv);
 }

@@ -21,7 +21,6 @@
 #include "vtkPolyDataMapper.h"
 #include "vtkPolyDataReader.h"
 #include "vtkProperty.h"
-#include "vtkRegressionTestImage.h"
 #include "vtkSphereSource.h"
 #include "vtkTestUtilities.h"
 #include "vtkVolume.h"
@@ -267,8 +266,7 @@ int TestSPHFluidMapper(int argc, char* argv[])
   mapper->SetSmoothingRadius(0.03);
   mapper->AmbientOcclusionOn();
   render();
-  const int result = vtkRegressionTestImageThreshold(win, 0.05);
-  check(result == vtkTesting::PASSED || result == vtkTesting::DO_INTERACTOR, "matches the baseline");
+  check(rmtest::CompareWithBaseline(win, argc, argv) == EXIT_SUCCESS, "matches the baseline");
 
   // Closed form: Beer-Lambert through one sphere, and stopped by a plane through it.
   {

@@ -16,7 +16,6 @@
 #include "vtkPolyDataMapper.h"
 #include "vtkPolyDataReader.h"
 #include "vtkProperty.h"
-#include "vtkRegressionTestImage.h"
 #include "vtkSphereSource.h"
 #include "vtkTestUtilities.h"
 #include "vtkVolume.h"
@@ -172,7 +171,6 @@ int TestSPHVolumeMapper(int argc, char* argv[])
   check(stats->GetCounter("reduction_percent") == 100 && refined == picture,
     "a still render refines to the full picture");
 
-  const int result = vtkRegressionTestImageThreshold(win, 0.05);
-  check(result == vtkTesting::PASSED || result == vtkTesting::DO_INTERACTOR, "matches the baseline");
+  check(rmtest::CompareWithBaseline(win, argc, argv) == EXIT_SUCCESS, "matches the baseline");
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

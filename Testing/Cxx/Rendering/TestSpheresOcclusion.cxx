@@ -9,7 +9,6 @@
 #include "vtkPlaneSource.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
-#include "vtkRegressionTestImage.h"
 #include "vtkRenderWindowInteractor.h"
 
 int TestSpheresOcclusion(int argc, char* argv[])
@@ -108,6 +107,5 @@ int TestSpheresOcclusion(int argc, char* argv[])
   sphereDepths(leftFront, left, buffer, exact);
   RM_CHECK(std::fabs(buffer - exact) < 1e-5);
 
-  const int result = vtkRegressionTestImageThreshold(win, 0.05);
-  return result == vtkTesting::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
+  return rmtest::CompareWithBaseline(win, argc, argv);
 }

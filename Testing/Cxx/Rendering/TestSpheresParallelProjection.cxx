@@ -6,7 +6,6 @@
 #include "vtkActor.h"
 #include "vtkLookupTable.h"
 #include "vtkProperty.h"
-#include "vtkRegressionTestImage.h"
 
 int TestSpheresParallelProjection(int argc, char* argv[])
 {
@@ -52,6 +51,5 @@ int TestSpheresParallelProjection(int argc, char* argv[])
   RM_CHECK(std::fabs(buffer - exact) < 1e-5);
   RM_CHECK(mapper->GetStatistics()->GetCounter("spheres") == 125);
 
-  const int result = vtkRegressionTestImageThreshold(win, 0.05);
-  return result == vtkTesting::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
+  return rmtest::CompareWithBaseline(win, argc, argv);
 }

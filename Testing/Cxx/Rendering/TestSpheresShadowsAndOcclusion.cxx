@@ -8,7 +8,6 @@
 
 #include "vtkActor.h"
 #include "vtkProperty.h"
-#include "vtkRegressionTestImage.h"
 
 #include <random>
 
@@ -82,6 +81,5 @@ int TestSpheresShadowsAndOcclusion(int argc, char* argv[])
   RM_CHECK(
     s->GetEffect("ambient_occlusion") && s->GetCounter("ao_rays") == 8 * s->GetCounter("hits"));
 
-  const int result = vtkRegressionTestImageThreshold(win, 0.05);
-  return result == vtkTesting::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
+  return rmtest::CompareWithBaseline(win, argc, argv);
 }

@@ -10,8 +10,6 @@
 #include "vtkPNGWriter.h"
 #include "vtkProperty.h"
 #include "vtkTestUtilities.h"
-#include "vtkTesting.h"
-#include "vtkTrivialProducer.h"
 #include "vtkWindowToImageFilter.h"
 
 #include <cstdlib>
@@ -101,13 +99,5 @@ int TestSpheresTiledRender(int argc, char* argv[])
   RM_CHECK(d3 == 0);
 
   // The 3 x 3 tiled image is also the regression image.
-  vtkNew<vtkTesting> testing;
-  for (int i = 0; i < argc; ++i)
-  {
-    testing->AddArgument(argv[i]);
-  }
-  vtkNew<vtkTrivialProducer> producer;
-  producer->SetOutput(tiles3);
-  const int result = testing->RegressionTest(producer, 0.05);
-  return result == vtkTesting::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
+  return rmtest::CompareWithBaseline(raymappers::test::fromImageData(tiles3), argc, argv);
 }

@@ -5,7 +5,6 @@
 
 #include "vtkActor.h"
 #include "vtkProperty.h"
-#include "vtkRegressionTestImage.h"
 
 int TestSpheresTwoViewports(int argc, char* argv[])
 {
@@ -64,6 +63,5 @@ int TestSpheresTwoViewports(int argc, char* argv[])
   delete[] px;
   RM_CHECK(background);
 
-  const int result = vtkRegressionTestImageThreshold(win, 0.05);
-  return result == vtkTesting::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
+  return rmtest::CompareWithBaseline(win, argc, argv);
 }

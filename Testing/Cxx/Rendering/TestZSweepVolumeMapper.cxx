@@ -21,7 +21,6 @@
 #include "vtkPointData.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkProperty.h"
-#include "vtkRegressionTestImage.h"
 #include "vtkSphereSource.h"
 #include "vtkStructuredGrid.h"
 #include "vtkTestUtilities.h"
@@ -222,6 +221,5 @@ int TestZSweepVolumeMapper(int argc, char* argv[])
   {
     return EXIT_FAILURE;
   }
-  const int result = vtkRegressionTestImageThreshold(win, 0.05);
-  return result == vtkTesting::FAILED ? EXIT_FAILURE : EXIT_SUCCESS;
+  return rmtest::CompareWithBaseline(win, argc, argv);
 }

@@ -1,0 +1,212 @@
+// raymappers-reference: renders the reference picture of a scene file (written by the
+// pvpython tests, Testing/Python/raymappers_reference.py) with ReferenceRenderers.h.
+//
+//   raymappers-reference SCENE.txt OUTPUT.raw
+//
+// The scene is one directive a line ('#' starts a comment):
+//   camera W H m00 m01 ... m33         world-to-NDC matrix, row-major
+//   render spheres|union|rbf|sph        which picture
+//   light tx ty tz r g b                a directional light: unit vector to it, colour
+//   material ambient diffuse specular power sr sg sb
+//   sphere x y z radius r g b
+//   gaussian x y z radius weight
+//   rbf kappa cutoff step
+//   sph_particle x y z support quantity volume
+//   sph poly6|cubic|wendland normalized|unnormalized step
+//   transfer lo hi unit_distance n      then n lines "r g b a"
+// The output holds W x H x 5 doubles (premultiplied r, g, b, a and the window depth per
+// pixel, rows from the bottom), native byte order.
+#include "ReferenceRenderers.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+using namespace raymappers::reference;
+
+namespace
+{
+struct Scene
+{
+  int width = 0, height = 0;
+  std::array<double, 16> matrix{};
+  std::string render;
+  std::vector<ReferenceLight> lights;
+  ReferenceMaterial material;
+  std::vector<ReferenceSphere> spheres;
+  std::vector<ReferenceGaussian> gaussians;
+  RBFReference rbf;
+  std::vector<ReferenceSPHParticle> sph;
+  SPHReference sphParams;
+  ReferenceTransferFunction tf;
+};
+
+ReferenceKernel kernelNamed(const std::string& name)
+{
+  if (name == "poly6")
+  {
+    return ReferenceKernel::Poly6;
+  }
+  if (name == "cubic")
+  {
+    return ReferenceKernel::CubicSpline;
+  }
+  if (name == "wendland")
+  {
+    return ReferenceKernel::WendlandC2;
+  }
+  throw std::runtime_error("unknown kernel " + name);
+}
+
+// One directive; the transfer function's table lines come from `in`.
+void readDirective(const std::string& key, std::istringstream& words, std::istream& in, Scene& s)
+{
+  if (key == "camera")
+  {
+    words >> s.width >> s.height;
+    for (double& m : s.matrix)
+    {
+      words >> m;
+    }
+  }
+  else if (key == "render")
+  {
+    words >> s.render;
+  }
+  else if (key == "light")
+  {
+    ReferenceLight l;
+    words >> l.toLight.x >> l.toLight.y >> l.toLight.z >> l.color.x >> l.color.y >> l.color.z;
+    s.lights.push_back(l);
+  }
+  else if (key == "material")
+  {
+    ReferenceMaterial& m = s.material;
+    words >> m.ambient >> m.diffuse >> m.specular >> m.specularPower >> m.specularColor.x >>
+      m.specularColor.y >> m.specularColor.z;
+  }
+  else if (key == "sphere")
+  {
+    ReferenceSphere b;
+    words >> b.center.x >> b.center.y >> b.center.z >> b.radius >> b.color.x >> b.color.y >>
+      b.color.z;
+    s.spheres.push_back(b);
+  }
+  else if (key == "gaussian")
+  {
+    ReferenceGaussian g;
+    words >> g.center.x >> g.center.y >> g.center.z >> g.radius >> g.weight;
+    s.gaussians.push_back(g);
+  }
+  else if (key == "rbf")
+  {
+    words >> s.rbf.kappa >> s.rbf.cutoff >> s.rbf.step;
+  }
+  else if (key == "sph_particle")
+  {
+    ReferenceSPHParticle p;
+    words >> p.center.x >> p.center.y >> p.center.z >> p.support >> p.quantity >> p.volume;
+    s.sph.push_back(p);
+  }
+  else if (key == "sph")
+  {
+    std::string kernel, normalization;
+    words >> kernel >> normalization >> s.sphParams.step;
+    s.sphParams.kernel = kernelNamed(kernel);
+    s.sphParams.normalized = normalization == "normalized";
+  }
+  else if (key == "transfer")
+  {
+    int n = 0;
+    words >> s.tf.lo >> s.tf.hi >> s.tf.unitDistance >> n;
+    s.tf.rgba.resize(n);
+    for (auto& c : s.tf.rgba)
+    {
+      in >> c[0] >> c[1] >> c[2] >> c[3];
+    }
+  }
+  else
+  {
+    throw std::runtime_error("unknown directive " + key);
+  }
+  if (words.fail())
+  {
+    throw std::runtime_error("malformed directive " + key);
+  }
+}
+
+Scene readScene(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in)
+  {
+    throw std::runtime_error("cannot read " + path);
+  }
+  Scene s;
+  std::string line;
+  while (std::getline(in, line))
+  {
+    line = line.substr(0, line.find('#'));
+    std::istringstream words(line);
+    std::string key;
+    if (words >> key)
+    {
+      readDirective(key, words, in, s);
+    }
+  }
+  if (s.width <= 0 || s.height <= 0)
+  {
+    throw std::runtime_error("no camera in " + path);
+  }
+  return s;
+}
+
+ReferenceImage render(const Scene& s)
+{
+  const ReferenceCamera camera(s.matrix, s.width, s.height);
+  if (s.render == "spheres")
+  {
+    return renderSpheres(camera, s.spheres, s.lights, s.material);
+  }
+  if (s.render == "union")
+  {
+    return renderUnionSurface(camera, s.spheres);
+  }
+  if (s.render == "rbf")
+  {
+    return renderRBF(camera, s.gaussians, s.rbf, s.tf);
+  }
+  if (s.render == "sph")
+  {
+    return renderSPH(camera, s.sph, s.sphParams, s.tf);
+  }
+  throw std::runtime_error("unknown picture '" + s.render + "'");
+}
+}
+
+int main(int argc, char* argv[])
+{
+  if (argc != 3)
+  {
+    std::fprintf(stderr, "usage: raymappers-reference SCENE.txt OUTPUT.raw\n");
+    return 2;
+  }
+  try
+  {
+    const ReferenceImage image = render(readScene(argv[1]));
+    std::ofstream out(argv[2], std::ios::binary);
+    for (std::size_t p = 0; p < image.rgba.size(); ++p)
+    {
+      out.write(reinterpret_cast<const char*>(image.rgba[p].data()), 4 * sizeof(double));
+      out.write(reinterpret_cast<const char*>(&image.depth[p]), sizeof(double));
+    }
+    return out ? 0 : 2;
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "raymappers-reference: %s\n", e.what());
+    return 2;
+  }
+}
