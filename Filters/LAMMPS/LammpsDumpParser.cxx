@@ -1042,9 +1042,7 @@ bool DumpParser::Open(const std::string& fileName)
     }
     if (this->Frames.empty())
     {
-      throw ParseError{ "'" + fileName +
-                        "' contains no snapshot ('ITEM: TIMESTEP' ... "
-                        "'ITEM: ATOMS')" };
+      throw ParseError{ "the file contains no snapshot ('ITEM: TIMESTEP' ... 'ITEM: ATOMS')" };
     }
   }
   catch (const ParseError& e)

@@ -93,8 +93,9 @@ class Messages:
     def expect_one(self, error, parts, what):
         kind = self.errors if error else self.warnings
         named = len(kind) == 1 and all(part in kind[0] for part in parts)
-        check(self.count == 1 and named, "%s: exactly one %s naming %r%s" % (
-            what, "error" if error else "warning", parts[0], self.describe()))
+        ok = self.count == 1 and named
+        check(ok, "%s: exactly one %s naming %r%s" % (
+            what, "error" if error else "warning", parts[0], "" if ok else self.describe()))
 
 
 def atom_line(atom, step):
@@ -214,8 +215,9 @@ def truncated(folder):
         read_all_steps(reader, (0, 100), what)
     ours = [e for e in log.errors if "series.200.dump" in e and "is truncated" in e]
     theirs = [w for w in log.warnings if "Input with index 2 has no time information" in w]
-    check(log.count == 2 and len(ours) == 1 and len(theirs) == 1,
-          what + ": one error naming the file, ParaView's one warning" + log.describe())
+    ok = log.count == 2 and len(ours) == 1 and len(theirs) == 1
+    check(ok, what + ": one error naming the file, ParaView's one warning" +
+          ("" if ok else log.describe()))
     Delete(reader)
 
 
@@ -310,7 +312,7 @@ def special_values(folder):
         if precision == 0:
             log.expect_one(False, ["2 coordinates are beyond the range of float"], name)
         else:
-            check(log.count == 0, name + ": no message" + log.describe())
+            check(log.count == 0, name + ": no message" + ("" if log.count == 0 else log.describe()))
         Delete(reader)
 
 

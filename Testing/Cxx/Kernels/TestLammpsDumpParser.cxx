@@ -549,6 +549,11 @@ TEST_F(LammpsDump, MalformedFilesGiveClearErrors)
   EXPECT_FALSE(parser.Open(this->Write("empty.dump", "")));
   EXPECT_TRUE(Contains(parser.GetError(), "empty")) << parser.GetError();
 
+  const std::string blank = this->Write("blank.dump", "\n \n");
+  EXPECT_FALSE(parser.Open(blank));
+  EXPECT_EQ(parser.GetError(),
+    "'" + blank + "': the file contains no snapshot ('ITEM: TIMESTEP' ... 'ITEM: ATOMS')");
+
   EXPECT_FALSE(parser.Open(this->Dir.string()));
   EXPECT_TRUE(Contains(parser.GetError(), "directory")) << parser.GetError();
 
@@ -836,6 +841,28 @@ TEST_F(LammpsDump, DuplicateIdsAreKeptWithOneWarning)
   ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
   ASSERT_EQ(frame.Warnings.size(), 1u);
   EXPECT_TRUE(Contains(frame.Warnings[0], "1 atom id occurs more than once")) << frame.Warnings[0];
+
+  // 200 atoms with ids 1..10, each 20 times, in a scrambled order (more than a sort handles
+  // by insertion): q is the file line, so equal ids must come out with increasing q.
+  std::string many = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n200\nITEM: ATOMS id x y z q\n";
+  for (int line = 0; line < 200; ++line)
+  {
+    many += std::to_string(1 + (line * 7) % 10) + " 0 0 0 " + std::to_string(line) + "\n";
+  }
+  ASSERT_TRUE(parser.Open(this->Write("many.dump", many))) << parser.GetError();
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  const std::vector<double>& line = *Column(frame, "q");
+  for (std::size_t i = 1; i < 200; ++i)
+  {
+    ASSERT_LE(frame.Ids[i - 1], frame.Ids[i]) << i;
+    if (frame.Ids[i - 1] == frame.Ids[i])
+    {
+      ASSERT_LT(line[i - 1], line[i]) << "id " << frame.Ids[i] << " out of file order at " << i;
+    }
+  }
+  ASSERT_EQ(frame.Warnings.size(), 1u);
+  EXPECT_TRUE(Contains(frame.Warnings[0], "10 atom ids occur more than once (190 extra atoms"))
+    << frame.Warnings[0];
 
   // Unique ids: no warning.
   ASSERT_TRUE(parser.Open(this->Write("unique.dump", TwoFrames))) << parser.GetError();
