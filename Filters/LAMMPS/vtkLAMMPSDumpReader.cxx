@@ -39,9 +39,10 @@ public:
   bool Indexed = false;  ///< Parser.Open ran on the current file, which may have failed
   bool Readable = false; ///< it succeeded: there are snapshots to read
   unsigned long IndexError = vtkErrorCode::NoError;
-  /// Snapshots whose problems were reported since the file was indexed: a problem is
-  /// reported once, however often the pipeline reads that snapshot again.
-  std::set<std::size_t> Reported;
+  /// The messages given so far. A message names its file, snapshot and line, so the same
+  /// text is the same problem: it is reported once, however often the pipeline reads that
+  /// snapshot or, in a file series, comes back to that file (which indexes it again).
+  std::set<std::string> Reported;
 
   /// The snapshot for the requested time (the first one without a request).
   std::size_t SnapshotFor(vtkInformation* outInfo) const
@@ -54,18 +55,15 @@ public:
       outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
   }
 
-  /// Reports the problems of a snapshot the first time it is read.
-  void ReportOnce(vtkObject* reader,
-    std::size_t snapshot,
-    const std::vector<std::string>& messages,
-    bool errors)
+  /// Reports the messages not reported before, as errors or warnings.
+  void ReportOnce(vtkObject* reader, const std::vector<std::string>& messages, bool errors)
   {
-    if (messages.empty() || !this->Reported.insert(snapshot).second)
-    {
-      return;
-    }
     for (const std::string& message : messages)
     {
+      if (!this->Reported.insert(message).second)
+      {
+        continue;
+      }
       if (errors)
       {
         vtkErrorWithObjectMacro(reader, << message);
@@ -139,9 +137,8 @@ void vtkLAMMPSDumpReader::UpdateIndex()
   vtkInternals& internals = *this->Internals;
   const std::string fileName = this->FileName ? this->FileName : "";
   // Index again only when the name changed or the file changed on disk (a running
-  // simulation appending snapshots). A failed index is kept as well, so that its error is
-  // reported once and not at every pipeline pass (ParaView asks for the information of a
-  // file several times).
+  // simulation appending snapshots). A failed index is kept as well: ParaView asks for the
+  // information of a file several times, and a bad file is not read again until it changes.
   if (internals.Indexed && internals.Parser.GetFileName() == fileName &&
       !internals.Parser.IsStale())
   {
@@ -150,10 +147,9 @@ void vtkLAMMPSDumpReader::UpdateIndex()
   internals.Indexed = true;
   internals.Readable = internals.Parser.Open(fileName);
   internals.Times = raymappers::lammps::TimeTable();
-  internals.Reported.clear();
   if (!internals.Readable)
   {
-    vtkErrorMacro(<< internals.Parser.GetError());
+    internals.ReportOnce(this, { internals.Parser.GetError() }, true);
     std::error_code ec;
     internals.IndexError = fileName.empty() ? vtkErrorCode::NoFileNameError
                            : !std::filesystem::exists(fileName, ec)
@@ -161,10 +157,7 @@ void vtkLAMMPSDumpReader::UpdateIndex()
                              : vtkErrorCode::FileFormatError;
     return;
   }
-  for (const std::string& warning : internals.Parser.GetWarnings())
-  {
-    vtkWarningMacro(<< warning);
-  }
+  internals.ReportOnce(this, internals.Parser.GetWarnings(), false);
   internals.IndexError = vtkErrorCode::NoError;
   internals.Times = raymappers::lammps::BuildTimeTable(internals.Parser.GetFrames());
 }
@@ -348,7 +341,7 @@ int vtkLAMMPSDumpReader::RequestData(vtkInformation*,
   raymappers::lammps::DumpFrame frame;
   if (!internals.Parser.ReadFrame(snapshot, frame))
   {
-    internals.ReportOnce(this, snapshot, { internals.Parser.GetError() }, true);
+    internals.ReportOnce(this, { internals.Parser.GetError() }, true);
     this->SetErrorCode(vtkErrorCode::FileFormatError);
     return 1;
   }
@@ -364,7 +357,7 @@ int vtkLAMMPSDumpReader::RequestData(vtkInformation*,
       " coordinates are beyond the range of float (3.4e38) and became infinite; set "
       "OutputPointsPrecision to double to keep them");
   }
-  internals.ReportOnce(this, snapshot, frame.Warnings, false);
+  internals.ReportOnce(this, frame.Warnings, false);
   output->SetPoints(points);
   AddVertices(points->GetNumberOfPoints(), output);
   AddPointArrays(frame, output->GetPointData());

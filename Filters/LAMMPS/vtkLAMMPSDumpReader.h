@@ -21,7 +21,8 @@
  * again; otherwise the index is reused.
  *
  * Bad input: every problem gives one error or warning that names the file, the snapshot and
- * the line, once (reading the same snapshot again repeats nothing), and never a crash.
+ * the line, once (reading the same snapshot again, or coming back to a file of a series,
+ * repeats nothing), and never a crash.
  * - A file that cannot be read (missing, empty, not a text dump, binary, no complete
  *   snapshot, a NUMBER OF ATOMS the file is too short to hold) gives one error and an empty
  *   output; the request still succeeds (a failed request would make the executive add a

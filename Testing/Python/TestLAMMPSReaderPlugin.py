@@ -257,6 +257,24 @@ def duplicate_ids(folder):
                            "id 4 (2 times))", "timestep 100"], "repeated ids")
     Delete(reader)
 
+    # In a file series ParaView's file series reader gives the reader another file name at
+    # every change of file, so each file is indexed again: its warnings still come once.
+    what = "series, animated back and forth"
+    files = [write(folder, "series.0.dump", snapshot(0)),
+             write(folder, "series.100.dump", snapshot(0).replace("TIMESTEP\n0", "TIMESTEP\n100")
+                   .replace("\n2 1 2 0 0.5 20\n", "\n1 1 2 0 0.5 20\n")),
+             write(folder, "series.200.dump", snapshot(200)[:-1])]
+    with Messages() as log:
+        reader = OpenDataFile(files)
+        for step in (0, 100, 200, 0, 100, 200, 100):
+            output(reader, step)
+        check(holds_snapshot(output(reader, 0), 0), what + ": timestep 0 reads exactly")
+    repeated = [w for w in log.warnings if "series.100.dump" in w and "id 1 (2 times)" in w]
+    cut = [w for w in log.warnings if "series.200.dump" in w and "without a newline" in w]
+    ok = log.count == 2 and len(repeated) == 1 and len(cut) == 1
+    check(ok, what + ": one warning per file" + ("" if ok else log.describe()))
+    Delete(reader)
+
 
 def atom_count_overflow(folder):
     for count in ("5000000000", "4294967301"):
