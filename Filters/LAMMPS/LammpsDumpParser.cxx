@@ -848,6 +848,12 @@ bool DumpParser::Open(const std::string& fileName)
       {
         continue; // tolerated between sections
       }
+      if (text.find('\0') != std::string_view::npos)
+      {
+        throw ParseError{ Where(lineNumber) +
+                          " holds NUL bytes: binary data, not text (a crash can leave zeros at "
+                          "the end of a file)" };
+      }
       if (reader.LastLineUnterminated())
       {
         // LAMMPS ends every line with a newline: a header line without one was cut short.

@@ -934,18 +934,17 @@ TEST_F(LammpsDump, GarbageAfterTheHeaderOrTheLastSnapshot)
   EXPECT_TRUE(Contains(parser.GetError(), "line 12 is longer than 64 MiB")) << parser.GetError();
 
   // After a complete snapshot shorter than the 4 KiB a file is sniffed with: the snapshot
-  // stays readable (the zeros are not taken for a binary file), one warning.
+  // stays readable (the zeros are not taken for a binary file), one warning. (The same with
+  // 2 GiB of zeros is Filters.TestLAMMPSDumpReader.Garbage2GB.)
   const std::string good = header.substr(0, header.find("10\n")) + "1\n" +
                            header.substr(header.find("ITEM: BOX")) + "1 0.5 0.5 0.5\n";
-  for (const std::uintmax_t size : { std::uintmax_t(4096), big })
-  {
-    const std::string path = this->Write("goodzeros.dump", good);
-    fs::resize_file(path, size);
-    ASSERT_TRUE(parser.Open(path)) << size << ": " << parser.GetError();
-    ASSERT_EQ(parser.GetNumberOfFrames(), 1u);
-    ASSERT_EQ(parser.GetWarnings().size(), 1u) << size;
-    EXPECT_TRUE(Contains(parser.GetWarnings()[0], "line 11")) << parser.GetWarnings()[0];
-    ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-    EXPECT_EQ(frame.Points, (std::vector<double>{ 0.5, 0.5, 0.5 }));
-  }
+  const std::string path = this->Write("goodzeros.dump", good);
+  fs::resize_file(path, 4096);
+  ASSERT_TRUE(parser.Open(path)) << parser.GetError();
+  ASSERT_EQ(parser.GetNumberOfFrames(), 1u);
+  ASSERT_EQ(parser.GetWarnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "line 11 holds NUL bytes"))
+    << parser.GetWarnings()[0];
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.Points, (std::vector<double>{ 0.5, 0.5, 0.5 }));
 }
