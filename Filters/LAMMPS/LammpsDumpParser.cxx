@@ -102,14 +102,14 @@ public:
   /// A final line without a newline counts; LastLineUnterminated() then says so.
   std::uint64_t SkipLines(std::uint64_t n)
   {
-    std::uint64_t count = 0;
+    const std::uint64_t first = this->Line;
     this->LastUnterminated = false;
-    while (count < n)
+    while (this->Line - first < n)
     {
       const char* base = this->Buffer.data();
       const char* p = base + this->Pos;
       const char* e = base + this->End;
-      while (count < n && p < e)
+      while (this->Line - first < n && p < e)
       {
         const void* nl = std::memchr(p, '\n', e - p);
         if (!nl)
@@ -117,27 +117,24 @@ public:
           break;
         }
         p = static_cast<const char*>(nl) + 1;
-        ++count;
+        ++this->Line;
       }
       this->Pos = p - base;
-      if (count == n)
+      // Fill keeps the unfinished line, so a line longer than MaxLineBytes stops here.
+      if (this->Line - first == n || this->Fill())
       {
-        break;
+        continue;
       }
-      if (!this->Fill())
+      if (this->Pos < this->End)
       {
-        if (this->Pos < this->End)
-        {
-          this->LastUnterminated = true;
-          this->LastLineOffset = this->Offset();
-          this->Pos = this->End;
-          ++count;
-        }
-        break;
+        this->LastUnterminated = true;
+        this->LastLineOffset = this->Offset();
+        this->Pos = this->End;
+        ++this->Line;
       }
+      break;
     }
-    this->Line += count;
-    return count;
+    return this->Line - first;
   }
 
   /// Byte offset of the next unread byte.
@@ -177,7 +174,7 @@ private:
       {
         throw ParseError{ "line " + std::to_string(this->Line + 1) + " is longer than " +
                           std::to_string(MaxLineBytes >> 20) +
-                          " MiB: this is not a LAMMPS text dump" };
+                          " MiB: binary data or damage, not a line of a LAMMPS text dump" };
       }
       this->Buffer.resize(this->Buffer.size() * 2);
     }
@@ -381,12 +378,9 @@ std::string SniffNotADump(const std::string& fileName, const std::string& head)
   {
     return "'" + fileName + "' is zstd-compressed (dump .../zstd): decompress it first (unzstd)";
   }
-  if (head.find('\0') != std::string::npos)
-  {
-    return "'" + fileName +
-           "' is a binary file, not a text dump (a binary dump written to "
-           "*.bin is converted to text with LAMMPS's binary2txt tool)";
-  }
+  // The first line decides: a text dump starts with an ITEM: header, even when NUL bytes
+  // follow (the zeros a crash can leave at the end of a file are reported by the index
+  // where they start, and the snapshots before them stay readable).
   std::string_view rest(head);
   while (!rest.empty())
   {
@@ -397,6 +391,12 @@ std::string SniffNotADump(const std::string& fileName, const std::string& head)
       if (StartsWith(line, "ITEM:"))
       {
         return std::string();
+      }
+      if (head.find('\0') != std::string::npos)
+      {
+        return "'" + fileName +
+               "' is a binary file, not a text dump (a binary dump written to "
+               "*.bin is converted to text with LAMMPS's binary2txt tool)";
       }
       return "'" + fileName + "' is not a LAMMPS text dump: its first line " + Quote(line) +
              " does not start with 'ITEM:' (a data file, an xyz dump, or a dump written with "
@@ -543,6 +543,79 @@ void ParseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
   box.C[2] = zhi - zlo;
 }
 
+/// "" if `count` atom lines can fit in the `bytes` after `line`, else why not. Every line
+/// takes at least one byte, so this is known from the file size before any line is skipped
+/// (a count of 5e9 in a file of a few GB fails here, not after scanning it). A sharper bound
+/// from the number of columns would reject snapshots whose only fault is a short line,
+/// which the reading of that snapshot reports.
+std::string AtomCountBeyondFile(std::uint64_t count, std::uint64_t bytes, std::uint64_t line)
+{
+  if (count <= bytes)
+  {
+    return std::string();
+  }
+  return "NUMBER OF ATOMS is " + std::to_string(count) + ", but the " + std::to_string(bytes) +
+         " bytes after " + Where(line) + " hold at most " + std::to_string(bytes) +
+         " lines: the file is truncated or the count is wrong";
+}
+
+/// The last line of a file, from its offset (at most 64 KiB, more than any atom line).
+std::string ReadLastLine(const std::string& fileName, std::uint64_t offset)
+{
+  std::ifstream in(fileName, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(offset));
+  std::string last(1 << 16, '\0');
+  in.read(last.data(), static_cast<std::streamsize>(last.size()));
+  last.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  return last;
+}
+
+/// True if an atom line has one value per column, each well formed.
+bool IsCompleteAtomLine(const std::vector<std::string_view>& values,
+  const std::vector<std::string>& names)
+{
+  bool complete = values.size() == names.size();
+  for (std::size_t c = 0; complete && c < values.size(); ++c)
+  {
+    double number;
+    complete = names[c] == "element" || names[c] == "typelabel" || ParseDouble(values[c], number);
+  }
+  return complete;
+}
+
+/// "" if the sorted ids are unique, else how many repeat, with the first few.
+std::string DescribeRepeatedIds(const std::vector<std::int64_t>& ids)
+{
+  constexpr std::size_t examplesShown = 3;
+  std::size_t repeated = 0;
+  std::size_t extra = 0;
+  std::string examples;
+  for (std::size_t i = 0, j = 0; i < ids.size(); i = j)
+  {
+    for (j = i + 1; j < ids.size() && ids[j] == ids[i]; ++j)
+    {
+    }
+    if (j - i > 1)
+    {
+      ++repeated;
+      extra += j - i - 1;
+      if (repeated <= examplesShown)
+      {
+        examples += (repeated > 1 ? ", id " : "id ") + std::to_string(ids[i]) + " (" +
+                    std::to_string(j - i) + " times)";
+      }
+    }
+  }
+  if (repeated == 0)
+  {
+    return std::string();
+  }
+  return std::to_string(repeated) + (repeated == 1 ? " atom id occurs" : " atom ids occur") +
+         " more than once (" + std::to_string(extra) + " extra atoms: " + examples +
+         (repeated > examplesShown ? ", ..." : "") + "); all " + std::to_string(ids.size()) +
+         " atoms are kept, sorted by id, atoms with the same id in file order";
+}
+
 /// Legacy "dump atom" files had "ITEM: ATOMS" without names; the columns were fixed.
 bool LegacyAtomColumns(std::size_t count, std::vector<std::string>& names)
 {
@@ -662,13 +735,11 @@ bool DumpParser::IsStale() const
   {
     return false;
   }
+  // A file that is missing (size -1) stays missing until it appears: Open failed for it and
+  // would fail the same way again.
   std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(this->FileName, ec);
-  if (ec)
-  {
-    return true;
-  }
-  return size != this->FileSize || FileTimeOf(this->FileName) != this->FileTime;
+  return std::filesystem::file_size(this->FileName, ec) != this->FileSize ||
+         FileTimeOf(this->FileName) != this->FileTime;
 }
 
 bool DumpParser::LooksLikeDump(const std::string& fileName)
@@ -689,7 +760,10 @@ bool DumpParser::Open(const std::string& fileName)
   this->FileName = fileName;
   try
   {
+    // What IsStale compares with: the size is -1 for a missing file or a directory.
     std::error_code ec;
+    this->FileSize = std::filesystem::file_size(fileName, ec);
+    this->FileTime = FileTimeOf(fileName);
     if (fileName.empty())
     {
       return this->Fail("no file name given");
@@ -702,8 +776,6 @@ bool DumpParser::Open(const std::string& fileName)
     {
       return this->Fail("cannot open '" + fileName + "': it is a directory");
     }
-    this->FileSize = std::filesystem::file_size(fileName, ec);
-    this->FileTime = FileTimeOf(fileName);
     LineReader reader;
     if (!reader.Open(fileName, 0, 0))
     {
@@ -733,7 +805,8 @@ bool DumpParser::Open(const std::string& fileName)
       {
         throw ParseError{ message };
       }
-      this->Warnings.push_back(message + "; this incomplete snapshot is ignored");
+      this->Warnings.push_back(
+        "'" + fileName + "': " + message + "; this incomplete snapshot is ignored");
       stop = true;
     };
     auto beginHeader = [&](std::uint64_t line)
@@ -774,6 +847,18 @@ bool DumpParser::Open(const std::string& fileName)
       if (text.empty())
       {
         continue; // tolerated between sections
+      }
+      if (text.find('\0') != std::string_view::npos)
+      {
+        throw ParseError{ Where(lineNumber) +
+                          " holds NUL bytes: binary data, not text (a crash can leave zeros at "
+                          "the end of a file)" };
+      }
+      if (reader.LastLineUnterminated())
+      {
+        // LAMMPS ends every line with a newline: a header line without one was cut short.
+        truncated("the file ends in the middle of " + Where(lineNumber) + " (" + Quote(text) + ")");
+        break;
       }
       if (!StartsWith(text, "ITEM:"))
       {
@@ -894,33 +979,40 @@ bool DumpParser::Open(const std::string& fileName)
         {
           LegacyAtomColumns(5, pending.ColumnNames);
         }
-        found += reader.SkipLines(count - found);
-        bool complete = found == count;
-        if (complete && reader.LastLineUnterminated())
+        const std::string beyond = AtomCountBeyondFile(count,
+          this->FileSize - std::min(this->FileSize, std::uintmax_t(pending.AtomsOffset)),
+          lineNumber);
+        if (!beyond.empty())
         {
-          // The file ends without a newline. LAMMPS ends every line with one, so this is
-          // either a hand-written file or a line cut short by a simulation killed while
-          // writing: keep the line only if it has all its values and they are well formed.
-          std::ifstream in(fileName, std::ios::binary);
-          in.seekg(static_cast<std::streamoff>(reader.GetLastLineOffset()));
-          std::string last(1 << 16, '\0');
-          in.read(last.data(), static_cast<std::streamsize>(last.size()));
-          last.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
-          const std::vector<std::string_view> values = Tokens(last);
-          complete = values.size() == pending.ColumnNames.size();
-          for (std::size_t c = 0; complete && c < values.size(); ++c)
-          {
-            double number;
-            const std::string& name = pending.ColumnNames[c];
-            complete = name == "element" || name == "typelabel" || ParseDouble(values[c], number);
-          }
-          found -= complete ? 0 : 1;
+          truncated(DescribeFrame(this->Frames.size(), pending) + ": " + beyond);
+          break;
         }
-        if (!complete)
+        found += reader.SkipLines(count - found);
+        std::uint64_t complete = found;
+        if (reader.LastLineUnterminated())
+        {
+          // LAMMPS ends every line with a newline, so the file was cut in this line (a
+          // simulation killed while writing) or written by hand. As the last atom line it is
+          // kept if it has all its values, well formed, but its last value may have lost
+          // digits; otherwise it is not a complete line.
+          const std::string last = ReadLastLine(fileName, reader.GetLastLineOffset());
+          const std::vector<std::string_view> values = Tokens(last);
+          const bool kept = found == count && IsCompleteAtomLine(values, pending.ColumnNames);
+          complete -= kept ? 0 : 1;
+          if (kept)
+          {
+            this->Warnings.push_back("'" + fileName + "': the file ends without a newline in " +
+                                     Where(reader.LineNumber()) + ", the last atom line of " +
+                                     DescribeFrame(this->Frames.size(), pending) +
+                                     ": it is kept, but its last value " + Quote(values.back()) +
+                                     " may have been cut short");
+          }
+        }
+        if (complete != count)
         {
           truncated(DescribeFrame(this->Frames.size(), pending) + " is truncated: it has " +
-                    std::to_string(count) + " atoms, the file ends after " + std::to_string(found) +
-                    " complete atom lines");
+                    std::to_string(count) + " atoms, the file ends after " +
+                    std::to_string(complete) + " complete atom lines");
           break;
         }
         this->Frames.push_back(pending);
@@ -956,9 +1048,7 @@ bool DumpParser::Open(const std::string& fileName)
     }
     if (this->Frames.empty())
     {
-      throw ParseError{ "'" + fileName +
-                        "' contains no snapshot ('ITEM: TIMESTEP' ... "
-                        "'ITEM: ATOMS')" };
+      throw ParseError{ "the file contains no snapshot ('ITEM: TIMESTEP' ... 'ITEM: ATOMS')" };
     }
   }
   catch (const ParseError& e)
@@ -1150,8 +1240,7 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
       {
         throw ParseError{ Where(reader.LineNumber()) + ": expected " + std::to_string(columnCount) +
                           " values (" + JoinNames(names) + "), found " +
-                          (found > columnCount ? "more" : std::to_string(found)) +
-                          (found < columnCount && a + 1 == count ? " (file truncated?)" : "") };
+                          std::to_string(Tokens(line).size()) };
       }
       if (a == 0)
       {
@@ -1284,6 +1373,11 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
       {
         permute(column.Values, 1);
       }
+    }
+    const std::string repeated = frame.HasIds ? DescribeRepeatedIds(frame.Ids) : std::string();
+    if (!repeated.empty())
+    {
+      frame.Warnings.push_back(where + ": " + repeated);
     }
   }
   catch (const ParseError& e)

@@ -136,6 +136,8 @@ struct DumpFrame
   /// x y z gave the positions) are kept here as well.
   std::vector<DumpColumn> Columns;
   std::vector<DumpTextColumn> TextColumns;
+  /// What reading found wrong without stopping it (e.g. atom ids that occur twice).
+  std::vector<std::string> Warnings;
 
   void Clear();
 };
@@ -168,7 +170,8 @@ public:
   void Close();
 
   /// True if the file's size or modification time changed since Open (e.g. a running
-  /// simulation appended snapshots): the caller should Open it again.
+  /// simulation appended snapshots, or a missing file appeared): the caller should Open it
+  /// again. False for a file that is as it was, including one Open failed on.
   bool IsStale() const;
 
   const std::string& GetFileName() const { return this->FileName; }

@@ -1,6 +1,6 @@
 // vtkLAMMPSDumpReader: a thin VTK adapter over raymappers::lammps::DumpParser, which does all
 // the parsing (see LammpsDumpParser.h for the format). This file only turns a parsed
-// snapshot into vtkPolyData and maps VTK's time requests to snapshots.
+// snapshot into vtkPolyData, maps VTK's time requests to snapshots and reports problems.
 #include "vtkLAMMPSDumpReader.h"
 
 #include "LammpsDumpParser.h"
@@ -8,7 +8,9 @@
 #include "vtkCellArray.h"
 #include "vtkDataObject.h"
 #include "vtkDoubleArray.h"
+#include "vtkErrorCode.h"
 #include "vtkFieldData.h"
+#include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -22,14 +24,56 @@
 #include "vtkStringArray.h"
 
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <set>
 #include <string>
+#include <vector>
 
 class vtkLAMMPSDumpReader::vtkInternals
 {
 public:
   raymappers::lammps::DumpParser Parser;
   raymappers::lammps::TimeTable Times;
-  bool Indexed = false;
+  bool Indexed = false;  ///< Parser.Open ran on the current file, which may have failed
+  bool Readable = false; ///< it succeeded: there are snapshots to read
+  unsigned long IndexError = vtkErrorCode::NoError;
+  /// The messages given so far. A message names its file, snapshot and line, so the same
+  /// text is the same problem: it is reported once, however often the pipeline reads that
+  /// snapshot or, in a file series, comes back to that file (which indexes it again).
+  std::set<std::string> Reported;
+
+  /// The snapshot for the requested time (the first one without a request).
+  std::size_t SnapshotFor(vtkInformation* outInfo) const
+  {
+    if (!outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+    {
+      return this->Times.Frames.front();
+    }
+    return this->Times.FrameForTime(
+      outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
+  }
+
+  /// Reports the messages not reported before, as errors or warnings.
+  void ReportOnce(vtkObject* reader, const std::vector<std::string>& messages, bool errors)
+  {
+    for (const std::string& message : messages)
+    {
+      if (!this->Reported.insert(message).second)
+      {
+        continue;
+      }
+      if (errors)
+      {
+        vtkErrorWithObjectMacro(reader, << message);
+      }
+      else
+      {
+        vtkWarningWithObjectMacro(reader, << message);
+      }
+    }
+  }
 };
 
 vtkStandardNewMacro(vtkLAMMPSDumpReader);
@@ -50,6 +94,23 @@ vtkLAMMPSDumpReader::~vtkLAMMPSDumpReader()
 }
 
 //------------------------------------------------------------------------------
+void vtkLAMMPSDumpReader::SetOutputPointsPrecision(int precision)
+{
+  if (precision < vtkAlgorithm::SINGLE_PRECISION || precision > vtkAlgorithm::DEFAULT_PRECISION)
+  {
+    vtkWarningMacro("OutputPointsPrecision " << precision
+                                             << " is none of SINGLE_PRECISION (0), "
+                                                "DOUBLE_PRECISION (1), DEFAULT_PRECISION (2): "
+                                                "single precision is used");
+    precision = vtkAlgorithm::SINGLE_PRECISION;
+  }
+  if (precision != this->OutputPointsPrecision)
+  {
+    this->OutputPointsPrecision = precision;
+    this->Modified();
+  }
+}
+
 int vtkLAMMPSDumpReader::CanReadFile(const char* fileName)
 {
   return fileName && raymappers::lammps::DumpParser::LooksLikeDump(fileName) ? 1 : 0;
@@ -57,8 +118,8 @@ int vtkLAMMPSDumpReader::CanReadFile(const char* fileName)
 
 int vtkLAMMPSDumpReader::GetNumberOfSnapshots()
 {
-  return this->Internals->Indexed ? static_cast<int>(this->Internals->Parser.GetNumberOfFrames())
-                                  : 0;
+  return this->Internals->Readable ? static_cast<int>(this->Internals->Parser.GetNumberOfFrames())
+                                   : 0;
 }
 
 vtkIdType vtkLAMMPSDumpReader::GetSnapshotTimestep(int index)
@@ -71,6 +132,39 @@ vtkIdType vtkLAMMPSDumpReader::GetSnapshotTimestep(int index)
 }
 
 //------------------------------------------------------------------------------
+void vtkLAMMPSDumpReader::UpdateIndex()
+{
+  vtkInternals& internals = *this->Internals;
+  const std::string fileName = this->FileName ? this->FileName : "";
+  // Index again only when the name changed or the file changed on disk (a running
+  // simulation appending snapshots). A failed index is kept as well: ParaView asks for the
+  // information of a file several times, and a bad file is not read again until it changes.
+  if (internals.Indexed && internals.Parser.GetFileName() == fileName &&
+      !internals.Parser.IsStale())
+  {
+    return;
+  }
+  internals.Indexed = true;
+  internals.Readable = internals.Parser.Open(fileName);
+  internals.Times = raymappers::lammps::TimeTable();
+  if (!internals.Readable)
+  {
+    internals.ReportOnce(this, { internals.Parser.GetError() }, true);
+    std::error_code ec;
+    internals.IndexError = fileName.empty() ? vtkErrorCode::NoFileNameError
+                           : !std::filesystem::exists(fileName, ec)
+                             ? vtkErrorCode::FileNotFoundError
+                             : vtkErrorCode::FileFormatError;
+    return;
+  }
+  internals.ReportOnce(this, internals.Parser.GetWarnings(), false);
+  internals.IndexError = vtkErrorCode::NoError;
+  internals.Times = raymappers::lammps::BuildTimeTable(internals.Parser.GetFrames());
+}
+
+// A file that cannot be read gives one error and an empty output, and the request returns
+// success: a failure would make the executive add its own error (with a dump of the
+// request) for the same problem. GetErrorCode() tells a program that it failed.
 int vtkLAMMPSDumpReader::RequestInformation(vtkInformation*,
   vtkInformationVector**,
   vtkInformationVector* outputVector)
@@ -78,30 +172,12 @@ int vtkLAMMPSDumpReader::RequestInformation(vtkInformation*,
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
   outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
-  if (!this->FileName || !*this->FileName)
-  {
-    vtkErrorMacro("No FileName set.");
-    return 0;
-  }
+  this->UpdateIndex();
   vtkInternals& internals = *this->Internals;
-  // Index again when the name changed or the file changed on disk (a running simulation
-  // appending snapshots); otherwise the index from last time is still right.
-  if (!internals.Indexed || internals.Parser.GetFileName() != this->FileName ||
-      internals.Parser.IsStale())
+  this->SetErrorCode(internals.IndexError);
+  if (!internals.Readable)
   {
-    internals.Indexed = false;
-    internals.Times = raymappers::lammps::TimeTable();
-    if (!internals.Parser.Open(this->FileName))
-    {
-      vtkErrorMacro(<< internals.Parser.GetError());
-      return 0;
-    }
-    for (const std::string& warning : internals.Parser.GetWarnings())
-    {
-      vtkWarningMacro(<< warning);
-    }
-    internals.Times = raymappers::lammps::BuildTimeTable(internals.Parser.GetFrames());
-    internals.Indexed = true;
+    return 1;
   }
   const std::vector<double>& times = internals.Times.Times;
   outInfo->Set(
@@ -128,46 +204,43 @@ void AddArray(vtkFieldData* data,
   std::copy(values, values + tuples * components, array->GetPointer(0));
   data->AddArray(array);
 }
+
+/// Points from x y z triples. In single precision a finite coordinate beyond the float
+/// range becomes an infinity of its sign (what IEEE rounding gives; C++ leaves the
+/// conversion of such a double undefined); returns how many did.
+vtkIdType CopyPoints(const std::vector<double>& xyz, bool doublePrecision, vtkPoints* points)
+{
+  const vtkIdType values = static_cast<vtkIdType>(xyz.size());
+  if (doublePrecision)
+  {
+    vtkNew<vtkDoubleArray> array;
+    array->SetNumberOfComponents(3);
+    array->SetNumberOfTuples(values / 3);
+    std::copy(xyz.begin(), xyz.end(), array->GetPointer(0));
+    points->SetData(array);
+    return 0;
+  }
+  constexpr double largest = std::numeric_limits<float>::max();
+  constexpr float infinity = std::numeric_limits<float>::infinity();
+  vtkNew<vtkFloatArray> array;
+  array->SetNumberOfComponents(3);
+  array->SetNumberOfTuples(values / 3);
+  float* out = array->GetPointer(0);
+  vtkIdType overflows = 0;
+  for (vtkIdType i = 0; i < values; ++i)
+  {
+    const double v = xyz[i];
+    const bool beyond = std::fabs(v) > largest && std::isfinite(v);
+    overflows += beyond ? 1 : 0;
+    out[i] = beyond ? (v > 0 ? infinity : -infinity) : static_cast<float>(v);
+  }
+  points->SetData(array);
+  return overflows;
 }
 
-int vtkLAMMPSDumpReader::RequestData(vtkInformation*,
-  vtkInformationVector**,
-  vtkInformationVector* outputVector)
+/// One vertex cell per atom, built directly as offsets 0..n and connectivity 0..n-1.
+void AddVertices(vtkIdType n, vtkPolyData* output)
 {
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  vtkPolyData* output = vtkPolyData::GetData(outInfo);
-  vtkInternals& internals = *this->Internals;
-  if (!output || !internals.Indexed || internals.Times.Frames.empty())
-  {
-    vtkErrorMacro("No snapshot to read: the file could not be indexed.");
-    return 0;
-  }
-
-  std::size_t snapshot = internals.Times.Frames.front();
-  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
-  {
-    snapshot = internals.Times.FrameForTime(
-      outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
-  }
-  raymappers::lammps::DumpFrame frame;
-  if (!internals.Parser.ReadFrame(snapshot, frame))
-  {
-    vtkErrorMacro(<< internals.Parser.GetError());
-    return 0;
-  }
-  const vtkIdType n = static_cast<vtkIdType>(frame.NumberOfAtoms);
-
-  vtkNew<vtkPoints> points;
-  points->SetDataType(
-    this->OutputPointsPrecision == vtkAlgorithm::DOUBLE_PRECISION ? VTK_DOUBLE : VTK_FLOAT);
-  points->SetNumberOfPoints(n);
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    points->SetPoint(i, &frame.Points[3 * i]);
-  }
-  output->SetPoints(points);
-
-  // One vertex cell per atom, built directly as offsets 0..n and connectivity 0..n-1.
   vtkNew<vtkIdTypeArray> offsets;
   offsets->SetNumberOfValues(n + 1);
   vtkNew<vtkIdTypeArray> connectivity;
@@ -181,8 +254,11 @@ int vtkLAMMPSDumpReader::RequestData(vtkInformation*,
   vtkNew<vtkCellArray> verts;
   verts->SetData(offsets, connectivity);
   output->SetVerts(verts);
+}
 
-  vtkPointData* pointData = output->GetPointData();
+void AddPointArrays(const raymappers::lammps::DumpFrame& frame, vtkPointData* pointData)
+{
+  const vtkIdType n = static_cast<vtkIdType>(frame.NumberOfAtoms);
   if (frame.HasIds)
   {
     vtkNew<vtkIdTypeArray> ids;
@@ -213,10 +289,11 @@ int vtkLAMMPSDumpReader::RequestData(vtkInformation*,
     }
     pointData->AddArray(text);
   }
+}
 
-  // Snapshot metadata, so a pipeline can show the step, the time and the periodic box.
-  vtkFieldData* fieldData = output->GetFieldData();
-  const raymappers::lammps::DumpFrameInfo& info = frame.Info;
+/// Snapshot metadata, so a pipeline can show the step, the time and the periodic box.
+void AddFieldData(const raymappers::lammps::DumpFrameInfo& info, vtkFieldData* fieldData)
+{
   const vtkIdType timestep = static_cast<vtkIdType>(info.Timestep);
   AddArray<vtkIdTypeArray>(fieldData, "Timestep", &timestep, 1);
   if (info.HasTime)
@@ -244,9 +321,49 @@ int vtkLAMMPSDumpReader::RequestData(vtkInformation*,
     box.GetBounds(bounds);
     AddArray<vtkDoubleArray>(fieldData, "BoxBounds", bounds, 1, 6);
   }
+}
+}
 
+//------------------------------------------------------------------------------
+int vtkLAMMPSDumpReader::RequestData(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
+{
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  vtkPolyData* output = vtkPolyData::GetData(outInfo);
+  vtkInternals& internals = *this->Internals;
+  this->SetErrorCode(internals.IndexError);
+  if (!output || !internals.Readable)
+  {
+    return 1; // the error was reported when the file was indexed; the output stays empty
+  }
+  const std::size_t snapshot = internals.SnapshotFor(outInfo);
+  raymappers::lammps::DumpFrame frame;
+  if (!internals.Parser.ReadFrame(snapshot, frame))
+  {
+    internals.ReportOnce(this, { internals.Parser.GetError() }, true);
+    this->SetErrorCode(vtkErrorCode::FileFormatError);
+    return 1;
+  }
+
+  vtkNew<vtkPoints> points;
+  const vtkIdType overflows =
+    CopyPoints(frame.Points, this->OutputPointsPrecision == vtkAlgorithm::DOUBLE_PRECISION, points);
+  if (overflows > 0)
+  {
+    frame.Warnings.push_back(
+      "'" + internals.Parser.GetFileName() + "', timestep " + std::to_string(frame.Info.Timestep) +
+      ": " + std::to_string(overflows) +
+      " coordinates are beyond the range of float (3.4e38) and became infinite; set "
+      "OutputPointsPrecision to double to keep them");
+  }
+  internals.ReportOnce(this, frame.Warnings, false);
+  output->SetPoints(points);
+  AddVertices(points->GetNumberOfPoints(), output);
+  AddPointArrays(frame, output->GetPointData());
+  AddFieldData(frame.Info, output->GetFieldData());
   output->GetInformation()->Set(
-    vtkDataObject::DATA_TIME_STEP(), static_cast<double>(info.Timestep));
+    vtkDataObject::DATA_TIME_STEP(), static_cast<double>(frame.Info.Timestep));
   return 1;
 }
 

@@ -18,8 +18,29 @@
  * reads the earlier one. If a timestep occurs twice (a restarted run appended to the file),
  * the later snapshot is used. If the file changed on disk (a running simulation appending
  * snapshots), the next update after Modified() (in ParaView: File > Reload Files) indexes it
- * again; otherwise the index is reused. A truncated last snapshot (or anything after damage in
- * the file) is skipped with a warning that names the line.
+ * again; otherwise the index is reused.
+ *
+ * Bad input: every problem gives one error or warning that names the file, the snapshot and
+ * the line, once (reading the same snapshot again, or coming back to a file of a series,
+ * repeats nothing), and never a crash.
+ * - A file that cannot be read (missing, empty, not a text dump, binary, no complete
+ *   snapshot, a NUMBER OF ATOMS the file is too short to hold) gives one error and an empty
+ *   output; the request still succeeds (a failed request would make the executive add a
+ *   second error for the same problem), and GetErrorCode() says it failed (NoFileNameError,
+ *   FileNotFoundError or FileFormatError).
+ * - A file truncated or damaged after complete snapshots (a simulation killed while
+ *   writing; zeros left by a crash) gives one warning; the complete snapshots stay readable.
+ *   A last line without its newline (LAMMPS ends every line with one) that has all its values
+ *   is kept, with a warning that its last value may have lost digits.
+ * - A snapshot with an atom line of more or fewer values than the ITEM: ATOMS header names,
+ *   or a value that is not a number, gives one error when that snapshot is read (the line and
+ *   both counts) and an empty output for it; the other snapshots read as usual.
+ * - Atom ids that occur more than once in a snapshot: every atom is kept (none is dropped
+ *   silently), sorted by id, atoms with the same id in file order, and one warning counts
+ *   the repeated ids and the extra atoms.
+ * - NaN and infinite values ("nan", "inf", 1e400) in coordinates and columns are passed on
+ *   as they are (the mappers skip NaN particles with their own warning). In single precision
+ *   a coordinate beyond the float range becomes infinite, with one warning.
  *
  * Not handled: compressed (.gz, .zst) and binary dumps (convert with gunzip / binary2txt), one
  * file per processor (dump.%), "dump local" and "dump grid" files. A series of one-snapshot
@@ -47,8 +68,9 @@ public:
   ///@{
   /// Precision of the output points: vtkAlgorithm::SINGLE_PRECISION (default, float) or
   /// DOUBLE_PRECISION. DEFAULT_PRECISION means float as well (dumps are text, usually with
-  /// 6 significant digits). Other arrays are always double.
-  vtkSetClampMacro(OutputPointsPrecision, int, SINGLE_PRECISION, DEFAULT_PRECISION);
+  /// 6 significant digits). Other arrays are always double. Any other value is replaced by
+  /// SINGLE_PRECISION with a warning.
+  void SetOutputPointsPrecision(int precision);
   vtkGetMacro(OutputPointsPrecision, int);
   ///@}
 
@@ -75,6 +97,9 @@ protected:
   int OutputPointsPrecision;
 
 private:
+  /// Indexes the file if it is new or changed on disk, and reports what indexing found.
+  void UpdateIndex();
+
   vtkLAMMPSDumpReader(const vtkLAMMPSDumpReader&) = delete;
   void operator=(const vtkLAMMPSDumpReader&) = delete;
 

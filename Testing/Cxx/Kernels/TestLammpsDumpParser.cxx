@@ -465,11 +465,13 @@ TEST_F(LammpsDump, TruncatedFile)
   EXPECT_EQ(parser.GetNumberOfFrames(), 1u);
   EXPECT_EQ(parser.GetWarnings().size(), 1u);
 
-  // The last line lacks only its newline: nothing is lost.
+  // The last line lacks only its newline: nothing is lost, but LAMMPS ends every line with
+  // one, so a warning says the last value may have been cut short.
   const std::string noNewline = full.substr(0, full.size() - 1);
   ASSERT_TRUE(parser.Open(this->Write("nonewline.dump", noNewline))) << parser.GetError();
   EXPECT_EQ(parser.GetNumberOfFrames(), 2u);
-  EXPECT_TRUE(parser.GetWarnings().empty());
+  ASSERT_EQ(parser.GetWarnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "line 23")) << parser.GetWarnings()[0];
   ASSERT_TRUE(parser.ReadFrame(1, frame)) << parser.GetError();
   EXPECT_EQ(frame.Points[0], 1.5);
 
@@ -546,6 +548,11 @@ TEST_F(LammpsDump, MalformedFilesGiveClearErrors)
 
   EXPECT_FALSE(parser.Open(this->Write("empty.dump", "")));
   EXPECT_TRUE(Contains(parser.GetError(), "empty")) << parser.GetError();
+
+  const std::string blank = this->Write("blank.dump", "\n \n");
+  EXPECT_FALSE(parser.Open(blank));
+  EXPECT_EQ(parser.GetError(),
+    "'" + blank + "': the file contains no snapshot ('ITEM: TIMESTEP' ... 'ITEM: ATOMS')");
 
   EXPECT_FALSE(parser.Open(this->Dir.string()));
   EXPECT_TRUE(Contains(parser.GetError(), "directory")) << parser.GetError();
@@ -678,6 +685,16 @@ TEST_F(LammpsDump, StaleAfterAppendAndLooksLikeDump)
   EXPECT_TRUE(parser.IsStale());
   ASSERT_TRUE(parser.Open(path)) << parser.GetError();
   EXPECT_EQ(parser.GetNumberOfFrames(), 3u);
+
+  // A file Open failed on is not stale while it stays as it was (a reader need not index it
+  // again, nor report the error again); it is once it appears.
+  const std::string later = (this->Dir / "later.dump").string();
+  EXPECT_FALSE(parser.Open(later));
+  EXPECT_FALSE(parser.IsStale());
+  this->Write("later.dump", TwoFrames);
+  EXPECT_TRUE(parser.IsStale());
+  EXPECT_FALSE(parser.Open(this->Write("bad.dump", "ITEM: TIMESTEP\n")));
+  EXPECT_FALSE(parser.IsStale());
 }
 
 TEST_F(LammpsDump, RepeatedColumnNamesAndTypeLabels)
@@ -704,4 +721,230 @@ TEST_F(LammpsDump, RepeatedColumnNamesAndTypeLabels)
   EXPECT_EQ(*Column(frame, "vx"), (std::vector<double>{ 3.0, 1.0 }));
   EXPECT_EQ(*Column(frame, "vx_2"), (std::vector<double>{ 4.0, 2.0 }));
   EXPECT_EQ(*Column(frame, "id_2"), (std::vector<double>{ 10.0, 20.0 }));
+}
+
+TEST_F(LammpsDump, CutInTheMiddleOfALineOrANumber)
+{
+  // A simulation killed while writing stops at any byte. TwoFrames' second snapshot starts
+  // at line 13 and its last atom line, line 23, is "1 1 1.5 -3.5 2.0 0.15 -1.0".
+  const std::string full = TwoFrames;
+  DumpParser parser;
+  DumpFrame frame;
+
+  // Cut inside a header line: the first snapshot stays, the warning names the cut line.
+  const std::string headerCut = full.substr(0, full.find("ITEM: BOX", 100) + 12);
+  ASSERT_TRUE(parser.Open(this->Write("headerline.dump", headerCut))) << parser.GetError();
+  EXPECT_EQ(parser.GetNumberOfFrames(), 1u);
+  ASSERT_EQ(parser.GetWarnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "ends in the middle of line 17"))
+    << parser.GetWarnings()[0];
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "'ITEM: BOX BO'")) << parser.GetWarnings()[0];
+
+  // Cut inside an atom line, values missing: the snapshot is dropped with one warning.
+  const std::string lineCut = full.substr(0, full.size() - 10);
+  ASSERT_TRUE(parser.Open(this->Write("atomline.dump", lineCut))) << parser.GetError();
+  EXPECT_EQ(parser.GetNumberOfFrames(), 1u);
+  ASSERT_EQ(parser.GetWarnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "1 complete atom lines"))
+    << parser.GetWarnings()[0];
+  // The same inside an atom line before the last one: the cut line is not counted.
+  const std::string earlyCut = full.substr(0, full.find("2 1 2.5") + 7);
+  ASSERT_TRUE(parser.Open(this->Write("earlyline.dump", earlyCut))) << parser.GetError();
+  ASSERT_EQ(parser.GetWarnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "after 0 complete atom lines"))
+    << parser.GetWarnings()[0];
+
+  // Cut inside the last number ("-1." of "-1.0"): every value is there and well formed, so
+  // the snapshot is kept, but one warning names the line and the value that may be short.
+  const std::string numberCut = full.substr(0, full.size() - 2);
+  ASSERT_TRUE(parser.Open(this->Write("number.dump", numberCut))) << parser.GetError();
+  EXPECT_EQ(parser.GetNumberOfFrames(), 2u);
+  ASSERT_EQ(parser.GetWarnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "line 23")) << parser.GetWarnings()[0];
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "'-1.'")) << parser.GetWarnings()[0];
+  ASSERT_TRUE(parser.ReadFrame(1, frame)) << parser.GetError();
+  EXPECT_EQ(*Column(frame, "q"), (std::vector<double>{ -1.0, 0.5 }));
+}
+
+TEST_F(LammpsDump, MoreOrFewerValuesThanColumnNames)
+{
+  // Three snapshots of 2 atoms; the second one has a line with a value too many, or too
+  // few. That snapshot fails with an error naming the line and both counts; the others read.
+  const auto dump = [](const std::string& middleLine)
+  {
+    std::string text;
+    for (int step = 0; step < 3; ++step)
+    {
+      text += "ITEM: TIMESTEP\n" + std::to_string(step) +
+              "\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
+              "ITEM: ATOMS id type x y z\n1 1 0.1 0.2 0.3\n" +
+              (step == 1 ? middleLine : std::string("2 1 0.4 0.5 0.6")) + "\n";
+    }
+    return text;
+  };
+  DumpParser parser;
+  DumpFrame frame;
+  for (const auto& [line, found] :
+    { std::pair<std::string, std::string>{ "2 1 0.4 0.5 0.6 7", "6" }, { "2 1 0.4 0.5", "4" } })
+  {
+    ASSERT_TRUE(parser.Open(this->Write("columns.dump", dump(line)))) << parser.GetError();
+    EXPECT_TRUE(parser.GetWarnings().empty());
+    ASSERT_EQ(parser.GetNumberOfFrames(), 3u);
+    EXPECT_FALSE(parser.ReadFrame(1, frame)) << line;
+    // Snapshot 2 starts at line 12; its second atom line is line 22.
+    EXPECT_TRUE(Contains(parser.GetError(), "line 22")) << parser.GetError();
+    EXPECT_TRUE(Contains(parser.GetError(), "expected 5 values (id type x y z), found " + found))
+      << parser.GetError();
+    EXPECT_EQ(frame.NumberOfAtoms, 0u);
+    for (std::size_t good : { 0u, 2u })
+    {
+      ASSERT_TRUE(parser.ReadFrame(good, frame)) << parser.GetError();
+      EXPECT_EQ(frame.Points, (std::vector<double>{ 0.1, 0.2, 0.3, 0.4, 0.5, 0.6 }));
+    }
+  }
+}
+
+TEST_F(LammpsDump, DuplicateIdsAreKeptWithOneWarning)
+{
+  // Ids 3 and 1 occur twice and 5 three times: every atom line is kept (an atom is never
+  // dropped silently), sorted by id, equal ids in file order, with one warning that counts
+  // the repeated ids.
+  const std::string text = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n8\n"
+                           "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
+                           "ITEM: ATOMS id x y z q\n"
+                           "3 0.30 0 0 30\n"
+                           "5 0.50 0 0 50\n"
+                           "1 0.10 0 0 10\n"
+                           "3 0.31 0 0 31\n"
+                           "2 0.20 0 0 20\n"
+                           "5 0.51 0 0 51\n"
+                           "1 0.11 0 0 11\n"
+                           "5 0.52 0 0 52\n";
+  DumpParser parser;
+  ASSERT_TRUE(parser.Open(this->Write("duplicates.dump", text))) << parser.GetError();
+  DumpFrame frame;
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.NumberOfAtoms, 8u);
+  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 1, 1, 2, 3, 3, 5, 5, 5 }));
+  EXPECT_EQ(*Column(frame, "q"), (std::vector<double>{ 10, 11, 20, 30, 31, 50, 51, 52 }));
+  EXPECT_DOUBLE_EQ(frame.Points[3 * 4], 0.31);
+  ASSERT_EQ(frame.Warnings.size(), 1u);
+  EXPECT_TRUE(Contains(frame.Warnings[0], "3 atom ids occur more than once")) << frame.Warnings[0];
+  EXPECT_TRUE(Contains(frame.Warnings[0], "4 extra atoms")) << frame.Warnings[0];
+  EXPECT_TRUE(Contains(frame.Warnings[0], "id 1 (2 times)")) << frame.Warnings[0];
+  EXPECT_TRUE(Contains(frame.Warnings[0], "timestep 0")) << frame.Warnings[0];
+
+  // Already sorted, with a repeat: the same check applies.
+  const std::string sorted = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n3\n"
+                             "ITEM: ATOMS id x y z\n1 0 0 0\n2 0 0 0\n2 1 0 0\n";
+  ASSERT_TRUE(parser.Open(this->Write("sorted.dump", sorted))) << parser.GetError();
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  ASSERT_EQ(frame.Warnings.size(), 1u);
+  EXPECT_TRUE(Contains(frame.Warnings[0], "1 atom id occurs more than once")) << frame.Warnings[0];
+
+  // 200 atoms with ids 1..10, each 20 times, in a scrambled order (more than a sort handles
+  // by insertion): q is the file line, so equal ids must come out with increasing q.
+  std::string many = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n200\nITEM: ATOMS id x y z q\n";
+  for (int line = 0; line < 200; ++line)
+  {
+    many += std::to_string(1 + (line * 7) % 10) + " 0 0 0 " + std::to_string(line) + "\n";
+  }
+  ASSERT_TRUE(parser.Open(this->Write("many.dump", many))) << parser.GetError();
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  const std::vector<double>& line = *Column(frame, "q");
+  for (std::size_t i = 1; i < 200; ++i)
+  {
+    ASSERT_LE(frame.Ids[i - 1], frame.Ids[i]) << i;
+    if (frame.Ids[i - 1] == frame.Ids[i])
+    {
+      ASSERT_LT(line[i - 1], line[i]) << "id " << frame.Ids[i] << " out of file order at " << i;
+    }
+  }
+  ASSERT_EQ(frame.Warnings.size(), 1u);
+  EXPECT_TRUE(Contains(frame.Warnings[0], "10 atom ids occur more than once (190 extra atoms"))
+    << frame.Warnings[0];
+
+  // Unique ids: no warning.
+  ASSERT_TRUE(parser.Open(this->Write("unique.dump", TwoFrames))) << parser.GetError();
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_TRUE(frame.Warnings.empty());
+}
+
+TEST_F(LammpsDump, AtomCountsTheFileCannotHold)
+{
+  // NUMBER OF ATOMS beyond 32 bits with a file that holds three atom lines: a clear error
+  // naming the count, found from the file size before any line is skipped or any memory is
+  // reserved for the atoms.
+  DumpParser parser;
+  DumpFrame frame;
+  const auto dump = [](const std::string& count)
+  {
+    return "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n" + count +
+           "\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
+           "ITEM: ATOMS id type x y z\n1 1 0 0 0\n2 1 0 0 0\n3 1 0 0 0\n";
+  };
+  for (const char* count : { "5000000000", "4294967301", "9223372036854775807" })
+  {
+    EXPECT_FALSE(parser.Open(this->Write("huge.dump", dump(count)))) << count;
+    EXPECT_TRUE(Contains(parser.GetError(), std::string("NUMBER OF ATOMS is ") + count))
+      << parser.GetError();
+    // The three atom lines take 30 bytes, and a line at least one.
+    EXPECT_TRUE(Contains(parser.GetError(), "the 30 bytes after line 9 hold at most 30 lines"))
+      << parser.GetError();
+    EXPECT_EQ(parser.GetNumberOfFrames(), 0u);
+  }
+
+  // The same count in a last snapshot after a complete one: that one stays readable.
+  ASSERT_TRUE(parser.Open(this->Write("lasthuge.dump", dump("3") + dump("5000000000"))))
+    << parser.GetError();
+  ASSERT_EQ(parser.GetNumberOfFrames(), 1u);
+  ASSERT_EQ(parser.GetWarnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "NUMBER OF ATOMS is 5000000000"))
+    << parser.GetWarnings()[0];
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.NumberOfAtoms, 3u);
+
+  // Counts that are not a number of atoms: beyond 64 bits, negative, not integral, text.
+  for (const char* count :
+    { "99999999999999999999", "1e30", "-1", "-5000000000", "2.5", "nan", "inf", "three", "" })
+  {
+    EXPECT_FALSE(parser.Open(this->Write("notcount.dump", dump(count)))) << count;
+    EXPECT_TRUE(Contains(parser.GetError(),
+      "line 4: expected a number of atoms >= 0, found '" + std::string(count) + "'"))
+      << parser.GetError();
+  }
+}
+
+TEST_F(LammpsDump, GarbageAfterTheHeaderOrTheLastSnapshot)
+{
+  // Zeros where text should be, as a crash can leave at the end of a file (written sparse:
+  // std::filesystem::resize_file extends the file without writing the bytes).
+  DumpParser parser;
+  DumpFrame frame;
+  const std::uintmax_t big = std::uintmax_t(256) << 20;
+
+  // After a header that announces 10 atoms and two atom lines: one "line" of zeros longer
+  // than any dump line. The error names the line where it starts (12), after reading at
+  // most 64 MiB of it.
+  const std::string header = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n10\n"
+                             "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\nITEM: ATOMS id x y z\n";
+  const std::string headerZeros = this->Write("headerzeros.dump", header + "1 0 0 0\n2 0 0 0\n");
+  fs::resize_file(headerZeros, big);
+  EXPECT_FALSE(parser.Open(headerZeros));
+  EXPECT_TRUE(Contains(parser.GetError(), "line 12 is longer than 64 MiB")) << parser.GetError();
+
+  // After a complete snapshot shorter than the 4 KiB a file is sniffed with: the snapshot
+  // stays readable (the zeros are not taken for a binary file), one warning. (The same with
+  // 2 GiB of zeros is Filters.TestLAMMPSDumpReader.Garbage2GB.)
+  const std::string good = header.substr(0, header.find("10\n")) + "1\n" +
+                           header.substr(header.find("ITEM: BOX")) + "1 0.5 0.5 0.5\n";
+  const std::string path = this->Write("goodzeros.dump", good);
+  fs::resize_file(path, 4096);
+  ASSERT_TRUE(parser.Open(path)) << parser.GetError();
+  ASSERT_EQ(parser.GetNumberOfFrames(), 1u);
+  ASSERT_EQ(parser.GetWarnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "line 11 holds NUL bytes"))
+    << parser.GetWarnings()[0];
+  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  EXPECT_EQ(frame.Points, (std::vector<double>{ 0.5, 0.5, 0.5 }));
 }
