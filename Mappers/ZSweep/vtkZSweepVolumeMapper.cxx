@@ -289,7 +289,10 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
   }
   if (counts.zeroVolume)
   {
-    vtkWarningMacro(<< counts.zeroVolume << " cells of zero volume were skipped.");
+    vtkWarningMacro(<< counts.zeroVolume << " cells of zero volume (at most "
+                    << raymappers::ZSweepMesh::ZeroVolumeRatio
+                    << " of the cube of their bounding box's diagonal: flat, collapsed or with "
+                       "repeated points) were skipped.");
   }
   if (counts.nonManifoldTriangles)
   {
@@ -328,6 +331,7 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   stats.addCounter("cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsUsed));
   stats.addCounter("mesh_bytes", static_cast<std::int64_t>(Impl->Mesh.memoryBytes()));
   stats.addCounter("kept_cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsKept));
+  stats.addCounter("inverted_cells", static_cast<std::int64_t>(Impl->Mesh.counts().inverted));
 
   vtkVolumeProperty* property = vol->GetProperty();
   const raymappers::OpticalModel optics =
