@@ -4,6 +4,7 @@
 // disconnected parts, mixed cell types, inverted and bad cells, a forced growth of K).
 #include "CameraFixtures.h"
 #include "OpticalModel.h"
+#include "TrilinearReference.h"
 #include "UnstructuredReference.h"
 #include "ZSweepMesh.h"
 #include "ZSweepRenderer.h"
@@ -1728,12 +1729,13 @@ TEST(ZSweepHardCases, NonConvexHexahedraAreOrientedByTheirVolume)
 }
 
 // Zero-volume cells added to the mixed grid: a tetrahedron of four coplanar points inside
-// it, a tetrahedron with a repeated point id on one of its faces, a hexahedron collapsed to
-// one of its quadrilaterals (its ids repeated) and one collapsed onto four new points (the
-// top's coordinates those of the bottom), a wedge collapsed to its triangle, a pyramid with
-// its apex in its base's plane. Each is counted and left out: the picture is exactly the
-// grid's alone, with no NaN. Repeated ids that leave a volume (a hexahedron with two edges
-// collapsed, a wedge to VTK's users) are drawn: the picture is exactly the wedge's.
+// it (rounded: their volume is not exactly 0), a tetrahedron with a repeated point id on
+// one of its faces, a hexahedron collapsed to one of its quadrilaterals (its ids repeated)
+// and one collapsed onto four new points (the top's coordinates those of the bottom), a
+// wedge collapsed to its triangle, a pyramid with its apex in its base's plane. Each is
+// counted and left out: the picture is exactly the grid's alone, with no NaN. Repeated ids
+// that leave a volume (a hexahedron with two edges collapsed, a wedge to VTK's users) are
+// drawn: the picture is exactly the wedge's.
 TEST(ZSweepHardCases, ZeroVolumeCellsAreLeftOutAndTheRestIsDrawnAsWithoutThem)
 {
   const ZSweepGrid clean = mixedGrid();
@@ -1758,9 +1760,19 @@ TEST(ZSweepHardCases, ZeroVolumeCellsAreLeftOutAndTheRestIsDrawnAsWithoutThem)
   const std::vector<int> tet = cellIds(ZSweepCellType::Tetra);
   const std::vector<int> hex = cellIds(ZSweepCellType::Hexahedron);
   const std::vector<int> wedge = cellIds(ZSweepCellType::Wedge);
-  addCell(g, ZSweepCellType::Tetra,
-    { point({ -0.3, -0.2, 0.1 }), point({ 0.4, -0.1, 0.1 }), point({ 0.1, 0.5, 0.1 }),
-      point({ -0.2, 0.3, 0.1 }) });
+  // Four points of a tilted plane, rounded: a volume of rounding noise, not exactly 0.
+  const Vec3d u = normalize(Vec3d(0.6, 0.7, 0.2)), v = normalize(cross(Vec3d(0.1, -0.3, 1), u));
+  std::vector<int> flat;
+  for (const auto& ab :
+    { std::array<double, 2>{ -0.3, -0.2 }, { 0.4, -0.1 }, { 0.1, 0.5 }, { -0.2, 0.3 } })
+  {
+    flat.push_back(point(Vec3d(0.05, 0.1, 0.1) + u * ab[0] + v * ab[1]));
+  }
+  addCell(g, ZSweepCellType::Tetra, flat);
+  const auto at = [&](std::size_t k) { return g.points[static_cast<std::size_t>(flat[k])]; };
+  const double noise = std::fabs(dot(at(1) - at(0), cross(at(2) - at(0), at(3) - at(0))));
+  EXPECT_GT(noise, 0.0);
+  EXPECT_LT(noise, 1e-15);
   addCell(g, ZSweepCellType::Tetra, { tet[0], tet[1], tet[2], tet[1] });
   addCell(g, ZSweepCellType::Hexahedron,
     { hex[0], hex[1], hex[2], hex[3], hex[0], hex[1], hex[2], hex[3] });
@@ -1808,4 +1820,460 @@ TEST(ZSweepHardCases, ZeroVolumeCellsAreLeftOutAndTheRestIsDrawnAsWithoutThem)
   const Image collapsed = sweep(asHexahedron, tf, cam);
   EXPECT_EQ(maxDifference(collapsed.frame, sweep(asWedge, tf, cam).frame), 0.0);
   EXPECT_LT(errorTo(collapsed.frame, cam, polyhedronReference(asWedge, tf)).max, 1e-5);
+}
+
+// =======================================================================================
+// Warped hexahedra: the sweep's native cells (the scalar linear between the triangles the
+// faces are split into) against the trilinear reference of TrilinearReference.h.
+
+namespace
+{
+std::vector<RefHexahedron> referenceHexahedra(const ZSweepGrid& g)
+{
+  std::vector<RefHexahedron> out;
+  for (std::size_t c = 0; c < g.cellTypes.size(); ++c)
+  {
+    RefHexahedron h;
+    for (int k = 0; k < 8; ++k)
+    {
+      const auto id =
+        static_cast<std::size_t>(g.connectivity[static_cast<std::size_t>(g.cellOffsets[c] + k)]);
+      h.p[static_cast<std::size_t>(k)] = g.points[id];
+      h.s[static_cast<std::size_t>(k)] = g.scalars[id];
+    }
+    out.push_back(h);
+  }
+  return out;
+}
+
+PixelReference trilinearReference(const ZSweepGrid& g,
+  const RefTransferFunction& tf,
+  double step,
+  TrilinearTraceCounts* counts = nullptr)
+{
+  auto cells = std::make_shared<std::vector<RefHexahedron>>(referenceHexahedra(g));
+  return [cells, tf, step, counts](const Vec3d& o, const Vec3d& d, double tMin) {
+    return traceTrilinearReference(*cells, tf, o, d, tMin, step, counts);
+  };
+}
+
+// One hexahedron from its 8 corners (VTK order), with the field
+//   s = 0.45 + 0.1 X + 0.08 Y + 0.3 X Y Z   (X, Y, Z = 2 (u, v, w) - 1, +-1 at the corners),
+// trilinear in the cell's parametric coordinates, not linear.
+ZSweepGrid singleHexahedron(const std::array<Vec3d, 8>& corners)
+{
+  ZSweepGrid g;
+  for (int k = 0; k < 8; ++k)
+  {
+    g.points.push_back(corners[static_cast<std::size_t>(k)]);
+    const double X = 2.0 * HexCorner[k][0] - 1, Y = 2.0 * HexCorner[k][1] - 1,
+                 Z = 2.0 * HexCorner[k][2] - 1;
+    g.scalars.push_back(0.45 + 0.1 * X + 0.08 * Y + 0.3 * X * Y * Z);
+  }
+  addCell(g, ZSweepCellType::Hexahedron, { 0, 1, 2, 3, 4, 5, 6, 7 });
+  return g;
+}
+
+std::array<Vec3d, 8> cubeCorners()
+{
+  std::array<Vec3d, 8> c;
+  for (int k = 0; k < 8; ++k)
+  {
+    c[static_cast<std::size_t>(k)] =
+      Vec3d(2.0 * HexCorner[k][0] - 1, 2.0 * HexCorner[k][1] - 1, 2.0 * HexCorner[k][2] - 1);
+  }
+  return c;
+}
+
+// The cube [-1, 1]^3 with each corner moved by up to 0.3 along each axis (fixed seed).
+ZSweepGrid jitteredCube()
+{
+  std::array<Vec3d, 8> c = cubeCorners();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  for (Vec3d& p : c)
+  {
+    p = p + Vec3d(u(rng), u(rng), u(rng));
+  }
+  return singleHexahedron(c);
+}
+
+// The cube with its top face turned by `degrees` about z.
+ZSweepGrid twistedHexahedron(double degrees)
+{
+  std::array<Vec3d, 8> c = cubeCorners();
+  const double a = degrees * M_PI / 180;
+  for (std::size_t k = 4; k < 8; ++k)
+  {
+    c[k] = Vec3d(c[k].x * std::cos(a) - c[k].y * std::sin(a),
+      c[k].x * std::sin(a) + c[k].y * std::cos(a), c[k].z);
+  }
+  return singleHexahedron(c);
+}
+
+// The cube sheared and stretched by a fixed matrix: planar faces, an affine map.
+ZSweepGrid parallelepiped()
+{
+  std::array<Vec3d, 8> c = cubeCorners();
+  for (Vec3d& p : c)
+  {
+    p = Vec3d(1.1 * p.x + 0.35 * p.y - 0.2 * p.z, 0.9 * p.y + 0.25 * p.z, 0.15 * p.x + 0.95 * p.z);
+  }
+  return singleHexahedron(c);
+}
+
+// The grid with the point field 0.5 + 0.2 x - 0.15 y + 0.1 z: its trilinear interpolant in a
+// cell is that linear field, and so is the split-triangle model's (the two differ only by
+// the cells' shapes, bilinear faces or triangles).
+ZSweepGrid withLinearField(ZSweepGrid g)
+{
+  for (std::size_t k = 0; k < g.points.size(); ++k)
+  {
+    g.scalars[k] = 0.5 + 0.2 * g.points[k].x - 0.15 * g.points[k].y + 0.1 * g.points[k].z;
+  }
+  return g;
+}
+
+// A view of [-1.3, 1.3]^3 whole.
+TestCamera warpedCamera()
+{
+  TestCamera cam;
+  cam.eye = { 2.6, -3.1, 3.4 };
+  cam.at = { 0, 0, 0 };
+  cam.fovy = 44;
+  return cam;
+}
+} // namespace
+
+// The reference's parts on warped cells (a jittered cube, a twisted hexahedron, a twisted
+// frustum): the map's inversion returns the parametric point it came from; along rays
+// (random ones through the cell, and rays through the middle of each edge and through each
+// corner towards the cell's centre, which cross two or three faces at once) the intervals'
+// ends lie on the cell's boundary (a parametric coordinate at 0 or 1 within 1e-12), their
+// middles inside, and their total length is the inside length found by marching the ray in
+// steps of 1e-3 with the inside test (within a step at each of its ends); and rays grazing
+// a face cross it where they touch it.
+TEST(ZSweepTrilinearReference, InvertsTheMapAndFindsTheBilinearFaces)
+{
+  const ZSweepGrid frusta = twistedFrusta(false);
+  const std::vector<RefHexahedron> cells = { referenceHexahedra(jitteredCube())[0],
+    referenceHexahedra(twistedHexahedron(60))[0], referenceHexahedra(frusta)[0] };
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u01(0, 1);
+  const auto at = [](const RefHexahedron& h, const Vec3d& u) {
+    Vec3d J[3];
+    return trilinearPoint(h, u, J);
+  };
+  for (const RefHexahedron& h : cells)
+  {
+    double worst = 0;
+    for (int k = 0; k < 200; ++k)
+    {
+      const Vec3d u(u01(rng), u01(rng), u01(rng));
+      Vec3d back(0.5, 0.5, 0.5);
+      ASSERT_TRUE(invertTrilinear(h, at(h, u), back));
+      worst = std::max(worst, length(back - u));
+    }
+    EXPECT_LT(worst, 1e-12);
+
+    // Rays o + t d through a point of the cell 4 from o (the cells are at most 4.5 across:
+    // t in [0, 9]).
+    std::vector<std::array<Vec3d, 2>> rays;
+    for (int k = 0; k < 20; ++k)
+    {
+      const Vec3d d = normalize(Vec3d(u01(rng) - 0.5, u01(rng) - 0.5, u01(rng) - 0.5));
+      rays.push_back({ at(h, Vec3d(u01(rng), u01(rng), u01(rng))), d });
+    }
+    const Vec3d centre = at(h, Vec3d(0.5, 0.5, 0.5));
+    for (int a = 0; a < 8; ++a)
+    {
+      const Vec3d corner = h.p[static_cast<std::size_t>(a)];
+      rays.push_back({ corner, normalize(centre - corner) });
+      for (int b = a + 1; b < 8; ++b)
+      {
+        const int differ = (HexCorner[a][0] != HexCorner[b][0]) +
+          (HexCorner[a][1] != HexCorner[b][1]) + (HexCorner[a][2] != HexCorner[b][2]);
+        if (differ == 1) // an edge
+        {
+          const Vec3d middle = (corner + h.p[static_cast<std::size_t>(b)]) * 0.5;
+          rays.push_back({ middle, normalize(centre - middle) });
+        }
+      }
+    }
+    EXPECT_EQ(rays.size(), 20u + 8 + 12);
+    double lengthError = 0, offBoundary = 0;
+    int hits = 0;
+    constexpr double dt = 1e-3;
+    for (const auto& ray : rays)
+    {
+      const Vec3d d = ray[1], o = ray[0] - d * 4.0;
+      const auto intervals = hexahedronIntervals(h, o, d);
+      hits += !intervals.empty();
+      double inside = 0;
+      for (const auto& iv : intervals)
+      {
+        inside += iv[1] - iv[0];
+        for (const double t : { iv[0], iv[1] })
+        {
+          Vec3d q(0.5, 0.5, 0.5);
+          ASSERT_TRUE(invertTrilinear(h, o + d * t, q));
+          const double off = std::min({ q.x, 1 - q.x, q.y, 1 - q.y, q.z, 1 - q.z });
+          offBoundary = std::max(offBoundary, std::fabs(off));
+        }
+        EXPECT_TRUE(insideHexahedron(h, o + d * (0.5 * (iv[0] + iv[1]))));
+      }
+      double marched = 0;
+      for (double t = 0.5 * dt; t < 9.0; t += dt)
+      {
+        marched += insideHexahedron(h, o + d * t) ? dt : 0;
+      }
+      lengthError = std::max(lengthError, std::fabs(marched - inside));
+    }
+    std::printf("interval ends off the boundary by %.2g, lengths off the marched ones by %.2g\n",
+      offBoundary, lengthError);
+    EXPECT_EQ(hits, static_cast<int>(rays.size()));
+    EXPECT_LT(offBoundary, 1e-12);
+    EXPECT_LT(lengthError, 2 * dt);
+
+    // Grazing rays: through a point P(a, b) of a face nearly along its straight line of
+    // constant b (the ray within an angle of 1e-3 to 1e-6 of the face), each crosses the
+    // face at that point.
+    int found = 0, grazing = 0;
+    for (const auto& f : HexFace)
+    {
+      const auto corner = [&](int k) { return h.p[static_cast<std::size_t>(f[k])]; };
+      const Vec3d q00 = corner(0), q10 = corner(1), q11 = corner(2), q01 = corner(3);
+      for (int k = 0; k < 25; ++k, ++grazing)
+      {
+        const double a = 0.1 + 0.8 * u01(rng), b = 0.1 + 0.8 * u01(rng);
+        const Vec3d g = q00 - q10 + q11 - q01;
+        const Vec3d P = q00 + (q10 - q00) * a + (q01 - q00) * b + g * (a * b);
+        const Vec3d along = q10 - q00 + g * b, across = q01 - q00 + g * a;
+        const double angle = std::pow(10.0, -3 - k % 4);
+        const Vec3d d = normalize(normalize(along) + normalize(cross(along, across)) * angle);
+        std::vector<double> ts;
+        intersectBilinearPatch(q00, q10, q11, q01, P - d * 3.0, d, ts);
+        found +=
+          std::any_of(ts.begin(), ts.end(), [](double t) { return std::fabs(t - 3.0) < 1e-6; });
+      }
+    }
+    EXPECT_EQ(found, grazing);
+  }
+}
+
+// Where both references are exact, they agree: a parallelepiped (planar faces, an affine
+// map) with a linear field, whose trilinear interpolant is that linear field, against the
+// tetrahedra of its Freudenthal split.
+TEST(ZSweepTrilinearReference, AgreesWithTheTetrahedraWhereBothAreExact)
+{
+  const ZSweepGrid g = withLinearField(parallelepiped());
+  const RefTransferFunction tf = testTransferFunction();
+  const TestCamera cam = warpedCamera();
+  const auto trilinear = trilinearReference(g, tf, 0.01);
+  const auto tetra = tetraReference(g, tf);
+  double worst = 0;
+  int covered = 0;
+  for (int j = 0; j < cam.height; ++j)
+  {
+    for (int i = 0; i < cam.width; ++i)
+    {
+      Vec3d o, d;
+      double tMin;
+      cam.ray(i, j, o, d, tMin);
+      const auto a = trilinear(o, d, tMin), b = tetra(o, d, tMin);
+      covered += b[3] > 1e-3;
+      for (std::size_t c = 0; c < 4; ++c)
+      {
+        worst = std::max(worst, std::fabs(a[c] - b[c]));
+      }
+    }
+  }
+  std::printf("trilinear against tetrahedra: max %.3g\n", worst);
+  EXPECT_LT(worst, 1e-7);
+  EXPECT_GT(covered, 500);
+}
+
+namespace
+{
+// A 3^3 lattice of hexahedra over [-1, 1]^3, interior points jittered by up to 0.3 of a
+// cell, the point field smoothField (so the cells' trilinear interpolant of it).
+ZSweepGrid warpedLattice()
+{
+  Lattice L;
+  L.n = 3;
+  L.h = 2.0 / 3;
+  L.jitter = 0.3;
+  return hexLattice(L, smoothField);
+}
+
+// The step of the trilinear reference in these tests (the cells are 0.7 to 2.6 across).
+constexpr double TrilinearStep = 0.01;
+} // namespace
+
+// Halving the step changes the reference's picture by less than 1e-5 (RK4 on pieces without
+// kinks: the change falls like step^4).
+TEST(ZSweepTrilinearReference, ConvergesWhenTheStepIsHalved)
+{
+  const RefTransferFunction tf = testTransferFunction();
+  const TestCamera cam = warpedCamera();
+  for (const ZSweepGrid& g : { warpedLattice(), twistedHexahedron(45) })
+  {
+    TrilinearTraceCounts counts;
+    const auto coarse = trilinearReference(g, tf, 2 * TrilinearStep);
+    const auto fine = trilinearReference(g, tf, TrilinearStep, &counts);
+    double change[2] = { 0, 0 }; // step 2h to h, h to h / 2
+    const auto finer = trilinearReference(g, tf, 0.5 * TrilinearStep);
+    for (int j = 0; j < cam.height; j += 2)
+    {
+      for (int i = 0; i < cam.width; i += 2)
+      {
+        Vec3d o, d;
+        double tMin;
+        cam.ray(i, j, o, d, tMin);
+        const auto a = coarse(o, d, tMin), b = fine(o, d, tMin), c = finer(o, d, tMin);
+        for (std::size_t k = 0; k < 4; ++k)
+        {
+          change[0] = std::max(change[0], std::fabs(a[k] - b[k]));
+          change[1] = std::max(change[1], std::fabs(b[k] - c[k]));
+        }
+      }
+    }
+    std::printf("step %g to %g: change %.3g; %g to %g: %.3g (%ld inversions, %ld failed)\n",
+      2 * TrilinearStep, TrilinearStep, change[0], TrilinearStep, 0.5 * TrilinearStep, change[1],
+      counts.evaluations, counts.failures);
+    EXPECT_LT(change[1], 1e-5);
+    EXPECT_EQ(counts.failures, 0);
+  }
+}
+
+// The error of the sweep's native hexahedra (faces split into triangles, the scalar linear
+// between them along a ray) against the trilinear reference, in levels of 255 over all
+// pixels and channels (premultiplied RGBA; 48 x 48 pixels), bounded by the values measured
+// (rounded up by at most 0.015, so that a change of the native path shows): a jittered cube
+// with a linear field (only the shapes differ: bilinear faces or triangles), warped cells
+// with the trilinear field of singleHexahedron (0.3 X Y Z: a strong trilinear term), the
+// twisted frusta and the jittered lattice with smoothField, and a parallelepiped (planar
+// faces: only the field differs) with the trilinear field. Against the reference of the
+// split-triangle model the sweep is exact (below 1e-5, float's rounding): the error is
+// the model's.
+TEST(ZSweepHardCases, WarpedHexahedraAgainstTheTrilinearReference)
+{
+  const RefTransferFunction tf = testTransferFunction();
+  const TestCamera cam = warpedCamera();
+  const struct
+  {
+    const char* name;
+    ZSweepGrid grid;
+    double max, rmse; // measured, levels of 255
+  } cases[] = { { "jittered cube, linear field", withLinearField(jitteredCube()), 25.64, 3.91 },
+    { "jittered cube", jitteredCube(), 143.42, 19.35 },
+    { "twisted hexahedron (45 degrees)", twistedHexahedron(45), 154.96, 18.69 },
+    { "twisted frusta", twistedFrusta(false), 144.52, 8.98 },
+    { "jittered 3^3 lattice", warpedLattice(), 19.60, 1.61 },
+    { "parallelepiped, trilinear field", parallelepiped(), 120.23, 18.89 } };
+  for (const auto& c : cases)
+  {
+    const Image im = sweep(c.grid, tf, cam);
+    const ImageError toModel = errorTo(im.frame, cam, polyhedronReference(c.grid, tf));
+    const ImageError e = errorTo(im.frame, cam, trilinearReference(c.grid, tf, TrilinearStep));
+    std::printf("%s: max %.4f, rmse %.4f levels of 255 (to the split-triangle model %.1e), "
+                "%d pixels\n",
+      c.name, 255 * e.max, 255 * e.rmse, toModel.max, e.covered);
+    EXPECT_TRUE(e.finite);
+    EXPECT_LT(toModel.max, 1e-5) << c.name;
+    EXPECT_LE(255 * e.max, c.max) << c.name;
+    EXPECT_LE(255 * e.rmse, c.rmse) << c.name;
+    EXPECT_GT(e.covered, 300) << c.name;
+  }
+}
+
+namespace
+{
+// The cell refined into m^3 sub-cubes of its parametric cube, each split into Freudenthal's
+// 6 tetrahedra, their corners at x(u) with the scalar s(u): a piecewise-linear model that
+// tends to the trilinear cell like 1 / m^2 (built from the map's formula, not from the
+// reference's code).
+std::vector<RefTetra> refinedTetrahedra(const ZSweepGrid& g, int m)
+{
+  std::vector<RefTetra> out;
+  const auto corner = [&](int k) { return g.points[static_cast<std::size_t>(k)]; };
+  const auto at = [&](double u, double v, double w, double& s) {
+    const double f[8] = { (1 - u) * (1 - v) * (1 - w), u * (1 - v) * (1 - w), u * v * (1 - w),
+      (1 - u) * v * (1 - w), (1 - u) * (1 - v) * w, u * (1 - v) * w, u * v * w, (1 - u) * v * w };
+    Vec3d x;
+    s = 0;
+    for (int k = 0; k < 8; ++k)
+    {
+      x += corner(k) * f[k];
+      s += g.scalars[static_cast<std::size_t>(k)] * f[k];
+    }
+    return x;
+  };
+  for (int k = 0; k < m; ++k)
+  {
+    for (int j = 0; j < m; ++j)
+    {
+      for (int i = 0; i < m; ++i)
+      {
+        // The sub-cube's corners as a hexahedron in VTK order (ids 0..7 of its own).
+        ZSweepGrid sub;
+        for (int c = 0; c < 8; ++c)
+        {
+          double s;
+          sub.points.push_back(at(double(i + HexCorner[c][0]) / m, double(j + HexCorner[c][1]) / m,
+            double(k + HexCorner[c][2]) / m, s));
+          sub.scalars.push_back(s);
+        }
+        addCell(sub, ZSweepCellType::Hexahedron, { 0, 1, 2, 3, 4, 5, 6, 7 });
+        for (const RefTetra& t : referenceTetra(sub))
+        {
+          out.push_back(t);
+        }
+      }
+    }
+  }
+  return out;
+}
+} // namespace
+
+// On single warped cells with a trilinear field the reference is the limit of refined
+// piecewise-linear models (the tetrahedra reference on m^3 sub-cubes): the difference falls
+// like 1 / m^2, from m = 8 to m = 16 by about 4.
+TEST(ZSweepTrilinearReference, IsTheLimitOfRefinedTetrahedra)
+{
+  const RefTransferFunction tf = testTransferFunction();
+  const TestCamera cam = warpedCamera();
+  for (const ZSweepGrid& g : { jitteredCube(), twistedHexahedron(45) })
+  {
+    const auto trilinear = trilinearReference(g, tf, TrilinearStep);
+    double err[2] = { 0, 0 };
+    int n = 0;
+    for (const int m : { 8, 16 })
+    {
+      const std::vector<RefTetra> tets = refinedTetrahedra(g, m);
+      const ReferenceTetraGrid grid(tets);
+      std::vector<std::size_t> candidates;
+      for (int j = 1; j < cam.height; j += 3)
+      {
+        for (int i = 1; i < cam.width; i += 3)
+        {
+          Vec3d o, d;
+          double tMin;
+          cam.ray(i, j, o, d, tMin);
+          grid.candidates(o, d, tMin, candidates);
+          const auto a = trilinear(o, d, tMin);
+          const auto b = traceReference(tets, false, tf, o, d, tMin, &candidates, 16);
+          for (std::size_t c = 0; c < 4; ++c)
+          {
+            err[n] = std::max(err[n], std::fabs(a[c] - b[c]));
+          }
+        }
+      }
+      ++n;
+    }
+    std::printf(
+      "refined tetrahedra to the trilinear reference: m = 8 %.3g, m = 16 %.3g\n", err[0], err[1]);
+    EXPECT_LT(err[1], err[0] / 3);
+    EXPECT_LT(err[1], 0.02);
+  }
 }
