@@ -69,19 +69,28 @@ void forEachTriangle(const ZSweepCellFaces& faces, const std::uint32_t* ids, F&&
 // triangles, in their local winding: outward for a positively oriented cell), by the
 // divergence theorem relative to the centroid c:
 //   V = sum over the triangles (a, b, d) of (a - c) . ((b - c) x (d - c)) / 6,
-// negative for an inverted cell (mirrored vertex order). Unlike a test of each face against
-// the centroid, the sign holds for cells that are not convex (a twisted frustum's centroid
-// lies outside the planes of some of its triangles).
-double signedVolume(const ZSweepCellFaces& faces,
+// negative for an inverted cell (mirrored vertex order); and the surface's area. Unlike a
+// test of each face against the centroid, the sign holds for cells that are not convex (a
+// twisted frustum's centroid lies outside the planes of some of its triangles).
+struct CellMeasure
+{
+  double volume = 0, area = 0;
+};
+
+CellMeasure measureCell(const ZSweepCellFaces& faces,
   const std::uint32_t* ids,
   const std::vector<Vec3d>& points,
   const Vec3d& centroid)
 {
-  double volume = 0;
+  CellMeasure m;
   forEachTriangle(faces, ids, [&](std::uint32_t a, std::uint32_t b, std::uint32_t d) {
-    volume += dot(points[a] - centroid, cross(points[b] - centroid, points[d] - centroid));
+    const Vec3d pa = points[a] - centroid, pb = points[b] - centroid, pd = points[d] - centroid;
+    m.volume += dot(pa, cross(pb, pd));
+    m.area += length(cross(pb - pa, pd - pa));
   });
-  return volume / 6.0;
+  m.volume /= 6.0;
+  m.area /= 2.0;
+  return m;
 }
 
 // Whether sorting (a, b, d) ascending is an even permutation (keeps the triangle's winding).
@@ -264,10 +273,12 @@ void ZSweepMesh::build(const ZSweepGrid& grid, bool sparsify)
           continue;
         }
         Vec3d centroid(0, 0, 0), cmin(big, big, big), cmax(-big, -big, -big);
+        double magnitude = 0; // of the given coordinates
         for (int k = 0; k < faces.vertices && ok; ++k)
         {
           const Vec3d& p = grid.points[ids[k]];
           ok = isFinite(p);
+          magnitude = std::max({ magnitude, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z) });
           centroid = centroid + Points[ids[k]];
           cmin = min(cmin, Points[ids[k]]);
           cmax = max(cmax, Points[ids[k]]);
@@ -294,10 +305,13 @@ void ZSweepMesh::build(const ZSweepGrid& grid, bool sparsify)
           ++nonFiniteScalar;
           continue;
         }
-        // A cell of (numerically) zero volume adds nothing to any ray and is left out.
+        // A cell of zero volume (ZSweepMesh.h) adds nothing to any ray and is left out.
         const double extent = length(cmax - cmin);
-        const double volume = signedVolume(faces, ids, Points, centroid);
-        if (!(std::fabs(volume) > ZeroVolumeRatio * extent * extent * extent))
+        const CellMeasure measure = measureCell(faces, ids, Points, centroid);
+        const double volume = measure.volume;
+        const double flat = std::max(ZeroVolumeRatio * extent * extent * extent,
+          std::sqrt(3.0) * grid.pointEpsilon * magnitude * measure.area);
+        if (!(std::fabs(volume) > flat))
         {
           ++zeroVolume;
           continue;

@@ -1806,6 +1806,27 @@ TEST(ZSweepHardCases, ZeroVolumeCellsAreLeftOutAndTheRestIsDrawnAsWithoutThem)
   EXPECT_TRUE(allFinite(im.frame));
   EXPECT_EQ(maxDifference(im.frame, sweep(clean, tf, cam).frame), 0.0);
 
+  // The flat tetrahedron's points rounded to float, as VTK's float points hold them: flat
+  // to float's precision only (their volume is float's rounding), left out when the grid
+  // says its points were floats, a real (thin) cell when they were doubles.
+  ZSweepGrid rounded = clean;
+  std::vector<int> roundedIds;
+  for (std::size_t k = 0; k < 4; ++k)
+  {
+    const Vec3d& q = g.points[static_cast<std::size_t>(flat[k])];
+    rounded.points.push_back(Vec3d(Vec3f(q)));
+    rounded.scalars.push_back(field(q));
+    roundedIds.push_back(static_cast<int>(rounded.points.size() - 1));
+  }
+  addCell(rounded, ZSweepCellType::Tetra, roundedIds);
+  rounded.pointEpsilon = std::numeric_limits<float>::epsilon() / 2;
+  mesh.build(rounded);
+  EXPECT_EQ(mesh.counts().zeroVolume, 1u);
+  EXPECT_EQ(maxDifference(sweep(rounded, tf, cam).frame, sweep(clean, tf, cam).frame), 0.0);
+  rounded.pointEpsilon = std::numeric_limits<double>::epsilon() / 2;
+  mesh.build(rounded);
+  EXPECT_EQ(mesh.counts().zeroVolume, 0u);
+
   // A wedge given as a hexahedron whose ids repeat along two edges.
   ZSweepGrid asWedge, asHexahedron;
   asWedge.points = asHexahedron.points = { { -1, -1, -1 }, { 1, -1, -1 }, { -1, 1, -1 },
