@@ -1,7 +1,10 @@
 // ZSweep kernels: the optical model's integrals against closed forms and quadrature; the
 // mesh topology; the sweep's images against the independent brute-force ray caster of
 // UnstructuredReference.h (rays through vertices and edges, perspective, cavities and
-// disconnected parts, mixed cell types, inverted and bad cells, a forced growth of K).
+// disconnected parts, mixed cell types, inverted and bad cells, a forced growth of K); hard
+// cases (thin cells at the volume threshold, half the cells inverted, cells that are not
+// convex, zero-volume cells); the native hexahedra against the trilinear reference of
+// TrilinearReference.h, and that reference's own checks.
 #include "CameraFixtures.h"
 #include "OpticalModel.h"
 #include "TrilinearReference.h"
