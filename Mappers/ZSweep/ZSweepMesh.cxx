@@ -65,6 +65,40 @@ void forEachTriangle(const ZSweepCellFaces& faces, const std::uint32_t* ids, F&&
   }
 }
 
+// The signed volume of a cell's surface as the renderer sees it (forEachTriangle's
+// triangles, in their local winding: outward for a positively oriented cell), by the
+// divergence theorem relative to the centroid c:
+//   V = sum over the triangles (a, b, d) of (a - c) . ((b - c) x (d - c)) / 6,
+// negative for an inverted cell (mirrored vertex order); and the surface's area. Unlike a
+// test of each face against the centroid, the sign holds for cells that are not convex (a
+// twisted frustum's centroid lies outside the planes of some of its triangles).
+struct CellMeasure
+{
+  double volume = 0, area = 0;
+};
+
+CellMeasure measureCell(const ZSweepCellFaces& faces,
+  const std::uint32_t* ids,
+  const std::vector<Vec3d>& points,
+  const Vec3d& centroid)
+{
+  CellMeasure m;
+  forEachTriangle(faces, ids, [&](std::uint32_t a, std::uint32_t b, std::uint32_t d) {
+    const Vec3d pa = points[a] - centroid, pb = points[b] - centroid, pd = points[d] - centroid;
+    m.volume += dot(pa, cross(pb, pd));
+    m.area += length(cross(pb - pa, pd - pa));
+  });
+  m.volume /= 6.0;
+  m.area /= 2.0;
+  return m;
+}
+
+// Whether sorting (a, b, d) ascending is an even permutation (keeps the triangle's winding).
+bool sortKeepsWinding(std::uint32_t a, std::uint32_t b, std::uint32_t d)
+{
+  return ((a > b) + (a > d) + (b > d)) % 2 == 0;
+}
+
 // One cell's side of one triangle, keyed by the triangle's sorted vertex ids.
 struct SideRecord
 {
@@ -206,7 +240,7 @@ void ZSweepMesh::build(const ZSweepGrid& grid, bool sparsify)
   std::vector<SideRecord> records(recordStart[numCells]);
   std::vector<char> used(numCells, 0);
   std::atomic<std::size_t> badIndex{ 0 }, nonFinitePoint{ 0 }, nonFiniteScalar{ 0 },
-    zeroVolume{ 0 };
+    zeroVolume{ 0 }, inverted{ 0 };
 
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, numCells),
     [&](const tbb::blocked_range<std::size_t>& r) {
@@ -239,10 +273,12 @@ void ZSweepMesh::build(const ZSweepGrid& grid, bool sparsify)
           continue;
         }
         Vec3d centroid(0, 0, 0), cmin(big, big, big), cmax(-big, -big, -big);
+        double magnitude = 0; // of the given coordinates
         for (int k = 0; k < faces.vertices && ok; ++k)
         {
           const Vec3d& p = grid.points[ids[k]];
           ok = isFinite(p);
+          magnitude = std::max({ magnitude, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z) });
           centroid = centroid + Points[ids[k]];
           cmin = min(cmin, Points[ids[k]]);
           cmax = max(cmax, Points[ids[k]]);
@@ -269,26 +305,19 @@ void ZSweepMesh::build(const ZSweepGrid& grid, bool sparsify)
           ++nonFiniteScalar;
           continue;
         }
-        // Volume by the divergence theorem over the faces (fans from each face's first
-        // vertex), relative to the centroid; a cell of (numerically) zero volume adds
-        // nothing to any ray and is left out.
+        // A cell of zero volume (ZSweepMesh.h) adds nothing to any ray and is left out.
         const double extent = length(cmax - cmin);
-        double volume = 0;
-        for (int f = 0; f < faces.count; ++f)
-        {
-          const Vec3d a = Points[ids[faces.local[f][0]]] - centroid;
-          for (int k = 1; k + 1 < faces.sizes[f]; ++k)
-          {
-            const Vec3d b = Points[ids[faces.local[f][k]]] - centroid;
-            const Vec3d d = Points[ids[faces.local[f][k + 1]]] - centroid;
-            volume += dot(a, cross(b, d)) / 6.0;
-          }
-        }
-        if (!(std::fabs(volume) > 1e-12 * extent * extent * extent))
+        const CellMeasure measure = measureCell(faces, ids, Points, centroid);
+        const double volume = measure.volume;
+        const double flat = std::max(ZeroVolumeRatio * extent * extent * extent,
+          std::sqrt(3.0) * grid.pointEpsilon * magnitude * measure.area);
+        if (!(std::fabs(volume) > flat))
         {
           ++zeroVolume;
           continue;
         }
+        const bool positive = volume > 0;
+        inverted += !positive;
         used[c] = 1;
         int slot = 0;
         forEachTriangle(faces, ids, [&](std::uint32_t a, std::uint32_t b, std::uint32_t d) {
@@ -296,17 +325,18 @@ void ZSweepMesh::build(const ZSweepGrid& grid, bool sparsify)
           std::sort(k, k + 3);
           const Vec3d& p0 = Points[k[0]];
           const Vec3d e1 = Points[k[1]] - p0, e2 = Points[k[2]] - p0;
-          const Vec3d n = cross(e1, e2);
-          const double s = dot(n, centroid - p0);
           SideRecord& rec = out[slot];
           rec.slot = static_cast<std::uint8_t>(slot++);
-          if (!(length(n) > 1e-12 * length(e1) * length(e2)) || s == 0)
+          if (!(length(cross(e1, e2)) > 1e-12 * length(e1) * length(e2)))
           {
-            return; // zero area (no pixel), or no side: the slot stays unused
+            return; // zero area (no pixel): the slot stays unused
           }
           std::copy(k, k + 3, rec.key);
           rec.cell = static_cast<std::int32_t>(c);
-          rec.side = s > 0 ? 1 : -1;
+          // The sorted triangle's normal is the local winding's (outward for a positive
+          // cell) or, after an odd permutation, its opposite.
+          const bool normalOut = sortKeepsWinding(a, b, d) == positive;
+          rec.side = normalOut ? -1 : 1;
         });
       }
     });
@@ -314,6 +344,7 @@ void ZSweepMesh::build(const ZSweepGrid& grid, bool sparsify)
   Stats.nonFinitePoint = nonFinitePoint;
   Stats.nonFiniteScalar = nonFiniteScalar;
   Stats.zeroVolume = zeroVolume;
+  Stats.inverted = inverted;
   Stats.cellsUsed = static_cast<std::size_t>(std::count(used.begin(), used.end(), 1));
 
   records.erase(std::remove_if(records.begin(), records.end(),

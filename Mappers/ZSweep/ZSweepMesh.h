@@ -9,13 +9,25 @@
 //
 // Each triangle (v0, v1, v2) has the normal n = (v1 - v0) x (v2 - v0); `front` is the cell
 // on the side n points away from and `back` the cell n points into (-1: outside the grid).
-// The sides come from the cells' centroids, so the cells' own orientation (inverted cells)
-// does not matter. A ray with direction d crosses the triangle from front to back when
-// d . n > 0, else from back to front.
+// The sides come from each cell's orientation, the sign of the volume its triangles
+// enclose in their local winding (VTK's faces list it outward): an inverted cell (its
+// vertices in mirrored order, negative volume) is used like the others and counted, and a
+// cell that is not convex (a twisted frustum) gets the right sides. A ray with direction d
+// crosses the triangle from front to back when d . n > 0, else from back to front.
 //
 // Cells left out, each counted: a vertex index out of range, a vertex with a non-finite
-// coordinate, a non-finite scalar (the cell's, or one of its vertices'), zero volume
-// (nothing to integrate). Triangles of zero area are dropped (they cover no pixel centre).
+// coordinate, a non-finite scalar (the cell's, or one of its vertices'), zero volume:
+//   |V| <= max(ZeroVolumeRatio D^3, sqrt(3) eps X S),
+// D the diagonal of the cell's bounding box, S the area of its triangles, X the largest
+// magnitude of its points' coordinates, eps the rounding of the given coordinates
+// (ZSweepGrid::pointEpsilon). Below the first bound the volume is within a factor 1e4 of its
+// rounding error (a few 1e-16 D^3), so its sign, the cell's orientation, is not known. Below
+// the second the cell is flat to the precision of its points: rounding a coordinate moves a
+// vertex by at most sqrt(3) eps X, and that changes V by at most its product with S
+// (dV/dp_i has at most the area of the triangles at p_i over 3, each triangle counted at
+// its 3 corners), so four coplanar points stored as floats, no longer exactly coplanar, are
+// still of zero volume. Nothing to integrate either. Triangles of zero area are dropped
+// (they cover no pixel centre).
 //
 // Sparsification (Farias 2001, section 4.3.5, "Sparse Data Representation"): the faces can
 // be stored through a subset of the cells that contains every face. In the dual graph
@@ -46,6 +58,7 @@
 #include "Vec3.h"
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace raymappers
@@ -69,6 +82,9 @@ struct ZSweepGrid
   std::vector<std::int64_t> connectivity;
   std::vector<double> scalars; // per point, or per cell when cellScalars
   bool cellScalars = false;
+  /// The relative rounding of the points as given: double's 2^-53 (default), float's 2^-24
+  /// for points that were stored as floats.
+  double pointEpsilon = std::numeric_limits<double>::epsilon() / 2;
 };
 
 struct ZSweepTriangle
@@ -81,6 +97,10 @@ struct ZSweepTriangle
 class ZSweepMesh
 {
 public:
+  /// A cell of volume |V| <= ZeroVolumeRatio D^3 is left out, as one flat to the precision
+  /// of its points (see above).
+  static constexpr double ZeroVolumeRatio = 1e-12;
+
   /// Builds the triangles (in parallel). Replaces any previous content. With `sparsify`,
   /// stores them through the kept cells (see above).
   void build(const ZSweepGrid& grid, bool sparsify = false);
@@ -115,6 +135,7 @@ public:
     std::size_t nonFinitePoint = 0;
     std::size_t nonFiniteScalar = 0;
     std::size_t zeroVolume = 0;
+    std::size_t inverted = 0; // used, of negative orientation (mirrored vertex order)
     std::size_t boundaryTriangles = 0;
     std::size_t nonManifoldTriangles = 0; // shared by more than two cells
     std::size_t cellsKept = 0;            // sparse: the kept cells; dense: cellsUsed

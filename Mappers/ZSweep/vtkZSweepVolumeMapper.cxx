@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <vector>
 
@@ -178,6 +179,10 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
 
   raymappers::ZSweepGrid grid;
   grid.cellScalars = cellFlag == 1;
+  if (input->GetPoints() && input->GetPoints()->GetDataType() == VTK_FLOAT)
+  {
+    grid.pointEpsilon = std::numeric_limits<float>::epsilon() / 2;
+  }
   const vtkIdType numPoints = input->GetNumberOfPoints();
   grid.points.resize(static_cast<std::size_t>(numPoints));
   double x[3];
@@ -289,7 +294,11 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
   }
   if (counts.zeroVolume)
   {
-    vtkWarningMacro(<< counts.zeroVolume << " cells of zero volume were skipped.");
+    vtkWarningMacro(<< counts.zeroVolume
+                    << " cells of zero volume (flat, collapsed or with repeated points: flat to "
+                       "the precision of their points' coordinates, or a volume of at most "
+                    << raymappers::ZSweepMesh::ZeroVolumeRatio
+                    << " of their bounding box's diagonal cubed) were skipped.");
   }
   if (counts.nonManifoldTriangles)
   {
@@ -328,6 +337,7 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   stats.addCounter("cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsUsed));
   stats.addCounter("mesh_bytes", static_cast<std::int64_t>(Impl->Mesh.memoryBytes()));
   stats.addCounter("kept_cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsKept));
+  stats.addCounter("inverted_cells", static_cast<std::int64_t>(Impl->Mesh.counts().inverted));
 
   vtkVolumeProperty* property = vol->GetProperty();
   const raymappers::OpticalModel optics =

@@ -25,8 +25,12 @@
  *
  * Opaque geometry drawn before the volume stops the rays (the depth buffer is read only when
  * the renderer holds some: effect opaque_depth). Cells with a bad point index, a
- * non-finite point or scalar, or zero volume, and cells of other types (quadratic cells,
- * polyhedra, prisms of more sides) are skipped with one warning each kind.
+ * non-finite point or scalar, or zero volume (flat to the precision of their points'
+ * coordinates, float or double, or at most 1e-12 of the cube of their bounding box's
+ * diagonal), and cells of other types (quadratic cells, polyhedra, prisms of more
+ * sides) are skipped with one warning each kind. Inverted cells (vertices in mirrored
+ * order) are drawn as they are, without a warning: each cell's sides come from the sign of
+ * its volume (counter inverted_cells).
  *
  * GetStatistics() reports the phases, counters and effects of the last render.
  */

@@ -8,6 +8,11 @@
 //
 // The model it integrates (the one ZSweep renders): tau = -ln(1 - alpha)/u and the color are
 // linear in the scalar between the nodes; C = int c tau exp(-int tau).
+//
+// integrateSegments integrates segments found otherwise; clipToPolyhedron finds them in a
+// cell bounded by triangles with the scalar linear between its crossings (ZSweep's model of
+// a hexahedron, wedge or pyramid whose quadrilaterals are split into triangles), for cells
+// that tetrahedra cannot represent (a non-convex cell).
 #ifndef RayMappers_Test_UnstructuredReference_h
 #define RayMappers_Test_UnstructuredReference_h
 
@@ -16,6 +21,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace raymappers::test
@@ -140,34 +146,14 @@ inline bool clipToTetra(const RefTetra& tet,
   return true;
 }
 
-/// Premultiplied RGBA of the ray o + t d (|d| = 1), t >= tMin, through the tetrahedra
-/// `candidates` (indices into `tets`; all of them when null); Simpson's rule with
-/// `intervals` (even) intervals per piece.
-inline std::array<double, 4> traceReference(const std::vector<RefTetra>& tets,
-  bool cellData,
+/// Premultiplied RGBA of a ray's segments (in any order; their interiors disjoint), each
+/// with its scalar linear from s0 at t0 to s1 at t1: sorted, then integrated with the
+/// transfer function's nodes splitting them, Simpson's rule with `intervals` (even)
+/// intervals per piece.
+inline std::array<double, 4> integrateSegments(std::vector<RefSegment> segs,
   const RefTransferFunction& tf,
-  const Vec3d& o,
-  const Vec3d& d,
-  double tMin,
-  const std::vector<std::size_t>* candidates = nullptr,
   int intervals = 512)
 {
-  std::vector<RefSegment> segs;
-  const std::size_t count = candidates ? candidates->size() : tets.size();
-  for (std::size_t q = 0; q < count; ++q)
-  {
-    const RefTetra& tet = tets[candidates ? (*candidates)[q] : q];
-    RefSegment s;
-    if (clipToTetra(tet, o, d, cellData, s) && s.t1 > tMin)
-    {
-      if (s.t0 < tMin)
-      {
-        s.s0 = s.s0 + (s.s1 - s.s0) * (tMin - s.t0) / (s.t1 - s.t0);
-        s.t0 = tMin;
-      }
-      segs.push_back(s);
-    }
-  }
   std::sort(segs.begin(), segs.end(), [](const RefSegment& a, const RefSegment& b) {
     return a.t0 < b.t0;
   });
@@ -227,6 +213,95 @@ inline std::array<double, 4> traceReference(const std::vector<RefTetra>& tets,
     }
   }
   return { rgb[0], rgb[1], rgb[2], 1.0 - T };
+}
+
+/// Premultiplied RGBA of the ray o + t d (|d| = 1), t >= tMin, through the tetrahedra
+/// `candidates` (indices into `tets`; all of them when null); Simpson's rule with
+/// `intervals` (even) intervals per piece.
+inline std::array<double, 4> traceReference(const std::vector<RefTetra>& tets,
+  bool cellData,
+  const RefTransferFunction& tf,
+  const Vec3d& o,
+  const Vec3d& d,
+  double tMin,
+  const std::vector<std::size_t>* candidates = nullptr,
+  int intervals = 512)
+{
+  std::vector<RefSegment> segs;
+  const std::size_t count = candidates ? candidates->size() : tets.size();
+  for (std::size_t q = 0; q < count; ++q)
+  {
+    const RefTetra& tet = tets[candidates ? (*candidates)[q] : q];
+    RefSegment s;
+    if (clipToTetra(tet, o, d, cellData, s) && s.t1 > tMin)
+    {
+      if (s.t0 < tMin)
+      {
+        s.s0 = s.s0 + (s.s1 - s.s0) * (tMin - s.t0) / (s.t1 - s.t0);
+        s.t0 = tMin;
+      }
+      segs.push_back(s);
+    }
+  }
+  return integrateSegments(std::move(segs), tf, intervals);
+}
+
+/// A cell bounded by triangles, with a scalar per triangle corner (point data) or one for
+/// the cell.
+struct RefPolyhedron
+{
+  std::vector<std::array<Vec3d, 3>> triangles;
+  std::vector<std::array<double, 3>> s;
+  double cellScalar = 0;
+};
+
+/// Appends the ray's segments inside the polyhedron: its crossings with the triangles
+/// (Moller-Trumbore in double, the scalar interpolated barycentrically), in order, bound the
+/// inside between the first and the second, the third and the fourth ... (a closed surface
+/// without self-intersections). False (nothing appended) when their count is odd: a ray
+/// through an edge or a vertex, counted on two triangles.
+inline bool clipToPolyhedron(const RefPolyhedron& cell,
+  const Vec3d& o,
+  const Vec3d& d,
+  bool cellData,
+  std::vector<RefSegment>& out)
+{
+  std::vector<std::pair<double, double>> crossings; // (t, scalar)
+  for (std::size_t k = 0; k < cell.triangles.size(); ++k)
+  {
+    const auto& p = cell.triangles[k];
+    const Vec3d e1 = p[1] - p[0], e2 = p[2] - p[0];
+    const Vec3d pv = cross(d, e2);
+    const double det = dot(e1, pv);
+    if (!(std::fabs(det) > 1e-14 * length(e1) * length(e2)))
+    {
+      continue; // the ray runs along the triangle's plane
+    }
+    const Vec3d tv = o - p[0];
+    const double u = dot(tv, pv) / det;
+    const Vec3d qv = cross(tv, e1);
+    const double v = dot(d, qv) / det;
+    if (u < 0 || v < 0 || u + v > 1)
+    {
+      continue;
+    }
+    const double t = dot(e2, qv) / det;
+    const double s = cellData
+      ? cell.cellScalar
+      : (1 - u - v) * cell.s[k][0] + u * cell.s[k][1] + v * cell.s[k][2];
+    crossings.emplace_back(t, s);
+  }
+  if (crossings.size() % 2)
+  {
+    return false;
+  }
+  std::sort(crossings.begin(), crossings.end());
+  for (std::size_t k = 0; k < crossings.size(); k += 2)
+  {
+    out.push_back({ crossings[k].first, crossings[k + 1].first, crossings[k].second,
+      crossings[k + 1].second });
+  }
+  return true;
 }
 
 /// The tetrahedra binned by bounding box into a uniform grid, walked along a ray (3D DDA)
