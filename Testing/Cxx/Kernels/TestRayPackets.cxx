@@ -4,8 +4,9 @@
 // infinity, an interval behind the origin). Embree 3.13 traces a 16-ray packet on CPUs
 // without AVX-512 through its ray-stream code, which ignores the valid mask and traces
 // every lane with tnear <= tfar; its assertions (on in Debian's build) abort on such a lane
-// that is not a valid ray. Embree's ISA is chosen here through its device configuration, so
-// these paths run on any CPU.
+// that is not a valid ray. Embree's code path is chosen here through its device
+// configuration, so each path runs on any CPU that has its instructions (and is skipped on
+// one that has not).
 #include "CameraFixtures.h"
 #include "CoherentGridAccelerator.h"
 #include "EmbreeSphereAccelerator.h"
@@ -231,98 +232,137 @@ __attribute__((noinline)) void poisonStack()
   __asm__ volatile("" : : "r"(junk) : "memory");
 }
 
-// Embree's ISAs by device configuration ("": this CPU's widest), and the coherent grid.
-const char* const Accelerators[] = { "grid", "", "isa=avx2", "isa=sse4.2" };
-
-std::unique_ptr<SphereAccelerator> makeAccelerator(const std::string& which, SphereSet& s)
+// The accelerators: the coherent grid, and Embree on each of its x86 code paths, chosen by
+// its device configuration. A path the CPU lacks is skipped.
+struct Accelerator
 {
-  if (which == "grid")
+  const char* name;
+  const char* embreeConfig; // nullptr: the coherent grid
+  bool (*cpuHasIt)();
+};
+
+const Accelerator Accelerators[] = {
+  { "grid", nullptr, [] { return true; } },
+  { "embree_avx512",
+    "isa=avx512",
+    []
+    {
+      return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+             __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+             __builtin_cpu_supports("avx512vl");
+    } },
+  { "embree_avx2", "isa=avx2", [] { return __builtin_cpu_supports("avx2") != 0; } },
+  { "embree_sse42", "isa=sse4.2", [] { return __builtin_cpu_supports("sse4.2") != 0; } },
+};
+
+std::unique_ptr<SphereAccelerator> makeAccelerator(const Accelerator& which, SphereSet& s)
+{
+  if (!which.embreeConfig)
   {
     auto grid = std::make_unique<CoherentGridAccelerator>();
     grid->build(s, CoherentGridParameters{});
     return grid;
   }
-  auto bvh = std::make_unique<EmbreeSphereAccelerator>(which.empty() ? nullptr : which.c_str());
+  auto bvh = std::make_unique<EmbreeSphereAccelerator>(which.embreeConfig);
   bvh->build(s);
   return bvh;
 }
+
+class EveryAccelerator : public testing::TestWithParam<Accelerator>
+{
+protected:
+  void SetUp() override
+  {
+    if (!GetParam().cpuHasIt())
+    {
+      GTEST_SKIP() << "this CPU cannot run " << GetParam().name;
+    }
+  }
+};
+
+// Embree's code paths alone.
+class EveryEmbreeIsa : public EveryAccelerator
+{
+};
+
+std::string nameOf(const testing::TestParamInfo<Accelerator>& info)
+{
+  return info.param.name;
+}
 }
 
-TEST(SphereAccelerators, LanesOutsideThePacketAndUntraceableRaysMiss)
+TEST_P(EveryAccelerator, LanesOutsideThePacketAndUntraceableRaysMiss)
 {
   // Primary rays of a camera in packets of 4 x 4 and 8 x 8 lanes, a third of the lanes not
   // valid (garbage rays; in the 8 x 8 packets all of lanes 16 to 31), two valid lanes with
   // rays no accelerator can trace. The good lanes get the brute-force hit, every other lane
-  // no hit, on every accelerator.
+  // no hit.
   SphereSet s = randomSpheres(200, 5);
   const RayCamera cam = viewOf(s, { 2, 3, 12 }, 64, 64);
-  for (const char* which : Accelerators)
+  const std::unique_ptr<SphereAccelerator> accel = makeAccelerator(GetParam(), s);
+  int checked = 0, hits = 0;
+  for (const int side : { 4, 8 })
   {
-    const std::unique_ptr<SphereAccelerator> accel = makeAccelerator(which, s);
-    int checked = 0, hits = 0;
-    for (const int side : { 4, 8 })
+    for (int by = 0; by + side <= cam.height(); by += side)
     {
-      for (int by = 0; by + side <= cam.height(); by += side)
+      for (int bx = 0; bx + side <= cam.width(); bx += side)
       {
-        for (int bx = 0; bx + side <= cam.width(); bx += side)
+        RayPacket packet = mixedPacket(side);
+        for (int k = 0; k < side * side; ++k)
         {
-          RayPacket packet = mixedPacket(side);
-          for (int k = 0; k < side * side; ++k)
+          if (packet.valid[k])
           {
-            if (packet.valid[k])
-            {
-              packet.rays[k] = cam.pixelRay(bx + k % side, by + k / side);
-            }
+            packet.rays[k] = cam.pixelRay(bx + k % side, by + k / side);
           }
-          if (side == 8)
+        }
+        if (side == 8)
+        {
+          // the second 16 lanes all outside: Embree has nothing to trace there
+          std::fill(packet.valid + 16, packet.valid + 32, false);
+        }
+        packet.rays[0].dir = Vec3f(nan32, nan32, nan32);
+        packet.rays[side * side - 1].tnear = -1.f;
+        PacketHits result;
+        std::fill(std::begin(result.prim), std::end(result.prim), 12345u);
+        TraversalCounters counters;
+        poisonStack();
+        accel->intersect(packet, result, counters);
+        for (int k = 0; k < side * side; ++k)
+        {
+          const std::string where = "side " + std::to_string(side) + " pixel " +
+                                    std::to_string(bx + k % side) + "," +
+                                    std::to_string(by + k / side);
+          if (!packet.valid[k] || k == 0 || k == side * side - 1)
           {
-            // the second 16 lanes all outside: Embree has nothing to trace there
-            std::fill(packet.valid + 16, packet.valid + 32, false);
+            EXPECT_EQ(result.prim[k], NoHit) << where;
+            continue;
           }
-          packet.rays[0].dir = Vec3f(nan32, nan32, nan32);
-          packet.rays[side * side - 1].tnear = -1.f;
-          PacketHits result;
-          std::fill(std::begin(result.prim), std::end(result.prim), 12345u);
-          TraversalCounters counters;
-          poisonStack();
-          accel->intersect(packet, result, counters);
-          for (int k = 0; k < side * side; ++k)
+          double t, margin;
+          const int id = bruteForce(s, packet.rays[k], t, margin);
+          if (margin < 1e-4)
           {
-            const std::string where = std::string(which) + " side " + std::to_string(side) +
-                                      " pixel " + std::to_string(bx + k % side) + "," +
-                                      std::to_string(by + k / side);
-            if (!packet.valid[k] || k == 0 || k == side * side - 1)
-            {
-              EXPECT_EQ(result.prim[k], NoHit) << where;
-              continue;
-            }
-            double t, margin;
-            const int id = bruteForce(s, packet.rays[k], t, margin);
-            if (margin < 1e-4)
-            {
-              continue; // grazing: float and double may disagree
-            }
-            ++checked;
-            hits += id >= 0;
-            ASSERT_EQ(result.prim[k], id < 0 ? NoHit : static_cast<std::uint32_t>(id)) << where;
-            if (id >= 0)
-            {
-              EXPECT_NEAR(result.t[k], t, 1e-4 * t) << where;
-            }
+            continue; // grazing: float and double may disagree
+          }
+          ++checked;
+          hits += id >= 0;
+          ASSERT_EQ(result.prim[k], id < 0 ? NoHit : static_cast<std::uint32_t>(id)) << where;
+          if (id >= 0)
+          {
+            EXPECT_NEAR(result.t[k], t, 1e-4 * t) << where;
           }
         }
       }
     }
-    EXPECT_GT(checked, 2 * 64 * 64 / 2) << which;
-    EXPECT_GT(hits, checked / 4) << which;
   }
+  EXPECT_GT(checked, 2 * 64 * 64 / 2);
+  EXPECT_GT(hits, checked / 4);
 }
 
-TEST(SphereRenderer, EveryEmbreeIsaGivesTheSameImage)
+TEST_P(EveryEmbreeIsa, RendersTheGridsImage)
 {
-  // The renderer's own packets on Embree's AVX-512, AVX2 and SSE code: an image width that
-  // leaves lanes past the tile edge, shadow rays (3 x 3 of a 4 x 4 packet) and ambient
-  // occlusion rays (10 of 16). The images agree with the coherent grid's.
+  // The renderer's own packets: an image width that leaves lanes past the tile edge, shadow
+  // rays (3 x 3 of a 4 x 4 packet) and ambient occlusion rays (10 of 16). Each of Embree's
+  // code paths gives the coherent grid's image.
   SphereSet s = randomSpheres(300, 9);
   const RayCamera cam = viewOf(s, { 2, 6, 11 }, 61, 47);
   SphereShading shading;
@@ -335,26 +375,28 @@ TEST(SphereRenderer, EveryEmbreeIsaGivesTheSameImage)
   shading.lightCenterWorld = shading.lightCenter + s.origin;
   shading.aoSamples = 10;
   shading.aoRadius = 1.0;
-  std::vector<Frame> frames;
-  for (const char* which : Accelerators)
+  Frame frames[2];
+  for (int which = 0; which < 2; ++which)
   {
-    const std::unique_ptr<SphereAccelerator> accel = makeAccelerator(which, s);
-    Frame f;
+    const std::unique_ptr<SphereAccelerator> accel =
+      makeAccelerator(which == 0 ? Accelerators[0] : GetParam(), s);
     RenderStatistics stats;
-    renderSpheres(s, *accel, 4, cam, shading, 16, f, stats);
-    EXPECT_GT(stats.counter("shadow_rays"), 0) << which;
-    EXPECT_GT(stats.counter("ao_rays"), 0) << which;
-    frames.push_back(std::move(f));
+    renderSpheres(s, *accel, 4, cam, shading, 16, frames[which], stats);
+    EXPECT_GT(stats.counter("shadow_rays"), 0);
+    EXPECT_GT(stats.counter("ao_rays"), 0);
   }
-  for (std::size_t a = 1; a < frames.size(); ++a)
+  int differ = 0;
+  for (std::size_t k = 0; k < frames[0].depth.size(); ++k)
   {
-    int differ = 0;
-    for (std::size_t k = 0; k < frames[0].depth.size(); ++k)
-    {
-      differ += std::fabs(frames[a].rgba[4 * k] - frames[0].rgba[4 * k]) > 1e-3f ||
-                std::fabs(frames[a].depth[k] - frames[0].depth[k]) > 1e-5f;
-    }
-    // Grazing rays and shadow or occlusion rays that graze a sphere may go either way.
-    EXPECT_LE(differ, 20) << Accelerators[a] << " against the grid";
+    differ += std::fabs(frames[1].rgba[4 * k] - frames[0].rgba[4 * k]) > 1e-3f ||
+              std::fabs(frames[1].depth[k] - frames[0].depth[k]) > 1e-5f;
   }
+  // Grazing rays and shadow or occlusion rays that graze a sphere may go either way.
+  EXPECT_LE(differ, 20);
 }
+
+INSTANTIATE_TEST_SUITE_P(RayPackets, EveryAccelerator, testing::ValuesIn(Accelerators), nameOf);
+INSTANTIATE_TEST_SUITE_P(RayPackets,
+  EveryEmbreeIsa,
+  testing::ValuesIn(std::begin(Accelerators) + 1, std::end(Accelerators)),
+  nameOf);
