@@ -2,7 +2,8 @@
 # RayMappers: set up, build and run. Two commands (see README.md):
 #   ./run.sh demo   render the demo gallery on the bundled data into ./gallery, print a table
 #   ./run.sh test   run the whole test suite with ctest
-# Both install the Debian 12 packages that are missing (as root, or through sudo),
+#   ./run.sh sanitize  the whole test suite built with AddressSanitizer and UBSan (build-asan)
+# Each installs the Debian 12 packages that are missing (as root, or through sudo),
 # configure once, build incrementally, and run under Xvfb (no display needed).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -10,8 +11,12 @@ build="${RAYMAPPERS_BUILD_DIR:-$here/build}"
 mode="${1:-}"
 case "$mode" in
   demo | test | build) ;;
+  sanitize)
+    # A build of its own: instrumented code, RelWithDebInfo for readable reports.
+    build="${RAYMAPPERS_SANITIZE_BUILD_DIR:-$here/build-asan}"
+    ;;
   *)
-    echo "usage: $0 demo|test|build" >&2
+    echo "usage: $0 demo|test|sanitize|build" >&2
     exit 2
     ;;
 esac
@@ -45,7 +50,11 @@ fi
 
 if [ ! -f "$build/CMakeCache.txt" ]; then
   echo "== configuring in $build"
-  cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
+  if [ "$mode" = sanitize ]; then
+    cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRAYMAPPERS_SANITIZE=ON
+  else
+    cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
+  fi
 fi
 echo "== building"
 cmake --build "$build" -- -j"$(nproc)"
@@ -59,7 +68,10 @@ case "$mode" in
   demo)
     headless pvpython "$here/Examples/gallery.py" --build "$build" --out "$here/gallery"
     ;;
-  test)
+  test | sanitize)
+    # Under the sanitizers the tests carry the runtimes' options (and, for the pvpython,
+    # pvbatch, pvserver and paraview tests, the preloaded runtimes) themselves: see
+    # Testing/CMakeLists.txt.
     cd "$build"
     headless ctest --output-on-failure -j1 --timeout 1500
     ;;

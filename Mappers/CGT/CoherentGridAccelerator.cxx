@@ -61,7 +61,7 @@ void CoherentGridAccelerator::intersect(const RayPacket& packet,
   {
     hits.prim[k] = NoHit;
     hits.t[k] = 0.f;
-    if (packet.valid[k])
+    if (packet.valid[k] && isTraceable(packet.rays[k]))
     {
       lanes[count++] = k;
     }

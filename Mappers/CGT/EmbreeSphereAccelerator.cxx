@@ -6,9 +6,9 @@
 namespace raymappers
 {
 
-EmbreeSphereAccelerator::EmbreeSphereAccelerator()
+EmbreeSphereAccelerator::EmbreeSphereAccelerator(const char* deviceConfig)
 {
-  Device = rtcNewDevice(nullptr);
+  Device = rtcNewDevice(deviceConfig);
   if (!Device)
   {
     throw std::runtime_error("Embree: rtcNewDevice failed (error " +
@@ -65,6 +65,9 @@ void EmbreeSphereAccelerator::build(const SphereSet& spheres, Quality quality)
 
 namespace
 {
+// The ray of lanes left out: finite, and the empty interval [1, 0].
+const Ray EmptyRay{ Vec3f(0.f, 0.f, 0.f), Vec3f(0.f, 0.f, 1.f), 1.f, 0.f };
+
 // The intersection context with what the range filter needs; Embree hands the context back
 // to the filter callback.
 struct RangeContext
@@ -115,39 +118,12 @@ void EmbreeSphereAccelerator::intersect(const RayPacket& packet,
   alignas(64) int valid[16];
   for (int base = 0; base < n; base += 16)
   {
-    bool any = false;
-    for (int k = 0; k < 16; ++k)
+    if (toEmbreePacket(packet, base, rh, valid))
     {
-      const int lane = base + k;
-      valid[k] = (lane < n && packet.valid[lane]) ? -1 : 0;
-      if (!valid[k])
-      {
-        continue;
-      }
-      any = true;
-      const Ray& r = packet.rays[lane];
-      rh.ray.org_x[k] = r.org.x;
-      rh.ray.org_y[k] = r.org.y;
-      rh.ray.org_z[k] = r.org.z;
-      rh.ray.dir_x[k] = r.dir.x;
-      rh.ray.dir_y[k] = r.dir.y;
-      rh.ray.dir_z[k] = r.dir.z;
-      rh.ray.tnear[k] = r.tnear;
-      rh.ray.tfar[k] = r.tfar;
-      rh.ray.time[k] = 0.f;
-      rh.ray.mask[k] = 0xFFFFFFFFu;
-      rh.ray.id[k] = static_cast<unsigned>(k);
-      rh.ray.flags[k] = 0;
-      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect16(valid, Scene, &context, &rh);
+      counters.rangeCulled += ranges.rejected;
+      ranges.rejected = 0;
     }
-    if (!any)
-    {
-      continue;
-    }
-    rtcIntersect16(valid, Scene, &context, &rh);
-    counters.rangeCulled += ranges.rejected;
-    ranges.rejected = 0;
     for (int k = 0; k < 16 && base + k < n; ++k)
     {
       const int lane = base + k;
@@ -156,6 +132,41 @@ void EmbreeSphereAccelerator::intersect(const RayPacket& packet,
       hits.t[lane] = hit ? rh.ray.tfar[k] : 0.f;
     }
   }
+}
+
+bool EmbreeSphereAccelerator::toEmbreePacket(const RayPacket& packet,
+  int base,
+  RTCRayHit16& rh,
+  int* valid)
+{
+  const int n = packet.side * packet.side;
+  bool any = false;
+  for (int k = 0; k < 16; ++k)
+  {
+    const int lane = base + k;
+    const bool traced = lane < n && packet.valid[lane] && isTraceable(packet.rays[lane]);
+    valid[k] = traced ? -1 : 0;
+    any = any || traced;
+    // Every lane is written. Embree traces a 16-ray packet on CPUs without AVX-512 through
+    // its ray-stream code, which ignores the valid mask and traces each lane whose tnear <=
+    // tfar: a lane left out is the empty interval [1, 0] on a finite ray.
+    const Ray& r = traced ? packet.rays[lane] : EmptyRay;
+    rh.ray.org_x[k] = r.org.x;
+    rh.ray.org_y[k] = r.org.y;
+    rh.ray.org_z[k] = r.org.z;
+    rh.ray.dir_x[k] = r.dir.x;
+    rh.ray.dir_y[k] = r.dir.y;
+    rh.ray.dir_z[k] = r.dir.z;
+    rh.ray.tnear[k] = r.tnear;
+    rh.ray.tfar[k] = r.tfar;
+    rh.ray.time[k] = 0.f;
+    rh.ray.mask[k] = 0xFFFFFFFFu;
+    rh.ray.id[k] = static_cast<unsigned>(k);
+    rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
+  }
+  return any;
 }
 
 } // namespace raymappers

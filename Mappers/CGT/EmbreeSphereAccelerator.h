@@ -21,7 +21,9 @@ public:
     High
   };
 
-  EmbreeSphereAccelerator();
+  /// `deviceConfig`: Embree's device configuration (nullptr: Embree's defaults for this
+  /// CPU), e.g. "isa=avx2" for the code path CPUs without AVX-512 take.
+  explicit EmbreeSphereAccelerator(const char* deviceConfig = nullptr);
   ~EmbreeSphereAccelerator() override;
   EmbreeSphereAccelerator(const EmbreeSphereAccelerator&) = delete;
   EmbreeSphereAccelerator& operator=(const EmbreeSphereAccelerator&) = delete;
@@ -36,6 +38,11 @@ public:
   void intersect(const RayPacket& packet,
     PacketHits& hits,
     TraversalCounters& counters) const override;
+
+  /// Lanes [base, base + 16) of the packet as Embree's packet of 16 rays: valid[k] is -1 for
+  /// the packet's valid lanes whose rays are traceable (isTraceable), and every other lane
+  /// holds an empty ray (tnear > tfar). Returns whether any lane is to be traced.
+  static bool toEmbreePacket(const RayPacket& packet, int base, RTCRayHit16& rays, int* valid);
 
 private:
   RTCDevice Device = nullptr;

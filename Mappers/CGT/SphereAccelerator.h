@@ -7,6 +7,7 @@
 #include "RayCamera.h"
 #include "SphereSet.h"
 
+#include <cmath>
 #include <cstdint>
 
 namespace raymappers
@@ -19,7 +20,7 @@ constexpr std::uint32_t NoHit = 0xFFFFFFFFu;
 struct RayPacket
 {
   int side = 4;              // rays are side x side, lane = row * side + column
-  bool valid[MaxPacketRays]; // false for lanes outside the image
+  bool valid[MaxPacketRays]; // false for lanes outside the image (their rays are not read)
   // True for the rays of a block of pixels of a projective camera: rays along each edge
   // of the block are coplanar, so the corner rays bound a frustum. False for other rays
   // (ambient occlusion), which get no frustum culling.
@@ -32,6 +33,23 @@ struct PacketHits
   float t[MaxPacketRays];
   std::uint32_t prim[MaxPacketRays]; // index in the SphereSet, NoHit when missed
 };
+
+/// Whether an accelerator traces the ray: origin and direction within FLT_LARGE = 1.844e18
+/// (beyond it Embree rejects a ray, by an assertion that Debian's build keeps) and
+/// 0 <= tnear <= tfar (no NaN). Other rays (a NaN direction from a degenerate shadow ray,
+/// an interval behind the origin) miss on every accelerator.
+inline bool isTraceable(const Ray& r)
+{
+  const float largest = 1.844e18f;
+  for (int a = 0; a < 3; ++a)
+  {
+    if (!(std::fabs(r.org[a]) <= largest && std::fabs(r.dir[a]) <= largest))
+    {
+      return false;
+    }
+  }
+  return r.tnear >= 0.f && r.tnear <= r.tfar;
+}
 
 /// Work done by a traversal, summed into the render statistics.
 struct TraversalCounters
@@ -50,7 +68,8 @@ public:
   /// Parameter ranges for the following renders (count 0: none); never rebuilds.
   void setRangeFilter(const RangeFilter& filter) { Filter = filter; }
   const RangeFilter& rangeFilter() const { return Filter; }
-  /// Closest hit per valid lane with t in [tnear, tfar].
+  /// Closest hit per valid lane with t in [tnear, tfar]; NoHit for the other lanes and for
+  /// rays that are not traceable (isTraceable).
   virtual void intersect(const RayPacket& packet,
     PacketHits& hits,
     TraversalCounters& counters) const = 0;
