@@ -1,7 +1,8 @@
 // The multi-level grid of the coherent grid traversal for spheres (Gribble et al. 2007,
 // section 4.2), with the sphere-center method (section 4.1): every sphere is stored once,
 // in the cell that holds its centre, so the grid holds no duplicated references and needs
-// no mailboxes. The finest level has about lambda * N cubic cells; a second level of
+// no mailboxes. The finest level has about lambda * N cubic cells (never smaller than half
+// the largest radius, where crowded spheres would make them tiny); a second level of
 // macrocells (M x M x M cells each) records which blocks are empty, and the extrema of each
 // sphere attribute inside them, so traversal skips empty blocks and blocks whose spheres
 // all fail a parameter range (section 4.3).

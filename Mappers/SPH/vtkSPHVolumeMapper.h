@@ -19,9 +19,10 @@
  * PSEUDO_NORMALIZED (3.16, divided by ReferenceWeightSum; 0 chooses 12 neighbours at half
  * the median support with the median volume). ContourShading adds ContourColor with
  * ContourOpacity where the sum of weights falls below ReferenceWeightSum (3.24 to 3.26).
- * StepFactor scales the step (1: a pixel's footprint); SamplesPerSupport (default 8) caps it
- * at the smallest kernel support over that many steps, so the step follows the field's
- * detail rather than the image resolution (0: the thesis's pixel-tied steps alone).
+ * StepFactor scales the step (1: a pixel's footprint); SamplesPerSupport (default 8) keeps it
+ * at least the smallest kernel support over that many steps, so near the eye and at high
+ * resolutions the step follows the field's detail rather than the pixels (0: the thesis's
+ * pixel-tied steps alone; where those are longer, they are taken).
  * TileSize is the grid's cell size in
  * pixels and the ray bundle's side, SlabDepth the samples per slab (0: a cell's),
  * TerminationOpacity the early ray termination, Jitter stochastic jittering.

@@ -1,7 +1,8 @@
 // A brute-force SPH volume ray caster for the tests: every pixel's ray takes the same
 // sample depths as the renderer (the grid's depth steps, with the same jitter pattern),
-// and at every sample sums all particles in double (no grid, no slabs, no spans); the
-// gradient of A comes from central differences of A, not from the kernels' derivatives.
+// and at every sample sums, in double, all particles whose support the pixel's ray meets
+// (no grid, no slabs, no spans); the gradient of A comes from central differences of A,
+// not from the kernels' derivatives.
 // Classification follows the renderer's specification (SPHVolumeRenderer.h).
 #ifndef RayMappers_Test_SPHReference_h
 #define RayMappers_Test_SPHReference_h
@@ -21,16 +22,40 @@ struct ReferenceField
   double A = 0, B = 0;
 };
 
-inline ReferenceField sumParticles(const SPHParticles& P, SPHKernel kernel, const Vec3d& x)
+/// A and B at x summed over the particles `near` (the others' supports miss x).
+inline ReferenceField sumParticles(const SPHParticles& P,
+  SPHKernel kernel,
+  const Vec3d& x,
+  const std::vector<std::size_t>& near)
 {
   ReferenceField f;
-  for (std::size_t i = 0; i < P.size(); ++i)
+  for (const std::size_t i : near)
   {
     const double w = kernelValue(kernel, length(x - Vec3d(P.centers[i])), P.support[i]);
     f.A += double(P.qv[i]) * w;
     f.B += double(P.v[i]) * w;
   }
   return f;
+}
+
+/// The particles whose support comes within `margin` of the line a + z b.
+inline std::vector<std::size_t> particlesNearLine(const SPHParticles& P,
+  const Vec3d& a,
+  const Vec3d& b,
+  double margin)
+{
+  std::vector<std::size_t> near;
+  const Vec3d u = normalize(b);
+  for (std::size_t i = 0; i < P.size(); ++i)
+  {
+    const Vec3d f = Vec3d(P.centers[i]) - a;
+    const double d = length(f - u * dot(f, u));
+    if (d < P.support[i] + margin)
+    {
+      near.push_back(i);
+    }
+  }
+  return near;
 }
 
 /// Premultiplied RGBA per pixel (row 0 at the bottom).
@@ -81,6 +106,10 @@ inline std::vector<double> renderReference(const SPHParticles& P,
       }
       const double j = params.jitter ? sphJitterOffset(px, py) : 0.5;
       const double dirLength = length(rays.direction(cx, cy));
+      // (The gradient's central differences reach 1e-4 H_max off the ray.)
+      const double hstep = 1e-4 * P.maxSupport;
+      const std::vector<std::size_t> near =
+        particlesNearLine(P, rays.start(cx, cy), rays.direction(cx, cy), 2 * hstep);
       double r = 0, g = 0, b = 0, a = 0;
       for (int k = 0; k < steps.samples() && a < params.terminationOpacity; ++k)
       {
@@ -91,7 +120,7 @@ inline std::vector<double> renderReference(const SPHParticles& P,
           break;
         }
         const Vec3d x = rays.pointAt(cx, cy, z);
-        const ReferenceField f = sumParticles(P, params.kernel, x);
+        const ReferenceField f = sumParticles(P, params.kernel, x, near);
         bool hasValue;
         double value;
         if (normalized)
@@ -120,15 +149,14 @@ inline std::vector<double> renderReference(const SPHParticles& P,
           cb = e[2];
           if (params.shade && alpha > 0)
           {
-            const double hstep = 1e-4 * P.maxSupport;
             Vec3d grad;
             for (int c = 0; c < 3; ++c)
             {
               Vec3d dx;
               dx[c] = hstep;
-              grad[c] = (sumParticles(P, params.kernel, x + dx).A -
-                          sumParticles(P, params.kernel, x - dx).A) /
-                (2 * hstep);
+              grad[c] = (sumParticles(P, params.kernel, x + dx, near).A -
+                          sumParticles(P, params.kernel, x - dx, near).A) /
+                        (2 * hstep);
             }
             if (length(grad) > 0)
             {

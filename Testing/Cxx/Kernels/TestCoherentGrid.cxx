@@ -7,10 +7,14 @@
 #include "SphereRenderer.h"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
+#include <iostream>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <random>
 #include <string>
@@ -109,33 +113,35 @@ Rendered renderEmbree(const SphereSet& s, const RayCamera& cam)
   return out;
 }
 
-// Every pixel whose ray does not graze a sphere: same hit or miss as the brute force, the
-// same depth to 1e-5 relative, the colour of the sphere hit.
+// Every pixel: the same hit or miss as the brute force, the same depth to 1e-5 relative,
+// except the pixels whose ray passes within the float band of a silhouette (grazingBand,
+// where float arithmetic may legitimately decide either way); those must be rare.
 void expectExact(const SphereSet& s, const RayCamera& cam, const Frame& f, const char* what)
 {
-  int checked = 0, mismatches = 0;
+  const double scene = sceneRadius(s);
+  int checked = 0, mismatches = 0, grazing = 0;
   for (int j = 0; j < cam.height(); ++j)
   {
     for (int i = 0; i < cam.width(); ++i)
     {
       const Ray ray = cam.pixelRay(i, j);
-      double t, margin;
-      const int id = bruteForce(s, ray, t, margin);
-      if (margin < 1e-4)
+      const ReferenceHit ref = exactHit(s, ray, scene);
+      if (ref.bands < 1)
       {
+        ++grazing;
         continue;
       }
       ++checked;
       const std::size_t k = f.index(i, j);
       const bool hit = f.rgba[4 * k + 3] > 0;
-      if (hit != (id >= 0))
+      if (hit != (ref.id >= 0))
       {
         ++mismatches;
         continue;
       }
-      if (id >= 0)
+      if (ref.id >= 0)
       {
-        const double expected = cam.depthMap(ray).depthOf(t);
+        const double expected = cam.depthMap(ray).depthOf(ref.t);
         if (std::fabs(f.depth[k] - expected) > 1e-5 * std::max(1e-3, expected))
         {
           ++mismatches;
@@ -144,7 +150,7 @@ void expectExact(const SphereSet& s, const RayCamera& cam, const Frame& f, const
     }
   }
   EXPECT_EQ(mismatches, 0) << what << " (" << checked << " pixels checked)";
-  EXPECT_GT(checked, cam.width() * cam.height() / 2) << what;
+  EXPECT_LE(grazing, cam.width() * cam.height() / 100) << what;
 }
 
 RayCamera perspectiveCamera(const Vec3d& eye,
@@ -428,28 +434,821 @@ TEST(CoherentGridHardCases, OneAndZeroParticles)
   EXPECT_EQ(z.stats.counter("hits"), 0);
 }
 
-TEST(CoherentGridHardCases, TangentRays)
+namespace
 {
-  // Spheres placed so that rays through pixel centres of a parallel view touch them
-  // tangentially (centre offset by exactly r from a pixel's ray).
+// The closest hits of every pixel's ray of `cam`, traced in side x side blocks of pixels.
+struct Traced
+{
+  std::vector<std::uint32_t> prim;
+  std::vector<float> t;
+};
+
+Traced traceAll(const SphereAccelerator& accel, const RayCamera& cam, int side)
+{
+  const int w = cam.width(), h = cam.height();
+  Traced out;
+  out.prim.assign(static_cast<std::size_t>(w) * h, NoHit);
+  out.t.assign(out.prim.size(), 0.f);
+  RayPacket packet;
+  packet.side = side;
+  PacketHits hits;
+  TraversalCounters counters;
+  for (int by = 0; by < h; by += side)
+  {
+    for (int bx = 0; bx < w; bx += side)
+    {
+      for (int k = 0; k < side * side; ++k)
+      {
+        const int i = bx + k % side, j = by + k / side;
+        packet.valid[k] = i < w && j < h;
+        if (packet.valid[k])
+        {
+          packet.rays[k] = cam.pixelRay(i, j);
+        }
+      }
+      accel.intersect(packet, hits, counters);
+      for (int k = 0; k < side * side; ++k)
+      {
+        if (packet.valid[k])
+        {
+          const std::size_t p = static_cast<std::size_t>(by + k / side) * w + bx + k % side;
+          out.prim[p] = hits.prim[k];
+          out.t[p] = hits.t[k];
+        }
+      }
+    }
+  }
+  return out;
+}
+
+// One accelerator of the grazing cases: the coherent grid on one SIMD path with lambda
+// cells per sphere (1, or 64 so that r_max spans cells), or Embree (lambda 0). It keeps
+// its accelerator from scene to scene (an Embree device per scene would dominate).
+class Tracer
+{
+public:
+  Tracer(SimdPath simd, double lambda)
+    : Lambda(lambda)
+    , Name(lambda > 0 ? std::string("grid ") + simdPathName(simd) + " lambda " +
+                          std::to_string(static_cast<int>(lambda))
+                      : std::string("embree"))
+  {
+    Grid.setSimdPath(simd);
+  }
+  const std::string& name() const { return Name; }
+  /// Builds over `s` (the grid permutes it: hits and t, not ids, are compared).
+  const SphereAccelerator& build(SphereSet& s)
+  {
+    if (Lambda > 0)
+    {
+      CoherentGridParameters params;
+      params.lambda = Lambda;
+      Grid.build(s, params);
+      return Grid;
+    }
+    Bvh.build(s);
+    return Bvh;
+  }
+
+private:
+  double Lambda;
+  std::string Name;
+  CoherentGridAccelerator Grid;
+  EmbreeSphereAccelerator Bvh;
+};
+
+// Every SIMD path of the grid this CPU has, each with lambda 1 and 64, and Embree.
+std::vector<std::unique_ptr<Tracer>> allTracers()
+{
+  std::vector<std::unique_ptr<Tracer>> out;
+  for (const SimdPath path : { SimdPath::Portable, SimdPath::Avx2, SimdPath::Avx512 })
+  {
+    if (resolveSimdPath(path) != path)
+    {
+      std::cout << "this CPU has no " << simdPathName(path) << " path; not checked\n";
+      continue;
+    }
+    for (const double lambda : { 1.0, 64.0 })
+    {
+      out.push_back(std::make_unique<Tracer>(path, lambda));
+    }
+  }
+  out.push_back(std::make_unique<Tracer>(SimdPath::Auto, 0.0));
+  return out;
+}
+
+// How far a ray is from grazing: the power of ten nearest to |d - r| / r, 1 (1e-1) to 7
+// (1e-7), 8 for 3e-8 and below (tangent up to rounding).
+int grazingDecade(double relative)
+{
+  return relative > 0 ? std::clamp(static_cast<int>(std::lround(-std::log10(relative))), 1, 8) : 8;
+}
+
+// Per decade of |d - r| / r: the grazing rays, those in the float band, and those whose
+// float hit or miss differs from the exact one.
+struct GrazingTally
+{
+  int rays[9] = {}, inBand[9] = {}, differ[9] = {};
+  void print(const std::string& what) const
+  {
+    std::cout << what << ", |d - r| / r ~ 1e-1 ... 1e-7, 0: rays/in band/differ:";
+    for (int e = 1; e <= 8; ++e)
+    {
+      std::cout << " " << rays[e] << "/" << inBand[e] << "/" << differ[e];
+    }
+    std::cout << "\n";
+  }
+};
+
+// The exact hit of every pixel's ray (exactHit), row by row.
+std::vector<ReferenceHit> exactHits(const SphereSet& s, const RayCamera& cam)
+{
+  const double scene = sceneRadius(s);
+  std::vector<ReferenceHit> ref;
+  for (int j = 0; j < cam.height(); ++j)
+  {
+    for (int i = 0; i < cam.width(); ++i)
+    {
+      ref.push_back(exactHit(s, cam.pixelRay(i, j), scene));
+    }
+  }
+  return ref;
+}
+
+// A lit frame and the traced hits of `s` seen by `cam` through one tracer, checked against
+// the exact hits `ref` (exactHits): no NaN or Inf in colour, depth and t; the frame's
+// coverage is the traced hits; hit or miss as the exact one outside the float band (bands
+// >= 1); a hit's float t within the stated tolerance. `grazing[p]` >= 0 marks a pixel to
+// tally by how close it comes to grazing (its |d - r| / r).
+void expectGrazingAgreement(Tracer& tracer,
+  SphereSet s,
+  const RayCamera& cam,
+  int side,
+  const std::vector<ReferenceHit>& ref,
+  const std::vector<double>& grazing,
+  GrazingTally& tally)
+{
+  const SphereAccelerator& accel = tracer.build(s);
+  SphereShading lit;
+  lit.lights.push_back(Light{});
+  lit.material.ambient = 0.1;
+  lit.material.specular = 0.5;
+  lit.material.specularPower = 20;
+  Frame frame;
+  RenderStatistics stats;
+  renderSpheres(s, accel, side, cam, lit, 32, frame, stats);
+  const Traced traced = traceAll(accel, cam, side);
+  int nonFinite = 0, renderDiffers = 0, outside = 0, tOff = 0;
+  for (std::size_t p = 0; p < ref.size(); ++p)
+  {
+    const bool hit = traced.prim[p] != NoHit;
+    for (int c = 0; c < 4; ++c)
+    {
+      nonFinite += !std::isfinite(frame.rgba[4 * p + c]);
+    }
+    nonFinite += !std::isfinite(frame.depth[p]) + !std::isfinite(traced.t[p]);
+    renderDiffers += hit != (frame.rgba[4 * p + 3] > 0);
+    const bool exact = ref[p].id >= 0;
+    if (grazing[p] >= 0)
+    {
+      const int e = grazingDecade(grazing[p]);
+      ++tally.rays[e];
+      tally.inBand[e] += ref[p].bands < 1;
+      tally.differ[e] += hit != exact;
+    }
+    if (hit != exact)
+    {
+      outside += ref[p].bands >= 1;
+    }
+    else if (hit && std::fabs(traced.t[p] - ref[p].t) > ref[p].tTolerance)
+    {
+      ++tOff;
+    }
+  }
+  EXPECT_EQ(nonFinite, 0) << tracer.name();
+  EXPECT_EQ(renderDiffers, 0) << tracer.name();
+  EXPECT_EQ(outside, 0) << tracer.name() << " packet " << side;
+  EXPECT_EQ(tOff, 0) << tracer.name() << " packet " << side;
+}
+
+// Signed offsets eps of the grazing rays: d = r (1 + eps), eps = +-1e-1 ... +-1e-7 and 0.
+std::vector<double> grazingOffsets()
+{
+  std::vector<double> out;
+  for (int e = 1; e <= 7; ++e)
+  {
+    out.push_back(std::pow(10.0, -e));
+    out.push_back(-std::pow(10.0, -e));
+  }
+  out.push_back(0.0);
+  return out;
+}
+}
+
+// Rays grazing a sphere at d = r (1 + eps) where float arithmetic is exact: parallel rays
+// along -z at dyadic x (or y), a sphere of radius 1/4 at the origin. Then f = o - c, b and
+// p = f - b d are exact, r^2 = 1/16 is a float and rounding |p|^2 = x^2 keeps its order
+// against it, and the packet's side planes (x or y = const) are exact: the grid must decide
+// every ray exactly as the double reference does, the tangent ones (d = r) included (a
+// hit: the test is closed, disc >= 0), on every SIMD path; Embree within the float band.
+// Each ray sits in a corner, on an edge or inside its 8 x 8 packet (the others 1 apart, far
+// from the sphere), the offset along +-x or +-y.
+TEST(CoherentGridHardCases, GrazingRaysExactInExactArithmetic)
+{
+  const double r = 0.25;
+  const SphereSet sphere = makeSet({ { 0, 0, 0 } }, { r }, {});
+  const int lanes[] = { 0, 7, 63, 3, 24, 36, 45 }; // corners, edges, interior
+  for (auto& tracer : allTracers())
+  {
+    SphereSet s = sphere;
+    const SphereAccelerator& accel = tracer->build(s);
+    const bool embree = tracer->name() == "embree";
+    GrazingTally tally;
+    int wrong = 0, outside = 0;
+    for (const double eps : grazingOffsets())
+    {
+      for (const int lane : lanes)
+      {
+        for (int axis = 0; axis < 4; ++axis)
+        {
+          // The grazing ray at (x, y) = +-(r (1 + eps)) along x or y, rounded to float.
+          const float off = static_cast<float>((axis < 2 ? 1 : -1) * r * (1 + eps));
+          const float gx = axis % 2 == 0 ? off : 0.f, gy = axis % 2 == 0 ? 0.f : off;
+          RayPacket packet;
+          packet.side = 8;
+          for (int k = 0; k < 64; ++k)
+          {
+            packet.valid[k] = true;
+            Ray& ray = packet.rays[k];
+            ray.org = Vec3f(gx + float(k % 8 - lane % 8), gy + float(k / 8 - lane / 8), 4.f);
+            ray.dir = Vec3f(0.f, 0.f, -1.f);
+            ray.tnear = 0.f;
+            ray.tfar = 20.f;
+          }
+          PacketHits hits;
+          TraversalCounters counters;
+          accel.intersect(packet, hits, counters);
+          for (int k = 0; k < 64; ++k)
+          {
+            const ReferenceHit ref = exactHit(s, packet.rays[k], sceneRadius(s));
+            const bool hit = hits.prim[k] != NoHit;
+            wrong += hit != (ref.id >= 0);
+            outside += hit != (ref.id >= 0) && ref.bands >= 1;
+            if (k == lane)
+            {
+              const double d = std::hypot(double(gx), double(gy));
+              const int e = grazingDecade(std::fabs(d - r) / r);
+              ++tally.rays[e];
+              tally.inBand[e] += ref.bands < 1;
+              tally.differ[e] += hit != (d <= r);
+            }
+          }
+        }
+      }
+    }
+    tally.print("exact arithmetic, " + tracer->name());
+    // Embree's arithmetic is its own (a reciprocal of |d|^2, its own boxes): only the band
+    // holds for it.
+    EXPECT_EQ(embree ? outside : wrong, 0) << tracer->name();
+    EXPECT_GT(tally.rays[8], 0); // tangent rays were tested
+  }
+}
+
+// Grazing rays in general position: a sphere at the origin whose radius puts the ray of a
+// chosen pixel of an oblique perspective view at d = r (1 + eps) (eps = +-1e-1 ... +-1e-7,
+// 0: tangent in double, up to the radius's rounding to float), for pixels in corners, on
+// edges and inside the 8 x 8 packets. Every pixel of each frame is checked
+// (expectGrazingAgreement): outside the float band, at most 6e-5 r here (grazingBand with
+// |o| ~ 2.7, S = r from 0.16 to 1.2), hit and miss are exact; inside it they are tallied.
+// Then the same on 1024 spheres beside every second pixel's ray of a larger view, where the
+// band is wider (many small spheres: S ~ 300 r, a band of 1.6e-3 r).
+TEST(CoherentGridHardCases, GrazingRaysMatchDoubleReference)
+{
+  auto tracers = allTracers();
+  const RayCamera cam = perspectiveCamera({ 1.2, 0.9, 2.4 }, { 0.1, 0, 0 }, {}, 16, 16, 0.1, 20);
+  const int pixels[][2] = {
+    { 0, 0 }, { 7, 3 }, { 8, 8 }, { 15, 12 }, { 3, 7 }, { 12, 0 }, { 4, 4 }, { 11, 15 }
+  };
+  std::vector<GrazingTally> tallies(tracers.size());
+  double widestBand = 0; // relative to r
+  for (const auto& px : pixels)
+  {
+    const Ray ray = cam.pixelRay(px[0], px[1]);
+    const Vec3d o(ray.org), d(ray.dir);
+    const double dist = length(o - d * dot(o, d)); // the ray's distance from the origin
+    for (const double eps : grazingOffsets())
+    {
+      SphereSet s = makeSet({ { 0, 0, 0 } }, { dist / (1 + eps) }, {});
+      widestBand = std::max(widestBand, grazingBand(ray, sceneRadius(s), s.radii[0]) / s.radii[0]);
+      std::vector<double> grazing(16 * 16, -1.0);
+      grazing[static_cast<std::size_t>(px[1]) * 16 + px[0]] =
+        std::fabs(dist - s.radii[0]) / s.radii[0];
+      const std::vector<ReferenceHit> ref = exactHits(s, cam);
+      for (std::size_t k = 0; k < tracers.size(); ++k)
+      {
+        expectGrazingAgreement(*tracers[k], s, cam, 8, ref, grazing, tallies[k]);
+      }
+    }
+  }
+  std::cout << "one sphere: float band up to " << widestBand << " r\n";
+  EXPECT_LT(widestBand, 1e-4); // so every ray with |d - r| >= 1e-4 r was asserted exact
+  for (std::size_t k = 0; k < tracers.size(); ++k)
+  {
+    tallies[k].print("one sphere, " + tracers[k]->name());
+  }
+
+  // Many spheres: one beside the ray of every second pixel (in x and y) of a 64 x 64 view,
+  // at t = 3 along it, offset perpendicularly in a direction turning by the golden angle,
+  // radius a third of the pixel spacing there (so no other ray comes near it).
+  const RayCamera wide = perspectiveCamera({ 1.2, 0.9, 2.4 }, { 0.1, 0, 0 }, {}, 64, 64, 0.1, 20);
+  std::vector<Vec3d> centres;
+  std::vector<double> radii;
+  const std::vector<double> offsets = grazingOffsets();
+  for (int j = 0; j < 64; j += 2)
+  {
+    for (int i = 0; i < 64; i += 2)
+    {
+      const Ray ray = wide.pixelRay(i, j);
+      const Vec3d o(ray.org), d(ray.dir);
+      const double spacing = length(
+        Vec3d(wide.pixelRay(i + 1, j).org) - o + (Vec3d(wide.pixelRay(i + 1, j).dir) - d) * 3.0);
+      const double r = spacing / 3;
+      const Vec3d e1 = normalize(cross(d, Vec3d(0, 1, 0))), e2 = cross(d, e1);
+      const double angle = 2.39996323 * double(centres.size());
+      const double eps = offsets[centres.size() % offsets.size()];
+      centres.push_back(
+        o + d * 3.0 + (e1 * std::cos(angle) + e2 * std::sin(angle)) * (r * (1 + eps)));
+      radii.push_back(r);
+    }
+  }
+  SphereSet many = makeSet(centres, radii, {});
+  // The grazing pixels' actual |d - r| / r on the float data (the others: -1).
+  std::vector<double> grazing(64 * 64, -1.0);
+  for (std::size_t n = 0; n < many.size(); ++n)
+  {
+    const int i = 2 * static_cast<int>(n % 32), j = 2 * static_cast<int>(n / 32);
+    const Ray ray = wide.pixelRay(i, j);
+    const Vec3d f = Vec3d(ray.org) - Vec3d(many.centers[n]), d(ray.dir);
+    const double dist = length(f - d * dot(f, d));
+    grazing[static_cast<std::size_t>(j) * 64 + i] = std::fabs(dist - many.radii[n]) / many.radii[n];
+  }
+  const std::vector<ReferenceHit> ref = exactHits(many, wide);
+  for (auto& tracer : tracers)
+  {
+    for (const int side : { 1, 8, 16 })
+    {
+      GrazingTally tally;
+      expectGrazingAgreement(*tracer, many, wide, side, ref, grazing, tally);
+      if (side == 8)
+      {
+        tally.print("1024 spheres, " + tracer->name());
+      }
+    }
+  }
+}
+
+// A picture full of silhouettes (2000 overlapping spheres), no pixel skipped: every pixel is
+// tallied by how close its ray comes to grazing any sphere, and outside the float band the
+// hit or miss must be exact (expectGrazingAgreement). The pixels inside the band are few:
+// a sphere at distance D puts about 4 pi r band (f / D)^2 pixel centres within its band (f
+// the focal length in pixels), summed below over all spheres (a bound: the band counts only
+// spheres in front of the hit); the float decisions that differ from the exact ones can
+// only be among them.
+TEST(CoherentGridHardCases, SilhouettesWithoutSkipping)
+{
+  const auto p = randomPoints(2000, 8, 21);
+  SphereSet s = makeSet(p, std::vector<double>(p.size(), 0.35), {});
+  const Vec3d eye(-9, 5, 14);
+  const RayCamera cam = perspectiveCamera(eye, { 1, 0, 0 }, s.origin, 128, 96);
+  const std::vector<ReferenceHit> ref = exactHits(s, cam);
+  std::vector<double> margin;
+  int inBand = 0;
+  for (const ReferenceHit& h : ref)
+  {
+    margin.push_back(h.margin);
+    inBand += h.bands < 1;
+  }
+  const double focal = 96 / (2 * std::tan(20 * M_PI / 180));
+  const double scene = sceneRadius(s);
+  double expected = 0;
+  for (std::size_t i = 0; i < s.size(); ++i)
+  {
+    const double D = length(Vec3d(s.centers[i]) - eye), r = s.radii[i];
+    const double band = 48 * FloatRoundoff * (length(eye) + scene + r);
+    expected += 4 * M_PI * r * band * (focal / D) * (focal / D);
+  }
+  std::cout << "pixels in the float band: " << inBand << " (expected " << expected << ")\n";
+  EXPECT_LE(inBand, 3 + 4 * expected);
+  for (auto& tracer : allTracers())
+  {
+    GrazingTally tally;
+    expectGrazingAgreement(*tracer, s, cam, 8, ref, margin, tally);
+    tally.print("2000 spheres, every pixel, " + tracer->name());
+    int differ = 0;
+    for (int e = 1; e <= 8; ++e)
+    {
+      differ += tally.differ[e];
+    }
+    EXPECT_LE(differ, inBand) << tracer->name();
+  }
+}
+
+// Spheres smaller than a pixel's footprint (radii 0.05 to 0.5 of the pixel spacing at their
+// depth): each pixel's hit or miss is the exact one outside the float band, with every
+// accelerator. A sphere that lies between pixel centres is missed, legitimately: the
+// pixel centres the silhouettes cover (counted with multiplicity, hidden or not) number
+// the sum of their areas in pixels, pi (r f / D)^2 / cos^3(theta) for a sphere at
+// distance D and angle theta off the view axis (f the focal length in pixels), each
+// covering at most one centre.
+TEST(CoherentGridHardCases, SubPixelRadiiMatchDoubleReference)
+{
+  const Vec3d eye(3, 4, 9), at(0, 0, 0);
+  const int W = 96, H = 80;
+  const RayCamera cam = perspectiveCamera(eye, at, {}, W, H);
+  const double focal = H / (2 * std::tan(20 * M_PI / 180));
+  const auto p = randomPoints(2000, 2, 53);
+  std::mt19937 rng(59);
+  std::uniform_real_distribution<double> fraction(0.05, 0.5);
+  std::vector<double> r;
+  double expected = 0, variance = 0;
+  for (const Vec3d& c : p)
+  {
+    const double D = length(c - eye);
+    const double cosTheta = dot(c - eye, normalize(at - eye)) / D;
+    r.push_back(fraction(rng) * D / focal);
+    const double covered = M_PI * std::pow(r.back() * focal / D, 2) / std::pow(cosTheta, 3);
+    expected += covered;
+    variance += covered * (1 - covered);
+  }
+  SphereSet s = makeSet(p, r, {});
+  const std::vector<ReferenceHit> ref = exactHits(s, cam);
+  std::vector<double> margin;
+  int covered = 0, seen = 0;
+  for (int j = 0; j < H; ++j)
+  {
+    for (int i = 0; i < W; ++i)
+    {
+      const ReferenceHit& h = ref[static_cast<std::size_t>(j) * W + i];
+      margin.push_back(h.margin);
+      seen += h.id >= 0;
+      const Ray ray = cam.pixelRay(i, j);
+      for (const Vec3d& c : p)
+      {
+        const Vec3d f = Vec3d(ray.org) - c;
+        covered += length(f - Vec3d(ray.dir) * dot(f, Vec3d(ray.dir))) <= r[&c - p.data()];
+      }
+    }
+  }
+  std::cout << "sub-pixel spheres: " << seen << " pixels hit, " << covered
+            << " pixel centres covered, " << expected << " +- " << std::sqrt(variance)
+            << " expected from the silhouettes' areas\n";
+  EXPECT_LT(std::fabs(covered - expected), 5 * std::sqrt(variance));
+  EXPECT_LT(covered, 0.1 * p.size() * 4); // most spheres are missed by every pixel's ray
+  for (auto& tracer : allTracers())
+  {
+    GrazingTally tally;
+    expectGrazingAgreement(*tracer, s, cam, 8, ref, margin, tally);
+    tally.print("2000 sub-pixel spheres, " + tracer->name());
+  }
+}
+
+namespace
+{
+// Spheres with a zero radius exactly on pixel rays of an axis-aligned parallel view (if one
+// were kept, the ray through its centre would meet it, disc = 0, and its normal (p - c) / r
+// would be 0 / 0), every third input point, among 300 ordinary spheres.
+struct ZeroRadiusScene
+{
+  std::vector<Vec3d> points;
+  std::vector<double> radii;
+  std::vector<std::uint32_t> colors; // the ordinary spheres' colours, alike in both sets
+};
+
+ZeroRadiusScene zeroRadiusScene(const RayCamera& cam, bool withZeros)
+{
+  const auto p = randomPoints(300, 3, 61);
+  ZeroRadiusScene out;
+  for (std::size_t i = 0; i < p.size(); ++i)
+  {
+    if (withZeros && i % 2 == 0)
+    {
+      const Ray ray = cam.pixelRay(static_cast<int>(7 * i % 64), static_cast<int>(11 * i % 64));
+      out.points.push_back({ ray.org.x, ray.org.y, p[i].z + 4 });
+      out.radii.push_back(0.0);
+      out.colors.push_back(packRGBA8(255, 0, 255, 255));
+    }
+    out.points.push_back(p[i]);
+    out.radii.push_back(0.15 + 0.2 * double(i % 5) / 4);
+    out.colors.push_back(packRGBA8(i % 256, (7 * i) % 256, (13 * i) % 256, 255));
+  }
+  return out;
+}
+}
+
+// Zero radii mixed in: skipped and counted while the set is built, never hit, no NaN in a
+// lit picture, and the rest unchanged: bit for bit the picture of the set without them,
+// with each accelerator.
+TEST(CoherentGridHardCases, ZeroRadiiMixedInAreSkipped)
+{
   const RayCamera cam(
     multiply(orthographic(4, 4, 1, 30), lookAt({ 0, 0, 10 }, { 0, 0, 0 }, { 0, 1, 0 })),
     64,
     64,
     {});
-  std::vector<Vec3d> p;
-  std::vector<double> r;
-  for (int i = 0; i < 8; ++i)
+  ASSERT_EQ(cam.pixelRay(5, 9).dir.x, 0.f); // the rays are exactly along -z
+  ASSERT_EQ(cam.pixelRay(5, 9).dir.y, 0.f);
+  SphereShading lit;
+  lit.lights.push_back(Light{});
+  lit.material.ambient = 0.1;
+  lit.material.specular = 0.4;
+  lit.material.specularPower = 10;
+  auto build = [&](const ZeroRadiusScene& z)
   {
-    const Ray ray = cam.pixelRay(8 * i + 3, 20);
-    p.push_back(Vec3d(ray.org.x + 0.25, ray.org.y, 0.0));
-    r.push_back(0.25);
+    SphereSet s;
+    buildSphereSet(
+      z.points.size(),
+      Vec3d(),
+      [&](std::size_t i) { return z.points[i]; },
+      [&](std::size_t i) { return z.radii[i]; },
+      [&](std::size_t i) { return z.colors[i]; },
+      s);
+    return s;
+  };
+  const ZeroRadiusScene mixed = zeroRadiusScene(cam, true), plain = zeroRadiusScene(cam, false);
+  for (auto& tracer : allTracers())
+  {
+    SphereSet a = build(mixed), b = build(plain);
+    EXPECT_EQ(a.skippedBadRadius, 150u);
+    EXPECT_EQ(a.size(), b.size());
+    Frame fa, fb;
+    RenderStatistics sa, sb;
+    renderSpheres(a, tracer->build(a), 8, cam, lit, 32, fa, sa);
+    renderSpheres(b, tracer->build(b), 8, cam, lit, 32, fb, sb);
+    EXPECT_TRUE(
+      std::all_of(fa.rgba.begin(), fa.rgba.end(), [](float v) { return std::isfinite(v); }))
+      << tracer->name();
+    EXPECT_EQ(fa.rgba, fb.rgba) << tracer->name();
+    EXPECT_EQ(fa.depth, fb.depth) << tracer->name();
+    EXPECT_GT(sa.counter("hits"), 500) << tracer->name();
   }
-  SphereSet s = makeSet(p, r, {});
-  const Rendered g = renderGrid(s, cam, 8);
-  const Rendered e = renderEmbree(s, cam);
-  expectExact(s, cam, g.frame, "tangent (grid)");
-  expectExact(s, cam, e.frame, "tangent (embree)");
+}
+
+namespace
+{
+// Milliseconds of building the grid over `s` and tracing `cam`, with the traversal's
+// counters. The work runs on this thread alone (an arena of one thread) and is timed by the
+// thread's CPU clock, so other processes on the machine do not enter the time (wall time
+// on a loaded machine varied tenfold from run to run).
+struct Timed
+{
+  double ms;
+  std::int64_t cells, tests;
+};
+
+Timed buildAndTrace(SphereSet s, const RayCamera& cam)
+{
+  Timed out{};
+  tbb::task_arena serial(1);
+  serial.execute(
+    [&]()
+    {
+      timespec t0, t1;
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
+      CoherentGridAccelerator grid;
+      grid.build(s, CoherentGridParameters{});
+      Frame f;
+      RenderStatistics stats;
+      renderSpheres(s, grid, 8, cam, SphereShading{}, 32, f, stats);
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
+      out = { (t1.tv_sec - t0.tv_sec) * 1e3 + (t1.tv_nsec - t0.tv_nsec) * 1e-6,
+        stats.counter("cells"),
+        stats.counter("sphere_tests") };
+    });
+  return out;
+}
+
+double median(std::vector<double> v)
+{
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+}
+
+// Radii spread over six decades, 1e-8 to 1e-2 (log-uniform), in a unit box of 20000 centres.
+// The grid's cells come from the count (about one per sphere: cells of 0.037), not from the
+// radii; r_max = 1e-2 grows every packet's cell range by r_max sqrt(1 + slope^2) (0.27 cells)
+// on each side. Checked: every pixel exact outside the float band with every accelerator;
+// then the time of building and tracing against the same centres with equal radii: 1e-5
+// (the geometric mean: as with the spread, nearly every ray crosses the whole box) and
+// 1.9e-3 (the rms radius: the same cross-section, so as many rays stop early). An 8 x 8
+// packet spans w ~ 3.1 cells here, so against equal radii of 1e-5 the enlargement visits
+// ((w + 1 + 2 * 0.27) / (w + 1))^2 ~ 1.28 times the cells (an exact count), and the tests
+// it adds are mostly culled by the frustum; and against equal radii of r_max = 1e-2 (the
+// same cell ranges; they hide much of the box, cross-section 6.3 views against 0.23, so
+// their rays stop sooner). The times are medians of 9 interleaved runs of each, on one
+// thread's CPU clock; their ratio is the one time-related check the issue asks for (< 2x;
+// medians measured 1.05 to 1.3 over nine runs, single runs 0.65 to 1.5).
+TEST(CoherentGridHardCases, RadiiOverSixDecades)
+{
+  std::mt19937 rng(71);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<Vec3d> p(20000);
+  std::vector<double> spread(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i)
+  {
+    p[i] = { unit(rng), unit(rng), unit(rng) };
+    spread[i] = std::pow(10.0, -8 + 6 * unit(rng));
+  }
+  const Vec3d centre(0.5, 0.5, 0.5), eye(1.6, 1.3, 2.4);
+  {
+    SphereSet s = makeSet(p, spread, centre);
+    CoherentGrid grid;
+    grid.build(s, CoherentGridParameters{});
+    const auto& d = grid.dims();
+    EXPECT_GT(double(d[0]) * d[1] * d[2], 0.5 * p.size());
+    EXPECT_LT(double(d[0]) * d[1] * d[2], 2.5 * p.size());
+  }
+  SphereSet s = makeSet(p, spread, centre);
+  const RayCamera small = perspectiveCamera(eye, centre, centre, 32, 32, 0.1, 20);
+  const std::vector<ReferenceHit> ref = exactHits(s, small);
+  std::vector<double> margin;
+  int hits = 0;
+  for (const ReferenceHit& h : ref)
+  {
+    margin.push_back(h.margin);
+    hits += h.id >= 0;
+  }
+  EXPECT_GT(hits, 20); // the large spheres are seen
+  for (auto& tracer : allTracers())
+  {
+    GrazingTally tally;
+    expectGrazingAgreement(*tracer, s, small, 8, ref, margin, tally);
+  }
+
+  const RayCamera cam = perspectiveCamera(eye, centre, centre, 128, 128, 0.1, 20);
+  const double rms = std::sqrt((1e-4 - 1e-16) / (2 * std::log(1e6)));
+  for (const double equal : { 1e-5, rms, 1e-2 })
+  {
+    const SphereSet a = makeSet(p, spread, centre);
+    const SphereSet b = makeSet(p, std::vector<double>(p.size(), equal), centre);
+    std::vector<double> ta, tb, ratios;
+    Timed wa{}, wb{};
+    for (int k = 0; k < 9; ++k)
+    {
+      wa = buildAndTrace(a, cam);
+      wb = buildAndTrace(b, cam);
+      ta.push_back(wa.ms);
+      tb.push_back(wb.ms);
+      ratios.push_back(wa.ms / wb.ms);
+    }
+    std::sort(ratios.begin(), ratios.end());
+    std::cout << "radii 1e-8..1e-2 against equal radii " << equal << ": " << median(ta) << " ms / "
+              << median(tb) << " ms = " << median(ta) / median(tb) << " (single runs " << ratios[0]
+              << " to " << ratios[8] << "); cells " << wa.cells << " / " << wb.cells
+              << ", sphere tests " << wa.tests << " / " << wb.tests << "\n";
+    EXPECT_LT(median(ta), 2 * median(tb)) << "equal radii " << equal;
+    if (equal == 1e-5)
+    {
+      EXPECT_LT(wa.cells, 1.4 * wb.cells);
+      EXPECT_LT(wa.tests, 2 * wb.tests);
+    }
+  }
+}
+
+namespace
+{
+// The byte colour of a pixel of an unlit frame.
+std::array<int, 3> pixelColour(const Frame& f, std::size_t p)
+{
+  return { static_cast<int>(std::lround(f.rgba[4 * p] * 255)),
+    static_cast<int>(std::lround(f.rgba[4 * p + 1] * 255)),
+    static_cast<int>(std::lround(f.rgba[4 * p + 2] * 255)) };
+}
+}
+
+// Crowds in one grid cell: 200,000 spheres with one centre (all of radius 0.5, or radii
+// 0.5 to 0.9 with one largest), and 200,000 centres in a box of side 1e-4 (radius 0.5).
+// Coincident: the front sphere wins: with one centre the picture is the largest sphere's
+// alone (for identical spheres any of them: its colour is one of the set's). In the box,
+// the union's front against the brute force over all spheres, on every 8th pixel. Every
+// crowd makes one cell: the cell is never smaller than half the largest radius, or each
+// packet would walk the whole grid of cells much smaller than the spheres. (10 million
+// spheres take seconds per frame, each packet testing every sphere: measured, not run
+// here.)
+TEST(CoherentGridHardCases, ManySpheresInOneCell)
+{
+  const std::size_t n = 200000;
+  const RayCamera cam = perspectiveCamera({ 0.5, 0.4, 3 }, { 0, 0, 0 }, {}, 32, 32, 0.1, 20);
+  for (const int crowd : { 0, 1, 2 })
+  {
+    std::vector<Vec3d> p(n);
+    std::vector<double> r(n, 0.5);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const std::uint32_t h = static_cast<std::uint32_t>(i) * 2654435761u;
+      if (crowd == 1)
+      {
+        r[i] = 0.5 + 0.4 * double(h % 100000) / 100000; // at most 0.899996
+      }
+      if (crowd == 2)
+      {
+        p[i] = Vec3d((h & 1023) / 1023.0, ((h >> 10) & 1023) / 1023.0, (h >> 20) / 4095.0) * 1e-4;
+      }
+    }
+    if (crowd == 1)
+    {
+      r[n / 3] = 0.9; // the largest, unique
+    }
+    SphereSet s = makeSet(p, r, {});
+    const SphereSet original = s;
+    CoherentGridAccelerator grid;
+    grid.build(s, CoherentGridParameters{});
+    EXPECT_EQ(grid.grid().dims(), (std::array<int, 3>{ 1, 1, 1 })) << "crowd " << crowd;
+    Frame f;
+    RenderStatistics stats;
+    renderSpheres(s, grid, 8, cam, SphereShading{}, 32, f, stats);
+    const SphereSet front =
+      crowd == 1 ? makeSet({ p[n / 3] }, { 0.9 }, {}) : makeSet({ p[0] }, { 0.5 }, {});
+    int wrong = 0, checked = 0;
+    for (int j = 0; j < 32; ++j)
+    {
+      for (int i = 0; i < 32; ++i)
+      {
+        const std::size_t k = f.index(i, j);
+        if (crowd == 2 && k % 8 != 0)
+        {
+          continue;
+        }
+        const Ray ray = cam.pixelRay(i, j);
+        const ReferenceHit ref = exactHit(crowd == 2 ? original : front, ray, 1.0);
+        const bool hit = f.rgba[4 * k + 3] > 0;
+        ++checked;
+        if (ref.bands < 1)
+        {
+          continue;
+        }
+        if (hit != (ref.id >= 0))
+        {
+          ++wrong;
+          continue;
+        }
+        if (!hit)
+        {
+          continue;
+        }
+        wrong += std::fabs(f.depth[k] - cam.depthMap(ray).depthOf(ref.t)) > 1e-6;
+        const auto c = pixelColour(f, k);
+        if (crowd == 1)
+        {
+          wrong += c[0] != int(n / 3 % 256); // the largest sphere's colour
+        }
+        else if (crowd == 0)
+        {
+          wrong += c[1] != 7 * c[0] % 256 || c[2] != 13 * c[0] % 256; // one of the set's
+        }
+      }
+    }
+    EXPECT_EQ(wrong, 0) << "crowd " << crowd;
+    EXPECT_GT(stats.counter("hits"), 100) << "crowd " << crowd;
+    EXPECT_GT(checked, 100) << "crowd " << crowd;
+  }
+}
+
+// Overlapping spheres (radius 0.1, centres 0.037 apart) whose cells stop at the floor of
+// half the largest radius, so r_max spans two cells, seen along the box's diagonal: the
+// rays' slopes in U and V are near 1, and the sphere-center method must grow each packet's
+// cell range by r_max sqrt(1 + slope^2), 2.8 cells (a sphere whose centre is 2 to 2.8 cells
+// off a ray in the centre's slice is hit by it). Every pixel exact outside the float band,
+// for every accelerator and packet size.
+TEST(CoherentGridHardCases, CrowdedSpheresSeenAlongTheDiagonal)
+{
+  std::mt19937 rng(73);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<Vec3d> p(20000);
+  for (auto& q : p)
+  {
+    q = { unit(rng), unit(rng), unit(rng) };
+  }
+  const Vec3d centre(0.5, 0.5, 0.5);
+  const RayCamera cam = perspectiveCamera({ 2.2, 2.3, 2.1 }, centre, centre, 48, 48, 0.1, 20);
+  SphereSet s = makeSet(p, std::vector<double>(p.size(), 0.1), centre);
+  CoherentGrid grid;
+  grid.build(s, CoherentGridParameters{});
+  EXPECT_FLOAT_EQ(grid.cellSize(), 0.05f); // at the floor: r_max spans two cells
+  const std::vector<ReferenceHit> ref = exactHits(s, cam);
+  std::vector<double> margin;
+  for (const ReferenceHit& h : ref)
+  {
+    margin.push_back(h.margin);
+  }
+  for (auto& tracer : allTracers())
+  {
+    for (const int side : { 1, 8, 16 })
+    {
+      GrazingTally tally;
+      expectGrazingAgreement(*tracer, s, cam, side, ref, margin, tally);
+    }
+  }
 }
 
 TEST(ParameterRangeCulling, BothAcceleratorsDrawExactlyTheSpheresInRange)

@@ -571,3 +571,210 @@ TEST(SPH, TheFieldStepFollowsTheSupportNotTheResolution)
     static_cast<long long>(a.counter("kernel_evaluations")), worst, mean);
   EXPECT_LT(worst, 0.03);
 }
+
+namespace
+{
+/// A block of n^3 particles at spacing dx (support 2.1 dx, volume scale * dx^3) with Q
+/// uniform in [qLo, qHi] (the extremes included), centred on the origin.
+std::vector<InputParticle> block(int n, double dx, double qLo, double qHi, double volumeScale)
+{
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<InputParticle> out;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k)
+      {
+        const Vec3d x((i - 0.5 * (n - 1)) * dx, (j - 0.5 * (n - 1)) * dx, (k - 0.5 * (n - 1)) * dx);
+        out.push_back({ x, 2.1 * dx, qLo + (qHi - qLo) * u(rng), volumeScale * dx * dx * dx });
+      }
+  out[0].Q = qLo;
+  out[1].Q = qHi;
+  return out;
+}
+}
+
+// The free surface, where the sum of weights B goes to 0: near the supports' edges W ~
+// (1 - q^2)^3 comes down to 2e-22 in float. The normalized field A / B is a weighted mean of
+// the Q_i, so it must stay in [Qmin, Qmax]: the transfer function here spans three times
+// that range, with blue 0 on [Qmin, Qmax] (and one node either side) and 1 beyond, so any
+// sample classified outside Q's range turns its pixel blue. Three scales: Q in [1, 2];
+// Q ~ 1e-37 (Q_i V_i is a denormal float, and A underflows to 0 near the edges while B
+// does not: A / B would be 0 there, or off by the denormals' rounding); volumes 1e-20
+// dx^3 (B itself is denormal near the edges: below FLT_MIN the sample is empty, at 0 it
+// would be 0 / 0). No NaN anywhere, no blue, and for the first scale the brute force's
+// picture, with every kernel, shading and contours.
+TEST(SPHHardCases, WeightSumVanishingAtTheFreeSurface)
+{
+  struct Scale
+  {
+    double qLo, qHi, volume;
+  };
+  for (const Scale& scale : { Scale{ 1, 2, 1 }, Scale{ 1e-37, 2e-37, 1 }, Scale{ 1, 2, 1e-20 } })
+  {
+    const SPHParticles P = makeParticles(block(8, 0.1, scale.qLo, scale.qHi, scale.volume));
+    ASSERT_EQ(P.minQ, float(scale.qLo));
+    ASSERT_EQ(P.maxQ, float(scale.qHi));
+    const ViewRays rays = perspectiveRays({ 0.9, 0.7, 1.6 }, { 0, 0, 0 }, P.origin, 40, 40);
+    // 3001 nodes over [Qmin - D, Qmax + D]: Qmin and Qmax are nodes 1000 and 2000.
+    const double D = double(P.maxQ) - double(P.minQ);
+    std::vector<float> rgba;
+    for (int k = 0; k <= 3000; ++k)
+    {
+      const bool outside = k < 999 || k > 2001;
+      rgba.insert(rgba.end(), { 1.f, 0.5f, outside ? 1.f : 0.f, 0.4f });
+    }
+    TransferFunctionTable tf;
+    tf.assign(rgba, double(P.minQ) - D, double(P.maxQ) + D, 1.0);
+    for (const SPHKernel kernel :
+      { SPHKernel::Poly6, SPHKernel::CubicSpline, SPHKernel::WendlandC2 })
+    {
+      SPHRenderParameters params;
+      params.kernel = kernel;
+      params.terminationOpacity = 1.0;
+      params.referenceWeightSum = referenceWeightSum(kernel, P.medianVolume, P.medianSupport);
+      params.contour = kernel == SPHKernel::WendlandC2;
+      params.shade = kernel == SPHKernel::CubicSpline;
+      params.lights = { Light() };
+      PerspectiveGrid grid;
+      Frame frame;
+      RenderStatistics stats;
+      renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+      EXPECT_TRUE(allFinite(frame));
+      int blue = 0;
+      double coverage = 0;
+      for (std::size_t p = 0; p < frame.depth.size(); ++p)
+      {
+        blue += frame.rgba[4 * p + 2] != 0.f;
+        coverage += frame.rgba[4 * p + 3];
+      }
+      EXPECT_EQ(blue, 0) << "Q from " << scale.qLo << ", volume " << scale.volume << ", kernel "
+                         << int(kernel);
+      EXPECT_GT(coverage, 300.0);
+      if (scale.qLo == 1 && scale.volume == 1)
+      {
+        const std::vector<double> ref = renderReference(P, rays, grid.steps(), params, tf, nullptr);
+        EXPECT_LT(maxDifference(frame, ref), params.shade ? 1e-2 : 2e-3) << int(kernel);
+      }
+    }
+  }
+}
+
+// Smoothing lengths over three decades: 60 particles with supports 0.1 to 1 in a box of
+// side 2, and beyond their reach a cluster of 300 with supports 0.001 to 0.002 in a box of
+// side 0.1 (the field there is theirs alone), seen from 0.25 away (a pixel 0.004 wide
+// there), from just above it and from inside it. The field step is the mapper's default, the
+// smallest support over 8 (1.3e-4); the step is the longer of it and the pixel-tied one, so from
+// inside (near plane 0.002) uniform steps of 1.3e-4 run up to where the pixel-tied ones are longer,
+// and beyond that the smallest supports take a few samples each. No hang, no NaN, the brute force's
+// picture (the same samples).
+TEST(SPHHardCases, SmoothingLengthsOverThreeDecades)
+{
+  std::vector<InputParticle> in = cloud(60, 0.1, 10, 43);
+  std::mt19937 rng(47);
+  std::uniform_real_distribution<double> u(-1, 1), e(0, 1), q(1, 5);
+  for (int k = 0; k < 300; ++k)
+  {
+    const double H = 0.001 * std::pow(2.0, e(rng));
+    in.push_back(
+      { { 0.05 * u(rng), 0.05 * u(rng), 2.5 + 0.05 * u(rng) }, H, q(rng), 0.5 * H * H * H });
+  }
+  const SPHParticles P = makeParticles(in);
+  EXPECT_GT(P.maxSupport / P.minSupport, 500);
+  const TransferFunctionTable tf = rampTable(
+    0, 6, [](double v) { return std::min(0.999, 0.2 * v); }, 64);
+  const ViewRays near =
+    perspectiveRays({ 0.05, 0.03, 2.75 }, { 0, 0, 2.5 }, P.origin, 48, 48, 0.02, 10, 40);
+  const ViewRays above =
+    perspectiveRays({ 0.01, 0.0, 2.556 }, { 0, 0, 0 }, P.origin, 48, 48, 0.002, 10, 40);
+  const ViewRays inside =
+    perspectiveRays({ 0.01, 0.0, 2.53 }, { 0, 0, 0 }, P.origin, 48, 48, 0.002, 10, 20);
+  for (const ViewRays* rays : { &near, &above, &inside })
+  {
+    SPHRenderParameters params;
+    params.samplesPerSupport = 8;
+    params.terminationOpacity = 1.0;
+    PerspectiveGrid grid;
+    Frame frame;
+    RenderStatistics stats;
+    renderSPH(P, *rays, params, tf, nullptr, grid, frame, stats);
+    const DepthSteps& steps = grid.steps();
+    int small = 0; // pixels whose ray meets a support below 0.002
+    for (int py = 0; py < 48; ++py)
+    {
+      for (int px = 0; px < 48; ++px)
+      {
+        for (const std::size_t k : particlesNearLine(
+               P, rays->start(px + 0.5, py + 0.5), rays->direction(px + 0.5, py + 0.5), 0.0))
+        {
+          if (P.support[k] <= 0.002f)
+          {
+            ++small;
+            break;
+          }
+        }
+      }
+    }
+    std::printf("three decades: %lld depth cells of %lld samples, uniform steps of %g up to %g, "
+                "%lld samples taken, %d pixels see supports below 0.002\n",
+      static_cast<long long>(stats.counter("depth_cells")),
+      static_cast<long long>(stats.counter("samples_per_cell")),
+      steps.uniformStep,
+      steps.zetaBreak(),
+      static_cast<long long>(stats.counter("samples")),
+      small);
+    EXPECT_LE(stats.counter("depth_cells"), 2048);
+    EXPECT_EQ(steps.uniformStep > 0, rays == &inside);
+    EXPECT_GT(small, 40);
+    EXPECT_TRUE(allFinite(frame));
+    const std::vector<double> ref = renderReference(P, *rays, steps, params, tf, nullptr);
+    EXPECT_LT(maxDifference(frame, ref), 2e-3);
+  }
+}
+
+// The camera inside one particle's support (radius 2, the eye 0.4 from its centre, the
+// near plane at 0.05): the normalized field is Q wherever B > 0, so the opacity of a pixel
+// is 1 - exp(-tau L) with L the length of its ray from the near plane to where it leaves
+// the support, up to half the step there (the last sample inside stands for its whole
+// step). A first sample beyond the near plane would lose the fluid in front of it.
+TEST(SPHHardCases, CameraInsideTheFluidLosesNothingInFront)
+{
+  const double H = 2.0;
+  const SPHParticles P = makeParticles({ { { 0, 0, 0 }, H, 3.0, 1.0 } });
+  const ViewRays rays =
+    perspectiveRays({ 0.2, 0.1, 0.3 }, { 1, 0.5, -2 }, P.origin, 32, 32, 0.05, 10, 60);
+  const double tau = -std::log(1 - 0.3);
+  const TransferFunctionTable tf = rampTable(
+    0, 6, [](double) { return 0.3; }, 64);
+  for (const SPHKernel kernel : { SPHKernel::Poly6, SPHKernel::CubicSpline, SPHKernel::WendlandC2 })
+  {
+    SPHRenderParameters params;
+    params.kernel = kernel;
+    params.terminationOpacity = 1.0;
+    PerspectiveGrid grid;
+    Frame frame;
+    RenderStatistics stats;
+    renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+    EXPECT_TRUE(allFinite(frame));
+    const DepthSteps& steps = grid.steps();
+    EXPECT_NEAR(steps.zeta0, rays.nearZeta(), 1e-9);
+    int wrong = 0;
+    for (int py = 0; py < 32; ++py)
+    {
+      for (int px = 0; px < 32; ++px)
+      {
+        const Vec3d a = rays.start(px + 0.5, py + 0.5), b = rays.direction(px + 0.5, py + 0.5);
+        // |a + z b| = H: the exit depth.
+        const double qa = dot(b, b), qb = dot(a, b), qc = dot(a, a) - H * H;
+        const double zExit = (-qb + std::sqrt(qb * qb - qa * qc)) / qa;
+        const double k = std::floor(steps.coordinate(zExit));
+        const double halfStep = 0.5 * (steps.zeta(k + 1) - steps.zeta(k)) * length(b);
+        const double L = (zExit - rays.nearZeta()) * length(b);
+        const double A = frame.rgba[4 * frame.index(px, py) + 3];
+        const double travelled = -std::log(1 - A) / tau;
+        wrong += std::fabs(travelled - L) > halfStep + 1e-4 * L;
+      }
+    }
+    EXPECT_EQ(wrong, 0) << "kernel " << int(kernel);
+  }
+}
