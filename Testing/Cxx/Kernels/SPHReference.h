@@ -3,7 +3,10 @@
 // and at every sample sums, in double, all particles whose support the pixel's ray meets
 // (no grid, no slabs, no spans); the gradient of A comes from central differences of A,
 // not from the kernels' derivatives.
-// Classification follows the renderer's specification (SPHVolumeRenderer.h).
+// Classification follows the renderer's specification (SPHVolumeRenderer.h). Taking the
+// renderer's sample depths, jitter and kernels, it checks the acceleration (grid, slabs,
+// spans), not the sampling: Testing/References' SPH reference (its own kernels and uniform
+// converged sampling) checks the picture end to end (Rendering.TestSPHVolumeMapperReference).
 #ifndef RayMappers_Test_SPHReference_h
 #define RayMappers_Test_SPHReference_h
 
