@@ -1,6 +1,7 @@
 #include "vtkRayMapperRenderHelpers.h"
 
 #include "vtkAbstractVolumeMapper.h"
+#include "vtkObject.h"
 #include "vtkActor2D.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
@@ -118,6 +119,22 @@ raymappers::RayCamera GatherCamera(vtkRenderer* ren,
   int width = 0, height = 0;
   const std::array<double, 16> modelToClip = GatherModelToClip(ren, model, width, height);
   return raymappers::RayCamera(modelToClip, width, height, origin);
+}
+
+bool CameraCheck::Usable(vtkObject* mapper, const std::array<double, 16>& modelToClip)
+{
+  const std::string why = raymappers::degenerateProjection(modelToClip);
+  if (why.empty())
+  {
+    Warned.clear();
+    return true;
+  }
+  if (why != Warned)
+  {
+    vtkWarningWithObjectMacro(mapper, << "The camera is degenerate: " << why << "; nothing drawn.");
+    Warned = why;
+  }
+  return false;
 }
 
 std::vector<raymappers::Light> GatherLights(vtkRenderer* ren)

@@ -18,6 +18,7 @@
 #include <vector>
 
 class vtkDataSet;
+class vtkObject;
 class vtkPoints;
 class vtkProp3D;
 class vtkRenderer;
@@ -84,6 +85,20 @@ RAYMAPPERSMAPPERS_EXPORT std::array<double, 16> GatherModelToClip(vtkRenderer* r
 RAYMAPPERSMAPPERS_EXPORT raymappers::RayCamera GatherCamera(vtkRenderer* ren,
   const ModelTransform& model,
   const raymappers::Vec3d& origin);
+
+/// The camera check of a mapper's render: true when the matrix gives rays; otherwise false
+/// with the warning "The camera is degenerate: <why>; nothing drawn." from `mapper` (why:
+/// raymappers::degenerateProjection, RayCamera.h), given
+/// once while the reason stays the same (a camera stays degenerate for many renders) and
+/// again after the camera was usable in between.
+class RAYMAPPERSMAPPERS_EXPORT CameraCheck
+{
+public:
+  bool Usable(vtkObject* mapper, const std::array<double, 16>& modelToClip);
+
+private:
+  std::string Warned;
+};
 
 /// The renderer's switched-on lights in world space.
 RAYMAPPERSMAPPERS_EXPORT std::vector<raymappers::Light> GatherLights(vtkRenderer* ren);

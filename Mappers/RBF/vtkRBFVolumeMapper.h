@@ -37,6 +37,7 @@
 
 #include "RayMappersMappersModule.h" // for export macro
 #include "vtkAbstractVolumeMapper.h"
+#include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 
 #include <memory> // for std::unique_ptr
 
@@ -59,7 +60,7 @@ public:
   /**
    * Global scale of the kernels (the paper's kappa). Default 1.
    */
-  vtkSetClampMacro(Kappa, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(Kappa, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Kappa, double);
   ///@}
 
@@ -67,7 +68,7 @@ public:
   /**
    * Truncation of each Gaussian at Sigma radii (the paper's sigma). Default 2.
    */
-  vtkSetClampMacro(Sigma, double, 0.0, 1000.0);
+  vtkRayMapperSetClampMacro(Sigma, double, 0.0, 1000.0);
   vtkGetMacro(Sigma, double);
   ///@}
 
@@ -76,7 +77,7 @@ public:
    * Distance between samples along a ray (model units); 0 (default) chooses half the mean
    * radius.
    */
-  vtkSetClampMacro(SampleDistance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(SampleDistance, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SampleDistance, double);
   ///@}
 
@@ -85,11 +86,11 @@ public:
    * Constant radius (used without a radius array), a radius array (first component) and a
    * factor on either. Defaults 1, none, 1.
    */
-  vtkSetMacro(Radius, double);
+  vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
   vtkSetStringMacro(RadiusArrayName);
   vtkGetStringMacro(RadiusArrayName);
-  vtkSetMacro(RadiusScale, double);
+  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(RadiusScale, double);
   ///@}
 
@@ -114,7 +115,7 @@ public:
   /**
    * A ray stops once its opacity reaches this (1: never early). Default 0.99.
    */
-  vtkSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
+  vtkRayMapperSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
   vtkGetMacro(TerminationOpacity, double);
   ///@}
 
@@ -124,13 +125,13 @@ public:
    * rays per packet side (1 to 8; default 8: 64 rays), particles per BVH leaf (1 to 64;
    * default 8; changing it rebuilds the BVH) and screen tile size (default 32).
    */
-  vtkSetClampMacro(SamplesPerPass, int, 1, 256);
+  vtkRayMapperSetClampMacro(SamplesPerPass, int, 1, 256);
   vtkGetMacro(SamplesPerPass, int);
-  vtkSetClampMacro(PacketSize, int, 1, 8);
+  vtkRayMapperSetClampMacro(PacketSize, int, 1, 8);
   vtkGetMacro(PacketSize, int);
-  vtkSetClampMacro(LeafSize, int, 1, 64);
+  vtkRayMapperSetClampMacro(LeafSize, int, 1, 64);
   vtkGetMacro(LeafSize, int);
-  vtkSetClampMacro(TileSize, int, 4, 1024);
+  vtkRayMapperSetClampMacro(TileSize, int, 4, 1024);
   vtkGetMacro(TileSize, int);
   ///@}
 
@@ -139,7 +140,7 @@ public:
    * VTK_RBF_METHOD_COHERENT (default: packets and sample buffer) or VTK_RBF_METHOD_DIRECT
    * (per-sample gathering, the reference).
    */
-  vtkSetClampMacro(Method, int, VTK_RBF_METHOD_COHERENT, VTK_RBF_METHOD_DIRECT);
+  vtkRayMapperSetClampMacro(Method, int, VTK_RBF_METHOD_COHERENT, VTK_RBF_METHOD_DIRECT);
   vtkGetMacro(Method, int);
   ///@}
 

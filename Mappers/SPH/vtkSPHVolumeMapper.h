@@ -45,6 +45,7 @@
 
 #include "RayMappersMappersModule.h" // for export macro
 #include "vtkAbstractVolumeMapper.h"
+#include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 
 #include <memory> // for std::unique_ptr
 
@@ -70,23 +71,23 @@ public:
 
   ///@{
   /** The smoothing kernel (default VTK_SPH_KERNEL_CUBIC_SPLINE). */
-  vtkSetClampMacro(Kernel, int, VTK_SPH_KERNEL_POLY6, VTK_SPH_KERNEL_WENDLAND_C2);
+  vtkRayMapperSetClampMacro(Kernel, int, VTK_SPH_KERNEL_POLY6, VTK_SPH_KERNEL_WENDLAND_C2);
   vtkGetMacro(Kernel, int);
   ///@}
 
   ///@{
   /** Support radius per smoothing length; 0 (default): the kernel's convention. */
-  vtkSetClampMacro(SupportFactor, double, 0.0, 100.0);
+  vtkRayMapperSetClampMacro(SupportFactor, double, 0.0, 100.0);
   vtkGetMacro(SupportFactor, double);
   ///@}
 
   ///@{
   /** Constant smoothing length (default 1), its array, and a factor on either (1). */
-  vtkSetMacro(SmoothingLength, double);
+  vtkRayMapperSetClampMacro(SmoothingLength, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingLength, double);
   vtkSetStringMacro(SmoothingLengthArrayName);
   vtkGetStringMacro(SmoothingLengthArrayName);
-  vtkSetMacro(SmoothingLengthScale, double);
+  vtkRayMapperSetClampMacro(SmoothingLengthScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingLengthScale, double);
   ///@}
 
@@ -107,19 +108,19 @@ public:
   vtkGetStringMacro(MassArrayName);
   vtkSetStringMacro(DensityArrayName);
   vtkGetStringMacro(DensityArrayName);
-  vtkSetMacro(Volume, double);
+  vtkRayMapperSetClampMacro(Volume, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Volume, double);
   ///@}
 
   ///@{
   /** VTK_SPH_NORMALIZED (default), VTK_SPH_UNNORMALIZED or VTK_SPH_PSEUDO_NORMALIZED. */
-  vtkSetClampMacro(Normalization, int, VTK_SPH_NORMALIZED, VTK_SPH_PSEUDO_NORMALIZED);
+  vtkRayMapperSetClampMacro(Normalization, int, VTK_SPH_NORMALIZED, VTK_SPH_PSEUDO_NORMALIZED);
   vtkGetMacro(Normalization, int);
   ///@}
 
   ///@{
   /** w_max of equation 3.16; 0 (default): computed from the particles. */
-  vtkSetClampMacro(ReferenceWeightSum, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(ReferenceWeightSum, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(ReferenceWeightSum, double);
   ///@}
 
@@ -128,9 +129,9 @@ public:
   vtkSetMacro(ContourShading, bool);
   vtkGetMacro(ContourShading, bool);
   vtkBooleanMacro(ContourShading, bool);
-  vtkSetVector3Macro(ContourColor, double);
+  vtkRayMapperSetVector3ClampMacro(ContourColor, double, 0.0, 1.0);
   vtkGetVector3Macro(ContourColor, double);
-  vtkSetClampMacro(ContourOpacity, double, 0.0, 1.0);
+  vtkRayMapperSetClampMacro(ContourOpacity, double, 0.0, 1.0);
   vtkGetMacro(ContourOpacity, double);
   ///@}
 
@@ -138,15 +139,15 @@ public:
   /** Step relative to a pixel's footprint (default 1), steps per smallest support that
    * bound it (8; 0: no bound), grid tile (16 pixels), slab depth
    * (0: a cell's samples), early termination opacity (0.99; 1: never), jitter (off). */
-  vtkSetClampMacro(StepFactor, double, 0.05, 64.0);
+  vtkRayMapperSetClampMacro(StepFactor, double, 0.05, 64.0);
   vtkGetMacro(StepFactor, double);
-  vtkSetClampMacro(SamplesPerSupport, double, 0.0, 1024.0);
+  vtkRayMapperSetClampMacro(SamplesPerSupport, double, 0.0, 1024.0);
   vtkGetMacro(SamplesPerSupport, double);
-  vtkSetClampMacro(TileSize, int, 2, 64);
+  vtkRayMapperSetClampMacro(TileSize, int, 2, 64);
   vtkGetMacro(TileSize, int);
-  vtkSetClampMacro(SlabDepth, int, 0, 1024);
+  vtkRayMapperSetClampMacro(SlabDepth, int, 0, 1024);
   vtkGetMacro(SlabDepth, int);
-  vtkSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
+  vtkRayMapperSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
   vtkGetMacro(TerminationOpacity, double);
   vtkSetMacro(Jitter, bool);
   vtkGetMacro(Jitter, bool);
@@ -156,9 +157,9 @@ public:
   ///@{
   /** Interactive sampling reduction (equation 3.1): largest factor (default 4; 1: off)
    * and the frame budget in seconds (0: 1 / the window's DesiredUpdateRate). */
-  vtkSetClampMacro(MaximumReduction, double, 1.0, 16.0);
+  vtkRayMapperSetClampMacro(MaximumReduction, double, 1.0, 16.0);
   vtkGetMacro(MaximumReduction, double);
-  vtkSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(FrameBudget, double);
   ///@}
 

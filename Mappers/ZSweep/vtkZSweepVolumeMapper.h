@@ -38,6 +38,7 @@
 #define vtkZSweepVolumeMapper_h
 
 #include "RayMappersMappersModule.h" // for export macro
+#include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 #include "vtkUnstructuredGridVolumeMapper.h"
 
 #include <memory> // for std::unique_ptr
@@ -61,7 +62,7 @@ public:
    * dissertation's second-order formula) or MIDPOINT. Cell data always uses the exact
    * homogeneous formula.
    */
-  vtkSetClampMacro(Integrator, int, VTK_ZSWEEP_INTEGRATOR_EXACT, VTK_ZSWEEP_INTEGRATOR_MIDPOINT);
+  vtkRayMapperSetClampMacro(Integrator, int, VTK_ZSWEEP_INTEGRATOR_EXACT, VTK_ZSWEEP_INTEGRATOR_MIDPOINT);
   vtkGetMacro(Integrator, int);
   ///@}
 
@@ -70,7 +71,7 @@ public:
    * Side of the screen tiles swept in parallel (8 to 1024, default 32: smaller tiles keep
    * a tile's pixel lists in cache; 32 swept 5-15 % faster than 64 on the benchmarks).
    */
-  vtkSetClampMacro(TileSize, int, 8, 1024);
+  vtkRayMapperSetClampMacro(TileSize, int, 8, 1024);
   vtkGetMacro(TileSize, int);
   ///@}
 
@@ -78,7 +79,7 @@ public:
   /**
    * The list-size threshold K of delayed compositing (2 to 4096, default 16).
    */
-  vtkSetClampMacro(ListThreshold, int, 2, 4096);
+  vtkRayMapperSetClampMacro(ListThreshold, int, 2, 4096);
   vtkGetMacro(ListThreshold, int);
   ///@}
 
@@ -86,7 +87,7 @@ public:
   /**
    * A pixel stops once its opacity reaches this (default 1: never early, exact).
    */
-  vtkSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
+  vtkRayMapperSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
   vtkGetMacro(TerminationOpacity, double);
   ///@}
 
@@ -100,9 +101,9 @@ public:
    * give the exact image. FrameBudget in seconds; 0 (default): 1 / DesiredUpdateRate.
    * Subsampling 1 to 9 fixes p (1: always the full image).
    */
-  vtkSetClampMacro(Subsampling, int, 0, 9);
+  vtkRayMapperSetClampMacro(Subsampling, int, 0, 9);
   vtkGetMacro(Subsampling, int);
-  vtkSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(FrameBudget, double);
   ///@}
 
@@ -124,6 +125,11 @@ public:
    * Statistics of the last render (counter "subsampling": the p used).
    */
   vtkRayMapperStatistics* GetStatistics();
+
+  /// The input's bounds; for an input without cells (which the renderer culls before it
+  /// renders) also one warning per input change.
+  double* GetBounds() VTK_SIZEHINT(6) override;
+  void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
 
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
