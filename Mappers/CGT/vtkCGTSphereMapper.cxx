@@ -181,8 +181,8 @@ void vtkCGTSphereMapper::ReleaseGraphicsResources(vtkWindow* win)
 
 void vtkCGTSphereMapper::ComputeBounds()
 {
-  this->Superclass::ComputeBounds();
   vtkPolyData* input = this->GetInput();
+  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
   if (input && input->GetNumberOfPoints() == 0 && Impl->WarnedEmptyInputTime != input->GetMTime())
   {
     // The renderer culls a prop with empty bounds before it renders: warn here, once per
@@ -196,15 +196,11 @@ void vtkCGTSphereMapper::ComputeBounds()
     return;
   }
   std::string why;
-  double rmax = this->Radius;
-  if (vtkDataArray* radii =
-        vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why))
-  {
-    double range[2];
-    radii->GetFiniteRange(range, 0);
-    rmax = range[1];
-  }
-  rmax *= this->RadiusScale;
+  vtkDataArray* radii =
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+  const double rmax = radii
+    ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
+    : this->Radius * this->RadiusScale;
   if (rmax > 0 && std::isfinite(rmax))
   {
     for (int i = 0; i < 3; ++i)

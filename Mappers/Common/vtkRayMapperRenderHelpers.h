@@ -61,6 +61,18 @@ RAYMAPPERSMAPPERS_EXPORT vtkDataArray* FindPointArray(vtkDataSet* input,
 /// (0, 0, 0) when there is none.
 RAYMAPPERSMAPPERS_EXPORT raymappers::Vec3d FiniteCenter(vtkPoints* points);
 
+/// The bounds of the finite points of `data` (uninitialized when there is none): VTK's own
+/// bounds include an infinite coordinate (only NaN is left out), and infinite bounds give
+/// the renderer's Reset Camera and clipping range NaN matrices. VTK's cached bounds when
+/// they are finite, so the points are looked at again only when some are infinite.
+RAYMAPPERSMAPPERS_EXPORT void FiniteBounds(vtkDataSet* data, double bounds[6]);
+
+/// The largest length scale * v (v: component 0 of `array`) that a particle may have,
+/// 0 < length <= raymappers::MaxLength (ParticleInput.h skips the others), to grow bounds by;
+/// 0 when there is none. VTK's cached finite range when its maximum is within the limit,
+/// else a scan (a huge radius must not make the bounds, and so the camera, huge).
+RAYMAPPERSMAPPERS_EXPORT double LargestParticleLength(vtkDataArray* array, double scale);
+
 /// Model-to-world transform of a prop (row-major) and its normal matrix
 /// (inverse transpose of the linear part).
 struct ModelTransform

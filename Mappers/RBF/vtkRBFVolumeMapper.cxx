@@ -107,17 +107,18 @@ double* vtkRBFVolumeMapper::GetBounds()
     }
     return this->Bounds;
   }
-  input->GetBounds(this->Bounds);
-  std::string why;
-  double rMax = this->Radius;
-  if (vtkDataArray* radii =
-        vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why))
+  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
+  if (!vtkMath::AreBoundsInitialized(this->Bounds))
   {
-    double range[2];
-    radii->GetFiniteRange(range, 0);
-    rMax = range[1];
+    return this->Bounds; // no finite point
   }
-  const double grow = this->Sigma * rMax * this->RadiusScale;
+  std::string why;
+  vtkDataArray* radii =
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+  const double rMax = radii
+    ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
+    : this->Radius * this->RadiusScale;
+  const double grow = this->Sigma * rMax;
   if (grow > 0 && std::isfinite(grow))
   {
     for (int a = 0; a < 3; ++a)

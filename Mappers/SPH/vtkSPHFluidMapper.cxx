@@ -113,17 +113,17 @@ double* vtkSPHFluidMapper::GetBounds()
     }
     return this->Bounds;
   }
-  input->GetBounds(this->Bounds);
-  std::string why;
-  double rMax = this->Radius;
-  if (vtkDataArray* r =
-        vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why))
+  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
+  if (!vtkMath::AreBoundsInitialized(this->Bounds))
   {
-    double range[2];
-    r->GetFiniteRange(range, 0);
-    rMax = range[1];
+    return this->Bounds; // no finite point
   }
-  const double grow = rMax * this->RadiusScale;
+  std::string why;
+  vtkDataArray* radii =
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+  const double grow = radii
+    ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
+    : this->Radius * this->RadiusScale;
   if (grow > 0 && std::isfinite(grow))
   {
     for (int a = 0; a < 3; ++a)

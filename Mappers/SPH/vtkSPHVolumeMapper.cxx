@@ -112,20 +112,21 @@ double* vtkSPHVolumeMapper::GetBounds()
     }
     return this->Bounds;
   }
-  input->GetBounds(this->Bounds);
-  std::string why;
-  double hMax = this->SmoothingLength;
-  if (vtkDataArray* h = vtkRayMapperRenderHelpers::FindPointArray(
-        input, this->SmoothingLengthArrayName, "smoothing length", why))
+  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
+  if (!vtkMath::AreBoundsInitialized(this->Bounds))
   {
-    double range[2];
-    h->GetFiniteRange(range, 0);
-    hMax = range[1];
+    return this->Bounds; // no finite point
   }
+  std::string why;
+  vtkDataArray* h = vtkRayMapperRenderHelpers::FindPointArray(
+    input, this->SmoothingLengthArrayName, "smoothing length", why);
   const double factor = this->SupportFactor > 0
     ? this->SupportFactor
     : raymappers::kernelSupportPerSmoothingLength(static_cast<raymappers::SPHKernel>(this->Kernel));
-  const double grow = factor * hMax * this->SmoothingLengthScale;
+  // The largest support H = factor * scale * h the particles may have.
+  const double grow = h
+    ? vtkRayMapperRenderHelpers::LargestParticleLength(h, factor * this->SmoothingLengthScale)
+    : factor * this->SmoothingLength * this->SmoothingLengthScale;
   if (grow > 0 && std::isfinite(grow))
   {
     for (int a = 0; a < 3; ++a)

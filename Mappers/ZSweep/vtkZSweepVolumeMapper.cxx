@@ -11,6 +11,7 @@
 #include "vtkRayMapperScalarArray.h"
 #include "vtkRayMapperStatistics.h"
 
+#include "vtkAlgorithm.h"
 #include "vtkCellType.h"
 #include "vtkCellTypes.h"
 #include "vtkColorTransferFunction.h"
@@ -169,8 +170,18 @@ vtkRayMapperStatistics* vtkZSweepVolumeMapper::GetStatistics()
 
 double* vtkZSweepVolumeMapper::GetBounds()
 {
-  double* bounds = this->Superclass::GetBounds();
   vtkUnstructuredGridBase* input = this->GetInput();
+  if (!input)
+  {
+    return this->Superclass::GetBounds();
+  }
+  // vtkAbstractVolumeMapper's bounds, of the finite points only.
+  if (vtkAlgorithm* producer = this->GetInputAlgorithm())
+  {
+    producer->Update();
+  }
+  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
+  double* bounds = this->Bounds;
   if (input && (input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0) &&
     Impl->WarnedEmptyInputTime != input->GetMTime())
   {

@@ -14,6 +14,7 @@
 #include "vtkProp3D.h"
 #include "vtkRayMapperGatherPoints.h"
 #include "vtkRayMapperParticleExchange.h"
+#include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperThreads.h"
 #include "vtkRenderer.h"
 
@@ -62,9 +63,9 @@ int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey*
     if (vtkDataSet* data = this->GetProcessedData())
     {
       vtkPVView::SetPiece(inInfo, this, data);
-      if (data->GetNumberOfPoints() > 0)
+      vtkRayMapperRenderHelpers::FiniteBounds(data, bounds);
+      if (vtkMath::AreBoundsInitialized(bounds))
       {
-        data->GetBounds(bounds);
         const double margin = this->GetBoundsMargin();
         for (int i = 0; i < 3; ++i)
         {

@@ -291,6 +291,19 @@ private:
   int ErrorMark = 0;
 };
 
+/// The picture after VTK's own Reset Camera (the bounds of the visible props, so the
+/// mapper's GetBounds, place the camera and its clipping range); the camera is put back.
+inline raymappers::test::RGBImage ResetCameraImage(vtkRenderer* ren, vtkRenderWindow* win)
+{
+  vtkNew<vtkCamera> saved;
+  saved->DeepCopy(ren->GetActiveCamera());
+  ren->ResetCamera();
+  win->Render();
+  raymappers::test::RGBImage image = raymappers::test::fromWindow(win);
+  ren->GetActiveCamera()->DeepCopy(saved);
+  return image;
+}
+
 /// True when every pixel of the picture has the colour (r, g, b).
 inline bool AllPixels(const raymappers::test::RGBImage& image, int r, int g, int b)
 {

@@ -87,6 +87,8 @@ vtkSmartPointer<vtkPolyData> Dirty(vtkPolyData* clean)
   }
   c.push_back({ nan, 0, 0 });
   r.push_back(0.2);
+  c.push_back({ 0, inf, 0 });
+  r.push_back(0.2);
   for (const double bad : { 0.0, -0.3, nan, inf, 1e20, 1e300 })
   {
     c.push_back({ 0.1, 0.2, 0.3 });
@@ -138,6 +140,14 @@ void Data(Viewer& v, vtkPolyData* clean, const RGBImage& reference)
   log.ValidFrame("bad particles");
   log.Check(v.Mapper->GetStatistics()->GetCounter("particles") == clean->GetNumberOfPoints(),
     "only the lattice's particles are drawn");
+  // VTK's Reset Camera frames the finite points and the drawn radii only.
+  v.Mapper->SetInputData(clean);
+  const RGBImage framed = rmtest::ResetCameraImage(v.Ren, v.Win);
+  v.Mapper->SetInputData(Dirty(clean));
+  log.SameImage(rmtest::ResetCameraImage(v.Ren, v.Win), framed,
+    "Reset Camera with infinite coordinates and radii of 1e20 and 1e300");
+  log.Warned(2, "are not drawn", "Reset Camera with bad particles");
+  log.ValidFrame("Reset Camera with bad particles");
 
   auto kinds = WithArrayKinds(clean);
   v.Mapper->SetValueArrayName("ivalue");

@@ -164,6 +164,14 @@ void Data(Viewer& v, vtkPolyData* clean, const RGBImage& good)
   log.Warned(2, "particles have", "bad particles (positions, quantities or volumes; h)");
   log.ValidFrame("bad particles");
   log.Check(m->GetStatistics()->GetCounter("particles") == 216, "216 particles drawn");
+  // VTK's Reset Camera frames the finite points and the drawn supports only.
+  m->SetInputData(clean);
+  const RGBImage framed = rmtest::ResetCameraImage(v.Ren, v.Win);
+  m->SetInputData(WithBadParticles(clean));
+  log.SameImage(rmtest::ResetCameraImage(v.Ren, v.Win), framed,
+    "Reset Camera with an infinite position and a smoothing length of 1e20");
+  log.Warned(2, "particles have", "Reset Camera with bad particles");
+  log.ValidFrame("Reset Camera with bad particles");
 
   auto kinds = WithArrayKinds(clean);
   m->SetValueArrayName("ivalue");

@@ -130,6 +130,14 @@ void Data(Viewer& v, vtkPolyData* clean, const RGBImage& good)
   log.Check(m->GetStatistics()->GetCounter("particles") == 216 &&
       m->GetStatistics()->GetCounter("particles_skipped") == 8,
     "216 particles drawn, 8 skipped");
+  // VTK's Reset Camera frames the finite points and the drawn radii only.
+  m->SetInputData(clean);
+  const RGBImage framed = rmtest::ResetCameraImage(v.Ren, v.Win);
+  m->SetInputData(WithBadParticles(clean));
+  log.SameImage(rmtest::ResetCameraImage(v.Ren, v.Win), framed,
+    "Reset Camera with an infinite position and radii of 1e20 and 1e300");
+  log.Warned(2, "particles have", "Reset Camera with bad particles");
+  log.ValidFrame("Reset Camera with bad particles");
 
   m->SetRadiusArrayName("ir");
   m->SetRadiusScale(0.25);

@@ -121,6 +121,16 @@ void BadData(Viewer& reference, const RGBImage& expected, vtkPolyData* clean)
   log.SameImage(reference.Show(data), expected, "zero, negative, NaN, infinite and huge radii");
   log.Warned(1, "6 spheres have a zero, negative, non-finite or huge", "bad radii");
   log.ValidFrame("bad radii");
+  // VTK's Reset Camera frames the finite points and the drawn radii only (infinite
+  // coordinates and skipped radii of 1e300 must not make the bounds infinite or huge).
+  reference.Show(clean);
+  const RGBImage framed = rmtest::ResetCameraImage(reference.Ren, reference.Win);
+  reference.Mapper->SetInputData(WithExtraPoints(clean,
+    { { 0, std::numeric_limits<double>::infinity(), 0 }, { 0.1, 0, 0.1 } }, { 0.3, 1e300 }));
+  log.SameImage(rmtest::ResetCameraImage(reference.Ren, reference.Win), framed,
+    "Reset Camera with an infinite coordinate and a radius of 1e300");
+  log.Warned(2, "are not drawn", "Reset Camera with bad points");
+  log.ValidFrame("Reset Camera with bad points");
   reference.Show(clean);
   log.Silent("the clean lattice again");
 }

@@ -96,6 +96,7 @@ vtkSmartPointer<vtkUnstructuredGrid> WithBadCells()
     bad->GetCellData()->GetArray("c")->InsertNextTuple1(0.5);
   };
   addCell(VTK_TETRA, { 0, 1, 2, addPoint(0, 0, std::nan(""), 0.5) });
+  addCell(VTK_TETRA, { 0, 1, 2, addPoint(0, std::numeric_limits<double>::infinity(), 0, 0.5) });
   addCell(VTK_TETRA, { 3, 5, 6, addPoint(3, 3, 3, std::nan("")) });
   addCell(VTK_TETRA, { 3, 5, 6, addPoint(3, 3, -3, std::numeric_limits<double>::infinity()) });
   addCell(VTK_QUADRATIC_TETRA, { 0, 1, 2, 4, 0, 1, 2, 4, 0, 1 });
@@ -191,6 +192,25 @@ void Cells(Viewer& v, const RGBImage& reference, int argc, char* argv[])
   log.ValidFrame("bad cells");
   v.Render();
   log.Silent("bad cells, rendered again");
+  // VTK's Reset Camera frames the finite points only (a cell with a point at infinity).
+  v.Mapper->SetInputData(Cube());
+  const RGBImage framed = rmtest::ResetCameraImage(v.Ren, v.Win);
+  auto atInfinity = Cube();
+  const vtkIdType far =
+    atInfinity->GetPoints()->InsertNextPoint(0, std::numeric_limits<double>::infinity(), 0);
+  for (const char* name : { "s", "is" })
+  {
+    atInfinity->GetPointData()->GetArray(name)->InsertNextTuple1(0.5);
+  }
+  atInfinity->GetPointData()->GetArray("s3")->InsertNextTuple3(0.5, 0.5, 0.25);
+  const vtkIdType cell[4] = { 0, 1, 2, far };
+  atInfinity->InsertNextCell(VTK_TETRA, 4, cell);
+  atInfinity->GetCellData()->GetArray("c")->InsertNextTuple1(0.5);
+  v.Mapper->SetInputData(atInfinity);
+  log.SameImage(rmtest::ResetCameraImage(v.Ren, v.Win), framed,
+    "Reset Camera with a point at infinity");
+  log.Warned(1, "NaN or infinite point coordinate", "Reset Camera with a point at infinity");
+  log.ValidFrame("Reset Camera with a point at infinity");
 
   // Cell scalars: a NaN cell scalar skips its cell.
   v.Mapper->SetScalarModeToUseCellFieldData();
