@@ -3,8 +3,11 @@
 // VTK's vtkSetClampMacro lets NaN through (NaN < min and NaN > max are both false) and
 // clamps out-of-range values silently; vtkSetMacro checks nothing. A NaN property reaches
 // the kernels' float arithmetic and poisons every pixel it touches. These macros
-//   - reject NaN: one warning naming the property and the value ("Radius nan is not a
-//     number: ignored; Radius stays 1."); the property keeps its value;
+//   - reject NaN and infinity: one warning naming the property and the value ("Radius nan
+//     is not a number: ignored; Radius stays 1."); the property keeps its value (an
+//     infinite value means as little as NaN, and clamping it would make the largest
+//     value out of garbage, e.g. a radius default that ParaView computes from infinite
+//     bounds);
 //   - clamp a value outside [min, max] to the nearest bound with one warning naming the
 //     property, the value and the range ("Radius -1 is outside [0, 1e+15]: clamped to 0.").
 // The warning comes from the object itself (vtkWarningWithObjectMacro: its class name
@@ -30,17 +33,18 @@ namespace vtkRayMapperSetGet
 {
 
 /// The value a setter of property `name` stores: false (the property keeps its value)
-/// for NaN, else `value` clamped to [min, max]; each case with a warning from `self`.
+/// for NaN or infinity, else `value` clamped to [min, max]; each case with a warning from
+/// `self`.
 template<typename T>
 bool Accept(vtkObject* self, const char* name, T& value, T min, T max, T current)
 {
   if constexpr (std::is_floating_point_v<T>)
   {
-    if (std::isnan(value))
+    if (!std::isfinite(value))
     {
       vtkWarningWithObjectMacro(self,
-        << name << " " << value << " is not a number: ignored; " << name << " stays " << current
-        << ".");
+        << name << " " << value << (std::isnan(value) ? " is not a number" : " is not finite")
+        << ": ignored; " << name << " stays " << current << ".");
       return false;
     }
   }
@@ -55,8 +59,8 @@ bool Accept(vtkObject* self, const char* name, T& value, T min, T max, T current
   return true;
 }
 
-/// As Accept for every component of a vector property: a NaN in any component rejects the
-/// whole vector (one warning), components outside [min, max] are clamped (one warning).
+/// As Accept for every component of a vector property: a NaN or infinite component rejects
+/// the whole vector (one warning), components outside [min, max] are clamped (one warning).
 template<typename T, int N>
 bool AcceptVector(vtkObject* self, const char* name, T (&value)[N], T min, T max)
 {
@@ -64,10 +68,11 @@ bool AcceptVector(vtkObject* self, const char* name, T (&value)[N], T min, T max
   {
     for (int i = 0; i < N; ++i)
     {
-      if (std::isnan(value[i]))
+      if (!std::isfinite(value[i]))
       {
         vtkWarningWithObjectMacro(self,
-          << name << " has a component that is not a number (component " << i
+          << name << " has a component that is "
+          << (std::isnan(value[i]) ? "not a number" : "not finite") << " (component " << i
           << "): ignored; " << name << " keeps its value.");
         return false;
       }
@@ -93,7 +98,7 @@ bool AcceptVector(vtkObject* self, const char* name, T (&value)[N], T min, T max
 
 }
 
-/// vtkSetClampMacro that rejects NaN and warns when it clamps (see above).
+/// vtkSetClampMacro that rejects NaN and infinity and warns when it clamps (see above).
 #define vtkRayMapperSetClampMacro(name, type, min, max)                                           \
   virtual void Set##name(type _arg)                                                                \
   {                                                                                                \

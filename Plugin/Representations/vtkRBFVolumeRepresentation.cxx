@@ -27,6 +27,7 @@ vtkRBFVolumeRepresentation::vtkRBFVolumeRepresentation()
   this->Volume = vtkSmartPointer<vtkVolume>::New();
   this->Volume->SetMapper(this->Mapper);
   this->SetProp(this->Volume, false);
+  this->WarnOnlyWhenShown(this->Mapper);
   this->Volume->SetProperty(this->Property);
   // One component per field: field m is classified with component m.
   this->Property->IndependentComponentsOn();

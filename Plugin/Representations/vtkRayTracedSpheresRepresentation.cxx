@@ -26,6 +26,7 @@ vtkRayTracedSpheresRepresentation::vtkRayTracedSpheresRepresentation()
   this->Actor = vtkSmartPointer<vtkActor>::New();
   this->Actor->SetMapper(this->Mapper);
   this->SetProp(this->Actor, true);
+  this->WarnOnlyWhenShown(this->Mapper);
   // vtkCGTSphereMapper draws an opaque frame that writes depth: it must run in the
   // opaque pass even when Opacity < 1 or the lookup table maps opacity (a translucent
   // actor would be drawn by ParaView's depth peeling, which the mapper does not support).

@@ -34,6 +34,7 @@ vtkSPHFluidRepresentation::vtkSPHFluidRepresentation()
   this->Volume->SetMapper(this->Mapper);
   this->Volume->SetProperty(this->Property);
   this->SetProp(this->Volume, false);
+  this->WarnOnlyWhenShown(this->Mapper);
 }
 
 vtkSPHFluidRepresentation::~vtkSPHFluidRepresentation() = default;

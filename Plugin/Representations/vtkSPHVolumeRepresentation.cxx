@@ -37,6 +37,7 @@ vtkSPHVolumeRepresentation::vtkSPHVolumeRepresentation()
   this->Volume = vtkSmartPointer<vtkVolume>::New();
   this->Volume->SetMapper(this->Mapper);
   this->SetProp(this->Volume, false);
+  this->WarnOnlyWhenShown(this->Mapper);
   this->Volume->SetProperty(this->Property);
   this->Property->SetInterpolationTypeToLinear();
   this->SolidColor = vtkSmartPointer<vtkColorTransferFunction>::New();

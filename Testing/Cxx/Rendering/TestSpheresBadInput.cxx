@@ -279,6 +279,11 @@ void Properties(Viewer& v, const RGBImage& expected)
         noShadows },
       { "range 0", [&] { m->SetRange(0, "value", 5, 20); },
         [&] { m->SetRange(0, "value", nan, 10); }, [&] { m->RemoveAllRanges(); } } });
+  // Infinity is rejected as NaN is (clamped, it would become the largest value).
+  const RGBImage before = v.Render();
+  m->SetRadiusScale(std::numeric_limits<double>::infinity());
+  log.Warned(1, "RadiusScale inf is not finite: ignored; RadiusScale stays 1", "RadiusScale inf");
+  log.SameImage(v.Render(), before, "RadiusScale inf: the picture before it");
   // Clamped values that do not change the picture (the tiles, packets and grid resolution
   // do not): the clean picture.
   m->SetTileSize(1000000);
