@@ -18,7 +18,8 @@
  * the full cells, so give it the whole fluid, not this output (its translucency would miss the
  * interior).
  *
- * Bad input: points with NaN/Inf coordinates and radii that are NaN, zero or negative are
+ * Bad input (numeric properties as in vtkRayMapperSetGet.h): points with NaN/Inf
+ * coordinates and radii that are NaN, infinite, zero, negative or above 1e15 are
  * dropped with one warning; a missing radius array falls back to Radius with a warning; an
  * empty input gives an empty output with a warning.
  */

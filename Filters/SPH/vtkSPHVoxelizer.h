@@ -47,7 +47,10 @@
  * FirstLayerDepth, LastLayerDepth, LogarithmicLayers, AngleResolutionReached (degrees),
  * MaximumSpans.
  *
- * Bad input: particles with NaN/Inf coordinates or bad radii are skipped with a warning; an
+ * Bad input: particles with NaN/Inf coordinates or bad radii (NaN, infinite, zero, negative,
+ * above 1e15) are skipped with a warning; numeric properties and the camera settings reject
+ * NaN and infinity and clamp with a warning (vtkRayMapperSetGet.h); a degenerate camera
+ * gives a warning and no spans; an
  * empty input gives an image without spans. GetStatisticsSummary() has the voxelizer's
  * phases and counters ("phase|counter|effect NAME VALUE" per line).
  */

@@ -18,8 +18,14 @@
  * ray packets walking it slice by slice) and Embree's sphere-point BVH (the reference).
  *
  * Bad input never poisons the image: points with NaN/Inf coordinates, and spheres whose
- * radius is NaN, zero or negative, are skipped with one warning naming how many; a
- * radius array that is missing falls back to the constant radius with a warning.
+ * radius is NaN, infinite, zero, negative or above 1e15, are skipped with one warning naming
+ * how many; a radius array that is missing falls back to the constant radius with a
+ * warning. A NaN colour scalar is coloured with the lookup table's NaN colour (as every VTK
+ * mapper colours it); the sphere is drawn.
+ * Numeric properties reject NaN and infinity and clamp out-of-range values, each with one
+ * warning (vtkRayMapperSetGet.h; lengths up to 1e15); an array of several components read
+ * as a scalar gives its first component (one warning when they differ); a degenerate camera
+ * (the eye at the focal point, a NaN position) gives one warning and nothing drawn.
  *
  * After each render, GetStatistics() reports the time per phase, the counters (rays,
  * hits, spheres) and which effects ran.

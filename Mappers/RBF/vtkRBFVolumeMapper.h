@@ -27,8 +27,13 @@
  * stops the rays; the depth buffer is read only when the renderer holds some (effect
  * opaque_depth).
  *
- * Bad input never poisons the image: points with NaN/Inf coordinates or values, and radii
- * that are NaN, zero or negative, are skipped with one warning saying how many.
+ * Bad input never poisons the image: points with NaN/Inf coordinates or values (or values
+ * beyond float), and radii that are NaN, infinite, zero, negative or above 1e15, are skipped
+ * with one warning saying how many.
+ * Numeric properties reject NaN and infinity and clamp out-of-range values, each with one
+ * warning (vtkRayMapperSetGet.h; lengths up to 1e15); an array of several components read
+ * as a scalar gives its first component (one warning when they differ); a degenerate camera
+ * (the eye at the focal point, a NaN position) gives one warning and nothing drawn.
  *
  * GetStatistics() reports phase times, counters and effects of the last render.
  */

@@ -42,8 +42,13 @@
  * the rest of the opaque geometry it must see through.
  *
  * Bad input never poisons the image: particles with NaN/Inf coordinates and radii that are
- * NaN, zero or negative are skipped with one warning saying how many; a missing radius
- * array falls back to Radius with a warning; an empty input draws nothing with one warning.
+ * NaN, infinite, zero, negative or above 1e15 are skipped with one warning saying how many;
+ * a missing radius array falls back to Radius with a warning; an empty input draws nothing
+ * with one warning.
+ * Numeric properties reject NaN and infinity and clamp out-of-range values, each with one
+ * warning (vtkRayMapperSetGet.h; lengths up to 1e15); an array of several components read
+ * as a scalar gives its first component (one warning when they differ); a degenerate camera
+ * (the eye at the focal point, a NaN position) gives one warning and nothing drawn.
  * The particles are rebuilt only when the input (a new time step) or the radius settings
  * change (counter particles_built); the voxelization is view-dependent and made every frame.
  *

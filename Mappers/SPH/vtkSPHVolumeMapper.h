@@ -34,9 +34,13 @@
  *
  * Opaque geometry already drawn stops the rays (the depth buffer is read only when the
  * renderer holds some: effect opaque_depth). Bad input never poisons the image:
- * particles with NaN/Inf coordinates, quantities or volumes, smoothing lengths that are
- * NaN, zero or negative, and negative volumes are skipped with one warning saying how
- * many; missing arrays fall back as above with a warning.
+ * particles with NaN/Inf coordinates, quantities or volumes (or beyond float), supports
+ * that are NaN, infinite, zero, negative or above 1e15, and negative volumes are skipped
+ * with one warning saying how many; missing arrays fall back as above with a warning.
+ * Numeric properties reject NaN and infinity and clamp out-of-range values, each with one
+ * warning (vtkRayMapperSetGet.h; lengths up to 1e15); an array of several components read
+ * as a scalar gives its first component (one warning when they differ); a degenerate camera
+ * (the eye at the focal point, a NaN position) gives one warning and nothing drawn.
  *
  * GetStatistics() reports phase times, counters and effects of the last render.
  */

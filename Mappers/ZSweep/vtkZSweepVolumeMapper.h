@@ -28,7 +28,12 @@
  * non-finite point or scalar, or zero volume (flat to the precision of their points'
  * coordinates, float or double, or at most 1e-12 of the cube of their bounding box's
  * diagonal), and cells of other types (quadratic cells, polyhedra, prisms of more
- * sides) are skipped with one warning each kind. Inverted cells (vertices in mirrored
+ * sides, cells below 3D) are skipped with one warning each kind (the skipped types named
+ * with their counts); an empty grid warns once.
+ * Numeric properties reject NaN and infinity and clamp out-of-range values, each with one
+ * warning (vtkRayMapperSetGet.h; lengths up to 1e15); an array of several components read
+ * as a scalar gives its first component (one warning when they differ); a degenerate camera
+ * (the eye at the focal point, a NaN position) gives one warning and nothing drawn. Inverted cells (vertices in mirrored
  * order) are drawn as they are, without a warning: each cell's sides come from the sign of
  * its volume (counter inverted_cells).
  *
