@@ -2,6 +2,7 @@
 # built as one static library that the VTK module links privately and the kernel unit
 # tests link directly. They live beside their vtk* adapters, one folder per method.
 add_library(RayMappersKernels STATIC
+  ${CMAKE_CURRENT_LIST_DIR}/Common/FrameValidation.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/RayCamera.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/RenderStatistics.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/TransferFunctionTable.cxx

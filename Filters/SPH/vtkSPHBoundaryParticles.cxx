@@ -4,6 +4,7 @@
 #include "FluidParticles.h"
 #include "ParticleInput.h"
 
+#include "vtkRayMapperScalarArray.h"
 #include "vtkCellArray.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -54,6 +55,10 @@ int vtkSPHBoundaryParticles::RequestData(
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   vtkPoints* points = input ? input->GetPoints() : nullptr;
   const vtkIdType n = points ? points->GetNumberOfPoints() : 0;
+  if (n == 0)
+  {
+    vtkWarningMacro(<< "The input has no points: the output is empty.");
+  }
   vtkDataArray* radii = nullptr;
   if (n > 0 && this->RadiusArrayName && this->RadiusArrayName[0])
   {
@@ -65,6 +70,7 @@ int vtkSPHBoundaryParticles::RequestData(
                       << this->Radius << ".");
     }
   }
+  vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
 
   // The valid spheres (their input ids kept), by the particle kernels' own rule
   // (ParticleTally::admit: finite centre, finite positive radius).
@@ -93,7 +99,7 @@ int vtkSPHBoundaryParticles::RequestData(
   if (tally.badRadius > 0)
   {
     vtkWarningMacro(<< tally.badRadius
-                    << " particles have a zero, negative or non-finite radius and are dropped.");
+                    << " particles have a zero, negative, non-finite or huge (above 1e15) radius and are dropped.");
   }
   raymappers::FluidParticles particles;
   const raymappers::Vec3d origin = centers.empty() ? raymappers::Vec3d() : centers.front();

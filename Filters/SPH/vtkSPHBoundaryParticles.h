@@ -18,14 +18,16 @@
  * the full cells, so give it the whole fluid, not this output (its translucency would miss the
  * interior).
  *
- * Bad input: points with NaN/Inf coordinates and radii that are NaN, zero or negative are
+ * Bad input (numeric properties as in vtkRayMapperSetGet.h): points with NaN/Inf
+ * coordinates and radii that are NaN, infinite, zero, negative or above 1e15 are
  * dropped with one warning; a missing radius array falls back to Radius with a warning; an
- * empty input gives an empty output.
+ * empty input gives an empty output with a warning.
  */
 #ifndef vtkSPHBoundaryParticles_h
 #define vtkSPHBoundaryParticles_h
 
 #include "RayMappersFiltersModule.h" // for export macro
+#include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 #include "vtkPolyDataAlgorithm.h"
 
 class RAYMAPPERSFILTERS_EXPORT vtkSPHBoundaryParticles : public vtkPolyDataAlgorithm
@@ -37,17 +39,17 @@ public:
 
   ///@{
   /** Constant particle radius (1), its point array, a factor on either (1). */
-  vtkSetMacro(Radius, double);
+  vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
   vtkSetStringMacro(RadiusArrayName);
   vtkGetStringMacro(RadiusArrayName);
-  vtkSetMacro(RadiusScale, double);
+  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(RadiusScale, double);
   ///@}
 
   ///@{
   /** The culling grid's cell size in world units (0: twice the largest radius). */
-  vtkSetClampMacro(CellSize, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(CellSize, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(CellSize, double);
   ///@}
 

@@ -5,8 +5,10 @@
 #include "RenderStatistics.h"
 #include "SpanVoxelizer.h"
 #include "SurfaceLinks.h"
+#include "RayCamera.h"
 #include "ViewRays.h"
 
+#include "vtkRayMapperScalarArray.h"
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -120,24 +122,46 @@ vtkCamera* vtkSPHVoxelizer::GetCamera()
   return this->Camera;
 }
 
+// The camera settings are checked as the filter's own properties (vtkRayMapperSetGet.h):
+// vtkCamera takes a NaN position, focal point, view up or view angle as it is.
 void vtkSPHVoxelizer::SetCameraPosition(double x, double y, double z)
 {
-  this->Camera->SetPosition(x, y, z);
+  double p[3] = { x, y, z };
+  if (vtkRayMapperSetGet::AcceptVector(
+        this, "CameraPosition", p, -VTK_RAYMAPPER_LENGTH_MAX, VTK_RAYMAPPER_LENGTH_MAX))
+  {
+    this->Camera->SetPosition(p);
+  }
 }
 
 void vtkSPHVoxelizer::SetCameraFocalPoint(double x, double y, double z)
 {
-  this->Camera->SetFocalPoint(x, y, z);
+  double p[3] = { x, y, z };
+  if (vtkRayMapperSetGet::AcceptVector(
+        this, "CameraFocalPoint", p, -VTK_RAYMAPPER_LENGTH_MAX, VTK_RAYMAPPER_LENGTH_MAX))
+  {
+    this->Camera->SetFocalPoint(p);
+  }
 }
 
 void vtkSPHVoxelizer::SetCameraViewUp(double x, double y, double z)
 {
-  this->Camera->SetViewUp(x, y, z);
+  double p[3] = { x, y, z };
+  if (vtkRayMapperSetGet::AcceptVector(
+        this, "CameraViewUp", p, -VTK_RAYMAPPER_LENGTH_MAX, VTK_RAYMAPPER_LENGTH_MAX))
+  {
+    this->Camera->SetViewUp(p);
+  }
 }
 
 void vtkSPHVoxelizer::SetCameraViewAngle(double degrees)
 {
-  this->Camera->SetViewAngle(degrees);
+  // vtkCamera's own range (it clamps silently, and lets NaN through).
+  if (vtkRayMapperSetGet::Accept(
+        this, "CameraViewAngle", degrees, 1e-8, 179.0, this->Camera->GetViewAngle()))
+  {
+    this->Camera->SetViewAngle(degrees);
+  }
 }
 
 void vtkSPHVoxelizer::SetCameraParallelProjection(bool parallel)
@@ -147,7 +171,11 @@ void vtkSPHVoxelizer::SetCameraParallelProjection(bool parallel)
 
 void vtkSPHVoxelizer::SetCameraParallelScale(double scale)
 {
-  this->Camera->SetParallelScale(scale);
+  if (vtkRayMapperSetGet::Accept(this, "CameraParallelScale", scale, 0.0,
+        VTK_RAYMAPPER_LENGTH_MAX, this->Camera->GetParallelScale()))
+  {
+    this->Camera->SetParallelScale(scale);
+  }
 }
 
 const char* vtkSPHVoxelizer::GetStatisticsSummary()
@@ -221,6 +249,7 @@ int vtkSPHVoxelizer::RequestData(vtkInformation*, vtkInformationVector** inputVe
                       << this->Radius << ".");
     }
   }
+  vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
   const raymappers::Vec3d origin = n > 0 ? finiteCenter(points, bounds) : raymappers::Vec3d();
   {
     // Read single-threaded (vtkDataArray access), then build.
@@ -245,7 +274,7 @@ int vtkSPHVoxelizer::RequestData(vtkInformation*, vtkInformationVector** inputVe
   if (particles.skippedBadRadius > 0)
   {
     vtkWarningMacro(<< particles.skippedBadRadius
-                    << " particles have a zero, negative or non-finite radius and are skipped.");
+                    << " particles have a zero, negative, non-finite or huge (above 1e15) radius and are skipped.");
   }
   stats.addCounter("particles", static_cast<std::int64_t>(particles.size()));
 
@@ -312,10 +341,13 @@ int vtkSPHVoxelizer::RequestData(vtkInformation*, vtkInformationVector** inputVe
   }
   raymappers::ViewRays rays;
   raymappers::FluidSpans spans;
-  bool ok = rays.assign(modelToClip, W, H, origin);
+  const std::string degenerate = raymappers::degenerateProjection(modelToClip);
+  bool ok = degenerate.empty() && rays.assign(modelToClip, W, H, origin);
   if (!ok)
   {
-    vtkErrorMacro(<< "The camera's projection is degenerate: no spans.");
+    vtkWarningMacro(<< "The camera is degenerate: "
+                    << (degenerate.empty() ? std::string("its rays cannot be formed") : degenerate)
+                    << "; no spans.");
     spans.reset(W, H, this->MaximumSpans);
   }
   else

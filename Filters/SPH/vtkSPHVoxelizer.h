@@ -47,7 +47,10 @@
  * FirstLayerDepth, LastLayerDepth, LogarithmicLayers, AngleResolutionReached (degrees),
  * MaximumSpans.
  *
- * Bad input: particles with NaN/Inf coordinates or bad radii are skipped with a warning; an
+ * Bad input: particles with NaN/Inf coordinates or bad radii (NaN, infinite, zero, negative,
+ * above 1e15) are skipped with a warning; numeric properties and the camera settings reject
+ * NaN and infinity and clamp with a warning (vtkRayMapperSetGet.h); a degenerate camera
+ * gives a warning and no spans; an
  * empty input gives an image without spans. GetStatisticsSummary() has the voxelizer's
  * phases and counters ("phase|counter|effect NAME VALUE" per line).
  */
@@ -55,6 +58,7 @@
 #define vtkSPHVoxelizer_h
 
 #include "RayMappersFiltersModule.h" // for export macro
+#include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 #include "vtkImageAlgorithm.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
@@ -71,41 +75,41 @@ public:
 
   ///@{
   /** Constant particle radius (default 1), its point array, and a factor on either (1). */
-  vtkSetMacro(Radius, double);
+  vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
   vtkSetStringMacro(RadiusArrayName);
   vtkGetStringMacro(RadiusArrayName);
-  vtkSetMacro(RadiusScale, double);
+  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(RadiusScale, double);
   ///@}
 
   ///@{
   /** As vtkSPHFluidMapper: angle resolution (14 degrees), layers (16384), spans (7),
    * memory budget (512 MB), gap threshold (0), smoothing radius (0) and iterations (20). */
-  vtkSetClampMacro(AngleResolution, double, 0.01, 89.0);
+  vtkRayMapperSetClampMacro(AngleResolution, double, 0.01, 89.0);
   vtkGetMacro(AngleResolution, double);
-  vtkSetClampMacro(MaximumLayers, int, 1, 1 << 20);
+  vtkRayMapperSetClampMacro(MaximumLayers, int, 1, 1 << 20);
   vtkGetMacro(MaximumLayers, int);
-  vtkSetClampMacro(MaximumSpans, int, 1, 63);
+  vtkRayMapperSetClampMacro(MaximumSpans, int, 1, 63);
   vtkGetMacro(MaximumSpans, int);
-  vtkSetClampMacro(MemoryBudget, double, 0.0, 1.0e6);
+  vtkRayMapperSetClampMacro(MemoryBudget, double, 0.0, 1.0e6);
   vtkGetMacro(MemoryBudget, double);
-  vtkSetClampMacro(GapThreshold, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(GapThreshold, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(GapThreshold, double);
   vtkSetMacro(BoundaryCulling, bool);
   vtkGetMacro(BoundaryCulling, bool);
   vtkBooleanMacro(BoundaryCulling, bool);
-  vtkSetClampMacro(CellSize, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(CellSize, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(CellSize, double);
-  vtkSetClampMacro(SmoothingRadius, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(SmoothingRadius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingRadius, double);
-  vtkSetClampMacro(SmoothingIterations, int, 0, 1000);
+  vtkRayMapperSetClampMacro(SmoothingIterations, int, 0, 1000);
   vtkGetMacro(SmoothingIterations, int);
   ///@}
 
   ///@{
   /** The image size in pixels (default 300 x 300). */
-  vtkSetVector2Macro(ImageSize, int);
+  vtkRayMapperSetVector2ClampMacro(ImageSize, int, 1, 16384);
   vtkGetVector2Macro(ImageSize, int);
   ///@}
 

@@ -70,7 +70,7 @@ struct SphereSet
   }
   float maxRadius = 0.f;
   std::size_t skippedNonFinite = 0; // centres with NaN/Inf
-  std::size_t skippedBadRadius = 0; // radius NaN/Inf, zero or negative
+  std::size_t skippedBadRadius = 0; // radius NaN/Inf, zero, negative or above MaxLength
 
   std::size_t size() const { return centers.size(); }
 };

@@ -8,6 +8,7 @@
 #include "SphereSet.h"
 #include "vtkRayMapperFrameDrawer.h"
 #include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperScalarArray.h"
 #include "vtkRayMapperStatistics.h"
 
 #include "vtkActor.h"
@@ -43,6 +44,7 @@ struct vtkCGTSphereMapper::Internals
   int BuiltQuality = -1;
   raymappers::Frame Frame;
   vtkRayMapperFrameDrawer Drawer;
+  vtkRayMapperRenderHelpers::CameraCheck Camera;
   vtkNew<vtkRayMapperStatistics> Statistics;
   std::int64_t Builds = 0;
 
@@ -77,6 +79,14 @@ void vtkCGTSphereMapper::SetRange(int index, const char* arrayName, double minim
   {
     vtkErrorMacro(<< "range index " << index << " is outside [0, "
                   << raymappers::MaxRangeAttributes - 1 << "]");
+    return;
+  }
+  if (std::isnan(minimum) || std::isnan(maximum))
+  {
+    // A NaN bound would hide every sphere (no value compares with it).
+    vtkWarningMacro(<< "range " << index << " [" << minimum << ", " << maximum
+                    << "] has a bound that is not a number: ignored; the range stays ["
+                    << Impl->RangeLo[index] << ", " << Impl->RangeHi[index] << "].");
     return;
   }
   const std::string name = arrayName ? arrayName : "";
@@ -171,8 +181,8 @@ void vtkCGTSphereMapper::ReleaseGraphicsResources(vtkWindow* win)
 
 void vtkCGTSphereMapper::ComputeBounds()
 {
-  this->Superclass::ComputeBounds();
   vtkPolyData* input = this->GetInput();
+  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
   if (input && input->GetNumberOfPoints() == 0 && Impl->WarnedEmptyInputTime != input->GetMTime())
   {
     // The renderer culls a prop with empty bounds before it renders: warn here, once per
@@ -186,15 +196,11 @@ void vtkCGTSphereMapper::ComputeBounds()
     return;
   }
   std::string why;
-  double rmax = this->Radius;
-  if (vtkDataArray* radii =
-        vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why))
-  {
-    double range[2];
-    radii->GetFiniteRange(range, 0);
-    rmax = range[1];
-  }
-  rmax *= this->RadiusScale;
+  vtkDataArray* radii =
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+  const double rmax = radii
+    ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
+    : this->Radius * this->RadiusScale;
   if (rmax > 0 && std::isfinite(rmax))
   {
     for (int i = 0; i < 3; ++i)
@@ -271,6 +277,7 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
       {
         vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
       }
+      vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
       vtkPoints* points = input->GetPoints();
       const double scale = this->RadiusScale;
       const double constantRadius = this->Radius * scale;
@@ -323,7 +330,7 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
       if (Impl->Spheres.skippedBadRadius > 0)
       {
         vtkWarningMacro(<< Impl->Spheres.skippedBadRadius
-                        << " spheres have a zero, negative or non-finite radius and are not "
+                        << " spheres have a zero, negative, non-finite or huge (above 1e15) radius and are not "
                            "drawn.");
       }
       Impl->BuiltAccelerator = -1;
@@ -391,8 +398,15 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(actor);
   std::copy(model.modelToWorld, model.modelToWorld + 16, shading.modelToWorld);
   std::copy(model.normalToWorld, model.normalToWorld + 9, shading.normalToWorld);
-  const raymappers::RayCamera camera =
-    vtkRayMapperRenderHelpers::GatherCamera(ren, model, Impl->Spheres.origin);
+  int width = 0, height = 0;
+  const std::array<double, 16> modelToClip =
+    vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
+  if (!Impl->Camera.Usable(this, modelToClip))
+  {
+    Impl->Statistics->Set(stats);
+    return;
+  }
+  const raymappers::RayCamera camera(modelToClip, width, height, Impl->Spheres.origin);
   vtkProperty* property = actor->GetProperty();
   if (property->GetLighting())
   {
@@ -438,7 +452,8 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     stats);
   {
     raymappers::ScopedPhase phase(stats, "draw");
-    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth);
+    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth,
+      Impl->Statistics->GetValidateFrames(), stats);
   }
   Impl->Statistics->Set(stats);
 }

@@ -18,8 +18,14 @@
  * ray packets walking it slice by slice) and Embree's sphere-point BVH (the reference).
  *
  * Bad input never poisons the image: points with NaN/Inf coordinates, and spheres whose
- * radius is NaN, zero or negative, are skipped with one warning naming how many; a
- * radius array that is missing falls back to the constant radius with a warning.
+ * radius is NaN, infinite, zero, negative or above 1e15, are skipped with one warning naming
+ * how many; a radius array that is missing falls back to the constant radius with a
+ * warning. A NaN colour scalar is coloured with the lookup table's NaN colour (as every VTK
+ * mapper colours it); the sphere is drawn.
+ * Numeric properties reject NaN and infinity and clamp out-of-range values, each with one
+ * warning (vtkRayMapperSetGet.h; lengths up to 1e15); an array of several components read
+ * as a scalar gives its first component (one warning when they differ); a degenerate camera
+ * (the eye at the focal point, a NaN position) gives one warning and nothing drawn.
  *
  * After each render, GetStatistics() reports the time per phase, the counters (rays,
  * hits, spheres) and which effects ran.
@@ -29,6 +35,7 @@
 
 #include "RayMappersMappersModule.h" // for export macro
 #include "vtkPolyDataMapper.h"
+#include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 
 #include <memory> // for std::unique_ptr
 
@@ -62,7 +69,7 @@ public:
    * Constant radius, used when no radius array is selected (or it is missing).
    * Default 1.
    */
-  vtkSetMacro(Radius, double);
+  vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
   ///@}
 
@@ -80,7 +87,7 @@ public:
   /**
    * Factor applied to every radius (constant or from the array). Default 1.
    */
-  vtkSetMacro(RadiusScale, double);
+  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(RadiusScale, double);
   ///@}
 
@@ -89,7 +96,7 @@ public:
    * Side of the square screen tiles handed to the TBB scheduler, in pixels
    * (clamped to [4, 256]). Any tile size gives the same picture. Default 32.
    */
-  vtkSetClampMacro(TileSize, int, 4, 256);
+  vtkRayMapperSetClampMacro(TileSize, int, 4, 256);
   vtkGetMacro(TileSize, int);
   ///@}
 
@@ -97,7 +104,7 @@ public:
   /**
    * The accelerator: VTK_CGT_ACCELERATOR_GRID (default) or VTK_CGT_ACCELERATOR_EMBREE.
    */
-  vtkSetClampMacro(Accelerator, int, VTK_CGT_ACCELERATOR_GRID, VTK_CGT_ACCELERATOR_EMBREE);
+  vtkRayMapperSetClampMacro(Accelerator, int, VTK_CGT_ACCELERATOR_GRID, VTK_CGT_ACCELERATOR_EMBREE);
   vtkGetMacro(Accelerator, int);
   void SetAcceleratorToCoherentGrid() { this->SetAccelerator(VTK_CGT_ACCELERATOR_GRID); }
   void SetAcceleratorToEmbree() { this->SetAccelerator(VTK_CGT_ACCELERATOR_EMBREE); }
@@ -107,7 +114,7 @@ public:
   /**
    * Side of the square ray packets of the coherent grid traversal, 1 to 16. Default 8.
    */
-  vtkSetClampMacro(PacketSize, int, 1, 16);
+  vtkRayMapperSetClampMacro(PacketSize, int, 1, 16);
   vtkGetMacro(PacketSize, int);
   ///@}
 
@@ -115,7 +122,7 @@ public:
   /**
    * Grid cells per sphere (the grid has about Lambda * N cubic cells). Default 1.
    */
-  vtkSetClampMacro(Lambda, double, 0.01, 100.0);
+  vtkRayMapperSetClampMacro(Lambda, double, 0.01, 100.0);
   vtkGetMacro(Lambda, double);
   ///@}
 
@@ -123,7 +130,7 @@ public:
   /**
    * Cells per side of a macrocell, the grid's empty-space level. Default 6.
    */
-  vtkSetClampMacro(MacrocellSize, int, 1, 64);
+  vtkRayMapperSetClampMacro(MacrocellSize, int, 1, 64);
   vtkGetMacro(MacrocellSize, int);
   ///@}
 
@@ -134,9 +141,9 @@ public:
    * sphere within AmbientOcclusionRadius scales the shaded colour. A radius of 0 (default)
    * means twice the largest sphere radius.
    */
-  vtkSetClampMacro(AmbientOcclusionSamples, int, 0, 256);
+  vtkRayMapperSetClampMacro(AmbientOcclusionSamples, int, 0, 256);
   vtkGetMacro(AmbientOcclusionSamples, int);
-  vtkSetClampMacro(AmbientOcclusionRadius, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(AmbientOcclusionRadius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(AmbientOcclusionRadius, double);
   ///@}
 
@@ -150,16 +157,16 @@ public:
    * otherwise at ShadowLightPosition (world) with edge ShadowLightSize, facing the data's
    * centre.
    */
-  vtkSetClampMacro(ShadowRays, int, 0, 16);
+  vtkRayMapperSetClampMacro(ShadowRays, int, 0, 16);
   vtkGetMacro(ShadowRays, int);
   vtkSetMacro(AutomaticShadowLight, bool);
   vtkGetMacro(AutomaticShadowLight, bool);
   vtkBooleanMacro(AutomaticShadowLight, bool);
-  vtkSetVector3Macro(ShadowLightPosition, double);
+  vtkRayMapperSetVector3ClampMacro(ShadowLightPosition, double, -VTK_RAYMAPPER_LENGTH_MAX, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetVector3Macro(ShadowLightPosition, double);
-  vtkSetClampMacro(ShadowLightSize, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(ShadowLightSize, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(ShadowLightSize, double);
-  vtkSetClampMacro(ShadowLightIntensity, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(ShadowLightIntensity, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(ShadowLightIntensity, double);
   ///@}
 
@@ -168,7 +175,7 @@ public:
    * Build quality of Embree's BVH: 0 low (fast build, for time steps), 1 medium (default),
    * 2 high (slow build, fastest traversal, for static scenes).
    */
-  vtkSetClampMacro(EmbreeBuildQuality, int, 0, 2);
+  vtkRayMapperSetClampMacro(EmbreeBuildQuality, int, 0, 2);
   vtkGetMacro(EmbreeBuildQuality, int);
   ///@}
 
@@ -179,7 +186,7 @@ public:
    * request the CPU cannot run falls back to the widest it can; the "simd_lanes" counter
    * of the statistics says which ran. For benchmarks and checks; the image is the same.
    */
-  vtkSetClampMacro(SimdInstructions, int, VTK_CGT_SIMD_AUTO, VTK_CGT_SIMD_AVX512);
+  vtkRayMapperSetClampMacro(SimdInstructions, int, VTK_CGT_SIMD_AUTO, VTK_CGT_SIMD_AVX512);
   vtkGetMacro(SimdInstructions, int);
   ///@}
 

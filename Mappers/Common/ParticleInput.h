@@ -1,10 +1,11 @@
 // What the particle kernels share when they take points from the user: each point is
-// checked (finite centre and value, finite positive radius), the checks of all points are
+// checked (finite centre and value, a radius in (0, MaxLength]), the checks of all points are
 // tallied in parallel, and the points that fail are removed afterwards by a stable
 // compaction, so the kept points stay in input order.
 #ifndef RayMappers_ParticleInput_h
 #define RayMappers_ParticleInput_h
 
+#include "Limits.h"
 #include "Vec3.h"
 
 #include <tbb/blocked_range.h>
@@ -13,14 +14,22 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 namespace raymappers
 {
 
+/// Whether a value stays finite once stored as float (a finite double beyond 3.4e38 does
+/// not; NaN and infinity do not either).
+inline bool finiteAsFloat(double v)
+{
+  return std::fabs(v) <= static_cast<double>(std::numeric_limits<float>::max());
+}
+
 struct ParticleTally
 {
   std::size_t nonFinite = 0; // NaN/Inf centre or value
-  std::size_t badRadius = 0; // radius NaN/Inf, zero or negative
+  std::size_t badRadius = 0; // radius NaN/Inf, zero, negative or above MaxLength
   float maxRadius = 0.f;
 
   /// The radius to store for a point: r as float when the point is valid, else 0 (and the
@@ -32,7 +41,7 @@ struct ParticleTally
       ++nonFinite;
       return 0.f;
     }
-    if (!(r > 0.0) || !std::isfinite(r))
+    if (!(r > 0.0) || !(r <= MaxLength))
     {
       ++badRadius;
       return 0.f;

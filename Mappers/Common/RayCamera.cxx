@@ -18,6 +18,25 @@ inline void transform(const std::array<double, 16>& m, const double p[4], double
 }
 }
 
+std::string degenerateProjection(const std::array<double, 16>& modelToClip)
+{
+  for (const double m : modelToClip)
+  {
+    if (!std::isfinite(m))
+    {
+      return "its projection matrix has NaN or infinite entries (a NaN or infinite camera "
+             "position, focal point or view up, or prop transform)";
+    }
+  }
+  std::array<double, 16> inverse;
+  if (!invert4x4(modelToClip, inverse))
+  {
+    return "its projection is singular (the eye at the focal point, or the view up along the "
+           "direction of projection)";
+  }
+  return "";
+}
+
 bool invert4x4(const std::array<double, 16>& m, std::array<double, 16>& inv)
 {
   double a[4][8];

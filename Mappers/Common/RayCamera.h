@@ -14,6 +14,7 @@
 #include "Vec3.h"
 
 #include <array>
+#include <string>
 
 namespace raymappers
 {
@@ -109,6 +110,14 @@ private:
 /// Inverse of a row-major 4x4 matrix (Gauss-Jordan with partial pivoting); returns false
 /// when it is singular.
 bool invert4x4(const std::array<double, 16>& m, std::array<double, 16>& inv);
+
+/// Why a model-to-clip matrix gives no rays ("" when it gives them): NaN or infinite
+/// entries (vtkCamera takes a NaN position or focal point as it is, a NaN prop transform
+/// does the same), or a singular matrix (the eye at the focal point: vtkCamera then keeps a
+/// zero direction of projection and its view transform loses three rows; a view up along
+/// the direction of projection loses one). A zero view angle is not degenerate: vtkCamera
+/// clamps it to 1e-8 degrees, which still inverts.
+std::string degenerateProjection(const std::array<double, 16>& modelToClip);
 
 } // namespace raymappers
 

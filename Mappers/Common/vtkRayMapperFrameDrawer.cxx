@@ -1,5 +1,7 @@
 #include "vtkRayMapperFrameDrawer.h"
 
+#include "FrameValidation.h"
+
 #include "vtkOpenGLQuadHelper.h"
 #include "vtkOpenGLRenderUtilities.h"
 #include "vtkOpenGLRenderWindow.h"
@@ -96,8 +98,19 @@ void vtkRayMapperFrameDrawer::ReleaseGraphicsResources(vtkWindow* win)
   }
 }
 
-void vtkRayMapperFrameDrawer::Draw(vtkRenderer* ren, const raymappers::Frame& frame, Mode mode)
+void vtkRayMapperFrameDrawer::Draw(vtkRenderer* ren,
+  const raymappers::Frame& frame,
+  Mode mode,
+  bool validate,
+  raymappers::RenderStatistics& stats)
 {
+  stats.setEffect("frame_validation", validate);
+  if (validate)
+  {
+    const raymappers::FrameValidation check = raymappers::validateFrame(frame);
+    stats.addCounter("frame_nonfinite_values", check.nonFinite);
+    stats.addCounter("frame_out_of_range_values", check.outOfRange);
+  }
   auto* renWin = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
   if (!renWin || frame.width <= 0 || frame.height <= 0)
   {

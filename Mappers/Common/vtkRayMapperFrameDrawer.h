@@ -8,11 +8,14 @@
 // rays at the opaque depth (see vtkRayMapperRenderHelpers::ReadOpaqueDepth).
 // The frame goes to the GPU as float textures (colour; depth in opaque mode only) that keep
 // their storage from one frame to the next while the size and the window stay the same.
+// Every mapper draws through here, so this is where the frame validation of
+// vtkRayMapperStatistics::ValidateFrames looks at what is drawn.
 #ifndef vtkRayMapperFrameDrawer_h
 #define vtkRayMapperFrameDrawer_h
 
 #include "Frame.h"
 #include "RayMappersMappersModule.h" // for export macro
+#include "RenderStatistics.h"
 
 #include <memory>
 
@@ -33,8 +36,16 @@ public:
   vtkRayMapperFrameDrawer(const vtkRayMapperFrameDrawer&) = delete;
   vtkRayMapperFrameDrawer& operator=(const vtkRayMapperFrameDrawer&) = delete;
 
-  /// The frame must have the size of the renderer's tiled viewport.
-  void Draw(vtkRenderer* ren, const raymappers::Frame& frame, Mode mode);
+  /// The frame must have the size of the renderer's tiled viewport. With `validate` (the
+  /// mapper's vtkRayMapperStatistics::ValidateFrames) the frame is checked first
+  /// (FrameValidation.h) into the counters frame_nonfinite_values and
+  /// frame_out_of_range_values and the effect frame_validation of `stats`; without, it is
+  /// not looked at.
+  void Draw(vtkRenderer* ren,
+    const raymappers::Frame& frame,
+    Mode mode,
+    bool validate,
+    raymappers::RenderStatistics& stats);
   void ReleaseGraphicsResources(vtkWindow* win);
 
 private:

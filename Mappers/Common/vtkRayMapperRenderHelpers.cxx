@@ -1,6 +1,7 @@
 #include "vtkRayMapperRenderHelpers.h"
 
 #include "vtkAbstractVolumeMapper.h"
+#include "vtkObject.h"
 #include "vtkActor2D.h"
 #include "vtkCamera.h"
 #include "vtkColorTransferFunction.h"
@@ -9,6 +10,7 @@
 #include "vtkFloatArray.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
+#include "vtkMath.h"
 #include "vtkMatrix3x3.h"
 #include "vtkMatrix4x4.h"
 #include "vtkOpenGLCamera.h"
@@ -23,6 +25,8 @@
 #include "vtkScalarsToColors.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
+
+#include "Limits.h"
 
 #include <algorithm>
 #include <array>
@@ -120,6 +124,22 @@ raymappers::RayCamera GatherCamera(vtkRenderer* ren,
   return raymappers::RayCamera(modelToClip, width, height, origin);
 }
 
+bool CameraCheck::Usable(vtkObject* mapper, const std::array<double, 16>& modelToClip)
+{
+  const std::string why = raymappers::degenerateProjection(modelToClip);
+  if (why.empty())
+  {
+    Warned.clear();
+    return true;
+  }
+  if (why != Warned)
+  {
+    vtkWarningWithObjectMacro(mapper, << "The camera is degenerate: " << why << "; nothing drawn.");
+    Warned = why;
+  }
+  return false;
+}
+
 std::vector<raymappers::Light> GatherLights(vtkRenderer* ren)
 {
   std::vector<raymappers::Light> lights;
@@ -180,6 +200,65 @@ vtkDataArray* FindPointArray(vtkDataSet* input,
     why = std::string(role) + " array '" + name + "' is not a point array of the input";
   }
   return array;
+}
+
+void FiniteBounds(vtkDataSet* data, double bounds[6])
+{
+  vtkMath::UninitializeBounds(bounds);
+  if (!data || data->GetNumberOfPoints() == 0)
+  {
+    return;
+  }
+  data->GetBounds(bounds);
+  if (std::all_of(bounds, bounds + 6, [](double b) { return std::isfinite(b); }))
+  {
+    return;
+  }
+  double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+  double hi[3] = { -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX };
+  bool any = false;
+  double p[3];
+  for (vtkIdType i = 0; i < data->GetNumberOfPoints(); ++i)
+  {
+    data->GetPoint(i, p);
+    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))
+    {
+      any = true;
+      for (int c = 0; c < 3; ++c)
+      {
+        lo[c] = std::min(lo[c], p[c]);
+        hi[c] = std::max(hi[c], p[c]);
+      }
+    }
+  }
+  vtkMath::UninitializeBounds(bounds);
+  for (int c = 0; any && c < 3; ++c)
+  {
+    bounds[2 * c] = lo[c];
+    bounds[2 * c + 1] = hi[c];
+  }
+}
+
+double LargestParticleLength(vtkDataArray* array, double scale)
+{
+  const auto admitted = [](double r) { return r > 0 && r <= raymappers::MaxLength; };
+  if (!array || array->GetNumberOfTuples() == 0)
+  {
+    return 0.0;
+  }
+  double range[2];
+  array->GetFiniteRange(range, 0);
+  if (admitted(range[1] * scale))
+  {
+    return range[1] * scale;
+  }
+  double largest = 0.0;
+  for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i)
+  {
+    const double r = array->GetComponent(i, 0) * scale;
+    largest = admitted(r) ? std::max(largest, r) : largest;
+  }
+  return largest;
 }
 
 raymappers::Vec3d FiniteCenter(vtkPoints* points)

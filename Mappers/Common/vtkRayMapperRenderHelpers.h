@@ -18,6 +18,7 @@
 #include <vector>
 
 class vtkDataSet;
+class vtkObject;
 class vtkPoints;
 class vtkProp3D;
 class vtkRenderer;
@@ -60,6 +61,18 @@ RAYMAPPERSMAPPERS_EXPORT vtkDataArray* FindPointArray(vtkDataSet* input,
 /// (0, 0, 0) when there is none.
 RAYMAPPERSMAPPERS_EXPORT raymappers::Vec3d FiniteCenter(vtkPoints* points);
 
+/// The bounds of the finite points of `data` (uninitialized when there is none): VTK's own
+/// bounds include an infinite coordinate (only NaN is left out), and infinite bounds give
+/// the renderer's Reset Camera and clipping range NaN matrices. VTK's cached bounds when
+/// they are finite, so the points are looked at again only when some are infinite.
+RAYMAPPERSMAPPERS_EXPORT void FiniteBounds(vtkDataSet* data, double bounds[6]);
+
+/// The largest length scale * v (v: component 0 of `array`) that a particle may have,
+/// 0 < length <= raymappers::MaxLength (ParticleInput.h skips the others), to grow bounds by;
+/// 0 when there is none. VTK's cached finite range when its maximum is within the limit,
+/// else a scan (a huge radius must not make the bounds, and so the camera, huge).
+RAYMAPPERSMAPPERS_EXPORT double LargestParticleLength(vtkDataArray* array, double scale);
+
 /// Model-to-world transform of a prop (row-major) and its normal matrix
 /// (inverse transpose of the linear part).
 struct ModelTransform
@@ -84,6 +97,20 @@ RAYMAPPERSMAPPERS_EXPORT std::array<double, 16> GatherModelToClip(vtkRenderer* r
 RAYMAPPERSMAPPERS_EXPORT raymappers::RayCamera GatherCamera(vtkRenderer* ren,
   const ModelTransform& model,
   const raymappers::Vec3d& origin);
+
+/// The camera check of a mapper's render: true when the matrix gives rays; otherwise false
+/// with the warning "The camera is degenerate: <why>; nothing drawn." from `mapper` (why:
+/// raymappers::degenerateProjection, RayCamera.h), given
+/// once while the reason stays the same (a camera stays degenerate for many renders) and
+/// again after the camera was usable in between.
+class RAYMAPPERSMAPPERS_EXPORT CameraCheck
+{
+public:
+  bool Usable(vtkObject* mapper, const std::array<double, 16>& modelToClip);
+
+private:
+  std::string Warned;
+};
 
 /// The renderer's switched-on lights in world space.
 RAYMAPPERSMAPPERS_EXPORT std::vector<raymappers::Light> GatherLights(vtkRenderer* ren);

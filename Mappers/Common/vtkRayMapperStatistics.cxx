@@ -4,6 +4,7 @@
 
 #include "vtkObjectFactory.h"
 
+#include <cstdlib>
 #include <string>
 
 struct vtkRayMapperStatistics::Internals
@@ -17,6 +18,10 @@ vtkStandardNewMacro(vtkRayMapperStatistics);
 vtkRayMapperStatistics::vtkRayMapperStatistics()
   : Impl(new Internals)
 {
+  // Tests of the representations (pvpython, pvbatch) cannot reach the mappers' statistics
+  // objects before the first render: the environment turns the validation on for all.
+  const char* validate = std::getenv("RAYMAPPERS_VALIDATE_FRAMES");
+  this->ValidateFrames = validate && *validate && std::string(validate) != "0";
 }
 
 vtkRayMapperStatistics::~vtkRayMapperStatistics() = default;
@@ -94,5 +99,6 @@ const char* vtkRayMapperStatistics::GetSummary()
 void vtkRayMapperStatistics::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "ValidateFrames: " << this->ValidateFrames << "\n";
   os << indent << "Summary:\n" << Impl->Stats.summary();
 }

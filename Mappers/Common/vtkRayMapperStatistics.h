@@ -7,6 +7,16 @@
  *   stats.GetCounter("rays"), stats.GetPhaseTime("trace"), stats.GetEffect("shading")
  * A counter or effect that the method has but did not use reads 0 / false; names that the
  * method does not know also read 0 / false (use GetNumberOfCounters/GetCounterName to list).
+ *
+ * Frame validation (ValidateFrames, default off): after each render that draws, the
+ * mapper's own float frame (premultiplied RGBA + window depth, before OpenGL clamps and
+ * rounds it) is scanned, and the statistics get the counters frame_nonfinite_values (NaN or
+ * infinite rgba or depth values) and frame_out_of_range_values (alpha outside [0, 1], a
+ * colour channel below 0 or above its alpha by more than 1e-5, depth outside [0, 1]) and the
+ * effect frame_validation. Off, nothing is scanned and the three are absent (0 / off). It is
+ * also on when the environment variable RAYMAPPERS_VALIDATE_FRAMES is set to a value other
+ * than "0" (or empty) when the statistics object is created, which turns it on for the
+ * mappers that ParaView's representations create in pvpython or pvbatch tests.
  */
 #ifndef vtkRayMapperStatistics_h
 #define vtkRayMapperStatistics_h
@@ -47,6 +57,13 @@ public:
   /// All of the above as text, one "phase|counter|effect NAME VALUE" per line.
   const char* GetSummary();
 
+  ///@{
+  /// Scan each drawn frame for NaN, infinite and out-of-range values (see above).
+  vtkSetMacro(ValidateFrames, bool);
+  vtkGetMacro(ValidateFrames, bool);
+  vtkBooleanMacro(ValidateFrames, bool);
+  ///@}
+
   /// Replaces the content (used by the mappers after each render).
   void Set(const raymappers::RenderStatistics& stats);
   const raymappers::RenderStatistics& Get() const;
@@ -54,6 +71,8 @@ public:
 protected:
   vtkRayMapperStatistics();
   ~vtkRayMapperStatistics() override;
+
+  bool ValidateFrames = false;
 
 private:
   vtkRayMapperStatistics(const vtkRayMapperStatistics&) = delete;

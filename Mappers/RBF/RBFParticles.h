@@ -31,8 +31,8 @@ struct RBFParticles
   std::vector<std::uint8_t> fields; // field index in [0, numFields)
   int numFields = 1;
   float maxRadius = 0.f;
-  std::size_t skippedNonFinite = 0; // NaN/Inf centre or value
-  std::size_t skippedBadRadius = 0; // radius NaN/Inf, zero or negative
+  std::size_t skippedNonFinite = 0; // NaN/Inf centre, or a value not finite as float
+  std::size_t skippedBadRadius = 0; // radius NaN/Inf, zero, negative or above MaxLength
 
   std::size_t size() const { return centers.size(); }
 };
@@ -61,7 +61,7 @@ void buildRBFParticles(std::size_t n,
     {
       const Vec3d p = point(i);
       const double k = value(i);
-      const float rf = t.admit(p, std::isfinite(k), isFinite(p) ? radius(i) : 0.0);
+      const float rf = t.admit(p, finiteAsFloat(k), isFinite(p) ? radius(i) : 0.0);
       out.centers[i] = rf > 0.f ? Vec3f(p - origin) : Vec3f();
       out.radii[i] = rf;
       out.values[i] = rf > 0.f ? static_cast<float>(k) : 0.f;

@@ -7,6 +7,7 @@
 #include "RenderStatistics.h"
 #include "vtkRayMapperFrameDrawer.h"
 #include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperScalarArray.h"
 #include "vtkRayMapperStatistics.h"
 
 #include "vtkAlgorithm.h"
@@ -34,6 +35,7 @@ struct vtkRBFVolumeMapper::Internals
   raymappers::ParticleBVH BVH;
   raymappers::Frame Frame;
   vtkRayMapperFrameDrawer Drawer;
+  vtkRayMapperRenderHelpers::CameraCheck Camera;
   vtkNew<vtkRayMapperStatistics> Statistics;
   std::int64_t Builds = 0;
   double MeanRadius = 0.0;
@@ -105,17 +107,18 @@ double* vtkRBFVolumeMapper::GetBounds()
     }
     return this->Bounds;
   }
-  input->GetBounds(this->Bounds);
-  std::string why;
-  double rMax = this->Radius;
-  if (vtkDataArray* radii =
-        vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why))
+  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
+  if (!vtkMath::AreBoundsInitialized(this->Bounds))
   {
-    double range[2];
-    radii->GetFiniteRange(range, 0);
-    rMax = range[1];
+    return this->Bounds; // no finite point
   }
-  const double grow = this->Sigma * rMax * this->RadiusScale;
+  std::string why;
+  vtkDataArray* radii =
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+  const double rMax = radii
+    ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
+    : this->Radius * this->RadiusScale;
+  const double grow = this->Sigma * rMax;
   if (grow > 0 && std::isfinite(grow))
   {
     for (int a = 0; a < 3; ++a)
@@ -160,6 +163,9 @@ bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
   {
     vtkWarningMacro(<< why << "; all particles form one field.");
   }
+  vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
+  vtkRayMapperWarnIfComponentsDiffer(this, values, "value");
+  vtkRayMapperWarnIfComponentsDiffer(this, categories, "field");
   // Fields: the distinct values of the categorical array, in increasing order.
   const auto n = static_cast<std::size_t>(input->GetNumberOfPoints());
   std::map<double, int> fieldOf;
@@ -219,7 +225,7 @@ bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
   if (Impl->Particles.skippedBadRadius > 0)
   {
     vtkWarningMacro(<< Impl->Particles.skippedBadRadius
-                    << " particles have a zero, negative or non-finite radius and are not drawn.");
+                    << " particles have a zero, negative, non-finite or huge (above 1e15) radius and are not drawn.");
   }
   double sum = 0;
   for (const float r : Impl->Particles.radii)
@@ -301,8 +307,15 @@ void vtkRBFVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     params.material.specular = property->GetSpecular();
     params.material.specularPower = property->GetSpecularPower();
   }
-  const raymappers::RayCamera camera =
-    vtkRayMapperRenderHelpers::GatherCamera(ren, model, Impl->Particles.origin);
+  int width = 0, height = 0;
+  const std::array<double, 16> modelToClip =
+    vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
+  if (!Impl->Camera.Usable(this, modelToClip))
+  {
+    Impl->Statistics->Set(stats);
+    return;
+  }
+  const raymappers::RayCamera camera(modelToClip, width, height, Impl->Particles.origin);
   std::vector<float> depth;
   int dw = 0, dh = 0;
   bool haveDepth = false;
@@ -327,7 +340,8 @@ void vtkRBFVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   {
     raymappers::ScopedPhase phase(stats, "draw");
-    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied);
+    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied,
+      Impl->Statistics->GetValidateFrames(), stats);
   }
   Impl->Statistics->Set(stats);
 }

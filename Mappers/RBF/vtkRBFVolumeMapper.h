@@ -27,8 +27,13 @@
  * stops the rays; the depth buffer is read only when the renderer holds some (effect
  * opaque_depth).
  *
- * Bad input never poisons the image: points with NaN/Inf coordinates or values, and radii
- * that are NaN, zero or negative, are skipped with one warning saying how many.
+ * Bad input never poisons the image: points with NaN/Inf coordinates or values (or values
+ * beyond float), and radii that are NaN, infinite, zero, negative or above 1e15, are skipped
+ * with one warning saying how many.
+ * Numeric properties reject NaN and infinity and clamp out-of-range values, each with one
+ * warning (vtkRayMapperSetGet.h; lengths up to 1e15); an array of several components read
+ * as a scalar gives its first component (one warning when they differ); a degenerate camera
+ * (the eye at the focal point, a NaN position) gives one warning and nothing drawn.
  *
  * GetStatistics() reports phase times, counters and effects of the last render.
  */
@@ -37,6 +42,7 @@
 
 #include "RayMappersMappersModule.h" // for export macro
 #include "vtkAbstractVolumeMapper.h"
+#include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 
 #include <memory> // for std::unique_ptr
 
@@ -59,7 +65,7 @@ public:
   /**
    * Global scale of the kernels (the paper's kappa). Default 1.
    */
-  vtkSetClampMacro(Kappa, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(Kappa, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Kappa, double);
   ///@}
 
@@ -67,7 +73,7 @@ public:
   /**
    * Truncation of each Gaussian at Sigma radii (the paper's sigma). Default 2.
    */
-  vtkSetClampMacro(Sigma, double, 0.0, 1000.0);
+  vtkRayMapperSetClampMacro(Sigma, double, 0.0, 1000.0);
   vtkGetMacro(Sigma, double);
   ///@}
 
@@ -76,7 +82,7 @@ public:
    * Distance between samples along a ray (model units); 0 (default) chooses half the mean
    * radius.
    */
-  vtkSetClampMacro(SampleDistance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(SampleDistance, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SampleDistance, double);
   ///@}
 
@@ -85,11 +91,11 @@ public:
    * Constant radius (used without a radius array), a radius array (first component) and a
    * factor on either. Defaults 1, none, 1.
    */
-  vtkSetMacro(Radius, double);
+  vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
   vtkSetStringMacro(RadiusArrayName);
   vtkGetStringMacro(RadiusArrayName);
-  vtkSetMacro(RadiusScale, double);
+  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(RadiusScale, double);
   ///@}
 
@@ -114,7 +120,7 @@ public:
   /**
    * A ray stops once its opacity reaches this (1: never early). Default 0.99.
    */
-  vtkSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
+  vtkRayMapperSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
   vtkGetMacro(TerminationOpacity, double);
   ///@}
 
@@ -124,13 +130,13 @@ public:
    * rays per packet side (1 to 8; default 8: 64 rays), particles per BVH leaf (1 to 64;
    * default 8; changing it rebuilds the BVH) and screen tile size (default 32).
    */
-  vtkSetClampMacro(SamplesPerPass, int, 1, 256);
+  vtkRayMapperSetClampMacro(SamplesPerPass, int, 1, 256);
   vtkGetMacro(SamplesPerPass, int);
-  vtkSetClampMacro(PacketSize, int, 1, 8);
+  vtkRayMapperSetClampMacro(PacketSize, int, 1, 8);
   vtkGetMacro(PacketSize, int);
-  vtkSetClampMacro(LeafSize, int, 1, 64);
+  vtkRayMapperSetClampMacro(LeafSize, int, 1, 64);
   vtkGetMacro(LeafSize, int);
-  vtkSetClampMacro(TileSize, int, 4, 1024);
+  vtkRayMapperSetClampMacro(TileSize, int, 4, 1024);
   vtkGetMacro(TileSize, int);
   ///@}
 
@@ -139,7 +145,7 @@ public:
    * VTK_RBF_METHOD_COHERENT (default: packets and sample buffer) or VTK_RBF_METHOD_DIRECT
    * (per-sample gathering, the reference).
    */
-  vtkSetClampMacro(Method, int, VTK_RBF_METHOD_COHERENT, VTK_RBF_METHOD_DIRECT);
+  vtkRayMapperSetClampMacro(Method, int, VTK_RBF_METHOD_COHERENT, VTK_RBF_METHOD_DIRECT);
   vtkGetMacro(Method, int);
   ///@}
 

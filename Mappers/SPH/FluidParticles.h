@@ -21,7 +21,7 @@ struct FluidParticles
   std::vector<float> radius;  // r_i > 0
   float maxRadius = 0.f;
   std::size_t skippedNonFinite = 0; // NaN/Inf centre
-  std::size_t skippedBadRadius = 0; // radius NaN/Inf, zero or negative
+  std::size_t skippedBadRadius = 0; // radius NaN/Inf, zero, negative or above MaxLength
 
   std::size_t size() const { return centers.size(); }
 };

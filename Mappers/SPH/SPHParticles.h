@@ -31,8 +31,8 @@ struct SPHParticles
   double medianVolume = 0.0;     // for the reference weight sum (equation 3.16)
   double medianSupport = 0.0;
   float minSupport = 0.f;
-  std::size_t skippedNonFinite = 0; // NaN/Inf centre, quantity or volume
-  std::size_t skippedBadSupport = 0; // support NaN/Inf, zero or negative
+  std::size_t skippedNonFinite = 0; // NaN/Inf centre, or Q, V or QV not finite as float
+  std::size_t skippedBadSupport = 0; // support NaN/Inf, zero, negative or above MaxLength
   std::size_t skippedBadVolume = 0;  // negative volume
 
   std::size_t size() const { return centers.size(); }
@@ -63,7 +63,8 @@ void buildSPHParticles(std::size_t n,
       const Vec3d p = point(i);
       const double Q = quantity(i);
       const double V = volume(i);
-      float H = t.admit(p, std::isfinite(Q) && std::isfinite(V), isFinite(p) ? support(i) : 0.0);
+      float H = t.admit(
+        p, finiteAsFloat(Q) && finiteAsFloat(V) && finiteAsFloat(Q * V), isFinite(p) ? support(i) : 0.0);
       if (H > 0.f && V < 0.0)
       {
         negativeVolume[i] = 1;

@@ -148,10 +148,18 @@ SphereFootprint ViewRays::footprint(const Vec3d& c, double H) const
   {
     projectedExtent(c, H, 1, y0, y1);
   }
-  f.x0 = std::max(x0, 0.0);
-  f.x1 = std::min(x1, double(Width));
-  f.y0 = std::max(y0, 0.0);
-  f.y1 = std::min(y1, double(Height));
+  // Clamped to the image on both sides before the pixel indices are taken: a sphere far off
+  // screen can project beyond int's range (a view angle of 1e-8 degrees, VTK's smallest,
+  // magnifies by 1e10), and converting such a value to int is undefined (it came out as
+  // INT_MIN: a sphere "in view" from pixel -2^31). A NaN extent is out of view.
+  f.x0 = std::clamp(x0, 0.0, double(Width));
+  f.x1 = std::clamp(x1, 0.0, double(Width));
+  f.y0 = std::clamp(y0, 0.0, double(Height));
+  f.y1 = std::clamp(y1, 0.0, double(Height));
+  if (!(f.x0 <= f.x1) || !(f.y0 <= f.y1))
+  {
+    return f;
+  }
   f.i0 = static_cast<int>(std::ceil(f.x0 - 0.5));
   f.i1 = static_cast<int>(std::floor(f.x1 - 0.5));
   f.j0 = static_cast<int>(std::ceil(f.y0 - 0.5));

@@ -10,6 +10,7 @@
 #include "ViewRays.h"
 #include "vtkRayMapperFrameDrawer.h"
 #include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperScalarArray.h"
 #include "vtkRayMapperStatistics.h"
 
 #include "vtkAlgorithm.h"
@@ -43,6 +44,7 @@ struct vtkSPHFluidMapper::Internals
   raymappers::Frame Coarse;               // the reduced frame of interactive renders
   double LastFullFrameSeconds = 0;        // the last full-resolution voxelization and render
   vtkRayMapperFrameDrawer Drawer;
+  vtkRayMapperRenderHelpers::CameraCheck Camera;
   vtkNew<vtkRayMapperStatistics> Statistics;
   std::string BuiltKey; // what the particles were built from
   vtkMTimeType BuiltInputTime = 0;
@@ -111,17 +113,17 @@ double* vtkSPHFluidMapper::GetBounds()
     }
     return this->Bounds;
   }
-  input->GetBounds(this->Bounds);
-  std::string why;
-  double rMax = this->Radius;
-  if (vtkDataArray* r =
-        vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why))
+  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
+  if (!vtkMath::AreBoundsInitialized(this->Bounds))
   {
-    double range[2];
-    r->GetFiniteRange(range, 0);
-    rMax = range[1];
+    return this->Bounds; // no finite point
   }
-  const double grow = rMax * this->RadiusScale;
+  std::string why;
+  vtkDataArray* radii =
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+  const double grow = radii
+    ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
+    : this->Radius * this->RadiusScale;
   if (grow > 0 && std::isfinite(grow))
   {
     for (int a = 0; a < 3; ++a)
@@ -149,6 +151,7 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
   {
     vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
   }
+  vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
   const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
   const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
   const double scale = this->RadiusScale, constant = this->Radius * this->RadiusScale;
@@ -168,7 +171,7 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
   if (Impl->Particles.skippedBadRadius > 0)
   {
     vtkWarningMacro(<< Impl->Particles.skippedBadRadius
-                    << " particles have a zero, negative or non-finite radius and are not drawn.");
+                    << " particles have a zero, negative, non-finite or huge (above 1e15) radius and are not drawn.");
   }
   Impl->HasParticles = true;
   Impl->BuiltInput = input;
@@ -253,6 +256,11 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   int width = 0, height = 0;
   const std::array<double, 16> modelToClip =
     vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
+  if (!Impl->Camera.Usable(this, modelToClip))
+  {
+    Impl->Statistics->Set(stats);
+    return;
+  }
   // Interactive renders: p x p fewer pixels when the last full frame overran the budget.
   const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
   const int p = this->Subsampling > 0
@@ -315,7 +323,8 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     raymappers::ScopedPhase phase(stats, "draw");
     Impl->Drawer.Draw(ren, Impl->Frame,
       this->Translucency ? vtkRayMapperFrameDrawer::Mode::BlendPremultiplied
-                         : vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth);
+                         : vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth,
+      Impl->Statistics->GetValidateFrames(), stats);
   }
   Impl->Statistics->Set(stats);
 }

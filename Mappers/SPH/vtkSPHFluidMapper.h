@@ -42,8 +42,13 @@
  * the rest of the opaque geometry it must see through.
  *
  * Bad input never poisons the image: particles with NaN/Inf coordinates and radii that are
- * NaN, zero or negative are skipped with one warning saying how many; a missing radius
- * array falls back to Radius with a warning; an empty input draws nothing with one warning.
+ * NaN, infinite, zero, negative or above 1e15 are skipped with one warning saying how many;
+ * a missing radius array falls back to Radius with a warning; an empty input draws nothing
+ * with one warning.
+ * Numeric properties reject NaN and infinity and clamp out-of-range values, each with one
+ * warning (vtkRayMapperSetGet.h; lengths up to 1e15); an array of several components read
+ * as a scalar gives its first component (one warning when they differ); a degenerate camera
+ * (the eye at the focal point, a NaN position) gives one warning and nothing drawn.
  * The particles are rebuilt only when the input (a new time step) or the radius settings
  * change (counter particles_built); the voxelization is view-dependent and made every frame.
  *
@@ -55,6 +60,7 @@
 
 #include "RayMappersMappersModule.h" // for export macro
 #include "vtkAbstractVolumeMapper.h"
+#include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 
 #include <memory> // for std::unique_ptr
 
@@ -72,11 +78,11 @@ public:
 
   ///@{
   /** Constant particle radius (default 1), its point array, and a factor on either (1). */
-  vtkSetMacro(Radius, double);
+  vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
   vtkSetStringMacro(RadiusArrayName);
   vtkGetStringMacro(RadiusArrayName);
-  vtkSetMacro(RadiusScale, double);
+  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(RadiusScale, double);
   ///@}
 
@@ -84,15 +90,15 @@ public:
   /** Voxelization: angle resolution in degrees (14), at most this many depth layers
    * (16384), spans kept per pixel (7, at most 63), temporary memory in MB (512), gap
    * threshold in world units (0: no gap bridging). */
-  vtkSetClampMacro(AngleResolution, double, 0.01, 89.0);
+  vtkRayMapperSetClampMacro(AngleResolution, double, 0.01, 89.0);
   vtkGetMacro(AngleResolution, double);
-  vtkSetClampMacro(MaximumLayers, int, 1, 1 << 20);
+  vtkRayMapperSetClampMacro(MaximumLayers, int, 1, 1 << 20);
   vtkGetMacro(MaximumLayers, int);
-  vtkSetClampMacro(MaximumSpans, int, 1, 63);
+  vtkRayMapperSetClampMacro(MaximumSpans, int, 1, 63);
   vtkGetMacro(MaximumSpans, int);
-  vtkSetClampMacro(MemoryBudget, double, 0.0, 1.0e6);
+  vtkRayMapperSetClampMacro(MemoryBudget, double, 0.0, 1.0e6);
   vtkGetMacro(MemoryBudget, double);
-  vtkSetClampMacro(GapThreshold, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(GapThreshold, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(GapThreshold, double);
   ///@}
 
@@ -106,21 +112,21 @@ public:
   vtkSetMacro(BoundaryCulling, bool);
   vtkGetMacro(BoundaryCulling, bool);
   vtkBooleanMacro(BoundaryCulling, bool);
-  vtkSetClampMacro(CellSize, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(CellSize, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(CellSize, double);
   ///@}
   ///@{
   /** Surface smoothing: world-space radius (0, default: no smoothing pass) and the largest
    * number of iterations (20). */
-  vtkSetClampMacro(SmoothingRadius, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(SmoothingRadius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingRadius, double);
-  vtkSetClampMacro(SmoothingIterations, int, 0, 1000);
+  vtkRayMapperSetClampMacro(SmoothingIterations, int, 0, 1000);
   vtkGetMacro(SmoothingIterations, int);
   ///@}
 
   ///@{
   /** Surface colour (0.55, 0.75, 0.95). */
-  vtkSetVector3Macro(Color, double);
+  vtkRayMapperSetVector3ClampMacro(Color, double, 0.0, 1.0);
   vtkGetVector3Macro(Color, double);
   ///@}
 
@@ -130,17 +136,17 @@ public:
   vtkSetMacro(Translucency, bool);
   vtkGetMacro(Translucency, bool);
   vtkBooleanMacro(Translucency, bool);
-  vtkSetVector3Macro(AbsorptionColor, double);
+  vtkRayMapperSetVector3ClampMacro(AbsorptionColor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetVector3Macro(AbsorptionColor, double);
-  vtkSetClampMacro(Density, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(Density, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Density, double);
   ///@}
 
   ///@{
   /** Index of refraction (1: no refraction march) and surface events per path (4). */
-  vtkSetClampMacro(RefractiveIndex, double, 0.1, 10.0);
+  vtkRayMapperSetClampMacro(RefractiveIndex, double, 0.1, 10.0);
   vtkGetMacro(RefractiveIndex, double);
-  vtkSetClampMacro(Bounces, int, 1, 64);
+  vtkRayMapperSetClampMacro(Bounces, int, 1, 64);
   vtkGetMacro(Bounces, int);
   ///@}
 
@@ -149,9 +155,9 @@ public:
   vtkSetMacro(AmbientOcclusion, bool);
   vtkGetMacro(AmbientOcclusion, bool);
   vtkBooleanMacro(AmbientOcclusion, bool);
-  vtkSetClampMacro(AmbientOcclusionRadius, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(AmbientOcclusionRadius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(AmbientOcclusionRadius, double);
-  vtkSetClampMacro(AmbientOcclusionSamples, int, 1, 1024);
+  vtkRayMapperSetClampMacro(AmbientOcclusionSamples, int, 1, 1024);
   vtkGetMacro(AmbientOcclusionSamples, int);
   ///@}
 
@@ -165,9 +171,9 @@ public:
    * p^2 or more) and enlarged; still renders give the full image. FrameBudget in seconds; 0
    * (default): 1 / DesiredUpdateRate. Subsampling 1 to 8 fixes p (1: always the full image).
    */
-  vtkSetClampMacro(Subsampling, int, 0, 8);
+  vtkRayMapperSetClampMacro(Subsampling, int, 0, 8);
   vtkGetMacro(Subsampling, int);
-  vtkSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(FrameBudget, double);
   ///@}
   /** Statistics of the last render: phase times, counters, effects that ran. */

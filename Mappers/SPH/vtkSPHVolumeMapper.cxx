@@ -9,6 +9,7 @@
 #include "ViewRays.h"
 #include "vtkRayMapperFrameDrawer.h"
 #include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperScalarArray.h"
 #include "vtkRayMapperStatistics.h"
 
 #include "vtkAlgorithm.h"
@@ -38,6 +39,7 @@ struct vtkSPHVolumeMapper::Internals
   raymappers::PerspectiveGrid Grid;
   raymappers::Frame Frame, Coarse;
   vtkRayMapperFrameDrawer Drawer;
+  vtkRayMapperRenderHelpers::CameraCheck Camera;
   vtkNew<vtkRayMapperStatistics> Statistics;
   std::string BuiltKey; // what the particles were built from
   vtkMTimeType BuiltInputTime = 0;
@@ -110,20 +112,21 @@ double* vtkSPHVolumeMapper::GetBounds()
     }
     return this->Bounds;
   }
-  input->GetBounds(this->Bounds);
-  std::string why;
-  double hMax = this->SmoothingLength;
-  if (vtkDataArray* h = vtkRayMapperRenderHelpers::FindPointArray(
-        input, this->SmoothingLengthArrayName, "smoothing length", why))
+  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
+  if (!vtkMath::AreBoundsInitialized(this->Bounds))
   {
-    double range[2];
-    h->GetFiniteRange(range, 0);
-    hMax = range[1];
+    return this->Bounds; // no finite point
   }
+  std::string why;
+  vtkDataArray* h = vtkRayMapperRenderHelpers::FindPointArray(
+    input, this->SmoothingLengthArrayName, "smoothing length", why);
   const double factor = this->SupportFactor > 0
     ? this->SupportFactor
     : raymappers::kernelSupportPerSmoothingLength(static_cast<raymappers::SPHKernel>(this->Kernel));
-  const double grow = factor * hMax * this->SmoothingLengthScale;
+  // The largest support H = factor * scale * h the particles may have.
+  const double grow = h
+    ? vtkRayMapperRenderHelpers::LargestParticleLength(h, factor * this->SmoothingLengthScale)
+    : factor * this->SmoothingLength * this->SmoothingLengthScale;
   if (grow > 0 && std::isfinite(grow))
   {
     for (int a = 0; a < 3; ++a)
@@ -188,6 +191,11 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
       masses = densities = nullptr;
     }
   }
+  vtkRayMapperWarnIfComponentsDiffer(this, h, "smoothing length");
+  vtkRayMapperWarnIfComponentsDiffer(this, values, "value");
+  vtkRayMapperWarnIfComponentsDiffer(this, volumes, "volume");
+  vtkRayMapperWarnIfComponentsDiffer(this, masses, "mass");
+  vtkRayMapperWarnIfComponentsDiffer(this, densities, "density");
 
   const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
   const vtkRayMapperRenderHelpers::TupleReader hReader(h), valueReader(values),
@@ -221,7 +229,7 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   if (Impl->Particles.skippedBadSupport > 0)
   {
     vtkWarningMacro(<< Impl->Particles.skippedBadSupport
-                    << " particles have a zero, negative or non-finite smoothing length and are not drawn.");
+                    << " particles have a zero, negative, non-finite or huge (above 1e15) smoothing length and are not drawn.");
   }
   if (Impl->Particles.skippedBadVolume > 0)
   {
@@ -307,6 +315,11 @@ void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   int width = 0, height = 0;
   const std::array<double, 16> modelToClip =
     vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
+  if (!Impl->Camera.Usable(this, modelToClip))
+  {
+    Impl->Statistics->Set(stats);
+    return;
+  }
   std::vector<float> depth;
   int dw = 0, dh = 0;
   const bool haveDepth =
@@ -337,7 +350,8 @@ void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   {
     raymappers::ScopedPhase phase(stats, "draw");
-    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied);
+    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied,
+      Impl->Statistics->GetValidateFrames(), stats);
   }
   Impl->LastFrameSeconds = vtkTimerLog::GetUniversalTime() - start;
   Impl->Statistics->Set(stats);

@@ -35,9 +35,13 @@
  *
  * Opaque geometry already drawn stops the rays (the depth buffer is read only when the
  * renderer holds some: effect opaque_depth). Bad input never poisons the image:
- * particles with NaN/Inf coordinates, quantities or volumes, smoothing lengths that are
- * NaN, zero or negative, and negative volumes are skipped with one warning saying how
- * many; missing arrays fall back as above with a warning.
+ * particles with NaN/Inf coordinates, quantities or volumes (or beyond float), supports
+ * that are NaN, infinite, zero, negative or above 1e15, and negative volumes are skipped
+ * with one warning saying how many; missing arrays fall back as above with a warning.
+ * Numeric properties reject NaN and infinity and clamp out-of-range values, each with one
+ * warning (vtkRayMapperSetGet.h; lengths up to 1e15); an array of several components read
+ * as a scalar gives its first component (one warning when they differ); a degenerate camera
+ * (the eye at the focal point, a NaN position) gives one warning and nothing drawn.
  *
  * GetStatistics() reports phase times, counters and effects of the last render.
  */
@@ -46,6 +50,7 @@
 
 #include "RayMappersMappersModule.h" // for export macro
 #include "vtkAbstractVolumeMapper.h"
+#include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 
 #include <memory> // for std::unique_ptr
 
@@ -71,23 +76,23 @@ public:
 
   ///@{
   /** The smoothing kernel (default VTK_SPH_KERNEL_CUBIC_SPLINE). */
-  vtkSetClampMacro(Kernel, int, VTK_SPH_KERNEL_POLY6, VTK_SPH_KERNEL_WENDLAND_C2);
+  vtkRayMapperSetClampMacro(Kernel, int, VTK_SPH_KERNEL_POLY6, VTK_SPH_KERNEL_WENDLAND_C2);
   vtkGetMacro(Kernel, int);
   ///@}
 
   ///@{
   /** Support radius per smoothing length; 0 (default): the kernel's convention. */
-  vtkSetClampMacro(SupportFactor, double, 0.0, 100.0);
+  vtkRayMapperSetClampMacro(SupportFactor, double, 0.0, 100.0);
   vtkGetMacro(SupportFactor, double);
   ///@}
 
   ///@{
   /** Constant smoothing length (default 1), its array, and a factor on either (1). */
-  vtkSetMacro(SmoothingLength, double);
+  vtkRayMapperSetClampMacro(SmoothingLength, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingLength, double);
   vtkSetStringMacro(SmoothingLengthArrayName);
   vtkGetStringMacro(SmoothingLengthArrayName);
-  vtkSetMacro(SmoothingLengthScale, double);
+  vtkRayMapperSetClampMacro(SmoothingLengthScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingLengthScale, double);
   ///@}
 
@@ -108,19 +113,19 @@ public:
   vtkGetStringMacro(MassArrayName);
   vtkSetStringMacro(DensityArrayName);
   vtkGetStringMacro(DensityArrayName);
-  vtkSetMacro(Volume, double);
+  vtkRayMapperSetClampMacro(Volume, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Volume, double);
   ///@}
 
   ///@{
   /** VTK_SPH_NORMALIZED (default), VTK_SPH_UNNORMALIZED or VTK_SPH_PSEUDO_NORMALIZED. */
-  vtkSetClampMacro(Normalization, int, VTK_SPH_NORMALIZED, VTK_SPH_PSEUDO_NORMALIZED);
+  vtkRayMapperSetClampMacro(Normalization, int, VTK_SPH_NORMALIZED, VTK_SPH_PSEUDO_NORMALIZED);
   vtkGetMacro(Normalization, int);
   ///@}
 
   ///@{
   /** w_max of equation 3.16; 0 (default): computed from the particles. */
-  vtkSetClampMacro(ReferenceWeightSum, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(ReferenceWeightSum, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(ReferenceWeightSum, double);
   ///@}
 
@@ -129,9 +134,9 @@ public:
   vtkSetMacro(ContourShading, bool);
   vtkGetMacro(ContourShading, bool);
   vtkBooleanMacro(ContourShading, bool);
-  vtkSetVector3Macro(ContourColor, double);
+  vtkRayMapperSetVector3ClampMacro(ContourColor, double, 0.0, 1.0);
   vtkGetVector3Macro(ContourColor, double);
-  vtkSetClampMacro(ContourOpacity, double, 0.0, 1.0);
+  vtkRayMapperSetClampMacro(ContourOpacity, double, 0.0, 1.0);
   vtkGetMacro(ContourOpacity, double);
   ///@}
 
@@ -139,15 +144,15 @@ public:
   /** Step relative to a pixel's footprint (default 1), steps per smallest support that
    * bound it (8; 0: no bound), grid tile (16 pixels), slab depth
    * (0: a cell's samples), early termination opacity (0.99; 1: never), jitter (off). */
-  vtkSetClampMacro(StepFactor, double, 0.05, 64.0);
+  vtkRayMapperSetClampMacro(StepFactor, double, 0.05, 64.0);
   vtkGetMacro(StepFactor, double);
-  vtkSetClampMacro(SamplesPerSupport, double, 0.0, 1024.0);
+  vtkRayMapperSetClampMacro(SamplesPerSupport, double, 0.0, 1024.0);
   vtkGetMacro(SamplesPerSupport, double);
-  vtkSetClampMacro(TileSize, int, 2, 64);
+  vtkRayMapperSetClampMacro(TileSize, int, 2, 64);
   vtkGetMacro(TileSize, int);
-  vtkSetClampMacro(SlabDepth, int, 0, 1024);
+  vtkRayMapperSetClampMacro(SlabDepth, int, 0, 1024);
   vtkGetMacro(SlabDepth, int);
-  vtkSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
+  vtkRayMapperSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
   vtkGetMacro(TerminationOpacity, double);
   vtkSetMacro(Jitter, bool);
   vtkGetMacro(Jitter, bool);
@@ -157,9 +162,9 @@ public:
   ///@{
   /** Interactive sampling reduction (equation 3.1): largest factor (default 4; 1: off)
    * and the frame budget in seconds (0: 1 / the window's DesiredUpdateRate). */
-  vtkSetClampMacro(MaximumReduction, double, 1.0, 16.0);
+  vtkRayMapperSetClampMacro(MaximumReduction, double, 1.0, 16.0);
   vtkGetMacro(MaximumReduction, double);
-  vtkSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(FrameBudget, double);
   ///@}
 

@@ -8,9 +8,12 @@
 #include "ZSweepRenderer.h"
 #include "vtkRayMapperFrameDrawer.h"
 #include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperScalarArray.h"
 #include "vtkRayMapperStatistics.h"
 
+#include "vtkAlgorithm.h"
 #include "vtkCellType.h"
+#include "vtkCellTypes.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDataArray.h"
 #include "vtkIdList.h"
@@ -27,7 +30,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
+#include <sstream>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkZSweepVolumeMapper);
@@ -37,6 +43,7 @@ struct vtkZSweepVolumeMapper::Internals
   raymappers::ZSweepMesh Mesh;
   raymappers::Frame Frame;
   vtkRayMapperFrameDrawer Drawer;
+  vtkRayMapperRenderHelpers::CameraCheck Camera;
   vtkNew<vtkRayMapperStatistics> Statistics;
   std::int64_t Builds = 0;
   double LastFullFrameSeconds = 0; // of the last full-resolution render (0: none yet)
@@ -51,6 +58,7 @@ struct vtkZSweepVolumeMapper::Internals
   int BuiltCellFlag = -1;
   bool BuiltSparse = false;
   vtkMTimeType ReportedNoScalarsTime = 0;
+  vtkMTimeType WarnedEmptyInputTime = 0;
 };
 
 namespace
@@ -132,6 +140,22 @@ raymappers::OpticalModel buildOptics(vtkVolumeProperty* property, double lo, dou
 }
 }
 
+namespace
+{
+// "2 vtkTriangle, 1 vtkPolyhedron": the counts of the skipped cell types, by VTK's names.
+std::string SkippedTypesText(const std::map<int, std::size_t>& counts)
+{
+  std::ostringstream text;
+  for (auto it = counts.begin(); it != counts.end(); ++it)
+  {
+    const char* name = vtkCellTypes::GetClassNameFromTypeId(it->first);
+    text << (it == counts.begin() ? "" : ", ") << it->second << " "
+         << (name && *name ? name : "cells of type ") << (name && *name ? "" : std::to_string(it->first));
+  }
+  return text.str();
+}
+}
+
 vtkZSweepVolumeMapper::vtkZSweepVolumeMapper()
   : Impl(new Internals)
 {
@@ -142,6 +166,32 @@ vtkZSweepVolumeMapper::~vtkZSweepVolumeMapper() = default;
 vtkRayMapperStatistics* vtkZSweepVolumeMapper::GetStatistics()
 {
   return Impl->Statistics;
+}
+
+double* vtkZSweepVolumeMapper::GetBounds()
+{
+  vtkUnstructuredGridBase* input = this->GetInput();
+  if (!input)
+  {
+    return this->Superclass::GetBounds();
+  }
+  // vtkAbstractVolumeMapper's bounds, of the finite points only.
+  if (vtkAlgorithm* producer = this->GetInputAlgorithm())
+  {
+    producer->Update();
+  }
+  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
+  double* bounds = this->Bounds;
+  if (input && (input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0) &&
+    Impl->WarnedEmptyInputTime != input->GetMTime())
+  {
+    // The renderer culls a volume with empty bounds before it renders: warn here, once per
+    // input change.
+    Impl->WarnedEmptyInputTime = input->GetMTime();
+    Impl->Statistics->Set(raymappers::RenderStatistics());
+    vtkWarningMacro(<< "The input has no cells: no volume to draw.");
+  }
+  return bounds;
 }
 
 void vtkZSweepVolumeMapper::ReleaseGraphicsResources(vtkWindow* win)
@@ -194,7 +244,7 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
   const vtkIdType numCells = input->GetNumberOfCells();
   grid.cellOffsets.push_back(0);
   vtkNew<vtkIdList> ids;
-  std::size_t unsupported = 0, notVolumetric = 0;
+  std::map<int, std::size_t> skippedTypes; // cells of types the sweep does not render
   std::vector<vtkIdType> keptCells;
   for (vtkIdType c = 0; c < numCells; ++c)
   {
@@ -216,8 +266,7 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
         zt = raymappers::ZSweepCellType::Pyramid;
         break;
       default:
-        ++(vtkCellTypes::GetDimension(static_cast<unsigned char>(type)) == 3 ? unsupported
-                                                                               : notVolumetric);
+        ++skippedTypes[type];
         continue;
     }
     input->GetCellPoints(c, ids);
@@ -242,6 +291,7 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
     grid.cellOffsets.push_back(static_cast<std::int64_t>(grid.connectivity.size()));
     keptCells.push_back(c);
   }
+  vtkRayMapperWarnIfComponentsDiffer(this, scalars, "scalar");
   const vtkRayMapperRenderHelpers::TupleReader reader(scalars);
   if (grid.cellScalars)
   {
@@ -267,16 +317,11 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
   ++Impl->Builds;
 
   const auto& counts = Impl->Mesh.counts();
-  if (unsupported)
+  if (!skippedTypes.empty())
   {
-    vtkWarningMacro(<< unsupported
-                    << " cells of unsupported types (quadratic, polyhedral or other 3D "
-                       "cells) were skipped; tetrahedra, hexahedra, voxels, wedges and "
-                       "pyramids are rendered.");
-  }
-  if (notVolumetric)
-  {
-    vtkWarningMacro(<< notVolumetric << " cells of dimension below 3 were ignored.");
+    vtkWarningMacro(<< "cells of types the sweep does not render were skipped ("
+                    << SkippedTypesText(skippedTypes)
+                    << "); tetrahedra, hexahedra, voxels, wedges and pyramids are rendered.");
   }
   if (counts.badIndex)
   {
@@ -347,6 +392,11 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   int width = 0, height = 0;
   const std::array<double, 16> modelToClip =
     vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
+  if (!Impl->Camera.Usable(this, modelToClip))
+  {
+    Impl->Statistics->Set(stats);
+    return;
+  }
   std::vector<float> depth;
   int dw = 0, dh = 0;
   const bool haveDepth = vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
@@ -401,7 +451,8 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   }
   {
     raymappers::ScopedPhase phase(stats, "draw");
-    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied);
+    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied,
+      Impl->Statistics->GetValidateFrames(), stats);
   }
   Impl->Statistics->Set(stats);
 }

@@ -28,7 +28,12 @@
  * non-finite point or scalar, or zero volume (flat to the precision of their points'
  * coordinates, float or double, or at most 1e-12 of the cube of their bounding box's
  * diagonal), and cells of other types (quadratic cells, polyhedra, prisms of more
- * sides) are skipped with one warning each kind. Inverted cells (vertices in mirrored
+ * sides, cells below 3D) are skipped with one warning each kind (the skipped types named
+ * with their counts); an empty grid warns once.
+ * Numeric properties reject NaN and infinity and clamp out-of-range values, each with one
+ * warning (vtkRayMapperSetGet.h; lengths up to 1e15); an array of several components read
+ * as a scalar gives its first component (one warning when they differ); a degenerate camera
+ * (the eye at the focal point, a NaN position) gives one warning and nothing drawn. Inverted cells (vertices in mirrored
  * order) are drawn as they are, without a warning: each cell's sides come from the sign of
  * its volume (counter inverted_cells).
  *
@@ -38,6 +43,7 @@
 #define vtkZSweepVolumeMapper_h
 
 #include "RayMappersMappersModule.h" // for export macro
+#include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 #include "vtkUnstructuredGridVolumeMapper.h"
 
 #include <memory> // for std::unique_ptr
@@ -61,7 +67,7 @@ public:
    * dissertation's second-order formula) or MIDPOINT. Cell data always uses the exact
    * homogeneous formula.
    */
-  vtkSetClampMacro(Integrator, int, VTK_ZSWEEP_INTEGRATOR_EXACT, VTK_ZSWEEP_INTEGRATOR_MIDPOINT);
+  vtkRayMapperSetClampMacro(Integrator, int, VTK_ZSWEEP_INTEGRATOR_EXACT, VTK_ZSWEEP_INTEGRATOR_MIDPOINT);
   vtkGetMacro(Integrator, int);
   ///@}
 
@@ -70,7 +76,7 @@ public:
    * Side of the screen tiles swept in parallel (8 to 1024, default 32: smaller tiles keep
    * a tile's pixel lists in cache; 32 swept 5-15 % faster than 64 on the benchmarks).
    */
-  vtkSetClampMacro(TileSize, int, 8, 1024);
+  vtkRayMapperSetClampMacro(TileSize, int, 8, 1024);
   vtkGetMacro(TileSize, int);
   ///@}
 
@@ -78,7 +84,7 @@ public:
   /**
    * The list-size threshold K of delayed compositing (2 to 4096, default 16).
    */
-  vtkSetClampMacro(ListThreshold, int, 2, 4096);
+  vtkRayMapperSetClampMacro(ListThreshold, int, 2, 4096);
   vtkGetMacro(ListThreshold, int);
   ///@}
 
@@ -86,7 +92,7 @@ public:
   /**
    * A pixel stops once its opacity reaches this (default 1: never early, exact).
    */
-  vtkSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
+  vtkRayMapperSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
   vtkGetMacro(TerminationOpacity, double);
   ///@}
 
@@ -100,9 +106,9 @@ public:
    * give the exact image. FrameBudget in seconds; 0 (default): 1 / DesiredUpdateRate.
    * Subsampling 1 to 9 fixes p (1: always the full image).
    */
-  vtkSetClampMacro(Subsampling, int, 0, 9);
+  vtkRayMapperSetClampMacro(Subsampling, int, 0, 9);
   vtkGetMacro(Subsampling, int);
-  vtkSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
+  vtkRayMapperSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(FrameBudget, double);
   ///@}
 
@@ -124,6 +130,11 @@ public:
    * Statistics of the last render (counter "subsampling": the p used).
    */
   vtkRayMapperStatistics* GetStatistics();
+
+  /// The input's bounds; for an input without cells (which the renderer culls before it
+  /// renders) also one warning per input change.
+  double* GetBounds() VTK_SIZEHINT(6) override;
+  void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
 
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;

@@ -11,6 +11,7 @@
 #include "vtkRBFVolumeMapper.h"
 #include "vtkRayMapperStatistics.h"
 #include "vtkRayMapperGatherPoints.h"
+#include "vtkRayMapperSetGet.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -26,6 +27,7 @@ vtkRBFVolumeRepresentation::vtkRBFVolumeRepresentation()
   this->Volume = vtkSmartPointer<vtkVolume>::New();
   this->Volume->SetMapper(this->Mapper);
   this->SetProp(this->Volume, false);
+  this->WarnOnlyWhenShown(this->Mapper);
   this->Volume->SetProperty(this->Property);
   // One component per field: field m is classified with component m.
   this->Property->IndependentComponentsOn();
@@ -243,6 +245,10 @@ void vtkRBFVolumeRepresentation::UpdateRadiusParameters()
 {
   this->Mapper->SetRadius(this->Radius);
   this->Mapper->SetRadiusScale(this->RadiusScale);
+  // Keep what the mapper accepted (it rejects NaN and clamps), so that a rejected value is
+  // warned about once, not again with every later radius setting.
+  this->Radius = this->Mapper->GetRadius();
+  this->RadiusScale = this->Mapper->GetRadiusScale();
   const bool useArray = this->UseRadiusArray && !this->RadiusArrayName.empty();
   this->Mapper->SetRadiusArrayName(useArray ? this->RadiusArrayName.c_str() : nullptr);
   this->Modified();
@@ -305,26 +311,50 @@ void vtkRBFVolumeRepresentation::SetShade(bool shade)
 
 void vtkRBFVolumeRepresentation::SetAmbient(double value)
 {
-  this->Property->SetAmbient(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Ambient", value, 0.0, 1.0, this->Property->GetAmbient()))
+  {
+    this->Property->SetAmbient(value);
+  }
 }
 
 void vtkRBFVolumeRepresentation::SetDiffuse(double value)
 {
-  this->Property->SetDiffuse(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Diffuse", value, 0.0, 1.0, this->Property->GetDiffuse()))
+  {
+    this->Property->SetDiffuse(value);
+  }
 }
 
 void vtkRBFVolumeRepresentation::SetSpecular(double value)
 {
-  this->Property->SetSpecular(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Specular", value, 0.0, 1.0, this->Property->GetSpecular()))
+  {
+    this->Property->SetSpecular(value);
+  }
 }
 
 void vtkRBFVolumeRepresentation::SetSpecularPower(double value)
 {
-  this->Property->SetSpecularPower(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "SpecularPower", value, 0.0, 128.0, this->Property->GetSpecularPower()))
+  {
+    this->Property->SetSpecularPower(value);
+  }
 }
 
 void vtkRBFVolumeRepresentation::SetDiffuseColor(double r, double g, double b)
 {
+  double rgb[3] = { r, g, b };
+  if (!vtkRayMapperSetGet::AcceptVector(this, "DiffuseColor", rgb, 0.0, 1.0))
+  {
+    return;
+  }
+  r = rgb[0];
+  g = rgb[1];
+  b = rgb[2];
   this->DiffuseColor[0] = r;
   this->DiffuseColor[1] = g;
   this->DiffuseColor[2] = b;

@@ -1,5 +1,7 @@
 #include "vtkRayMapperGatherPoints.h"
 
+#include "vtkRayMapperRenderHelpers.h"
+
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
@@ -162,15 +164,14 @@ double vtkRayMapperLargestRadius(vtkPolyData* points,
   double radius,
   double scale)
 {
-  double base = radius;
   vtkDataArray* array =
     points && radiusArray ? points->GetPointData()->GetArray(radiusArray) : nullptr;
   if (array && array->GetNumberOfTuples() > 0)
   {
-    double range[2];
-    array->GetFiniteRange(range, 0);
-    base = (range[0] <= range[1]) ? std::max(std::fabs(range[0]), std::fabs(range[1])) : 0.0;
+    // The largest radius a particle is drawn with (huge ones are skipped), so that one
+    // skipped radius of 1e300 does not make the view's bounds huge.
+    return vtkRayMapperRenderHelpers::LargestParticleLength(array, std::fabs(scale));
   }
-  const double r = std::fabs(base * scale);
+  const double r = std::fabs(radius * scale);
   return std::isfinite(r) ? r : 0.0;
 }

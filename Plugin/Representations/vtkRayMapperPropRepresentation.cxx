@@ -1,5 +1,7 @@
 #include "vtkRayMapperPropRepresentation.h"
 
+#include "vtkCallbackCommand.h"
+#include "vtkCommand.h"
 #include "vtkDataSet.h"
 #include "vtkInformation.h"
 #include "vtkLogger.h"
@@ -14,8 +16,11 @@
 #include "vtkProp3D.h"
 #include "vtkRayMapperGatherPoints.h"
 #include "vtkRayMapperParticleExchange.h"
+#include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperThreads.h"
+#include "vtkOutputWindow.h"
 #include "vtkRenderer.h"
+#include "vtkWeakPointer.h"
 
 namespace
 {
@@ -27,12 +32,54 @@ vtkMultiProcessController* parallelController()
 }
 }
 
+struct vtkRayMapperPropRepresentation::Forwarding
+{
+  vtkWeakPointer<vtkObject> Source;
+  unsigned long WarningTag, ErrorTag;
+};
+
 vtkRayMapperPropRepresentation::vtkRayMapperPropRepresentation()
 {
   vtkRayMapperLimitThreads();
+  this->WarnOnlyWhenShown(this);
 }
 
-vtkRayMapperPropRepresentation::~vtkRayMapperPropRepresentation() = default;
+vtkRayMapperPropRepresentation::~vtkRayMapperPropRepresentation()
+{
+  for (const Forwarding& f : this->Forwardings)
+  {
+    if (f.Source && f.Source != this)
+    {
+      f.Source->RemoveObserver(f.WarningTag);
+      f.Source->RemoveObserver(f.ErrorTag);
+    }
+  }
+}
+
+void vtkRayMapperPropRepresentation::WarnOnlyWhenShown(vtkObject* source)
+{
+  vtkNew<vtkCallbackCommand> forward;
+  forward->SetClientData(this);
+  forward->SetCallback(
+    [](vtkObject*, unsigned long event, void* self, void* text)
+    {
+      // The text is the whole message ("Warning: In file, line ..."), as the output window
+      // would have shown it.
+      if (static_cast<vtkRayMapperPropRepresentation*>(self)->GetVisibility() && text)
+      {
+        if (event == vtkCommand::WarningEvent)
+        {
+          vtkOutputWindowDisplayWarningText(static_cast<const char*>(text));
+        }
+        else
+        {
+          vtkOutputWindowDisplayErrorText(static_cast<const char*>(text));
+        }
+      }
+    });
+  this->Forwardings.push_back({ source, source->AddObserver(vtkCommand::WarningEvent, forward),
+    source->AddObserver(vtkCommand::ErrorEvent, forward) });
+}
 
 void vtkRayMapperPropRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
@@ -59,12 +106,21 @@ int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey*
   {
     double bounds[6];
     vtkMath::UninitializeBounds(bounds);
-    if (vtkDataSet* data = this->GetProcessedData())
+    vtkDataSet* processed = this->GetProcessedData();
+    vtkDataObject* input = this->GetInputDataObject(0, 0);
+    if (input && (!processed || processed->GetNumberOfPoints() == 0) && !parallelController() &&
+      this->WarnedEmptyInputTime != input->GetMTime())
+    {
+      // Once per input (with several processes, a process's piece may be empty).
+      this->WarnedEmptyInputTime = input->GetMTime();
+      vtkWarningMacro(<< "The input has no points: nothing to draw.");
+    }
+    if (vtkDataSet* data = processed)
     {
       vtkPVView::SetPiece(inInfo, this, data);
-      if (data->GetNumberOfPoints() > 0)
+      vtkRayMapperRenderHelpers::FiniteBounds(data, bounds);
+      if (vtkMath::AreBoundsInitialized(bounds))
       {
-        data->GetBounds(bounds);
         const double margin = this->GetBoundsMargin();
         for (int i = 0; i < 3; ++i)
         {

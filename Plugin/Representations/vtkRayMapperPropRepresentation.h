@@ -37,6 +37,8 @@
 #include "vtkPVDataRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
+#include <vector> // for std::vector
+
 class vtkDataSet;
 class vtkProp3D;
 
@@ -126,6 +128,17 @@ protected:
    */
   virtual void SetRegion(const double bounds[6]) {}
 
+  /**
+   * The warnings and errors of `source` (this representation, its mapper) reach VTK's
+   * output window only while this representation is shown. ParaView's composite
+   * representation hands every property, and the defaults its domains compute from the data,
+   * to all of its sub-representations: a value that several share (Ambient,
+   * ScalarOpacityUnitDistance, a bounds-based radius of a data set with an infinite
+   * coordinate) would otherwise be warned about once by each, shown or not. The values are
+   * checked (rejected or clamped) all the same.
+   */
+  void WarnOnlyWhenShown(vtkObject* source);
+
   vtkSmartPointer<vtkProp3D> Prop;
   bool Selectable = false;
   // Whether the last delivered piece has points: the prop is shown only then.
@@ -143,6 +156,9 @@ private:
   vtkMTimeType ExchangedCutsTime = 0;
   double ExchangedMargin = -1.0;
   bool WarnedGathered = false;
+  vtkMTimeType WarnedEmptyInputTime = 0;
+  struct Forwarding;
+  std::vector<Forwarding> Forwardings;
 
   vtkRayMapperPropRepresentation(const vtkRayMapperPropRepresentation&) = delete;
   void operator=(const vtkRayMapperPropRepresentation&) = delete;

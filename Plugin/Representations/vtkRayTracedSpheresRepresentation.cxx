@@ -11,6 +11,8 @@
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
 #include "vtkRayMapperGatherPoints.h"
+#include "vtkRayMapperSetGet.h"
+#include "vtkRayMapperStatistics.h"
 #include "vtkScalarsToColors.h"
 
 
@@ -24,6 +26,7 @@ vtkRayTracedSpheresRepresentation::vtkRayTracedSpheresRepresentation()
   this->Actor = vtkSmartPointer<vtkActor>::New();
   this->Actor->SetMapper(this->Mapper);
   this->SetProp(this->Actor, true);
+  this->WarnOnlyWhenShown(this->Mapper);
   // vtkCGTSphereMapper draws an opaque frame that writes depth: it must run in the
   // opaque pass even when Opacity < 1 or the lookup table maps opacity (a translucent
   // actor would be drawn by ParaView's depth peeling, which the mapper does not support).
@@ -53,6 +56,12 @@ void vtkRayTracedSpheresRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 vtkCGTSphereMapper* vtkRayTracedSpheresRepresentation::GetMapper()
 {
   return this->Mapper;
+}
+
+//----------------------------------------------------------------------------
+const char* vtkRayTracedSpheresRepresentation::GetRenderStatistics()
+{
+  return this->Mapper->GetStatistics()->GetSummary();
 }
 
 //----------------------------------------------------------------------------
@@ -157,6 +166,10 @@ void vtkRayTracedSpheresRepresentation::UpdateRadiusParameters()
 {
   this->Mapper->SetRadius(this->Radius);
   this->Mapper->SetRadiusScale(this->RadiusScale);
+  // Keep what the mapper accepted (it rejects NaN and clamps), so that a rejected value is
+  // warned about once, not again with every later radius setting.
+  this->Radius = this->Mapper->GetRadius();
+  this->RadiusScale = this->Mapper->GetRadiusScale();
   const bool useArray = this->UseRadiusArray && !this->RadiusArrayName.empty();
   this->Mapper->SetRadiusArrayName(useArray ? this->RadiusArrayName.c_str() : nullptr);
 }
@@ -321,41 +334,73 @@ void vtkRayTracedSpheresRepresentation::SetRadiusScale(double scale)
 // Forwarded to the actor's property.
 void vtkRayTracedSpheresRepresentation::SetAmbient(double val)
 {
-  this->Actor->GetProperty()->SetAmbient(val);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Ambient", val, 0.0, 1.0, this->Actor->GetProperty()->GetAmbient()))
+  {
+    this->Actor->GetProperty()->SetAmbient(val);
+  }
 }
 
 void vtkRayTracedSpheresRepresentation::SetDiffuse(double val)
 {
-  this->Actor->GetProperty()->SetDiffuse(val);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Diffuse", val, 0.0, 1.0, this->Actor->GetProperty()->GetDiffuse()))
+  {
+    this->Actor->GetProperty()->SetDiffuse(val);
+  }
 }
 
 void vtkRayTracedSpheresRepresentation::SetSpecular(double val)
 {
-  this->Actor->GetProperty()->SetSpecular(val);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Specular", val, 0.0, 1.0, this->Actor->GetProperty()->GetSpecular()))
+  {
+    this->Actor->GetProperty()->SetSpecular(val);
+  }
 }
 
 void vtkRayTracedSpheresRepresentation::SetSpecularPower(double val)
 {
-  this->Actor->GetProperty()->SetSpecularPower(val);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "SpecularPower", val, 0.0, 128.0, this->Actor->GetProperty()->GetSpecularPower()))
+  {
+    this->Actor->GetProperty()->SetSpecularPower(val);
+  }
 }
 
 void vtkRayTracedSpheresRepresentation::SetAmbientColor(double r, double g, double b)
 {
-  this->Actor->GetProperty()->SetAmbientColor(r, g, b);
+  double rgb[3] = { r, g, b };
+  if (vtkRayMapperSetGet::AcceptVector(this, "AmbientColor", rgb, 0.0, 1.0))
+  {
+    this->Actor->GetProperty()->SetAmbientColor(rgb);
+  }
 }
 
 void vtkRayTracedSpheresRepresentation::SetDiffuseColor(double r, double g, double b)
 {
-  this->Actor->GetProperty()->SetDiffuseColor(r, g, b);
+  double rgb[3] = { r, g, b };
+  if (vtkRayMapperSetGet::AcceptVector(this, "DiffuseColor", rgb, 0.0, 1.0))
+  {
+    this->Actor->GetProperty()->SetDiffuseColor(rgb);
+  }
 }
 
 void vtkRayTracedSpheresRepresentation::SetSpecularColor(double r, double g, double b)
 {
-  this->Actor->GetProperty()->SetSpecularColor(r, g, b);
+  double rgb[3] = { r, g, b };
+  if (vtkRayMapperSetGet::AcceptVector(this, "SpecularColor", rgb, 0.0, 1.0))
+  {
+    this->Actor->GetProperty()->SetSpecularColor(rgb);
+  }
 }
 
 void vtkRayTracedSpheresRepresentation::SetOpacity(double val)
 {
+  if (!vtkRayMapperSetGet::Accept(this, "Opacity", val, 0.0, 1.0, this->Actor->GetProperty()->GetOpacity()))
+  {
+    return;
+  }
   // Kept on the property for the mapper; the actor stays in the opaque pass (see the
   // constructor), so the spheres are drawn opaque until the mapper blends.
   this->Actor->GetProperty()->SetOpacity(val);

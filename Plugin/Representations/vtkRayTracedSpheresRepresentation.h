@@ -141,6 +141,9 @@ public:
   virtual void SetSpecularColor(double r, double g, double b);
   virtual void SetOpacity(double val);
 
+  /** The mapper's statistics of the last render, one "kind name value" per line. */
+  const char* GetRenderStatistics();
+
   ///@{
   /**
    * The mapper and the actor, for tests and for C++ users.

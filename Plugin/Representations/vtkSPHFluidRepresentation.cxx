@@ -6,6 +6,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPolyData.h"
 #include "vtkRayMapperGatherPoints.h"
+#include "vtkRayMapperSetGet.h"
 #include "vtkRayMapperStatistics.h"
 #include "vtkSPHFluidMapper.h"
 #include "vtkVolume.h"
@@ -33,6 +34,7 @@ vtkSPHFluidRepresentation::vtkSPHFluidRepresentation()
   this->Volume->SetMapper(this->Mapper);
   this->Volume->SetProperty(this->Property);
   this->SetProp(this->Volume, false);
+  this->WarnOnlyWhenShown(this->Mapper);
 }
 
 vtkSPHFluidRepresentation::~vtkSPHFluidRepresentation() = default;
@@ -137,20 +139,36 @@ void vtkSPHFluidRepresentation::SetAbsorptionColor(double r, double g, double b)
 // Lighting.
 void vtkSPHFluidRepresentation::SetAmbient(double value)
 {
-  this->Property->SetAmbient(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Ambient", value, 0.0, 1.0, this->Property->GetAmbient()))
+  {
+    this->Property->SetAmbient(value);
+  }
 }
 
 void vtkSPHFluidRepresentation::SetDiffuse(double value)
 {
-  this->Property->SetDiffuse(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Diffuse", value, 0.0, 1.0, this->Property->GetDiffuse()))
+  {
+    this->Property->SetDiffuse(value);
+  }
 }
 
 void vtkSPHFluidRepresentation::SetSpecular(double value)
 {
-  this->Property->SetSpecular(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Specular", value, 0.0, 1.0, this->Property->GetSpecular()))
+  {
+    this->Property->SetSpecular(value);
+  }
 }
 
 void vtkSPHFluidRepresentation::SetSpecularPower(double value)
 {
-  this->Property->SetSpecularPower(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "SpecularPower", value, 0.0, 128.0, this->Property->GetSpecularPower()))
+  {
+    this->Property->SetSpecularPower(value);
+  }
 }

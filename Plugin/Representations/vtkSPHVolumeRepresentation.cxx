@@ -9,6 +9,7 @@
 #include "vtkPiecewiseFunction.h"
 #include "vtkPolyData.h"
 #include "vtkRayMapperGatherPoints.h"
+#include "vtkRayMapperSetGet.h"
 #include "vtkRayMapperStatistics.h"
 #include "vtkSPHVolumeMapper.h"
 #include "vtkVolume.h"
@@ -36,6 +37,7 @@ vtkSPHVolumeRepresentation::vtkSPHVolumeRepresentation()
   this->Volume = vtkSmartPointer<vtkVolume>::New();
   this->Volume->SetMapper(this->Mapper);
   this->SetProp(this->Volume, false);
+  this->WarnOnlyWhenShown(this->Mapper);
   this->Volume->SetProperty(this->Property);
   this->Property->SetInterpolationTypeToLinear();
   this->SolidColor = vtkSmartPointer<vtkColorTransferFunction>::New();
@@ -246,26 +248,50 @@ void vtkSPHVolumeRepresentation::SetShade(bool shade)
 
 void vtkSPHVolumeRepresentation::SetAmbient(double value)
 {
-  this->Property->SetAmbient(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Ambient", value, 0.0, 1.0, this->Property->GetAmbient()))
+  {
+    this->Property->SetAmbient(value);
+  }
 }
 
 void vtkSPHVolumeRepresentation::SetDiffuse(double value)
 {
-  this->Property->SetDiffuse(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Diffuse", value, 0.0, 1.0, this->Property->GetDiffuse()))
+  {
+    this->Property->SetDiffuse(value);
+  }
 }
 
 void vtkSPHVolumeRepresentation::SetSpecular(double value)
 {
-  this->Property->SetSpecular(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "Specular", value, 0.0, 1.0, this->Property->GetSpecular()))
+  {
+    this->Property->SetSpecular(value);
+  }
 }
 
 void vtkSPHVolumeRepresentation::SetSpecularPower(double value)
 {
-  this->Property->SetSpecularPower(value);
+  // vtkProperty and vtkVolumeProperty take NaN as it is; the kernels would shade with it.
+  if (vtkRayMapperSetGet::Accept(this, "SpecularPower", value, 0.0, 128.0, this->Property->GetSpecularPower()))
+  {
+    this->Property->SetSpecularPower(value);
+  }
 }
 
 void vtkSPHVolumeRepresentation::SetDiffuseColor(double r, double g, double b)
 {
+  double rgb[3] = { r, g, b };
+  if (!vtkRayMapperSetGet::AcceptVector(this, "DiffuseColor", rgb, 0.0, 1.0))
+  {
+    return;
+  }
+  r = rgb[0];
+  g = rgb[1];
+  b = rgb[2];
   this->SolidColor->RemoveAllPoints();
   this->SolidColor->AddRGBPoint(0.0, r, g, b);
   this->SolidColor->AddRGBPoint(1.0, r, g, b);

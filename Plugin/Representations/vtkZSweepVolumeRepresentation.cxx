@@ -28,6 +28,7 @@ vtkZSweepVolumeRepresentation::vtkZSweepVolumeRepresentation()
   this->Volume = vtkSmartPointer<vtkVolume>::New();
   this->Volume->SetMapper(this->Mapper);
   this->SetProp(this->Volume, false);
+  this->WarnOnlyWhenShown(this->Mapper);
   this->Volume->SetProperty(this->Property);
 }
 

@@ -481,6 +481,38 @@ TEST(SPH, EmptyInputAndParticlesOutOfViewGiveAnEmptyFrame)
     EXPECT_EQ(v, 0.f);
 }
 
+TEST(SPH, FootprintsBeyondIntRangeUnderATinyViewAngleStayOutOfView)
+{
+  // VTK's smallest view angle, 1e-8 degrees (what a zero view angle becomes), magnifies the
+  // projection by 1e10: a sphere 0.5 off the axis at depth 4 projects 1e9 image widths
+  // away. Its extent must not wrap into the image through an int conversion (it crashed
+  // the perspective grid's cell counting with tiles at -2^27).
+  const ViewRays rays =
+    perspectiveRays({ 0, 0, 4 }, { 0, 0, 0 }, Vec3d(), 16, 16, 0.1, 100, 1e-8);
+  for (const Vec3d& c : { Vec3d(0.5, 0, 0), Vec3d(-0.5, 0, 0), Vec3d(0, 0.5, 0), Vec3d(0, -0.5, 0) })
+  {
+    const SphereFootprint f = rays.footprint(c, 0.1);
+    EXPECT_FALSE(f.inView) << c.x << " " << c.y;
+  }
+  // The sphere on the axis covers every pixel.
+  const SphereFootprint f = rays.footprint(Vec3d(0, 0, 0), 0.1);
+  EXPECT_TRUE(f.inView);
+  EXPECT_EQ(f.i0, 0);
+  EXPECT_EQ(f.i1, 15);
+  const TransferFunctionTable tf = rampTable(0, 1, [](double) { return 0.5; }, 8);
+  SPHRenderParameters params;
+  PerspectiveGrid grid;
+  Frame frame;
+  RenderStatistics stats;
+  const SPHParticles P = makeParticles({ { { 0.5, 0, 0 }, 0.1, 1, 1 }, { { 0, 0, 0 }, 0.1, 1, 1 } });
+  renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+  EXPECT_EQ(stats.counter("particles_in_view"), 1);
+  for (const float v : frame.rgba)
+  {
+    EXPECT_TRUE(std::isfinite(v));
+  }
+}
+
 TEST(SPH, AnEffectThatIsOffCostsNothing)
 {
   const SPHParticles P = makeParticles(cloud(40, 0.2, 2, 9));

@@ -21,9 +21,13 @@
 #include "vtkUnsignedCharArray.h"
 
 #include "ImageFiles.h"
+#include "vtkRayMapperStatistics.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <limits>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -88,6 +92,7 @@ public:
   int Warnings = 0;
   int Errors = 0;
   std::string Last;
+  std::vector<std::string> Texts; // every warning and error, in order
 
 private:
   static void On(vtkObject*, unsigned long event, void* self, void* text)
@@ -95,6 +100,7 @@ private:
     auto* me = static_cast<EventCounter*>(self);
     (event == vtkCommand::WarningEvent ? me->Warnings : me->Errors)++;
     me->Last = text ? static_cast<const char*>(text) : "";
+    me->Texts.push_back(me->Last);
     std::printf("observed %s: %s\n",
       event == vtkCommand::WarningEvent ? "warning" : "error",
       me->Last.c_str());
@@ -205,6 +211,214 @@ inline int CompareWithBaseline(const raymappers::test::RGBImage& image, int argc
 inline int CompareWithBaseline(vtkRenderWindow* win, int argc, char* argv[])
 {
   return CompareWithBaseline(raymappers::test::fromWindow(win), argc, argv);
+}
+
+/// The bookkeeping of a bad-input test: checks printed as they run; the warnings and errors
+/// an EventCounter saw since the last Warned(); the frame validation of a mapper's last
+/// render (vtkRayMapperStatistics::ValidateFrames, switched on here); exact image equality.
+class BadInputLog
+{
+public:
+  BadInputLog(EventCounter& events, vtkRayMapperStatistics* statistics)
+    : Events(events)
+    , Statistics(statistics)
+    , Mark(events.Texts.size())
+    , ErrorMark(events.Errors)
+  {
+    Statistics->ValidateFramesOn();
+  }
+  void Check(bool condition, const std::string& what)
+  {
+    std::printf("%s %s\n", condition ? "ok  " : "FAIL", what.c_str());
+    Ok = Ok && condition;
+  }
+  /// Exactly `n` messages since the last call, all warnings, each containing `text`.
+  void Warned(int n, const char* text, const std::string& what) { Messages(n, 0, text, what); }
+  /// Exactly `n` messages since the last call, all errors, each containing `text`.
+  void Errored(int n, const char* text, const std::string& what) { Messages(0, n, text, what); }
+  /// No message since the last call.
+  void Silent(const std::string& what) { Warned(0, "", what); }
+  /// Exactly `warnings` + `errorsExpected` messages since the last call, `errorsExpected` of
+  /// them errors, each containing `text`.
+  void Messages(int warnings, int errorsExpected, const char* text, const std::string& what)
+  {
+    const std::vector<std::string> seen(Events.Texts.begin() + Mark, Events.Texts.end());
+    Mark = Events.Texts.size();
+    bool named = true;
+    for (const std::string& t : seen)
+    {
+      named = named && t.find(text) != std::string::npos;
+    }
+    const int errors = Events.Errors - ErrorMark;
+    ErrorMark = Events.Errors;
+    Check(static_cast<int>(seen.size()) == warnings + errorsExpected && errors == errorsExpected &&
+        named,
+      what + ": " + std::to_string(warnings) + " warning(s) and " +
+        std::to_string(errorsExpected) + " error(s) naming '" + text + "' (saw " +
+        std::to_string(seen.size()) + " messages, " + std::to_string(errors) + " errors)");
+  }
+  /// The last render drew a frame without NaN, infinite or out-of-range values.
+  void ValidFrame(const std::string& what)
+  {
+    const bool on = Statistics->GetEffect("frame_validation");
+    const long long bad = Statistics->GetCounter("frame_nonfinite_values");
+    const long long range = Statistics->GetCounter("frame_out_of_range_values");
+    Check(on && bad == 0 && range == 0,
+      what + ": the float frame is valid (validated " + (on ? "yes" : "NO") + ", " +
+        std::to_string(bad) + " non-finite, " + std::to_string(range) + " out of range)");
+  }
+  /// The last render drew nothing (no frame to validate).
+  void NothingDrawn(const std::string& what)
+  {
+    Check(!Statistics->GetEffect("frame_validation"), what + ": the mapper drew no frame");
+  }
+  /// The two pictures are equal, tolerance 0.
+  void SameImage(const raymappers::test::RGBImage& a,
+    const raymappers::test::RGBImage& b,
+    const std::string& what)
+  {
+    const auto d = raymappers::test::compareImages(a, b, 0);
+    Check(d.sameSize && d.maxError == 0,
+      what + ": the same picture (max error " + std::to_string(d.maxError) + ", " +
+        std::to_string(d.differing * 100.0) + "% of the pixels differ)");
+  }
+  bool Ok = true;
+
+private:
+  EventCounter& Events;
+  vtkRayMapperStatistics* Statistics;
+  std::size_t Mark = 0;
+  int ErrorMark = 0;
+};
+
+/// The picture after VTK's own Reset Camera (the bounds of the visible props, so the
+/// mapper's GetBounds, place the camera and its clipping range); the camera is put back.
+inline raymappers::test::RGBImage ResetCameraImage(vtkRenderer* ren, vtkRenderWindow* win)
+{
+  vtkNew<vtkCamera> saved;
+  saved->DeepCopy(ren->GetActiveCamera());
+  ren->ResetCamera();
+  win->Render();
+  raymappers::test::RGBImage image = raymappers::test::fromWindow(win);
+  ren->GetActiveCamera()->DeepCopy(saved);
+  return image;
+}
+
+/// True when every pixel of the picture has the colour (r, g, b).
+inline bool AllPixels(const raymappers::test::RGBImage& image, int r, int g, int b)
+{
+  for (std::size_t k = 0; k + 2 < image.rgb.size(); k += 3)
+  {
+    if (image.rgb[k] != r || image.rgb[k + 1] != g || image.rgb[k + 2] != b)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+/// A property set to NaN: `setup` makes the property matter (the picture with it is the
+/// expectation), `bad` sets the NaN, which must give one warning and leave that picture;
+/// `teardown` restores the scene.
+struct NaNCase
+{
+  std::string name;
+  std::function<void()> setup, bad, teardown;
+};
+
+/// A property set out of its range: `set(bound)` first (the picture of the bound, with
+/// `boundWarnings` warnings naming `boundText` from that render), then `set(bad)`: one
+/// warning containing `text`, clamped, so exactly the picture of the bound.
+struct ClampCase
+{
+  std::string name;
+  std::function<void(double)> set;
+  double bad, bound;
+  std::string text;
+  int boundWarnings = 0;
+  std::string boundText = "";
+};
+
+inline void CheckNaNCases(BadInputLog& log,
+  const std::function<raymappers::test::RGBImage()>& render,
+  const std::vector<NaNCase>& cases)
+{
+  for (const NaNCase& c : cases)
+  {
+    c.setup();
+    const raymappers::test::RGBImage before = render();
+    log.Silent(c.name + ": the setting that uses it");
+    c.bad();
+    log.Warned(1, "not a number", c.name + " NaN");
+    log.SameImage(render(), before, c.name + " NaN: the picture before it");
+    log.ValidFrame(c.name + " NaN");
+    c.teardown();
+  }
+}
+
+inline void CheckClampCases(BadInputLog& log,
+  const std::function<raymappers::test::RGBImage()>& render,
+  const std::vector<ClampCase>& cases)
+{
+  for (const ClampCase& c : cases)
+  {
+    c.set(c.bound);
+    const raymappers::test::RGBImage atBound = render();
+    log.Warned(c.boundWarnings, c.boundText.c_str(), c.name + " set to its bound directly");
+    log.ValidFrame(c.name + " at its bound");
+    c.set(c.bad);
+    log.Warned(1, c.text.c_str(), c.name + " out of range");
+    log.SameImage(render(), atBound, c.name + " clamped: the picture of the bound");
+    log.Silent(c.name + " clamped, rendered (the state of the bound)");
+    log.ValidFrame(c.name + " clamped");
+  }
+}
+
+/// The degenerate cameras: a zero view angle (VTK clamps it to a tiny positive angle; the
+/// mapper renders, silently, a valid frame), the eye at the focal point and a NaN position
+/// (one warning each naming the camera, nothing drawn: the background `background`, no
+/// new warning when rendered again, the expected picture once `restore` puts the camera
+/// back).
+inline void CheckDegenerateCameras(BadInputLog& log,
+  vtkCamera* camera,
+  const std::function<raymappers::test::RGBImage()>& render,
+  const raymappers::test::RGBImage& expected,
+  const std::array<int, 3>& background)
+{
+  const double angle = camera->GetViewAngle();
+  double position[3], focal[3], up[3];
+  camera->GetPosition(position);
+  camera->GetFocalPoint(focal);
+  camera->GetViewUp(up);
+  auto restore = [&] {
+    camera->SetViewAngle(angle);
+    camera->SetPosition(position);
+    camera->SetFocalPoint(focal);
+    camera->SetViewUp(up);
+  };
+  camera->SetViewAngle(0);
+  render();
+  log.Check(camera->GetViewAngle() > 0, "VTK clamps a zero view angle to a positive one");
+  log.Silent("zero view angle");
+  log.ValidFrame("zero view angle");
+  restore();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& [what, eye] : std::vector<std::pair<std::string, std::array<double, 3>>>{
+         { "eye at the focal point", { focal[0], focal[1], focal[2] } },
+         { "NaN camera position", { nan, position[1], position[2] } } })
+  {
+    camera->SetPosition(eye.data());
+    const raymappers::test::RGBImage img = render();
+    log.Warned(1, "The camera is degenerate", what);
+    log.NothingDrawn(what);
+    log.Check(AllPixels(img, background[0], background[1], background[2]),
+      what + ": the background only");
+    render();
+    log.Silent(what + ", rendered again");
+    restore();
+    log.SameImage(render(), expected, what + ", then the camera restored");
+    log.Silent(what + ", then the camera restored");
+  }
 }
 
 #define RM_CHECK(cond)                                                                             \

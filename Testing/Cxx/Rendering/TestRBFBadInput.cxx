@@ -1,12 +1,21 @@
-// Bad input to vtkRBFVolumeMapper gets a clear warning and loses nothing else: an empty
-// input draws nothing, missing value/radius/field arrays fall back with a warning, and
-// particles with NaN coordinates or values or bad radii are skipped (one warning each kind)
-// while the picture of the valid particles stays exactly the same, with no NaN anywhere.
+// vtkRBFVolumeMapper on bad input. Each case gives exactly the warnings it names, renders
+// exactly the picture of the scene without the bad part (tolerance 0) and leaves a float
+// frame without NaN, infinite or out-of-range values (ValidateFrames) after every render:
+//   - particles with NaN coordinates, NaN / infinite / huge (1e300, beyond float) values,
+//     zero / negative / NaN / infinite / huge radii: skipped, one warning each kind;
+//   - missing value, radius and field arrays: one warning each, the fallbacks drawn;
+//   - an integer value array (the picture of the double one, silently); a 3-component value
+//     array (one warning, its first component);
+//   - an empty input (one warning, nothing drawn);
+//   - NaN, negative and huge property values (one warning each; NaN keeps the value, the
+//     others are clamped: the picture of the bound set directly);
+//   - degenerate cameras (zero view angle drawn; the eye at the focal point and a NaN
+//     position: one warning each, nothing drawn).
 #include "RenderingTestHelpers.h"
 #include "vtkRBFVolumeMapper.h"
-#include "vtkRayMapperStatistics.h"
 
 #include "vtkColorTransferFunction.h"
+#include "vtkIntArray.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -15,6 +24,8 @@
 
 namespace
 {
+using raymappers::test::RGBImage;
+
 struct Viewer
 {
   vtkNew<vtkRBFVolumeMapper> Mapper;
@@ -23,6 +34,7 @@ struct Viewer
   vtkNew<vtkRenderer> Ren;
   vtkNew<vtkRenderWindow> Win;
   rmtest::EventCounter Events;
+  rmtest::BadInputLog Log{ Events, Mapper->GetStatistics() };
   Viewer()
   {
     vtkNew<vtkColorTransferFunction> color;
@@ -45,26 +57,25 @@ struct Viewer
     Ren->GetActiveCamera()->SetViewAngle(40);
     Events.Observe(Mapper);
   }
-  std::vector<unsigned char> Show(vtkPolyData* data)
+  RGBImage Show(vtkPolyData* data)
   {
     Mapper->SetInputData(data);
+    return Render();
+  }
+  RGBImage Render()
+  {
     Ren->ResetCameraClippingRange(-3, 3, -3, 3, -3, 3);
     Win->Render();
-    return rmtest::ReadRGB(Win);
+    return raymappers::test::fromWindow(Win);
   }
 };
-}
 
-int TestRBFBadInput(int, char*[])
+// The lattice with particles added that must all be skipped: NaN coordinates, bad radii,
+// bad values (the "value" array holds each point's index; the added ones get bad values).
+vtkSmartPointer<vtkPolyData> Dirty(vtkPolyData* clean)
 {
-  auto clean = rmtest::MakeLattice(4);
-  Viewer v;
-  v.Mapper->SetRadiusArrayName("radius");
-  v.Mapper->SetRadiusScale(2.0);
-  const auto reference = v.Show(clean);
-  RM_CHECK(v.Events.Warnings == 0 && v.Events.Errors == 0);
-
-  // NaN coordinates, NaN value, zero / negative / NaN radius: 5 particles more, skipped.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
   std::vector<std::array<double, 3>> c;
   std::vector<double> r;
   for (vtkIdType i = 0; i < clean->GetNumberOfPoints(); ++i)
@@ -74,55 +85,152 @@ int TestRBFBadInput(int, char*[])
     c.push_back(p);
     r.push_back(clean->GetPointData()->GetArray("radius")->GetComponent(i, 0));
   }
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   c.push_back({ nan, 0, 0 });
   r.push_back(0.2);
-  for (const double bad : { 0.0, -0.3, nan })
+  c.push_back({ 0, inf, 0 });
+  r.push_back(0.2);
+  for (const double bad : { 0.0, -0.3, nan, inf, 1e20, 1e300 })
   {
     c.push_back({ 0.1, 0.2, 0.3 });
     r.push_back(bad);
   }
-  c.push_back({ 0.3, 0.1, 0.0 });
-  r.push_back(0.2);
+  const std::size_t valued = c.size();
+  for (int k = 0; k < 3; ++k)
+  {
+    c.push_back({ 0.3, 0.1 * k, 0.0 });
+    r.push_back(0.2);
+  }
   auto dirty = rmtest::MakeSpheres(c, r);
-  // "value" holds each point's index; the last point's value is NaN.
-  dirty->GetPointData()->GetArray("value")->SetComponent(c.size() - 1, 0, nan);
+  vtkDataArray* values = dirty->GetPointData()->GetArray("value");
+  values->SetComponent(valued, 0, nan);
+  values->SetComponent(valued + 1, 0, inf);
+  values->SetComponent(valued + 2, 0, 1e300); // finite as double, infinite as float
+  return dirty;
+}
+
+vtkSmartPointer<vtkPolyData> WithArrayKinds(vtkPolyData* clean)
+{
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  data->DeepCopy(clean);
+  vtkDataArray* values = data->GetPointData()->GetArray("value");
+  vtkNew<vtkIntArray> ints;
+  ints->SetName("ivalue");
+  vtkNew<vtkDoubleArray> three;
+  three->SetName("value3");
+  three->SetNumberOfComponents(3);
+  for (vtkIdType i = 0; i < values->GetNumberOfTuples(); ++i)
+  {
+    const double v = values->GetComponent(i, 0);
+    ints->InsertNextValue(static_cast<int>(v));
+    three->InsertNextTuple3(v, -v, 2 * v);
+  }
+  data->GetPointData()->AddArray(ints);
+  data->GetPointData()->AddArray(three);
+  return data;
+}
+
+void Data(Viewer& v, vtkPolyData* clean, const RGBImage& reference)
+{
+  rmtest::BadInputLog& log = v.Log;
   v.Mapper->SetValueArrayName("value");
-  // With values the picture changes; compare dirty against clean with the same setting.
-  const auto cleanValued = v.Show(clean);
-  v.Events.Warnings = 0;
-  const auto dirtyValued = v.Show(dirty);
-  RM_CHECK(dirtyValued == cleanValued);
-  RM_CHECK(v.Events.Warnings == 2); // non-finite coordinates/values, bad radii
-  RM_CHECK(v.Mapper->GetStatistics()->GetCounter("particles") == clean->GetNumberOfPoints());
+  const RGBImage valued = v.Show(clean);
+  log.Silent("the valued lattice");
+  log.SameImage(v.Show(Dirty(clean)), valued, "bad particles");
+  log.Warned(2, "are not drawn", "bad particles (coordinates or values; radii)");
+  log.ValidFrame("bad particles");
+  log.Check(v.Mapper->GetStatistics()->GetCounter("particles") == clean->GetNumberOfPoints(),
+    "only the lattice's particles are drawn");
+  // VTK's Reset Camera frames the finite points and the drawn radii only.
+  v.Mapper->SetInputData(clean);
+  const RGBImage framed = rmtest::ResetCameraImage(v.Ren, v.Win);
+  v.Mapper->SetInputData(Dirty(clean));
+  log.SameImage(rmtest::ResetCameraImage(v.Ren, v.Win), framed,
+    "Reset Camera with infinite coordinates and radii of 1e20 and 1e300");
+  log.Warned(2, "are not drawn", "Reset Camera with bad particles");
+  log.ValidFrame("Reset Camera with bad particles");
+
+  auto kinds = WithArrayKinds(clean);
+  v.Mapper->SetValueArrayName("ivalue");
+  log.SameImage(v.Show(kinds), valued, "an integer value array");
+  log.Silent("an integer value array");
+  log.ValidFrame("an integer value array");
+  v.Mapper->SetValueArrayName("value3");
+  log.SameImage(v.Render(), valued, "a 3-component value array");
+  log.Warned(1, "value array 'value3' has 3 components that differ: the first is used",
+    "a 3-component value array");
+  v.Render();
+  log.Silent("a 3-component value array, rendered again");
   v.Mapper->SetValueArrayName(nullptr);
 
-  // Missing arrays: one warning each, the fallbacks draw.
-  v.Events.Warnings = 0;
   v.Mapper->SetRadiusArrayName("no-such-radius");
   v.Mapper->SetValueArrayName("no-such-value");
   v.Mapper->SetFieldArrayName("no-such-field");
-  const auto fallback = v.Show(clean);
-  RM_CHECK(v.Events.Warnings == 3);
-  RM_CHECK(fallback != reference); // the constant radius 1 x 2 is not the lattice's radii
+  v.Show(clean);
+  log.Warned(3, "is not a point array of the input", "missing radius, value and field arrays");
+  log.ValidFrame("missing arrays");
   v.Mapper->SetRadiusArrayName("radius");
   v.Mapper->SetValueArrayName(nullptr);
   v.Mapper->SetFieldArrayName(nullptr);
-  RM_CHECK(v.Show(clean) == reference);
+  log.SameImage(v.Show(clean), reference, "the arrays restored");
+  log.Silent("the arrays restored");
 
-  // An empty input: a warning, nothing drawn, no crash.
-  v.Events.Warnings = 0;
   vtkNew<vtkPolyData> empty;
-  const auto nothing = v.Show(empty);
-  RM_CHECK(v.Events.Warnings == 1);
-  RM_CHECK(std::all_of(nothing.begin(), nothing.end(), [](unsigned char x) { return x == 0; }));
-
-  // Absurd parameters are clamped, never NaN.
-  v.Mapper->SetSigma(-5);
-  v.Mapper->SetKappa(-1);
-  v.Mapper->SetSamplesPerPass(100000);
+  log.Check(rmtest::AllPixels(v.Show(empty), 0, 0, 0), "empty input: nothing drawn");
+  log.Warned(1, "no points", "empty input");
   v.Show(clean);
-  RM_CHECK(v.Mapper->GetSigma() == 0.0 && v.Mapper->GetKappa() == 0.0);
-  RM_CHECK(v.Mapper->GetSamplesPerPass() == 256);
-  return EXIT_SUCCESS;
+}
+
+void Properties(Viewer& v)
+{
+  rmtest::BadInputLog& log = v.Log;
+  vtkRBFVolumeMapper* m = v.Mapper;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto render = [&] { return v.Render(); };
+  auto nothing = [] {};
+  rmtest::CheckNaNCases(log, render,
+    { { "Kappa", nothing, [&] { m->SetKappa(nan); }, nothing },
+      { "Sigma", nothing, [&] { m->SetSigma(nan); }, nothing },
+      { "SampleDistance", nothing, [&] { m->SetSampleDistance(nan); }, nothing },
+      { "Radius", [&] { m->SetRadiusArrayName(nullptr), m->SetRadius(0.2); },
+        [&] { m->SetRadius(nan); }, [&] { m->SetRadiusArrayName("radius"); } },
+      { "RadiusScale", nothing, [&] { m->SetRadiusScale(nan); }, nothing },
+      { "TerminationOpacity", nothing, [&] { m->SetTerminationOpacity(nan); }, nothing } });
+  rmtest::CheckClampCases(log, render,
+    { { "Sigma", [&](double x) { m->SetSigma(x); }, -5, 0, "Sigma -5 is outside [0, 1000]" },
+      { "Kappa", [&](double x) { m->SetKappa(x); }, -1, 0, "Kappa -1 is outside [0, 1e+15]" },
+      { "Kappa", [&](double x) { m->SetKappa(x); }, 1e300, 1e15, "Kappa 1e+300 is outside" },
+      { "SamplesPerPass", [&](double x) { m->SetSamplesPerPass(static_cast<int>(x)); }, 100000,
+        256, "SamplesPerPass 100000 is outside [1, 256]" },
+      { "TerminationOpacity", [&](double x) { m->SetTerminationOpacity(x); }, 7, 1,
+        "TerminationOpacity 7 is outside [0, 1]" },
+      { "RadiusScale", [&](double x) { m->SetRadiusScale(x); }, 1e300, 1e15,
+        "RadiusScale 1e+300 is outside" },
+      { "SampleDistance", [&](double x) { m->SetSampleDistance(x); }, 1e300, 1e15,
+        "SampleDistance 1e+300 is outside" } });
+  m->SetSigma(2);
+  m->SetKappa(1);
+  m->SetSamplesPerPass(32);
+  m->SetTerminationOpacity(0.99);
+  m->SetRadiusScale(2);
+  m->SetSampleDistance(0.05);
+  v.Render();
+  log.Silent("the properties restored");
+}
+}
+
+int TestRBFBadInput(int, char*[])
+{
+  auto clean = rmtest::MakeLattice(4);
+  Viewer v;
+  v.Mapper->SetRadiusArrayName("radius");
+  v.Mapper->SetRadiusScale(2.0);
+  const RGBImage reference = v.Show(clean);
+  v.Log.Silent("the lattice");
+  v.Log.ValidFrame("the lattice");
+  Data(v, clean, reference);
+  Properties(v);
+  v.Log.SameImage(v.Render(), reference, "everything restored");
+  rmtest::CheckDegenerateCameras(v.Log, v.Ren->GetActiveCamera(), [&] { return v.Render(); },
+    reference, { 0, 0, 0 });
+  return v.Log.Ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

@@ -34,7 +34,8 @@ struct FrameOverlay
   static void Draw(vtkObject* caller, unsigned long, void* self, void*)
   {
     auto* me = static_cast<FrameOverlay*>(self);
-    me->Drawer.Draw(static_cast<vtkRenderer*>(caller), me->Frame, me->Mode);
+    raymappers::RenderStatistics unused;
+    me->Drawer.Draw(static_cast<vtkRenderer*>(caller), me->Frame, me->Mode, false, unused);
   }
 };
 

@@ -1,121 +1,249 @@
-// vtkSPHFluidMapper with bad input: a missing radius array, NaN positions, zero, negative
-// and NaN radii, a memory budget too small for one voxel column, a camera inside the fluid,
-// an empty point set. Each gives one clear warning, loses nothing else, and never a NaN or a
-// crash.
-//
-// usage: TestSPHFluidBadInput
+// vtkSPHFluidMapper on bad input. Each case gives exactly the warnings it names, renders
+// exactly the picture of the scene without the bad part (tolerance 0) and leaves a float
+// frame without NaN, infinite or out-of-range values (ValidateFrames) after every render:
+//   - a missing radius array (the constant radius, the same picture);
+//   - particles with NaN / infinite positions and zero / negative / NaN / infinite / huge
+//     radii: skipped (one warning each kind), the picture of the others;
+//   - an integer radius array (the picture of the double one, silently); a 3-component
+//     radius array (one warning, its first component);
+//   - a memory budget too small for one voxel column (one warning, nothing drawn);
+//   - NaN, negative and huge property values (one warning each; NaN keeps the value, the
+//     others are clamped: the picture of the bound set directly);
+//   - degenerate cameras (zero view angle drawn; the eye at the focal point and a NaN
+//     position: one warning each, nothing drawn); a camera inside the fluid;
+//   - an empty input (one warning, nothing drawn).
 #include "RenderingTestHelpers.h"
-#include "vtkRayMapperStatistics.h"
 #include "vtkSPHFluidMapper.h"
 
+#include "vtkIntArray.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
 #include <limits>
 
-int TestSPHFluidBadInput(int, char*[])
+namespace
 {
-  bool ok = true;
-  auto check = [&](bool condition, const char* what) {
-    std::printf("%s %s\n", condition ? "ok  " : "FAIL", what);
-    ok = ok && condition;
-  };
-  vtkNew<vtkSPHFluidMapper> mapper;
-  mapper->SetRadius(0.25);
-  vtkNew<vtkVolume> volume;
-  volume->SetMapper(mapper);
-  vtkNew<vtkVolumeProperty> property;
-  volume->SetProperty(property);
-  vtkNew<vtkRenderer> ren;
-  ren->AddVolume(volume);
-  vtkNew<vtkRenderWindow> win;
-  win->SetSize(96, 96);
-  win->AddRenderer(ren);
-  rmtest::EventCounter events;
-  events.Observe(mapper);
-  vtkRayMapperStatistics* stats = mapper->GetStatistics();
+using raymappers::test::RGBImage;
 
-  // A 6^3 lattice as the good part.
+struct Viewer
+{
+  vtkNew<vtkSPHFluidMapper> Mapper;
+  vtkNew<vtkVolumeProperty> Property;
+  vtkNew<vtkVolume> Volume;
+  vtkNew<vtkRenderer> Ren;
+  vtkNew<vtkRenderWindow> Win;
+  rmtest::EventCounter Events;
+  rmtest::BadInputLog Log{ Events, Mapper->GetStatistics() };
+  Viewer()
+  {
+    Mapper->SetRadius(0.25);
+    // A grey absorption: with a coloured one the premultiplied frame has colours above its
+    // alpha (the alpha is the mean transmittance, see ColouredAbsorption below).
+    Mapper->SetAbsorptionColor(0.5, 0.5, 0.5);
+    Volume->SetMapper(Mapper);
+    Volume->SetProperty(Property);
+    Ren->AddVolume(Volume);
+    Ren->SetBackground(0.2, 0.4, 0.6);
+    Win->SetSize(96, 96);
+    Win->AddRenderer(Ren);
+    Ren->GetActiveCamera()->SetPosition(1, 2, 7);
+    Ren->GetActiveCamera()->SetFocalPoint(0, 0, 0);
+    Events.Observe(Mapper);
+  }
+  RGBImage Show(vtkPolyData* data)
+  {
+    Mapper->SetInputData(data);
+    return Render();
+  }
+  RGBImage Render()
+  {
+    Ren->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
+    Win->Render();
+    return raymappers::test::fromWindow(Win);
+  }
+};
+
+// The 6^3 lattice with an "r" array of the constant radius 0.25, an integer "ir" of 1 (for
+// RadiusScale 0.25) and a 3-component "r3" (0.25, 0.5, 0).
+vtkSmartPointer<vtkPolyData> Lattice()
+{
   auto lattice = rmtest::MakeLattice(6);
-  mapper->SetInputData(lattice);
-  ren->ResetCamera();
-  win->Render();
-  const auto good = rmtest::ReadRGB(win);
-  check(events.Warnings == 0 && stats->GetCounter("particles") == 216 &&
-      stats->GetCounter("shaded_pixels") > 500,
-    "the lattice renders without warnings");
-
-  // A missing radius array: one warning, the constant radius (the same picture).
-  mapper->SetRadiusArrayName("no-such-radius");
-  win->Render();
-  win->Render();
-  check(events.Warnings == 1 && rmtest::ReadRGB(win) == good,
-    "missing radius array: warned once, constant radius used (same picture)");
-  mapper->SetRadiusArrayName(nullptr);
-
-  // NaN positions and bad radii.
-  auto bad = rmtest::MakeLattice(6);
-  vtkNew<vtkDoubleArray> r;
+  vtkNew<vtkDoubleArray> r, r3;
+  vtkNew<vtkIntArray> ir;
   r->SetName("r");
-  for (vtkIdType i = 0; i < bad->GetNumberOfPoints(); ++i)
+  ir->SetName("ir");
+  r3->SetName("r3");
+  r3->SetNumberOfComponents(3);
+  for (vtkIdType i = 0; i < lattice->GetNumberOfPoints(); ++i)
   {
     r->InsertNextValue(0.25);
+    ir->InsertNextValue(1);
+    r3->InsertNextTuple3(0.25, 0.5, 0.0);
   }
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  bad->GetPoints()->SetPoint(3, nan, 0, 0);
-  bad->GetPoints()->SetPoint(4, 0, std::numeric_limits<double>::infinity(), 0);
-  r->SetValue(10, 0.0);
-  r->SetValue(11, -0.2);
-  r->SetValue(12, nan);
-  bad->GetPointData()->AddArray(r);
-  mapper->SetInputData(bad);
-  mapper->SetRadiusArrayName("r");
-  int before = events.Warnings;
-  win->Render();
-  const auto rgb = rmtest::ReadRGB(win);
-  check(events.Warnings == before + 2 && stats->GetCounter("particles") == 211 &&
-      stats->GetCounter("particles_skipped") == 5,
-    "2 non-finite positions (1 warning), 3 bad radii (1 warning); 211 drawn");
-  long differing = 0;
-  for (std::size_t k = 0; k < rgb.size(); ++k)
-  {
-    differing += rgb[k] != good[k];
-  }
-  check(differing > 0 && stats->GetCounter("shaded_pixels") > 500, "the rest is drawn");
-  win->Render();
-  check(events.Warnings == before + 2, "no new warning for the same input");
+  lattice->GetPointData()->AddArray(r);
+  lattice->GetPointData()->AddArray(ir);
+  lattice->GetPointData()->AddArray(r3);
+  return lattice;
+}
 
-  // A memory budget that cannot hold one column: one warning, nothing drawn, no crash.
-  mapper->SetMemoryBudget(0.0001);
-  before = events.Warnings;
-  win->Render();
-  win->Render();
-  check(events.Warnings == before + 1 && stats->GetCounter("budget_exceeded") == 1 &&
-      stats->GetCounter("shaded_pixels") == 0,
-    "budget too small: one warning, nothing drawn");
-  mapper->SetMemoryBudget(512);
+// Bad particles appended inside the lattice's bounds: 2 non-finite positions, 6 bad radii.
+vtkSmartPointer<vtkPolyData> WithBadParticles(vtkPolyData* clean)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->DeepCopy(clean);
+  vtkPointData* pd = out->GetPointData();
+  auto add = [&](double x, double y, double z, double r) {
+    out->GetPoints()->InsertNextPoint(x, y, z);
+    pd->GetArray("radius")->InsertNextTuple1(0.1);
+    pd->GetArray("value")->InsertNextTuple1(0);
+    pd->GetArray("r")->InsertNextTuple1(r);
+    pd->GetArray("ir")->InsertNextTuple1(1);
+    pd->GetArray("r3")->InsertNextTuple3(r, r, r);
+  };
+  add(nan, 0, 0, 0.25);
+  add(0, inf, 0, 0.25);
+  for (const double r : { 0.0, -0.2, nan, inf, 1e20, 1e300 })
+  {
+    add(0.9, 0.9, 0.9, r);
+  }
+  return out;
+}
+
+void Data(Viewer& v, vtkPolyData* clean, const RGBImage& good)
+{
+  rmtest::BadInputLog& log = v.Log;
+  vtkSPHFluidMapper* m = v.Mapper;
+  m->SetRadiusArrayName("no-such-radius");
+  log.SameImage(v.Render(), good, "a missing radius array: the constant");
+  v.Render();
+  log.Warned(1, "radius array 'no-such-radius' is not a point array", "missing radius array");
+  log.ValidFrame("missing radius array");
+
+  m->SetRadiusArrayName("r");
+  log.SameImage(v.Show(WithBadParticles(clean)), good, "bad particles appended");
+  log.Warned(2, "particles have", "bad particles (positions; radii)");
+  log.ValidFrame("bad particles");
+  v.Render();
+  log.Silent("bad particles, rendered again");
+  log.Check(m->GetStatistics()->GetCounter("particles") == 216 &&
+      m->GetStatistics()->GetCounter("particles_skipped") == 8,
+    "216 particles drawn, 8 skipped");
+  // VTK's Reset Camera frames the finite points and the drawn radii only.
+  m->SetInputData(clean);
+  const RGBImage framed = rmtest::ResetCameraImage(v.Ren, v.Win);
+  m->SetInputData(WithBadParticles(clean));
+  log.SameImage(rmtest::ResetCameraImage(v.Ren, v.Win), framed,
+    "Reset Camera with an infinite position and radii of 1e20 and 1e300");
+  log.Warned(2, "particles have", "Reset Camera with bad particles");
+  log.ValidFrame("Reset Camera with bad particles");
+
+  m->SetRadiusArrayName("ir");
+  m->SetRadiusScale(0.25);
+  log.SameImage(v.Show(clean), good, "an integer radius array");
+  log.Silent("an integer radius array");
+  log.ValidFrame("an integer radius array");
+  m->SetRadiusScale(1);
+  m->SetRadiusArrayName("r3");
+  log.SameImage(v.Render(), good, "a 3-component radius array");
+  log.Warned(1, "radius array 'r3' has 3 components that differ: the first is used",
+    "a 3-component radius array");
+  m->SetRadiusArrayName(nullptr);
+
+  m->SetMemoryBudget(0.0001);
+  const RGBImage nothing = v.Render();
+  v.Render();
+  log.Warned(1, "memory budget", "a budget too small for one column");
+  log.Check(m->GetStatistics()->GetCounter("budget_exceeded") == 1 &&
+      m->GetStatistics()->GetCounter("shaded_pixels") == 0 &&
+      rmtest::AllPixels(nothing, 51, 102, 153),
+    "budget too small: nothing drawn");
+  log.ValidFrame("budget too small");
+  m->SetMemoryBudget(512);
+  log.SameImage(v.Render(), good, "the budget restored");
+}
+
+void Properties(Viewer& v)
+{
+  rmtest::BadInputLog& log = v.Log;
+  vtkSPHFluidMapper* m = v.Mapper;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto render = [&] { return v.Render(); };
+  auto nothing = [] {};
+  rmtest::CheckNaNCases(log, render,
+    { { "Radius", nothing, [&] { m->SetRadius(nan); }, nothing },
+      { "RadiusScale", nothing, [&] { m->SetRadiusScale(nan); }, nothing },
+      { "AngleResolution", nothing, [&] { m->SetAngleResolution(nan); }, nothing },
+      { "MemoryBudget", nothing, [&] { m->SetMemoryBudget(nan); }, nothing },
+      { "GapThreshold", nothing, [&] { m->SetGapThreshold(nan); }, nothing },
+      { "CellSize", nothing, [&] { m->SetCellSize(nan); }, nothing },
+      { "SmoothingRadius", [&] { m->SetSmoothingRadius(0.2); },
+        [&] { m->SetSmoothingRadius(nan); }, [&] { m->SetSmoothingRadius(0); } },
+      { "Color", nothing, [&] { m->SetColor(nan, 0.5, 0.5); }, nothing },
+      { "AbsorptionColor", nothing, [&] { m->SetAbsorptionColor(0.5, nan, 0.5); }, nothing },
+      { "Density", nothing, [&] { m->SetDensity(nan); }, nothing },
+      { "RefractiveIndex", [&] { m->SetRefractiveIndex(1.33); },
+        [&] { m->SetRefractiveIndex(nan); }, [&] { m->SetRefractiveIndex(1); } },
+      { "AmbientOcclusionRadius", [&] { m->AmbientOcclusionOn(); },
+        [&] { m->SetAmbientOcclusionRadius(nan); }, [&] { m->AmbientOcclusionOff(); } },
+      { "FrameBudget", nothing, [&] { m->SetFrameBudget(nan); }, nothing } });
+  rmtest::CheckClampCases(log, render,
+    { { "Radius", [&](double x) { m->SetRadius(x); }, -1, 0,
+        "Radius -1 is outside [0, 1e+15]: clamped to 0", 1,
+        "216 particles have a zero, negative, non-finite or huge (above 1e15) radius" },
+      { "Density", [&](double x) { m->SetRadius(0.25), m->SetDensity(x); }, 1e300, 1e15,
+        "Density 1e+300 is outside [0, 1e+15]" },
+      { "AbsorptionColor", [&](double x) { m->SetDensity(1), m->SetAbsorptionColor(x, x, x); },
+        1e300, 1e15, "AbsorptionColor has components outside [0, 1e+15]" },
+      { "Color", [&](double x) { m->SetAbsorptionColor(0.5, 0.5, 0.5), m->SetColor(x, 0.5, 0.5); },
+        2, 1, "Color has components outside [0, 1]" },
+      { "RefractiveIndex", [&](double x) { m->SetColor(0.55, 0.75, 0.95), m->SetRefractiveIndex(x); },
+        100, 10, "RefractiveIndex 100 is outside [0.1, 10]" },
+      { "AngleResolution", [&](double x) { m->SetRefractiveIndex(1), m->SetAngleResolution(x); },
+        0, 0.01, "AngleResolution 0 is outside [0.01, 89]" },
+      { "GapThreshold", [&](double x) { m->SetAngleResolution(14), m->SetGapThreshold(x); },
+        -3, 0, "GapThreshold -3 is outside" } });
+  v.Render();
+  log.Silent("the properties restored");
+}
+}
+
+int TestSPHFluidBadInput(int, char*[])
+{
+  auto clean = Lattice();
+  Viewer v;
+  const RGBImage good = v.Show(clean);
+  v.Log.Silent("the lattice");
+  v.Log.ValidFrame("the lattice");
+  v.Log.Check(v.Mapper->GetStatistics()->GetCounter("particles") == 216 &&
+      v.Mapper->GetStatistics()->GetCounter("shaded_pixels") > 500,
+    "the lattice is drawn");
+  Data(v, clean, good);
+  Properties(v);
+  v.Log.SameImage(v.Render(), good, "everything restored");
+  rmtest::CheckDegenerateCameras(v.Log, v.Ren->GetActiveCamera(), [&] { return v.Render(); },
+    good, { 51, 102, 153 });
 
   // A camera inside the fluid: refraction and AO stay finite.
-  mapper->SetRadius(0.5);
-  mapper->SetRadiusArrayName(nullptr);
-  mapper->SetInputData(lattice);
-  mapper->SetRefractiveIndex(1.33);
-  mapper->AmbientOcclusionOn();
-  ren->GetActiveCamera()->SetPosition(0.05, 0.02, 0.1);
-  ren->GetActiveCamera()->SetFocalPoint(0.3, 0.2, -1);
-  ren->ResetCameraClippingRange();
-  win->Render();
-  check(stats->GetCounter("particles_in_view") > 0 && stats->GetCounter("shaded_pixels") > 0,
+  v.Mapper->SetRadius(0.5);
+  v.Mapper->SetRefractiveIndex(1.33);
+  v.Mapper->AmbientOcclusionOn();
+  vtkCamera* camera = v.Ren->GetActiveCamera();
+  camera->SetPosition(0.05, 0.02, 0.1);
+  camera->SetFocalPoint(0.3, 0.2, -1);
+  v.Ren->ResetCameraClippingRange();
+  v.Win->Render();
+  v.Log.Check(v.Mapper->GetStatistics()->GetCounter("particles_in_view") > 0 &&
+      v.Mapper->GetStatistics()->GetCounter("shaded_pixels") > 0,
     "camera inside: the fluid is seen from the near plane");
+  v.Log.ValidFrame("camera inside");
 
-  // Empty input: a warning, nothing drawn, no crash.
   vtkNew<vtkPolyData> empty;
-  const int beforeEmpty = events.Warnings;
-  mapper->SetInputData(empty);
-  ren->ResetCamera();
-  win->Render();
-  win->Render();
-  check(events.Warnings == beforeEmpty + 1, "empty input: one warning");
-  check(events.Errors == 0, "no errors");
-  return ok ? EXIT_SUCCESS : EXIT_FAILURE;
+  v.Mapper->SetInputData(empty);
+  v.Ren->ResetCamera();
+  v.Win->Render();
+  v.Win->Render();
+  v.Log.Warned(1, "no points", "empty input");
+  return v.Log.Ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

@@ -1,17 +1,32 @@
-// Bad input gets a clear warning and loses nothing else: an empty input, points with NaN
-// coordinates, zero / negative / NaN radii and a missing radius array each render exactly
-// the picture of the valid part of the data, with a warning and no crash.
+// vtkCGTSphereMapper on bad input. Each case gives exactly the warnings it names (counted,
+// and each naming its problem), renders exactly the picture of the scene without the bad
+// part (tolerance 0), and leaves a float frame without NaN, infinite or out-of-range values
+// (vtkRayMapperStatistics::ValidateFrames) after every render that draws:
+//   - an empty input; points with NaN / infinite coordinates; radii that are zero,
+//     negative, NaN, infinite or huge (1e20, 1e300); a missing radius array;
+//   - integer radius and colour arrays (no warning, the picture of the float arrays);
+//     a 3-component radius array (one warning, its first component used; equal
+//     components: no warning);
+//   - a NaN colour scalar: the lookup table's NaN colour, the sphere drawn;
+//   - NaN, negative and huge property values (one warning each; NaN keeps the value, the
+//     others are clamped: the picture of the bound set directly);
+//   - degenerate cameras: a zero view angle (VTK clamps it; drawn, no warning), the eye at
+//     the focal point and a NaN position (one warning each, nothing drawn, the background).
 #include "RenderingTestHelpers.h"
 #include "vtkCGTSphereMapper.h"
-#include "vtkRayMapperStatistics.h"
 
 #include "vtkActor.h"
+#include "vtkIntArray.h"
+#include "vtkLookupTable.h"
 #include "vtkProperty.h"
 
+#include <functional>
 #include <limits>
 
 namespace
 {
+using raymappers::test::RGBImage;
+
 struct Viewer
 {
   vtkNew<vtkCGTSphereMapper> Mapper;
@@ -19,6 +34,7 @@ struct Viewer
   vtkNew<vtkRenderer> Ren;
   vtkNew<vtkRenderWindow> Win;
   rmtest::EventCounter Events;
+  rmtest::BadInputLog Log{ Events, Mapper->GetStatistics() };
   Viewer()
   {
     Mapper->SetScalarRange(0, 30);
@@ -32,12 +48,16 @@ struct Viewer
     Ren->SetNearClippingPlaneTolerance(1e-4);
     Events.Observe(Mapper);
   }
-  std::vector<unsigned char> Show(vtkPolyData* data)
+  RGBImage Show(vtkPolyData* data)
   {
     Mapper->SetInputData(data);
+    return Render();
+  }
+  RGBImage Render()
+  {
     Ren->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
     Win->Render();
-    return rmtest::ReadRGB(Win);
+    return raymappers::test::fromWindow(Win);
   }
 };
 
@@ -56,75 +76,268 @@ vtkSmartPointer<vtkPolyData> WithExtraPoints(vtkPolyData* clean,
   }
   c.insert(c.end(), points.begin(), points.end());
   r.insert(r.end(), radii.begin(), radii.end());
-  auto out = rmtest::MakeSpheres(c, r);
-  // Keep the colours of the clean points: the extra points get values past the range.
-  return out;
+  return rmtest::MakeSpheres(c, r);
+}
+
+// A copy of the lattice's radius array as `name` with 3 components: (r, second(r), r).
+void AddRadius3(vtkPolyData* data, const char* name, const std::function<double(double)>& second)
+{
+  vtkDataArray* r = data->GetPointData()->GetArray("radius");
+  vtkNew<vtkDoubleArray> r3;
+  r3->SetName(name);
+  r3->SetNumberOfComponents(3);
+  for (vtkIdType i = 0; i < r->GetNumberOfTuples(); ++i)
+  {
+    const double v = r->GetComponent(i, 0);
+    r3->InsertNextTuple3(v, second(v), v);
+  }
+  data->GetPointData()->AddArray(r3);
+}
+
+void BadData(Viewer& reference, const RGBImage& expected, vtkPolyData* clean)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  auto& log = reference.Log;
+  {
+    Viewer v;
+    vtkNew<vtkPolyData> empty;
+    const RGBImage img = v.Show(empty);
+    v.Log.Warned(1, "no points", "empty input");
+    v.Log.Check(rmtest::AllPixels(img, 0, 0, 0), "empty input: the background only");
+    log.Ok = log.Ok && v.Log.Ok;
+  }
+  auto data = WithExtraPoints(
+    clean, { { nan, 0, 0 }, { 0, inf, 0 }, { nan, nan, nan } }, { 0.3, 0.3, 0.3 });
+  log.SameImage(reference.Show(data), expected, "NaN and infinite coordinates");
+  log.Warned(1, "NaN or infinite coordinates", "NaN and infinite coordinates");
+  log.ValidFrame("NaN and infinite coordinates");
+  log.Check(reference.Mapper->GetStatistics()->GetCounter("spheres") == 27, "27 spheres drawn");
+
+  data = WithExtraPoints(clean,
+    { { 0.5, 0.5, 0.5 }, { -0.5, 0.5, 0 }, { 0, 0, 0.5 }, { 0.2, 0.1, 0 }, { 0, 0.1, 0.2 },
+      { 0.1, 0, 0.1 } },
+    { 0.0, -0.2, nan, inf, 1e20, 1e300 });
+  log.SameImage(reference.Show(data), expected, "zero, negative, NaN, infinite and huge radii");
+  log.Warned(1, "6 spheres have a zero, negative, non-finite or huge", "bad radii");
+  log.ValidFrame("bad radii");
+  // VTK's Reset Camera frames the finite points and the drawn radii only (infinite
+  // coordinates and skipped radii of 1e300 must not make the bounds infinite or huge).
+  reference.Show(clean);
+  const RGBImage framed = rmtest::ResetCameraImage(reference.Ren, reference.Win);
+  reference.Mapper->SetInputData(WithExtraPoints(clean,
+    { { 0, std::numeric_limits<double>::infinity(), 0 }, { 0.1, 0, 0.1 } }, { 0.3, 1e300 }));
+  log.SameImage(rmtest::ResetCameraImage(reference.Ren, reference.Win), framed,
+    "Reset Camera with an infinite coordinate and a radius of 1e300");
+  log.Warned(2, "are not drawn", "Reset Camera with bad points");
+  log.ValidFrame("Reset Camera with bad points");
+  reference.Show(clean);
+  log.Silent("the clean lattice again");
+}
+
+void ArrayKinds(Viewer& reference, const RGBImage& expected, vtkPolyData* clean)
+{
+  auto& log = reference.Log;
+  // A radius array that does not exist: the constant radius.
+  {
+    Viewer constant;
+    constant.Mapper->SetRadius(0.2);
+    const RGBImage withConstant = constant.Show(clean);
+    reference.Mapper->SetRadius(0.2);
+    reference.Mapper->SetRadiusArrayName("no_such_array");
+    log.SameImage(reference.Show(clean), withConstant, "missing radius array");
+    log.Warned(1, "'no_such_array' is not a point array", "missing radius array");
+    log.ValidFrame("missing radius array");
+    reference.Mapper->SetRadius(1.0);
+  }
+  // Integer arrays (radius in tenths would not be integers: radii 1 and 2 at spacing 6,
+  // colours 0..26) draw what the same values in double arrays draw, silently.
+  {
+    std::vector<std::array<double, 3>> c;
+    std::vector<double> r;
+    for (int i = 0; i < 27; ++i)
+    {
+      c.push_back({ 6.0 * (i % 3) - 6, 6.0 * ((i / 3) % 3) - 6, 6.0 * (i / 9) - 6 });
+      r.push_back(1 + i % 2);
+    }
+    auto grid = rmtest::MakeSpheres(c, r);
+    vtkNew<vtkIntArray> ir, iv;
+    ir->SetName("iradius");
+    iv->SetName("ivalue");
+    for (int i = 0; i < 27; ++i)
+    {
+      ir->InsertNextValue(1 + i % 2);
+      iv->InsertNextValue(i);
+    }
+    grid->GetPointData()->AddArray(ir);
+    grid->GetPointData()->AddArray(iv);
+    Viewer floats, ints;
+    for (Viewer* w : { &floats, &ints })
+    {
+      w->Ren->GetActiveCamera()->SetPosition(3, 4, 40);
+      w->Mapper->SetScalarModeToUsePointFieldData();
+    }
+    floats.Mapper->SetRadiusArrayName("radius");
+    floats.Mapper->SelectColorArray("value");
+    ints.Mapper->SetRadiusArrayName("iradius");
+    ints.Mapper->SelectColorArray("ivalue");
+    const RGBImage a = floats.Show(grid);
+    const RGBImage b = ints.Show(grid);
+    ints.Log.SameImage(b, a, "integer radius and colour arrays");
+    ints.Log.Silent("integer arrays");
+    ints.Log.ValidFrame("integer arrays");
+    log.Ok = log.Ok && ints.Log.Ok && floats.Log.Ok;
+  }
+  // A 3-component radius: its first component, one warning naming it; equal components
+  // (vtkPDBReader's radius) read the same and say nothing.
+  {
+    auto three = vtkSmartPointer<vtkPolyData>::New();
+    three->DeepCopy(clean);
+    AddRadius3(three, "radius3", [](double v) { return 3 * v; });
+    AddRadius3(three, "radiusxyz", [](double v) { return v; });
+    reference.Mapper->SetRadiusArrayName("radius3");
+    log.SameImage(reference.Show(three), expected, "3-component radius");
+    log.Warned(1, "radius array 'radius3' has 3 components that differ: the first is used",
+      "3-component radius");
+    reference.Render();
+    log.Silent("3-component radius, rendered again");
+    reference.Mapper->SetRadiusArrayName("radiusxyz");
+    log.SameImage(reference.Show(three), expected, "3 equal components");
+    log.Silent("3 equal components");
+    reference.Mapper->SetRadiusArrayName("radius");
+    reference.Show(clean);
+  }
+}
+
+// A NaN colour scalar is coloured with the lookup table's NaN colour (vtkScalarsToColors, as
+// every VTK mapper colours it), and the sphere is drawn.
+void NaNColour(Viewer& reference, vtkPolyData* clean)
+{
+  auto& log = reference.Log;
+  vtkNew<vtkLookupTable> lut;
+  lut->SetTableRange(0, 30);
+  lut->Build();
+  double first[4];
+  lut->GetTableValue(0, first);
+  lut->SetNanColor(first);
+  reference.Mapper->SetLookupTable(lut);
+  reference.Mapper->UseLookupTableScalarRangeOn();
+  auto withZero = vtkSmartPointer<vtkPolyData>::New();
+  withZero->DeepCopy(clean);
+  withZero->GetPointData()->GetArray("value")->SetComponent(13, 0, 0.0);
+  const RGBImage zero = reference.Show(withZero);
+  auto withNaN = vtkSmartPointer<vtkPolyData>::New();
+  withNaN->DeepCopy(clean);
+  withNaN->GetPointData()->GetArray("value")->SetComponent(
+    13, 0, std::numeric_limits<double>::quiet_NaN());
+  const RGBImage nanPicture = reference.Show(withNaN);
+  log.SameImage(nanPicture, zero, "a NaN colour scalar with the NaN colour of value 0's colour");
+  log.Check(reference.Mapper->GetStatistics()->GetCounter("spheres") == 27,
+    "the sphere of the NaN scalar is drawn");
+  log.ValidFrame("NaN colour scalar");
+  lut->SetNanColor(1, 0, 1, 1);
+  const RGBImage magenta = reference.Show(withNaN);
+  const auto d = raymappers::test::compareImages(magenta, zero, 0);
+  log.Check(d.maxError > 100, "another NaN colour changes that sphere's colour");
+  log.Silent("NaN colour scalar");
+  reference.Mapper->SetLookupTable(nullptr);
+  reference.Mapper->UseLookupTableScalarRangeOff();
+  reference.Show(clean);
+}
+
+// NaN: one warning, the property keeps its value, the same picture. Out of range: one
+// warning, clamped: the picture of the bound set directly.
+void Properties(Viewer& v, const RGBImage& expected)
+{
+  auto& log = v.Log;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  vtkCGTSphereMapper* m = v.Mapper;
+  const auto render = [&] { return v.Render(); };
+  auto shadows = [&] {
+    m->SetShadowRays(2);
+    m->AutomaticShadowLightOff();
+    m->SetShadowLightPosition(3, 4, 5);
+    m->SetShadowLightSize(0.5);
+  };
+  auto noShadows = [&] {
+    m->SetShadowRays(0);
+    m->AutomaticShadowLightOn();
+  };
+  auto nothing = [] {};
+  rmtest::CheckNaNCases(log, render,
+    { { "Radius", [&] { m->SetRadiusArrayName(nullptr), m->SetRadius(0.2); },
+        [&] { m->SetRadius(nan); }, [&] { m->SetRadiusArrayName("radius"), m->SetRadius(1); } },
+      { "RadiusScale", nothing, [&] { m->SetRadiusScale(nan); }, nothing },
+      { "Lambda", nothing, [&] { m->SetLambda(nan); }, nothing },
+      { "AmbientOcclusionRadius",
+        [&] { m->SetAmbientOcclusionSamples(4), m->SetAmbientOcclusionRadius(0.3); },
+        [&] { m->SetAmbientOcclusionRadius(nan); },
+        [&] { m->SetAmbientOcclusionSamples(0), m->SetAmbientOcclusionRadius(0); } },
+      { "ShadowLightSize", shadows, [&] { m->SetShadowLightSize(nan); }, noShadows },
+      { "ShadowLightIntensity", shadows, [&] { m->SetShadowLightIntensity(nan); }, noShadows },
+      { "ShadowLightPosition", shadows, [&] { m->SetShadowLightPosition(nan, 0, 0); },
+        noShadows },
+      { "range 0", [&] { m->SetRange(0, "value", 5, 20); },
+        [&] { m->SetRange(0, "value", nan, 10); }, [&] { m->RemoveAllRanges(); } } });
+  // Infinity is rejected as NaN is (clamped, it would become the largest value).
+  const RGBImage before = v.Render();
+  m->SetRadiusScale(std::numeric_limits<double>::infinity());
+  log.Warned(1, "RadiusScale inf is not finite: ignored; RadiusScale stays 1", "RadiusScale inf");
+  log.SameImage(v.Render(), before, "RadiusScale inf: the picture before it");
+  // Clamped values that do not change the picture (the tiles, packets and grid resolution
+  // do not): the clean picture.
+  m->SetTileSize(1000000);
+  log.Warned(1, "TileSize 1000000 is outside [4, 256]: clamped to 256", "TileSize huge");
+  m->SetPacketSize(-3);
+  log.Warned(1, "PacketSize -3 is outside [1, 16]: clamped to 1", "PacketSize negative");
+  log.SameImage(v.Render(), expected, "TileSize and PacketSize clamped");
+  log.ValidFrame("TileSize and PacketSize clamped");
+  m->SetTileSize(32);
+  m->SetPacketSize(8);
+  // Clamped values that do: the picture of the bound.
+  rmtest::CheckClampCases(log, render,
+    { { "Lambda", [&](double x) { m->SetLambda(x); }, -5, 0.01,
+        "Lambda -5 is outside [0.01, 100]: clamped to 0.01" },
+      { "RadiusScale", [&](double x) { m->SetRadiusScale(x); }, -1, 0,
+        "RadiusScale -1 is outside [0, 1e+15]: clamped to 0", 1,
+        "27 spheres have a zero, negative, non-finite or huge" },
+      { "RadiusScale", [&](double x) { m->SetRadiusScale(x); }, 1e300, 1e15,
+        "RadiusScale 1e+300 is outside [0, 1e+15]: clamped to 1e+15" },
+      { "AmbientOcclusionRadius",
+        [&](double x) { m->SetAmbientOcclusionSamples(4), m->SetAmbientOcclusionRadius(x); },
+        1e300, 1e15, "AmbientOcclusionRadius 1e+300 is outside" },
+      { "ShadowLightIntensity",
+        [&](double x) {
+          m->SetShadowRays(2), m->AutomaticShadowLightOff(), m->SetShadowLightIntensity(x);
+        },
+        1e300, 1e15, "ShadowLightIntensity 1e+300 is outside" },
+      { "ShadowLightPosition", [&](double x) { m->SetShadowLightPosition(x, 3, 5); }, -1e300,
+        -1e15, "ShadowLightPosition has components outside" } });
+  m->SetLambda(1);
+  m->SetRadiusScale(1);
+  m->SetAmbientOcclusionSamples(0);
+  m->SetShadowRays(0);
+  m->AutomaticShadowLightOn();
+  m->SetShadowLightIntensity(1);
+  log.SameImage(v.Render(), expected, "the properties restored");
+  log.Silent("the properties restored");
 }
 }
 
 int TestSpheresBadInput(int, char*[])
 {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  const double inf = std::numeric_limits<double>::infinity();
   auto clean = rmtest::MakeLattice(3);
-
   Viewer reference;
   reference.Mapper->SetRadiusArrayName("radius");
-  const auto expected = reference.Show(clean);
-  RM_CHECK(reference.Events.Warnings == 0);
+  const RGBImage expected = reference.Show(clean);
+  reference.Log.Silent("the clean lattice");
+  reference.Log.ValidFrame("the clean lattice");
 
-  // Empty input: a warning, nothing drawn, the background only.
-  {
-    Viewer v;
-    vtkNew<vtkPolyData> empty;
-    const auto img = v.Show(empty);
-    RM_CHECK(v.Events.Warnings >= 1);
-    RM_CHECK(v.Events.Errors == 0);
-    for (unsigned char c : img)
-    {
-      RM_CHECK(c == 0);
-    }
-  }
-  // NaN and infinite coordinates: one warning, the other spheres exactly as without them.
-  {
-    Viewer v;
-    v.Mapper->SetRadiusArrayName("radius");
-    auto data = WithExtraPoints(
-      clean, { { nan, 0, 0 }, { 0, inf, 0 }, { nan, nan, nan } }, { 0.3, 0.3, 0.3 });
-    RM_CHECK(v.Show(data) == expected);
-    RM_CHECK(v.Events.Warnings == 1);
-    RM_CHECK(v.Mapper->GetStatistics()->GetCounter("spheres") == 27);
-  }
-  // Zero, negative, NaN radii: dropped with one warning.
-  {
-    Viewer v;
-    v.Mapper->SetRadiusArrayName("radius");
-    auto data = WithExtraPoints(
-      clean, { { 0.5, 0.5, 0.5 }, { -0.5, 0.5, 0 }, { 0, 0, 0.5 } }, { 0.0, -0.2, nan });
-    RM_CHECK(v.Show(data) == expected);
-    RM_CHECK(v.Events.Warnings == 1);
-  }
-  // A radius array that does not exist: a warning naming it, the constant radius used,
-  // the picture of the constant radius.
-  {
-    Viewer constant;
-    constant.Mapper->SetRadius(0.2);
-    const auto withConstant = constant.Show(clean);
-    Viewer v;
-    v.Mapper->SetRadius(0.2);
-    v.Mapper->SetRadiusArrayName("no_such_array");
-    RM_CHECK(v.Show(clean) == withConstant);
-    RM_CHECK(v.Events.Warnings == 1);
-    RM_CHECK(v.Events.Last.find("no_such_array") != std::string::npos);
-  }
-  // An absurd constant radius (negative) or scale: nothing drawn, a warning, no crash.
-  {
-    Viewer v;
-    v.Mapper->SetRadius(-1);
-    v.Show(clean);
-    RM_CHECK(v.Events.Warnings == 1);
-    RM_CHECK(v.Mapper->GetStatistics()->GetCounter("spheres") == 0);
-  }
-  std::printf("bad input: all cases handled\n");
-  return EXIT_SUCCESS;
+  BadData(reference, expected, clean);
+  ArrayKinds(reference, expected, clean);
+  NaNColour(reference, clean);
+  Properties(reference, expected);
+  rmtest::CheckDegenerateCameras(reference.Log, reference.Ren->GetActiveCamera(),
+    [&] { return reference.Render(); }, expected, { 0, 0, 0 });
+  return reference.Log.Ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

@@ -1,19 +1,31 @@
-// Bad input to vtkZSweepVolumeMapper gets a clear warning or error and loses nothing else:
-// an empty grid draws nothing; a grid without scalars is an error; unsupported cells
-// (pentagonal and hexagonal prisms of PentaHexa.vtk, a quadratic tetrahedron, polygons)
-// and cells with NaN points or scalars are skipped with a warning while the picture of the
-// valid cells is exactly what they alone give, with no NaN anywhere; a duplicated
-// (overlapping) cell is warned about.
+// vtkZSweepVolumeMapper on bad input. Each case gives exactly the warnings (or the error)
+// it names, renders exactly the picture of the valid cells alone (tolerance 0) and leaves a
+// float frame without NaN, infinite or out-of-range values (ValidateFrames):
+//   - an empty grid (one warning, nothing drawn); a grid without scalars (one error, not
+//     one per render);
+//   - cells with a NaN point, a NaN or infinite point scalar, a NaN cell scalar, and cells
+//     of types the sweep does not render (triangles, quads, a quadratic tetrahedron, a
+//     polyhedron) mixed in: one warning per kind (the types named with their counts), the
+//     picture of the good cells;
+//   - integer point scalars (the picture of the double ones, silently); 3-component
+//     scalars (one warning, the first component);
+//   - a duplicated (overlapping) cell (one warning naming the overlap);
+//   - PentaHexa.vtk's pentagonal and hexagonal prisms (one warning naming them);
+//   - NaN and out-of-range property values (one warning each; NaN keeps the value, the
+//     others are clamped: the picture of the bound set directly);
+//   - degenerate cameras (zero view angle drawn; the eye at the focal point and a NaN
+//     position: one warning each, nothing drawn).
 //
 // usage: TestZSweepBadInput -D <dir with PentaHexa.vtk>
 #include "RenderingTestHelpers.h"
-#include "vtkRayMapperStatistics.h"
 #include "vtkZSweepVolumeMapper.h"
 
+#include "vtkCellData.h"
 #include "vtkCellType.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkDoubleArray.h"
 #include "vtkIdList.h"
+#include "vtkIntArray.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkTestUtilities.h"
@@ -27,123 +39,226 @@
 
 namespace
 {
-// A cube [-1, 1]^3 of 5 tetrahedra with a point scalar.
+using raymappers::test::RGBImage;
+
+// A cube [-1, 1]^3 of 5 tetrahedra with the point scalar s (and an integer copy is of 4 s,
+// for a colour function over [0, 4]), and the cell scalar c.
 vtkSmartPointer<vtkUnstructuredGrid> Cube()
 {
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   vtkNew<vtkPoints> points;
-  vtkNew<vtkDoubleArray> s;
+  vtkNew<vtkDoubleArray> s, c, s3;
+  vtkNew<vtkIntArray> is;
   s->SetName("s");
+  is->SetName("is");
+  s3->SetName("s3");
+  s3->SetNumberOfComponents(3);
+  c->SetName("c");
   for (int k = 0; k < 8; ++k)
   {
     const double x = (k & 1) ? 1 : -1, y = (k & 2) ? 1 : -1, z = (k & 4) ? 1 : -1;
     points->InsertNextPoint(x, y, z);
-    s->InsertNextValue(0.5 + 0.2 * x + 0.1 * y - 0.15 * z);
+    const double v = 0.5 + 0.2 * x + 0.1 * y - 0.15 * z;
+    s->InsertNextValue(v);
+    is->InsertNextValue(k % 5);
+    s3->InsertNextTuple3(v, 1 - v, 0.25);
   }
   grid->SetPoints(points);
   grid->GetPointData()->SetScalars(s);
+  grid->GetPointData()->AddArray(is);
+  grid->GetPointData()->AddArray(s3);
   const vtkIdType tets[5][4] = { { 0, 1, 2, 4 }, { 1, 3, 2, 7 }, { 1, 4, 5, 7 }, { 2, 4, 7, 6 },
     { 1, 2, 4, 7 } };
   for (const auto& t : tets)
   {
     grid->InsertNextCell(VTK_TETRA, 4, t);
+    c->InsertNextValue(0.2 + 0.1 * grid->GetNumberOfCells());
   }
+  grid->GetCellData()->AddArray(c);
   return grid;
 }
+
+// The cube with bad cells added: a NaN point, NaN and infinite point scalars, and cells of
+// types the sweep skips (2 triangles, 1 quad, 1 quadratic tetrahedron, 1 polyhedron).
+vtkSmartPointer<vtkUnstructuredGrid> WithBadCells()
+{
+  auto bad = Cube();
+  vtkPointData* pd = bad->GetPointData();
+  auto addPoint = [&](double x, double y, double z, double s) {
+    const vtkIdType id = bad->GetPoints()->InsertNextPoint(x, y, z);
+    vtkDoubleArray::SafeDownCast(pd->GetScalars())->InsertNextValue(s);
+    pd->GetArray("is")->InsertNextTuple1(0);
+    pd->GetArray("s3")->InsertNextTuple3(s, 0, 0);
+    return id;
+  };
+  auto addCell = [&](int type, std::vector<vtkIdType> ids) {
+    bad->InsertNextCell(type, static_cast<vtkIdType>(ids.size()), ids.data());
+    bad->GetCellData()->GetArray("c")->InsertNextTuple1(0.5);
+  };
+  addCell(VTK_TETRA, { 0, 1, 2, addPoint(0, 0, std::nan(""), 0.5) });
+  addCell(VTK_TETRA, { 0, 1, 2, addPoint(0, std::numeric_limits<double>::infinity(), 0, 0.5) });
+  addCell(VTK_TETRA, { 3, 5, 6, addPoint(3, 3, 3, std::nan("")) });
+  addCell(VTK_TETRA, { 3, 5, 6, addPoint(3, 3, -3, std::numeric_limits<double>::infinity()) });
+  addCell(VTK_QUADRATIC_TETRA, { 0, 1, 2, 4, 0, 1, 2, 4, 0, 1 });
+  addCell(VTK_TRIANGLE, { 0, 1, 2 });
+  addCell(VTK_TRIANGLE, { 4, 5, 6 });
+  addCell(VTK_QUAD, { 0, 1, 3, 2 });
+  // A polyhedron (the tetrahedron 0 1 2 4 given by its faces).
+  const vtkIdType faces[] = { 3, 0, 2, 1, 3, 0, 1, 4, 3, 0, 4, 2, 3, 1, 2, 4 };
+  const vtkIdType polyPoints[] = { 0, 1, 2, 4 };
+  bad->InsertNextCell(VTK_POLYHEDRON, 4, polyPoints, 4, faces);
+  bad->GetCellData()->GetArray("c")->InsertNextTuple1(0.5);
+  return bad;
 }
 
-int TestZSweepBadInput(int argc, char* argv[])
+struct Viewer
 {
-  vtkNew<vtkColorTransferFunction> color;
-  color->AddRGBPoint(0, 0.2, 0.3, 0.9);
-  color->AddRGBPoint(1, 1.0, 0.8, 0.2);
-  vtkNew<vtkPiecewiseFunction> opacity;
-  opacity->AddPoint(0, 0.1);
-  opacity->AddPoint(1, 0.8);
-  vtkNew<vtkVolumeProperty> property;
-  property->SetColor(color);
-  property->SetScalarOpacity(opacity);
-  vtkNew<vtkZSweepVolumeMapper> mapper;
-  vtkNew<vtkVolume> volume;
-  volume->SetMapper(mapper);
-  volume->SetProperty(property);
-  vtkNew<vtkRenderer> ren;
-  ren->AddVolume(volume);
-  vtkNew<vtkRenderWindow> win;
-  win->SetSize(100, 100);
-  win->AddRenderer(ren);
-  ren->GetActiveCamera()->SetPosition(2, 3, 6);
-  ren->GetActiveCamera()->SetFocalPoint(0, 0, 0);
-  rmtest::EventCounter events;
-  events.Observe(mapper);
-  bool ok = true;
-  auto check = [&](bool condition, const char* what) {
-    std::printf("%s %s\n", condition ? "ok  " : "FAIL", what);
-    ok = ok && condition;
-  };
-  auto show = [&](vtkUnstructuredGrid* grid) {
-    mapper->SetInputData(grid);
-    ren->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
-    win->Render();
-    return rmtest::ReadRGB(win);
-  };
-  auto lit = [](const std::vector<unsigned char>& rgb) {
-    std::size_t n = 0;
-    for (std::size_t k = 0; k < rgb.size(); k += 3)
-    {
-      n += rgb[k] + rgb[k + 1] + rgb[k + 2] > 0;
-    }
-    return n;
-  };
+  vtkNew<vtkZSweepVolumeMapper> Mapper;
+  vtkNew<vtkVolumeProperty> Property;
+  vtkNew<vtkVolume> Volume;
+  vtkNew<vtkRenderer> Ren;
+  vtkNew<vtkRenderWindow> Win;
+  rmtest::EventCounter Events;
+  rmtest::BadInputLog Log{ Events, Mapper->GetStatistics() };
+  Viewer()
+  {
+    vtkNew<vtkColorTransferFunction> color;
+    color->AddRGBPoint(0, 0.2, 0.3, 0.9);
+    color->AddRGBPoint(1, 1.0, 0.8, 0.2);
+    vtkNew<vtkPiecewiseFunction> opacity;
+    opacity->AddPoint(0, 0.1);
+    opacity->AddPoint(1, 0.8);
+    Property->SetColor(color);
+    Property->SetScalarOpacity(opacity);
+    Volume->SetMapper(Mapper);
+    Volume->SetProperty(Property);
+    Ren->AddVolume(Volume);
+    Win->SetSize(100, 100);
+    Win->AddRenderer(Ren);
+    Ren->GetActiveCamera()->SetPosition(2, 3, 6);
+    Ren->GetActiveCamera()->SetFocalPoint(0, 0, 0);
+    Events.Observe(Mapper);
+  }
+  RGBImage Show(vtkUnstructuredGrid* grid)
+  {
+    Mapper->SetInputData(grid);
+    return Render();
+  }
+  RGBImage Render()
+  {
+    Ren->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
+    Win->Render();
+    return raymappers::test::fromWindow(Win);
+  }
+};
 
+std::size_t Lit(const RGBImage& image)
+{
+  std::size_t n = 0;
+  for (std::size_t k = 0; k + 2 < image.rgb.size(); k += 3)
+  {
+    n += image.rgb[k] + image.rgb[k + 1] + image.rgb[k + 2] > 0;
+  }
+  return n;
+}
+
+void Cells(Viewer& v, const RGBImage& reference, int argc, char* argv[])
+{
+  rmtest::BadInputLog& log = v.Log;
   vtkNew<vtkUnstructuredGrid> empty;
-  check(lit(show(empty)) == 0 && events.Errors == 0 && events.Warnings == 0,
-    "an empty grid draws nothing, silently");
-
-  const auto clean = Cube();
-  const auto reference = show(clean);
-  check(lit(reference) > 1000, "the cube is drawn");
+  log.Check(Lit(v.Show(empty)) == 0, "an empty grid draws nothing");
+  log.Warned(1, "no cells", "an empty grid");
 
   auto noScalars = Cube();
   noScalars->GetPointData()->SetScalars(nullptr);
-  show(noScalars);
-  show(noScalars);
-  check(events.Errors == 1 && events.Last.find("no scalars") != std::string::npos,
-    "no scalars: one clear error, not one per render");
+  v.Show(noScalars);
+  v.Render();
+  log.Errored(1, "The input has no scalars to render", "no scalars: one error, not one per render");
 
-  // Bad cells added to the clean cube: the picture must not change.
-  auto bad = Cube();
-  const vtkIdType far = bad->GetPoints()->InsertNextPoint(0, 0, std::nan(""));
-  vtkDoubleArray::SafeDownCast(bad->GetPointData()->GetScalars())->InsertNextValue(0.5);
-  const vtkIdType nanTet[4] = { 0, 1, 2, far };
-  bad->InsertNextCell(VTK_TETRA, 4, nanTet);
-  const vtkIdType far2 = bad->GetPoints()->InsertNextPoint(3, 3, 3);
-  vtkDoubleArray::SafeDownCast(bad->GetPointData()->GetScalars())
-    ->InsertNextValue(std::numeric_limits<double>::quiet_NaN());
-  const vtkIdType nanScalar[4] = { 3, 5, 6, far2 };
-  bad->InsertNextCell(VTK_TETRA, 4, nanScalar);
-  const vtkIdType quadratic[10] = { 0, 1, 2, 4, 0, 1, 2, 4, 0, 1 };
-  bad->InsertNextCell(VTK_QUADRATIC_TETRA, 10, quadratic);
-  const vtkIdType triangle[3] = { 0, 1, 2 };
-  bad->InsertNextCell(VTK_TRIANGLE, 3, triangle);
-  const int warningsBefore = events.Warnings;
-  const auto withBad = show(bad);
-  check(withBad == reference, "bad cells leave exactly the picture of the good ones");
-  check(events.Warnings - warningsBefore == 4, "one warning each: NaN point, NaN scalar, "
-                                                "unsupported type, cells below 3D");
-  check(mapper->GetStatistics()->GetCounter("cells") == 5, "the 5 good cells are rendered");
+  auto bad = WithBadCells();
+  log.SameImage(v.Show(bad), reference, "bad cells: the picture of the good ones");
+  log.Warned(3, "cells", "NaN point, NaN or infinite scalars (2 cells), skipped types");
+  bool typesNamed = false;
+  for (const std::string& t : v.Events.Texts)
+  {
+    typesNamed = typesNamed ||
+      (t.find("1 vtkQuad,") != std::string::npos &&
+        t.find("2 vtkTriangle") != std::string::npos &&
+        t.find("1 vtkQuadraticTetra") != std::string::npos &&
+        t.find("1 vtkPolyhedron") != std::string::npos);
+  }
+  log.Check(typesNamed, "one warning names the skipped types with their counts");
+  log.Check(v.Mapper->GetStatistics()->GetCounter("cells") == 5, "the 5 good cells are rendered");
+  log.ValidFrame("bad cells");
+  v.Render();
+  log.Silent("bad cells, rendered again");
+  // VTK's Reset Camera frames the finite points only (a cell with a point at infinity).
+  v.Mapper->SetInputData(Cube());
+  const RGBImage framed = rmtest::ResetCameraImage(v.Ren, v.Win);
+  auto atInfinity = Cube();
+  const vtkIdType far =
+    atInfinity->GetPoints()->InsertNextPoint(0, std::numeric_limits<double>::infinity(), 0);
+  for (const char* name : { "s", "is" })
+  {
+    atInfinity->GetPointData()->GetArray(name)->InsertNextTuple1(0.5);
+  }
+  atInfinity->GetPointData()->GetArray("s3")->InsertNextTuple3(0.5, 0.5, 0.25);
+  const vtkIdType cell[4] = { 0, 1, 2, far };
+  atInfinity->InsertNextCell(VTK_TETRA, 4, cell);
+  atInfinity->GetCellData()->GetArray("c")->InsertNextTuple1(0.5);
+  v.Mapper->SetInputData(atInfinity);
+  log.SameImage(rmtest::ResetCameraImage(v.Ren, v.Win), framed,
+    "Reset Camera with a point at infinity");
+  log.Warned(1, "NaN or infinite point coordinate", "Reset Camera with a point at infinity");
+  log.ValidFrame("Reset Camera with a point at infinity");
 
-  // A duplicated cell overlaps its original: one warning naming the overlap, no NaN pixel
-  // (the picture is drawn; what it shows there is undefined).
+  // Cell scalars: a NaN cell scalar skips its cell.
+  v.Mapper->SetScalarModeToUseCellFieldData();
+  v.Mapper->SelectScalarArray("c");
+  const RGBImage cellPicture = v.Show(Cube());
+  log.Silent("cell scalars");
+  auto nanCell = Cube();
+  const vtkIdType extra[4] = { 0, 1, 2, 4 };
+  nanCell->InsertNextCell(VTK_TETRA, 4, extra);
+  nanCell->GetCellData()->GetArray("c")->InsertNextTuple1(std::nan(""));
+  log.SameImage(v.Show(nanCell), cellPicture, "a NaN cell scalar");
+  log.Warned(1, "NaN or infinite scalar ('c')", "a NaN cell scalar");
+  log.ValidFrame("a NaN cell scalar");
+
+  // Integer and 3-component point scalars.
+  v.Mapper->SetScalarModeToUsePointFieldData();
+  v.Mapper->SelectScalarArray("s");
+  auto kinds = Cube();
+  vtkNew<vtkDoubleArray> ds;
+  ds->SetName("ds");
+  for (vtkIdType i = 0; i < 8; ++i)
+  {
+    ds->InsertNextValue(kinds->GetPointData()->GetArray("is")->GetComponent(i, 0));
+  }
+  kinds->GetPointData()->AddArray(ds);
+  v.Mapper->SelectScalarArray("ds");
+  const RGBImage doubles = v.Show(kinds);
+  v.Mapper->SelectScalarArray("is");
+  log.SameImage(v.Show(kinds), doubles, "integer point scalars");
+  log.Silent("integer point scalars");
+  log.ValidFrame("integer point scalars");
+  v.Mapper->SelectScalarArray("s3");
+  log.SameImage(v.Show(kinds), reference, "3-component point scalars: the first component");
+  log.Warned(1, "scalar array 's3' has 3 components that differ: the first is used",
+    "3-component point scalars");
+  v.Mapper->SetScalarModeToDefault();
+  log.SameImage(v.Show(Cube()), reference, "the cube again (its active scalars)");
+  log.Silent("the cube again");
+
+  // A duplicated cell overlaps its original: one warning naming the overlap, a valid frame
+  // (what it shows there is undefined).
   auto overlapping = Cube();
   vtkNew<vtkIdList> firstCell;
   overlapping->GetCellPoints(0, firstCell);
   overlapping->InsertNextCell(overlapping->GetCellType(0), firstCell);
-  const int beforeOverlap = events.Warnings;
-  const auto overlapPicture = show(overlapping);
-  check(events.Warnings == beforeOverlap + 1 && events.Last.find("overlap") != std::string::npos &&
-      lit(overlapPicture) > 1000,
-    "a duplicated cell: one warning naming the overlap, the cube still drawn");
+  log.Check(Lit(v.Show(overlapping)) > 1000, "a duplicated cell: the cube still drawn");
+  log.Warned(1, "overlap", "a duplicated cell");
+  log.ValidFrame("a duplicated cell");
 
   // Real cells VTK has but ZSweep does not split: pentagonal and hexagonal prisms.
   char* name = vtkTestUtilities::ExpandDataFileName(argc, argv, "PentaHexa.vtk");
@@ -160,9 +275,54 @@ int TestZSweepBadInput(int argc, char* argv[])
     s->Fill(0.5);
     prisms->GetPointData()->SetScalars(s);
   }
-  const int before = events.Warnings;
-  show(prisms);
-  check(events.Warnings == before + 1 && events.Last.find("unsupported") != std::string::npos,
-    "PentaHexa.vtk's prisms: one warning naming them unsupported");
-  return ok ? EXIT_SUCCESS : EXIT_FAILURE;
+  v.Show(prisms);
+  log.Warned(1, "types the sweep does not render", "PentaHexa.vtk's prisms");
+  log.Check(v.Events.Last.find("vtkPentagonalPrism") != std::string::npos &&
+      v.Events.Last.find("vtkHexagonalPrism") != std::string::npos,
+    "PentaHexa.vtk's prisms: the warning names both types");
+  v.Show(Cube());
+}
+
+void Properties(Viewer& v)
+{
+  rmtest::BadInputLog& log = v.Log;
+  vtkZSweepVolumeMapper* m = v.Mapper;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto render = [&] { return v.Render(); };
+  auto nothing = [] {};
+  rmtest::CheckNaNCases(log, render,
+    { { "TerminationOpacity", [&] { m->SetTerminationOpacity(0.5); },
+        [&] { m->SetTerminationOpacity(nan); }, [&] { m->SetTerminationOpacity(1); } },
+      { "FrameBudget", nothing, [&] { m->SetFrameBudget(nan); }, nothing } });
+  rmtest::CheckClampCases(log, render,
+    { { "TerminationOpacity", [&](double x) { m->SetTerminationOpacity(x); }, -2, 0,
+        "TerminationOpacity -2 is outside [0, 1]: clamped to 0" },
+      { "Integrator", [&](double x) { m->SetTerminationOpacity(1), m->SetIntegrator(static_cast<int>(x)); },
+        7, VTK_ZSWEEP_INTEGRATOR_MIDPOINT, "Integrator 7 is outside [0, 2]" },
+      { "TileSize", [&](double x) { m->SetIntegrator(0), m->SetTileSize(static_cast<int>(x)); },
+        1, 8, "TileSize 1 is outside [8, 1024]" },
+      { "ListThreshold", [&](double x) { m->SetTileSize(32), m->SetListThreshold(static_cast<int>(x)); },
+        1e6, 4096, "ListThreshold 1000000 is outside [2, 4096]" },
+      { "Subsampling", [&](double x) { m->SetListThreshold(16), m->SetSubsampling(static_cast<int>(x)); },
+        -4, 0, "Subsampling -4 is outside [0, 9]" },
+      { "FrameBudget", [&](double x) { m->SetFrameBudget(x); }, -1, 0,
+        "FrameBudget -1 is outside" } });
+  v.Render();
+  log.Silent("the properties restored");
+}
+}
+
+int TestZSweepBadInput(int argc, char* argv[])
+{
+  Viewer v;
+  const RGBImage reference = v.Show(Cube());
+  v.Log.Silent("the cube");
+  v.Log.ValidFrame("the cube");
+  v.Log.Check(Lit(reference) > 1000, "the cube is drawn");
+  Cells(v, reference, argc, argv);
+  Properties(v);
+  v.Log.SameImage(v.Show(Cube()), reference, "everything restored");
+  rmtest::CheckDegenerateCameras(v.Log, v.Ren->GetActiveCamera(), [&] { return v.Render(); },
+    reference, { 0, 0, 0 });
+  return v.Log.Ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

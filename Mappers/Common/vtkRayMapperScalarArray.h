@@ -1,0 +1,48 @@
+// The rule of the RayMappers mappers and filters for an array read as a scalar (a radius,
+// a smoothing length, a mass, a density, a volume, a value, a ZSweep scalar): its first
+// component, as vtkPointGaussianMapper reads its scale array by default (ScaleArrayComponent
+// 0) and vtkGlyph3D scales by scalars. When the components differ in some tuple, that
+// choice changes the picture, so it is said once (each caller warns when it rebuilds from
+// the array, not per render). Arrays whose components are all equal, such as vtkPDBReader's
+// 3-component "radius", read the same with any component and give no warning.
+//
+// Header-only (VTK's common core only), shared by RayMappers::Mappers and ::Filters.
+#ifndef vtkRayMapperScalarArray_h
+#define vtkRayMapperScalarArray_h
+
+#include "vtkDataArray.h"
+#include "vtkObject.h"
+#include "vtkSetGet.h"
+
+#include <cmath>
+
+/// Warns from `self` "<role> array '<name>' has N components that differ: the first is
+/// used." when `array` has several components that differ in some tuple; returns whether
+/// it warned.
+inline bool vtkRayMapperWarnIfComponentsDiffer(vtkObject* self, vtkDataArray* array, const char* role)
+{
+  const int n = array ? array->GetNumberOfComponents() : 1;
+  if (n < 2)
+  {
+    return false;
+  }
+  const vtkIdType tuples = array->GetNumberOfTuples();
+  for (vtkIdType i = 0; i < tuples; ++i)
+  {
+    const double first = array->GetComponent(i, 0);
+    for (int c = 1; c < n; ++c)
+    {
+      const double v = array->GetComponent(i, c);
+      if (!(v == first) && !(std::isnan(v) && std::isnan(first)))
+      {
+        vtkWarningWithObjectMacro(self,
+          << role << " array '" << (array->GetName() ? array->GetName() : "") << "' has " << n
+          << " components that differ: the first is used.");
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+#endif

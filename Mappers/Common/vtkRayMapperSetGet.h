@@ -1,0 +1,146 @@
+// Set macros for the numeric properties of the RayMappers mappers and filters.
+//
+// VTK's vtkSetClampMacro lets NaN through (NaN < min and NaN > max are both false) and
+// clamps out-of-range values silently; vtkSetMacro checks nothing. A NaN property reaches
+// the kernels' float arithmetic and poisons every pixel it touches. These macros
+//   - reject NaN and infinity: one warning naming the property and the value ("Radius nan
+//     is not a number: ignored; Radius stays 1."); the property keeps its value (an
+//     infinite value means as little as NaN, and clamping it would make the largest
+//     value out of garbage, e.g. a radius default that ParaView computes from infinite
+//     bounds);
+//   - clamp a value outside [min, max] to the nearest bound with one warning naming the
+//     property, the value and the range ("Radius -1 is outside [0, 1e+15]: clamped to 0.").
+// The warning comes from the object itself (vtkWarningWithObjectMacro: its class name
+// prefixes the text, observers of its WarningEvent see it, and ParaView's output window
+// shows it for a value set from pvpython, whatever the XML domains allow).
+//
+// Header-only (vtkObject, vtkSetGet.h and the kernels' Limits.h), so RayMappers::Filters uses it without
+// linking RayMappers::Mappers, and VTK's wrappers expand the macros as they expand VTK's own.
+#ifndef vtkRayMapperSetGet_h
+#define vtkRayMapperSetGet_h
+
+#include "Limits.h" // for raymappers::MaxLength
+#include "vtkObject.h"
+#include "vtkSetGet.h"
+
+#include <cmath>
+#include <type_traits>
+
+/// The largest length or factor on lengths a property may have (Limits.h says why).
+#define VTK_RAYMAPPER_LENGTH_MAX raymappers::MaxLength
+
+namespace vtkRayMapperSetGet
+{
+
+/// The value a setter of property `name` stores: false (the property keeps its value)
+/// for NaN or infinity, else `value` clamped to [min, max]; each case with a warning from
+/// `self`.
+template<typename T>
+bool Accept(vtkObject* self, const char* name, T& value, T min, T max, T current)
+{
+  if constexpr (std::is_floating_point_v<T>)
+  {
+    if (!std::isfinite(value))
+    {
+      vtkWarningWithObjectMacro(self,
+        << name << " " << value << (std::isnan(value) ? " is not a number" : " is not finite")
+        << ": ignored; " << name << " stays " << current << ".");
+      return false;
+    }
+  }
+  if (value < min || value > max)
+  {
+    const T clamped = value < min ? min : max;
+    vtkWarningWithObjectMacro(self,
+      << name << " " << value << " is outside [" << min << ", " << max << "]: clamped to "
+      << clamped << ".");
+    value = clamped;
+  }
+  return true;
+}
+
+/// As Accept for every component of a vector property: a NaN or infinite component rejects
+/// the whole vector (one warning), components outside [min, max] are clamped (one warning).
+template<typename T, int N>
+bool AcceptVector(vtkObject* self, const char* name, T (&value)[N], T min, T max)
+{
+  if constexpr (std::is_floating_point_v<T>)
+  {
+    for (int i = 0; i < N; ++i)
+    {
+      if (!std::isfinite(value[i]))
+      {
+        vtkWarningWithObjectMacro(self,
+          << name << " has a component that is "
+          << (std::isnan(value[i]) ? "not a number" : "not finite") << " (component " << i
+          << "): ignored; " << name << " keeps its value.");
+        return false;
+      }
+    }
+  }
+  bool clamped = false;
+  for (int i = 0; i < N; ++i)
+  {
+    if (value[i] < min || value[i] > max)
+    {
+      value[i] = value[i] < min ? min : max;
+      clamped = true;
+    }
+  }
+  if (clamped)
+  {
+    vtkWarningWithObjectMacro(self,
+      << name << " has components outside [" << min << ", " << max
+      << "]: they are clamped to the range.");
+  }
+  return true;
+}
+
+}
+
+/// vtkSetClampMacro that rejects NaN and infinity and warns when it clamps (see above).
+#define vtkRayMapperSetClampMacro(name, type, min, max)                                           \
+  virtual void Set##name(type _arg)                                                                \
+  {                                                                                                \
+    if (vtkRayMapperSetGet::Accept<type>(this, #name, _arg, min, max, this->name) &&               \
+      this->name != _arg)                                                                          \
+    {                                                                                              \
+      this->name = _arg;                                                                           \
+      this->Modified();                                                                            \
+    }                                                                                              \
+  }                                                                                                \
+  virtual type Get##name##MinValue() { return min; }                                               \
+  virtual type Get##name##MaxValue() { return max; }
+
+/// vtkSetVector3Macro with the checks of vtkRayMapperSetClampMacro on every component.
+#define vtkRayMapperSetVector3ClampMacro(name, type, min, max)                                    \
+  virtual void Set##name(type _arg1, type _arg2, type _arg3)                                       \
+  {                                                                                                \
+    type _arg[3] = { _arg1, _arg2, _arg3 };                                                        \
+    if (vtkRayMapperSetGet::AcceptVector<type, 3>(this, #name, _arg, min, max) &&                  \
+      (this->name[0] != _arg[0] || this->name[1] != _arg[1] || this->name[2] != _arg[2]))          \
+    {                                                                                              \
+      this->name[0] = _arg[0];                                                                     \
+      this->name[1] = _arg[1];                                                                     \
+      this->name[2] = _arg[2];                                                                     \
+      this->Modified();                                                                            \
+    }                                                                                              \
+  }                                                                                                \
+  virtual void Set##name(const type _arg[3]) { this->Set##name(_arg[0], _arg[1], _arg[2]); }
+
+/// vtkSetVector2Macro with the checks of vtkRayMapperSetClampMacro on every component.
+#define vtkRayMapperSetVector2ClampMacro(name, type, min, max)                                    \
+  virtual void Set##name(type _arg1, type _arg2)                                                   \
+  {                                                                                                \
+    type _arg[2] = { _arg1, _arg2 };                                                               \
+    if (vtkRayMapperSetGet::AcceptVector<type, 2>(this, #name, _arg, min, max) &&                  \
+      (this->name[0] != _arg[0] || this->name[1] != _arg[1]))                                      \
+    {                                                                                              \
+      this->name[0] = _arg[0];                                                                     \
+      this->name[1] = _arg[1];                                                                     \
+      this->Modified();                                                                            \
+    }                                                                                              \
+  }                                                                                                \
+  virtual void Set##name(const type _arg[2]) { this->Set##name(_arg[0], _arg[1]); }
+
+#endif
