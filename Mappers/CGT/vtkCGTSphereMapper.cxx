@@ -354,7 +354,8 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   stats.declareCounter("builds_this_render");
   const bool grid = this->Accelerator == VTK_CGT_ACCELERATOR_GRID;
   if (Impl->BuiltAccelerator != this->Accelerator ||
-      (grid && (Impl->BuiltLambda != this->Lambda || Impl->BuiltMacrocell != this->MacrocellSize)))
+      (grid && (Impl->BuiltLambda != this->Lambda || Impl->BuiltMacrocell != this->MacrocellSize)) ||
+      (!grid && Impl->BuiltQuality != this->EmbreeBuildQuality))
   {
     raymappers::ScopedPhase phase(stats, grid ? "grid_build" : "bvh_build");
     if (grid)

@@ -1,6 +1,6 @@
 // Statistics after each render, and "rebuild only on change": a camera, colour, light or
 // packet-size change reuses the accelerator; switching accelerators builds only the new
-// one; a radius or point change rebuilds the spheres and the accelerator. Lighting off turns the
+// one, and so does another Embree build quality (the BVH only, not the grid); a radius or point change rebuilds the spheres and the accelerator. Lighting off turns the
 // shading effect off.
 #include "RenderingTestHelpers.h"
 #include "vtkCGTSphereMapper.h"
@@ -68,9 +68,21 @@ int TestSpheresStatistics(int, char*[])
   win->Render();
   RM_CHECK(s->GetCounter("builds") == 2);
   RM_CHECK(s->GetPhaseTime("bvh_build") > 0 && s->GetPhaseTime("spheres") == 0);
-  mapper->SetAcceleratorToCoherentGrid();
+  // Another Embree build quality: the BVH again (not the spheres); the same quality: nothing.
+  mapper->SetEmbreeBuildQuality(2);
   win->Render();
   RM_CHECK(s->GetCounter("builds") == 3);
+  RM_CHECK(s->GetPhaseTime("bvh_build") > 0 && s->GetPhaseTime("spheres") == 0);
+  mapper->SetEmbreeBuildQuality(2);
+  win->Render();
+  RM_CHECK(s->GetCounter("builds") == 3);
+  mapper->SetAcceleratorToCoherentGrid();
+  win->Render();
+  RM_CHECK(s->GetCounter("builds") == 4);
+  // The grid does not depend on Embree's build quality.
+  mapper->SetEmbreeBuildQuality(0);
+  win->Render();
+  RM_CHECK(s->GetCounter("builds") == 4);
   RM_CHECK(s->GetCounter("grid_cells") > 0 && s->GetCounter("cells") > 0);
 
   // Parameter ranges: only the lattice values in [10, 30] are drawn, and moving the
@@ -78,26 +90,26 @@ int TestSpheresStatistics(int, char*[])
   const auto before = rmtest::ReadRGB(win);
   mapper->SetRange(0, "value", 10, 30);
   win->Render();
-  RM_CHECK(s->GetCounter("builds") == 4); // the range's array: a new sphere set and grid
+  RM_CHECK(s->GetCounter("builds") == 5); // the range's array: a new sphere set and grid
   RM_CHECK(s->GetEffect("range_culling") && s->GetCounter("range_culled") > 0);
   RM_CHECK(s->GetCounter("hits") < 128 * 96);
   mapper->SetRange(0, "value", 0, 63);
   win->Render();
-  RM_CHECK(s->GetCounter("builds") == 4);
+  RM_CHECK(s->GetCounter("builds") == 5);
   RM_CHECK(rmtest::ReadRGB(win) == before); // every value in range: the full picture
   mapper->RemoveAllRanges();
   win->Render();
   RM_CHECK(!s->GetEffect("range_culling") && s->GetCounter("range_culled") == 0);
-  RM_CHECK(s->GetCounter("builds") == 5);
+  RM_CHECK(s->GetCounter("builds") == 6);
 
   // Radius scale and moved points rebuild.
   mapper->SetRadiusScale(0.5);
   win->Render();
-  RM_CHECK(s->GetCounter("builds") == 6);
+  RM_CHECK(s->GetCounter("builds") == 7);
   lattice->GetPoints()->SetPoint(0, 0.1, 0.2, 0.3);
   lattice->GetPoints()->Modified();
   win->Render();
-  RM_CHECK(s->GetCounter("builds") == 7);
+  RM_CHECK(s->GetCounter("builds") == 8);
   std::printf("%s", s->GetSummary());
   return EXIT_SUCCESS;
 }
