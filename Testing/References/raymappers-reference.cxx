@@ -14,9 +14,15 @@
 //   sph_particle x y z support quantity volume
 //   sph poly6|cubic|wendland normalized|unnormalized step
 //   transfer lo hi unit_distance n      then n lines "r g b a"
+//   tetra x0 y0 z0 s0 ... x3 y3 z3 s3   a tetrahedron, its corners with their point scalars
+//   nodes unit_distance n               then n lines "s r g b a": the piecewise-linear
+//                                       transfer function of "render unstructured"
 // The output holds W x H x 5 doubles (premultiplied r, g, b, a and the window depth per
 // pixel, rows from the bottom), native byte order.
 #include "ReferenceRenderers.h"
+#include "UnstructuredReference.h"
+
+#include <tbb/parallel_for.h>
 
 #include <cstdio>
 #include <fstream>
@@ -41,6 +47,8 @@ struct Scene
   std::vector<ReferenceSPHParticle> sph;
   SPHReference sphParams;
   ReferenceTransferFunction tf;
+  std::vector<raymappers::test::RefTetra> tetrahedra;
+  raymappers::test::RefTransferFunction nodes;
 };
 
 ReferenceKernel kernelNamed(const std::string& name)
@@ -127,6 +135,28 @@ void readDirective(const std::string& key, std::istringstream& words, std::istre
       in >> c[0] >> c[1] >> c[2] >> c[3];
     }
   }
+  else if (key == "tetra")
+  {
+    raymappers::test::RefTetra t;
+    for (std::size_t k = 0; k < 4; ++k)
+    {
+      words >> t.p[k].x >> t.p[k].y >> t.p[k].z >> t.s[k];
+    }
+    s.tetrahedra.push_back(t);
+  }
+  else if (key == "nodes")
+  {
+    int n = 0;
+    words >> s.nodes.unitDistance >> n;
+    for (int k = 0; k < n; ++k)
+    {
+      double v = 0, r = 0, g = 0, b = 0, a = 0;
+      in >> v >> r >> g >> b >> a;
+      s.nodes.s.push_back(v);
+      s.nodes.rgb.insert(s.nodes.rgb.end(), { r, g, b });
+      s.nodes.alpha.push_back(a);
+    }
+  }
   else
   {
     throw std::runtime_error("unknown directive " + key);
@@ -163,6 +193,35 @@ Scene readScene(const std::string& path)
   return s;
 }
 
+// The tetrahedra's picture (UnstructuredReference.h: every tetrahedron the ray meets clipped
+// in double, the segments integrated between the transfer function's nodes, Simpson's rule
+// with 64 intervals a piece); the depth stays at the far plane.
+ReferenceImage renderUnstructured(const ReferenceCamera& camera, const Scene& s)
+{
+  if (s.tetrahedra.empty() || s.nodes.s.empty())
+  {
+    throw std::runtime_error("render unstructured needs tetra and nodes directives");
+  }
+  const raymappers::test::ReferenceTetraGrid cells(s.tetrahedra);
+  ReferenceImage image(camera.width(), camera.height());
+  tbb::parallel_for(0,
+    camera.height(),
+    [&](int j)
+    {
+      std::vector<std::size_t> candidates;
+      for (int i = 0; i < camera.width(); ++i)
+      {
+        const PixelRay ray = camera.ray(i, j);
+        const raymappers::Vec3d o(ray.origin.x, ray.origin.y, ray.origin.z);
+        const raymappers::Vec3d d(ray.direction.x, ray.direction.y, ray.direction.z);
+        cells.candidates(o, d, 0.0, candidates);
+        image.at(i, j) =
+          raymappers::test::traceReference(s.tetrahedra, false, s.nodes, o, d, 0.0, &candidates, 64);
+      }
+    });
+  return image;
+}
+
 ReferenceImage render(const Scene& s)
 {
   const ReferenceCamera camera(s.matrix, s.width, s.height);
@@ -181,6 +240,10 @@ ReferenceImage render(const Scene& s)
   if (s.render == "sph")
   {
     return renderSPH(camera, s.sph, s.sphParams, s.tf);
+  }
+  if (s.render == "unstructured")
+  {
+    return renderUnstructured(camera, s);
   }
   throw std::runtime_error("unknown picture '" + s.render + "'");
 }
