@@ -1,4 +1,8 @@
 // LammpsDumpParser: see the header for the file format and the behaviour on bad input.
+// Open checks the file (CheckFile), then indexes its snapshots (SnapshotIndexer: one function
+// per header section, the atom block's extent counted, not parsed). ReadFrame reads one
+// snapshot (ReadSnapshot: the coordinate columns, every column's role, the atom lines into
+// arrays, scaled to Cartesian coordinates, sorted by id).
 #include "LammpsDumpParser.h"
 
 #include <algorithm>
@@ -427,37 +431,55 @@ long long FileTimeOf(const std::string& fileName)
   return ec ? 0 : static_cast<long long>(t.time_since_epoch().count());
 }
 
-/// Parses the three lines under "ITEM: BOX BOUNDS <flags>".
-void ParseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
+/// The header of a BOX BOUNDS section: "xy xz yz" announce a restricted triclinic box, "abc
+/// origin" a general one, the other words are the boundary flags (none, or one per axis).
+struct BoxHeader
 {
-  const std::uint64_t headerLine = reader.LineNumber();
-  bool tilted = false;
-  bool general = false;
-  std::vector<std::string> flags;
+  bool Tilted = false;
+  bool General = false;
+  std::vector<std::string> Flags;
+};
+
+/// The numbers of the three lines under the header, up to 4 per line.
+struct BoxLines
+{
+  double V[3][4] = {};
+  int Counts[3] = { 0, 0, 0 };
+};
+
+/// Reads the words after "ITEM: BOX BOUNDS" (on line `headerLine`).
+BoxHeader ParseBoxHeader(std::string_view flagsText, std::uint64_t headerLine)
+{
+  BoxHeader header;
   for (std::string_view token : Tokens(flagsText))
   {
     if (token == "xy" || token == "xz" || token == "yz")
     {
-      tilted = true;
+      header.Tilted = true;
     }
     else if (token == "abc" || token == "origin")
     {
-      general = true;
+      header.General = true;
     }
     else
     {
-      flags.emplace_back(token);
+      header.Flags.emplace_back(token);
     }
   }
-  if (!flags.empty() && flags.size() != 3)
+  if (!header.Flags.empty() && header.Flags.size() != 3)
   {
     throw ParseError{ Where(headerLine) +
                       ": expected 3 boundary flags (e.g. 'pp pp pp') after "
                       "'ITEM: BOX BOUNDS', found " +
                       Quote(flagsText) };
   }
-  double v[3][4] = {};
-  int counts[3] = { 0, 0, 0 };
+  return header;
+}
+
+/// Reads the numbers of the three lines after the header, at most 4 per line.
+BoxLines ReadBoxLines(LineReader& reader, std::uint64_t headerLine)
+{
+  BoxLines lines;
   for (int axis = 0; axis < 3; ++axis)
   {
     std::string_view line;
@@ -468,51 +490,56 @@ void ParseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
     }
     std::string_view rest = line;
     std::string_view token;
+    int& count = lines.Counts[axis];
     while (NextToken(rest, token))
     {
-      if (counts[axis] == 4 || !ParseDouble(token, v[axis][counts[axis]]))
+      if (count == 4 || !ParseDouble(token, lines.V[axis][count]))
       {
         throw ParseError{ Where(reader.LineNumber()) +
                           ": expected 2 to 4 numbers for a box "
                           "bound, found " +
                           Quote(line) };
       }
-      ++counts[axis];
+      ++count;
     }
   }
-  // Each line must have the count the header announces: 4 for "abc origin", 3 for a tilted
-  // box, else 2 (3 is also accepted: old LAMMPS versions wrote tilts without "xy xz yz").
-  const int expected = general ? 4 : (tilted ? 3 : 2);
+  return lines;
+}
+
+/// Each line must have the count the header announces: 4 for "abc origin", 3 for a tilted
+/// box, else 2 (3 is also accepted: old LAMMPS versions wrote tilts without "xy xz yz").
+void CheckBoxLineCounts(const BoxHeader& header, const BoxLines& lines, std::uint64_t headerLine)
+{
+  const int expected = header.General ? 4 : (header.Tilted ? 3 : 2);
   for (int axis = 0; axis < 3; ++axis)
   {
-    const bool ok = counts[axis] == expected || (!general && !tilted && counts[axis] == 3);
+    const int count = lines.Counts[axis];
+    const bool ok = count == expected || (!header.General && !header.Tilted && count == 3);
     if (!ok)
     {
       throw ParseError{ Where(headerLine + 1 + axis) + ": expected " + std::to_string(expected) +
-                        " numbers for this box bound, found " + std::to_string(counts[axis]) };
+                        " numbers for this box bound, found " + std::to_string(count) };
     }
   }
-  tilted = tilted || (!general && counts[0] == 3);
+}
 
-  box = DumpBox();
-  box.Present = true;
-  for (int axis = 0; axis < static_cast<int>(flags.size()); ++axis)
+/// A general triclinic box from its lines "Ax Ay Az xorigin", "Bx By Bz yorigin",
+/// "Cx Cy Cz zorigin".
+void SetGeneralTriclinicBox(const double v[3][4], DumpBox& box)
+{
+  box.Kind = DumpBox::Shape::GeneralTriclinic;
+  for (int k = 0; k < 3; ++k)
   {
-    box.Boundary[axis] = flags[axis];
+    box.A[k] = v[0][k];
+    box.B[k] = v[1][k];
+    box.C[k] = v[2][k];
+    box.Origin[k] = v[k][3];
   }
-  if (general)
-  {
-    // Lines: "Ax Ay Az xorigin", "Bx By Bz yorigin", "Cx Cy Cz zorigin".
-    box.Kind = DumpBox::Shape::GeneralTriclinic;
-    for (int k = 0; k < 3; ++k)
-    {
-      box.A[k] = v[0][k];
-      box.B[k] = v[1][k];
-      box.C[k] = v[2][k];
-      box.Origin[k] = v[k][3];
-    }
-    return;
-  }
+}
+
+/// An orthogonal or restricted triclinic box from its lines "lo hi [tilt]".
+void SetRestrictedBox(const double v[3][4], bool tilted, DumpBox& box)
+{
   const double xy = tilted ? v[0][2] : 0.0;
   const double xz = tilted ? v[1][2] : 0.0;
   const double yz = tilted ? v[2][2] : 0.0;
@@ -541,6 +568,29 @@ void ParseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
   box.C[0] = xz;
   box.C[1] = yz;
   box.C[2] = zhi - zlo;
+}
+
+/// Parses the three lines under "ITEM: BOX BOUNDS <flags>".
+void ParseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
+{
+  const std::uint64_t headerLine = reader.LineNumber();
+  const BoxHeader header = ParseBoxHeader(flagsText, headerLine);
+  const BoxLines lines = ReadBoxLines(reader, headerLine);
+  CheckBoxLineCounts(header, lines, headerLine);
+  box = DumpBox();
+  box.Present = true;
+  for (int axis = 0; axis < static_cast<int>(header.Flags.size()); ++axis)
+  {
+    box.Boundary[axis] = header.Flags[axis];
+  }
+  if (header.General)
+  {
+    SetGeneralTriclinicBox(lines.V, box);
+  }
+  else
+  {
+    SetRestrictedBox(lines.V, header.Tilted || lines.Counts[0] == 3, box);
+  }
 }
 
 /// "" if `count` atom lines can fit in the `bytes` after `line`, else why not. Every line
@@ -630,6 +680,725 @@ bool LegacyAtomColumns(std::size_t count, std::vector<std::string>& names)
     return true;
   }
   return false;
+}
+
+/// Why a file cannot be indexed, found before any of its lines is read, or "" if it can be:
+/// no name, missing, a directory, unreadable, empty, or not a text dump by its first bytes.
+/// Opens `reader` at the start of the file on the way.
+std::string CheckFile(const std::string& fileName, std::uintmax_t fileSize, LineReader& reader)
+{
+  std::error_code ec;
+  if (fileName.empty())
+  {
+    return "no file name given";
+  }
+  if (!std::filesystem::exists(fileName, ec))
+  {
+    return "cannot open '" + fileName + "': no such file";
+  }
+  if (std::filesystem::is_directory(fileName, ec))
+  {
+    return "cannot open '" + fileName + "': it is a directory";
+  }
+  if (!reader.Open(fileName, 0, 0))
+  {
+    return "cannot open '" + fileName + "' for reading: " + std::strerror(errno);
+  }
+  if (fileSize == 0)
+  {
+    return "'" + fileName + "' is empty";
+  }
+  return SniffNotADump(fileName, ReadHead(fileName, 4096));
+}
+
+/// Throws "line L: expected <what>, found '<value>'" unless ok.
+void ExpectValue(bool ok, std::uint64_t line, const char* what, std::string_view value)
+{
+  if (!ok)
+  {
+    throw ParseError{ Where(line) + ": expected " + what + ", found " + Quote(value) };
+  }
+}
+
+/// The index of a dump (DumpParser::Open): reads every snapshot's header sections (UNITS,
+/// TIME, TIMESTEP, NUMBER OF ATOMS, BOX BOUNDS, ATOMS with the column names) and skips its
+/// atom lines by counting them. A problem throws ParseError, except a snapshot cut short
+/// after complete ones (a simulation still writing, or killed), which ends the index with a
+/// warning. The section functions return false when indexing stops there.
+class SnapshotIndexer
+{
+public:
+  SnapshotIndexer(const std::string& fileName,
+    std::uintmax_t fileSize,
+    LineReader& reader,
+    std::vector<DumpFrameInfo>& frames,
+    std::vector<std::string>& warnings)
+    : FileName(fileName)
+    , FileSize(fileSize)
+    , Reader(reader)
+    , Frames(frames)
+    , Warnings(warnings)
+  {
+  }
+
+  /// Indexes the file from the reader's position to its end (or to a truncated snapshot).
+  void Run()
+  {
+    std::string_view line;
+    bool more = true;
+    while (more && this->Reader.Next(line))
+    {
+      more = this->IndexLine(line);
+    }
+    if (more && this->InHeader && (this->HasTimestep || this->HasCount))
+    {
+      this->Truncated("the file ends in the header of the snapshot at " +
+                      Where(this->Pending.HeaderLine) + " (timestep " +
+                      std::to_string(this->Pending.Timestep) + ")");
+    }
+    if (this->Frames.empty())
+    {
+      throw ParseError{ "the file contains no snapshot ('ITEM: TIMESTEP' ... 'ITEM: ATOMS')" };
+    }
+  }
+
+private:
+  /// A line between atom blocks: blank, or an "ITEM:" header.
+  bool IndexLine(std::string_view line)
+  {
+    const std::string_view text = Trim(line);
+    const std::uint64_t lineNumber = this->Reader.LineNumber();
+    if (text.empty())
+    {
+      return true; // tolerated between sections
+    }
+    if (text.find('\0') != std::string_view::npos)
+    {
+      throw ParseError{ Where(lineNumber) +
+                        " holds NUL bytes: binary data, not text (a crash can leave zeros at "
+                        "the end of a file)" };
+    }
+    if (this->Reader.LastLineUnterminated())
+    {
+      // LAMMPS ends every line with a newline: a header line without one was cut short.
+      return this->Truncated(
+        "the file ends in the middle of " + Where(lineNumber) + " (" + Quote(text) + ")");
+    }
+    if (!StartsWith(text, "ITEM:"))
+    {
+      throw ParseError{ Where(lineNumber) + ": expected an 'ITEM:' header, found " + Quote(text) +
+                        (!this->InHeader && !this->Frames.empty()
+                            ? " (are there more atom lines than NUMBER OF ATOMS says?)"
+                            : "") };
+    }
+    return this->ReadSection(Trim(text.substr(5)), text, lineNumber);
+  }
+
+  /// The section an "ITEM: <item>" header (the whole line: text) starts.
+  bool ReadSection(std::string_view item, std::string_view text, std::uint64_t lineNumber)
+  {
+    if (item == "UNITS" || item == "TIME" || item == "TIMESTEP" || item == "NUMBER OF ATOMS")
+    {
+      return this->ReadValueItem(item, lineNumber);
+    }
+    if (StartsWith(item, "BOX BOUNDS"))
+    {
+      return this->ReadBox(item, lineNumber);
+    }
+    if (item == "ATOMS" || StartsWith(item, "ATOMS ") || StartsWith(item, "ATOMS\t"))
+    {
+      return this->ReadAtoms(item, lineNumber);
+    }
+    if (item == "NUMBER OF ENTRIES" || StartsWith(item, "ENTRIES"))
+    {
+      throw ParseError{
+        Where(lineNumber) + ": " + Quote(text) +
+        " belongs to a 'dump local' file (per-bond or per-pair values), not to a per-atom "
+        "dump"
+      };
+    }
+    if (StartsWith(item, "DIMENSION") || StartsWith(item, "GRID"))
+    {
+      throw ParseError{ Where(lineNumber) + ": " + Quote(text) +
+                        " belongs to a 'dump grid' file, not to a per-atom dump" };
+    }
+    throw ParseError{ Where(lineNumber) + ": unknown section " + Quote(text) +
+                      " (expected TIMESTEP, NUMBER OF ATOMS, BOX BOUNDS, ATOMS, TIME or UNITS)" };
+  }
+
+  /// A snapshot that stops short: an error if no snapshot is complete, else a warning and
+  /// the end of the index (the complete snapshots stay). Returns false: indexing stops.
+  bool Truncated(const std::string& message)
+  {
+    if (this->Frames.empty())
+    {
+      throw ParseError{ message };
+    }
+    this->Warnings.push_back(
+      "'" + this->FileName + "': " + message + "; this incomplete snapshot is ignored");
+    return false;
+  }
+
+  /// UNITS, TIME and TIMESTEP may start a snapshot; a second TIMESTEP before ATOMS is damage.
+  void BeginHeader(std::uint64_t line)
+  {
+    if (this->HasTimestep)
+    {
+      throw ParseError{ Where(line) + ": a new snapshot starts, but the one at " +
+                        Where(this->Pending.HeaderLine) + " (timestep " +
+                        std::to_string(this->Pending.Timestep) + ") has no 'ITEM: ATOMS' section" };
+    }
+    if (!this->InHeader)
+    {
+      this->InHeader = true;
+      this->Pending = DumpFrameInfo();
+      this->Pending.HeaderLine = line;
+      this->Pending.Units = this->Units;
+    }
+  }
+
+  /// The items whose value is the one line under them: UNITS (dump_modify units yes, written
+  /// once and carried to later snapshots), TIME (dump_modify time yes), TIMESTEP, NUMBER OF
+  /// ATOMS. False if the file ends before the value.
+  bool ReadValueItem(std::string_view item, std::uint64_t lineNumber)
+  {
+    const bool count = item == "NUMBER OF ATOMS";
+    if (count && !this->HasTimestep)
+    {
+      throw ParseError{ Where(lineNumber) + ": 'ITEM: NUMBER OF ATOMS' before 'ITEM: "
+                                            "TIMESTEP'" };
+    }
+    if (!count)
+    {
+      this->BeginHeader(lineNumber);
+    }
+    std::string_view line;
+    if (!this->Reader.Next(line))
+    {
+      return this->Truncated("the file ends after 'ITEM: " + std::string(item) + "' at " +
+                             Where(this->Reader.LineNumber()));
+    }
+    const std::string_view value = Trim(line);
+    DumpFrameInfo& pending = this->Pending;
+    if (item == "UNITS")
+    {
+      this->Units = std::string(value);
+      pending.Units = this->Units;
+    }
+    else if (item == "TIME")
+    {
+      ExpectValue(ParseDouble(value, pending.Time), lineNumber + 1, "the simulation time", value);
+      pending.HasTime = true;
+    }
+    else if (item == "TIMESTEP")
+    {
+      ExpectValue(
+        ParseInt64(value, pending.Timestep), lineNumber + 1, "an integer timestep", value);
+      this->HasTimestep = true;
+    }
+    else
+    {
+      ExpectValue(ParseInt64(value, pending.NumberOfAtoms) && pending.NumberOfAtoms >= 0,
+        lineNumber + 1,
+        "a number of atoms >= 0",
+        value);
+      this->HasCount = true;
+    }
+    return true;
+  }
+
+  /// "ITEM: BOX BOUNDS <flags>" and its three lines; a file that ends inside them cuts the
+  /// snapshot short.
+  bool ReadBox(std::string_view item, std::uint64_t lineNumber)
+  {
+    if (!this->HasTimestep)
+    {
+      throw ParseError{ Where(lineNumber) + ": 'ITEM: BOX BOUNDS' before 'ITEM: TIMESTEP'" };
+    }
+    try
+    {
+      ParseBox(item.substr(10), this->Reader, this->Pending.Box);
+    }
+    catch (const ParseError& e)
+    {
+      if (StartsWith(e.Message, "the file ends"))
+      {
+        return this->Truncated(e.Message);
+      }
+      throw;
+    }
+    return true;
+  }
+
+  /// "ITEM: ATOMS <names>": the column names, then the extent of the atom block, which
+  /// completes the snapshot.
+  bool ReadAtoms(std::string_view item, std::uint64_t lineNumber)
+  {
+    if (!this->HasTimestep || !this->HasCount)
+    {
+      throw ParseError{ Where(lineNumber) + ": 'ITEM: ATOMS' before " +
+                        (this->HasTimestep ? "'ITEM: NUMBER OF ATOMS'" : "'ITEM: TIMESTEP'") };
+    }
+    for (std::string_view name : Tokens(item.substr(5)))
+    {
+      this->Pending.ColumnNames.emplace_back(name);
+    }
+    this->Pending.AtomsOffset = this->Reader.Offset();
+    this->Pending.AtomsLine = lineNumber + 1;
+    const std::uint64_t count = static_cast<std::uint64_t>(this->Pending.NumberOfAtoms);
+    const std::uint64_t found = this->InferLegacyColumns(count, lineNumber);
+    const std::string beyond = AtomCountBeyondFile(count,
+      this->FileSize - std::min(this->FileSize, std::uintmax_t(this->Pending.AtomsOffset)),
+      lineNumber);
+    if (!beyond.empty())
+    {
+      return this->Truncated(DescribeFrame(this->Frames.size(), this->Pending) + ": " + beyond);
+    }
+    const std::uint64_t complete = this->SkipAtomLines(count, found);
+    if (complete != count)
+    {
+      return this->Truncated(DescribeFrame(this->Frames.size(), this->Pending) +
+                             " is truncated: it has " + std::to_string(count) +
+                             " atoms, the file ends after " + std::to_string(complete) +
+                             " complete atom lines");
+    }
+    this->Frames.push_back(this->Pending);
+    this->InHeader = false;
+    this->HasTimestep = false;
+    this->HasCount = false;
+    return true;
+  }
+
+  /// Old "dump atom" output has "ITEM: ATOMS" without names: the fixed columns follow from
+  /// the first atom line's number of values. Returns the atom lines read (0 or 1).
+  std::uint64_t InferLegacyColumns(std::uint64_t count, std::uint64_t lineNumber)
+  {
+    std::vector<std::string>& names = this->Pending.ColumnNames;
+    if (!names.empty())
+    {
+      return 0;
+    }
+    if (count == 0)
+    {
+      LegacyAtomColumns(5, names);
+      return 0;
+    }
+    std::string_view first;
+    if (!this->Reader.Next(first))
+    {
+      return 0; // the file ends here: the count of the atom lines says so
+    }
+    const std::size_t values = Tokens(first).size();
+    if (!LegacyAtomColumns(values, names))
+    {
+      throw ParseError{ Where(lineNumber) + ": 'ITEM: ATOMS' has no column names, and " +
+                        std::to_string(values) +
+                        " values per line do not match the old 'dump atom' layout" };
+    }
+    return 1;
+  }
+
+  /// Skips the atom block after its first `found` lines; returns its complete atom lines.
+  std::uint64_t SkipAtomLines(std::uint64_t count, std::uint64_t found)
+  {
+    found += this->Reader.SkipLines(count - found);
+    if (!this->Reader.LastLineUnterminated())
+    {
+      return found;
+    }
+    // LAMMPS ends every line with a newline, so the file was cut in this line (a simulation
+    // killed while writing) or written by hand. As the last atom line it is kept if it has
+    // all its values, well formed, but its last value may have lost digits; otherwise it is
+    // not a complete line.
+    const std::string last = ReadLastLine(this->FileName, this->Reader.GetLastLineOffset());
+    const std::vector<std::string_view> values = Tokens(last);
+    if (found != count || !IsCompleteAtomLine(values, this->Pending.ColumnNames))
+    {
+      return found - 1;
+    }
+    this->Warnings.push_back("'" + this->FileName + "': the file ends without a newline in " +
+                             Where(this->Reader.LineNumber()) + ", the last atom line of " +
+                             DescribeFrame(this->Frames.size(), this->Pending) +
+                             ": it is kept, but its last value " + Quote(values.back()) +
+                             " may have been cut short");
+    return found;
+  }
+
+  const std::string& FileName;
+  const std::uintmax_t FileSize;
+  LineReader& Reader;
+  std::vector<DumpFrameInfo>& Frames;
+  std::vector<std::string>& Warnings;
+  /// The header items of the snapshot being read; it is complete at its ATOMS section.
+  DumpFrameInfo Pending;
+  bool InHeader = false;
+  bool HasTimestep = false;
+  bool HasCount = false;
+  std::string Units;
+};
+
+/// What a column of a snapshot becomes.
+enum class Role
+{
+  Id,
+  Type,
+  Position,
+  Number,
+  Text,
+};
+
+/// Every column's role and array: Slots[c] is its index in DumpFrame::Columns or
+/// TextColumns, or the component k of a position column.
+struct ColumnPlan
+{
+  std::vector<Role> Roles;
+  std::vector<int> Slots;
+  std::vector<std::string> ArrayNames;
+};
+
+/// Index of the first column named `name`, or -1.
+std::ptrdiff_t ColumnIndex(const std::vector<std::string>& names, const char* name)
+{
+  const auto it = std::find(names.begin(), names.end(), name);
+  return it == names.end() ? -1 : it - names.begin();
+}
+
+/// Chooses the coordinate triple: x y z, else xu yu zu, else xs ys zs, else xsu ysu zsu.
+/// Sets frame.Positions and frame.PositionColumns, and the triple's columns.
+void ChoosePositions(const DumpFrameInfo& info, DumpFrame& frame, std::ptrdiff_t columns[3])
+{
+  struct Family
+  {
+    PositionSource Source;
+    const char* Names[3];
+  };
+  const Family families[] = {
+    { PositionSource::Wrapped, { "x", "y", "z" } },
+    { PositionSource::Unwrapped, { "xu", "yu", "zu" } },
+    { PositionSource::Scaled, { "xs", "ys", "zs" } },
+    { PositionSource::ScaledUnwrapped, { "xsu", "ysu", "zsu" } },
+  };
+  std::string partial;
+  for (const Family& family : families)
+  {
+    std::ptrdiff_t c[3];
+    int have = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      c[k] = ColumnIndex(info.ColumnNames, family.Names[k]);
+      have += c[k] >= 0 ? 1 : 0;
+    }
+    if (have == 3)
+    {
+      frame.Positions = family.Source;
+      for (int k = 0; k < 3; ++k)
+      {
+        columns[k] = c[k];
+        frame.PositionColumns[k] = family.Names[k];
+      }
+      return;
+    }
+    if (have > 0 && partial.empty())
+    {
+      partial = std::string(" (it has only part of ") + family.Names[0] + " " + family.Names[1] +
+                " " + family.Names[2] + ")";
+    }
+  }
+  throw ParseError{ "no atom coordinates: the columns are '" + JoinNames(info.ColumnNames) +
+                    "', one of x y z, xu yu zu, xs ys zs or xsu ysu zsu is needed" + partial };
+}
+
+/// Roles from the column names; repeated names get a suffix so arrays stay distinct. The
+/// kinds of the ordinary columns (number or text) are decided by the first atom line.
+ColumnPlan PlanColumns(const std::vector<std::string>& names, const std::ptrdiff_t positions[3])
+{
+  const std::size_t columnCount = names.size();
+  ColumnPlan plan{ std::vector<Role>(columnCount, Role::Number),
+    std::vector<int>(columnCount, -1),
+    std::vector<std::string>(columnCount) };
+  std::unordered_map<std::string, int> seenNames;
+  for (std::size_t c = 0; c < columnCount; ++c)
+  {
+    const int seen = seenNames[names[c]]++;
+    plan.ArrayNames[c] = seen ? names[c] + "_" + std::to_string(seen + 1) : names[c];
+    if (seen)
+    {
+      continue; // a repeated id/type/position column is kept as an ordinary array
+    }
+    if (names[c] == "id")
+    {
+      plan.Roles[c] = Role::Id;
+    }
+    else if (names[c] == "type")
+    {
+      plan.Roles[c] = Role::Type;
+    }
+    else if (names[c] == "element" || names[c] == "typelabel")
+    {
+      plan.Roles[c] = Role::Text;
+    }
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    plan.Roles[positions[k]] = Role::Position;
+    plan.Slots[positions[k]] = k;
+  }
+  return plan;
+}
+
+/// The arrays of positions, ids and types for `count` atoms.
+void AllocateFrame(std::size_t count, const std::vector<std::string>& names, DumpFrame& frame)
+{
+  frame.NumberOfAtoms = count;
+  frame.Points.assign(3 * count, 0.0);
+  frame.HasIds = ColumnIndex(names, "id") >= 0;
+  frame.HasTypes = ColumnIndex(names, "type") >= 0;
+  if (frame.HasIds)
+  {
+    frame.Ids.resize(count);
+  }
+  if (frame.HasTypes)
+  {
+    frame.Types.resize(count);
+  }
+}
+
+/// The values of an atom line into tokens, which has one per column; throws if the line
+/// has more or fewer.
+void SplitAtomLine(std::string_view line,
+  std::uint64_t lineNumber,
+  const std::vector<std::string>& names,
+  std::vector<std::string_view>& tokens)
+{
+  const std::size_t columnCount = names.size();
+  std::string_view rest = line;
+  std::size_t found = 0;
+  std::string_view token;
+  while (found <= columnCount && NextToken(rest, token))
+  {
+    if (found < columnCount)
+    {
+      tokens[found] = token;
+    }
+    ++found;
+  }
+  if (found != columnCount)
+  {
+    throw ParseError{ Where(lineNumber) + ": expected " + std::to_string(columnCount) +
+                      " values (" + JoinNames(names) + "), found " +
+                      std::to_string(Tokens(line).size()) };
+  }
+}
+
+/// Decides each remaining column's kind from its first value (the first atom line's
+/// tokens): numbers become double arrays, anything else (names, labels) text arrays; and
+/// makes the arrays for `count` atoms.
+void ChooseColumnKinds(const std::vector<std::string_view>& tokens,
+  std::size_t count,
+  ColumnPlan& plan,
+  DumpFrame& frame)
+{
+  for (std::size_t c = 0; c < tokens.size(); ++c)
+  {
+    Role& role = plan.Roles[c];
+    double probe;
+    std::int64_t integer;
+    if (role == Role::Number && !ParseDouble(tokens[c], probe))
+    {
+      role = Role::Text;
+    }
+    if (role == Role::Type && !ParseInt64(tokens[c], integer))
+    {
+      // Type labels written in place of numeric types ("C1", "Ow"): keep them as text.
+      role = Role::Text;
+      frame.HasTypes = false;
+      frame.Types.clear();
+    }
+    if (role == Role::Number)
+    {
+      plan.Slots[c] = static_cast<int>(frame.Columns.size());
+      frame.Columns.push_back({ plan.ArrayNames[c], std::vector<double>(count) });
+    }
+    else if (role == Role::Text)
+    {
+      plan.Slots[c] = static_cast<int>(frame.TextColumns.size());
+      frame.TextColumns.push_back({ plan.ArrayNames[c], std::vector<std::string>(count) });
+    }
+  }
+}
+
+/// Converts atom a's values (tokens, of line lineNumber) into the frame's arrays; throws at
+/// the first value that is not what its column holds.
+void StoreAtomValues(const std::vector<std::string_view>& tokens,
+  std::size_t a,
+  std::uint64_t lineNumber,
+  const std::vector<std::string>& names,
+  const ColumnPlan& plan,
+  DumpFrame& frame)
+{
+  for (std::size_t c = 0; c < tokens.size(); ++c)
+  {
+    const std::string_view t = tokens[c];
+    const int slot = plan.Slots[c];
+    bool ok = true;
+    switch (plan.Roles[c])
+    {
+      case Role::Id:
+        ok = ParseInt64(t, frame.Ids[a]);
+        break;
+      case Role::Type:
+      {
+        std::int64_t type = 0;
+        ok = ParseInt64(t, type) && type >= std::numeric_limits<std::int32_t>::min() &&
+             type <= std::numeric_limits<std::int32_t>::max();
+        frame.Types[a] = static_cast<std::int32_t>(type);
+        break;
+      }
+      case Role::Position:
+        ok = ParseDouble(t, frame.Points[3 * a + slot]);
+        break;
+      case Role::Number:
+        ok = ParseDouble(t, frame.Columns[slot].Values[a]);
+        break;
+      case Role::Text:
+        frame.TextColumns[slot].Values[a] = std::string(t);
+        break;
+    }
+    if (!ok)
+    {
+      const bool integer = plan.Roles[c] == Role::Id || plan.Roles[c] == Role::Type;
+      throw ParseError{ Where(lineNumber) + ", column '" + names[c] + "': " + Quote(t) +
+                        " is not " + (integer ? "an integer" : "a number") };
+    }
+  }
+}
+
+/// Reads the snapshot's atom lines into the frame's arrays (allocated for them).
+void ReadAtomLines(const std::string& fileName,
+  const DumpFrameInfo& info,
+  ColumnPlan& plan,
+  DumpFrame& frame)
+{
+  const std::size_t count = frame.NumberOfAtoms;
+  LineReader reader;
+  if (count > 0 && !reader.Open(fileName, info.AtomsOffset, info.AtomsLine - 1))
+  {
+    throw ParseError{ "cannot open the file again: " + std::string(std::strerror(errno)) };
+  }
+  std::vector<std::string_view> tokens(info.ColumnNames.size());
+  std::string_view line;
+  for (std::size_t a = 0; a < count; ++a)
+  {
+    if (!reader.Next(line))
+    {
+      throw ParseError{ "the file ends after " + std::to_string(a) + " of " +
+                        std::to_string(count) +
+                        " atom lines (did it change since it was opened?)" };
+    }
+    SplitAtomLine(line, reader.LineNumber(), info.ColumnNames, tokens);
+    if (a == 0)
+    {
+      ChooseColumnKinds(tokens, count, plan, frame);
+    }
+    StoreAtomValues(tokens, a, reader.LineNumber(), info.ColumnNames, plan, frame);
+  }
+}
+
+/// No atom line to look at: every ordinary column becomes an empty numeric array, so a
+/// snapshot where all atoms left still has the same arrays as the others.
+void AddEmptyColumns(const ColumnPlan& plan, DumpFrame& frame)
+{
+  for (std::size_t c = 0; c < plan.Roles.size(); ++c)
+  {
+    if (plan.Roles[c] == Role::Number)
+    {
+      frame.Columns.push_back({ plan.ArrayNames[c], std::vector<double>() });
+    }
+    else if (plan.Roles[c] == Role::Text)
+    {
+      frame.TextColumns.push_back({ plan.ArrayNames[c], std::vector<std::string>() });
+    }
+  }
+}
+
+/// Scaled coordinates s to Cartesian: r = origin + s0 A + s1 B + s2 C.
+void ConvertScaledPositions(const DumpBox& box, DumpFrame& frame)
+{
+  for (std::size_t a = 0; a < frame.NumberOfAtoms; ++a)
+  {
+    const double s[3] = { frame.Points[3 * a], frame.Points[3 * a + 1], frame.Points[3 * a + 2] };
+    box.ScaledToCartesian(s, &frame.Points[3 * a]);
+  }
+}
+
+/// LAMMPS writes atoms in the order processors own them; sorting by id keeps an atom's
+/// index from one snapshot to the next (when no atom is lost or created). Atoms with the same
+/// id keep their file order (stable sort).
+void SortById(DumpFrame& frame)
+{
+  if (!frame.HasIds || std::is_sorted(frame.Ids.begin(), frame.Ids.end()))
+  {
+    return;
+  }
+  const std::size_t count = frame.NumberOfAtoms;
+  std::vector<std::size_t> order(count);
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::stable_sort(order.begin(),
+    order.end(),
+    [&](std::size_t i, std::size_t j) { return frame.Ids[i] < frame.Ids[j]; });
+  auto permute = [&](auto& values, std::size_t components)
+  {
+    auto sorted = values;
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      for (std::size_t k = 0; k < components; ++k)
+      {
+        sorted[components * i + k] = std::move(values[components * order[i] + k]);
+      }
+    }
+    values.swap(sorted);
+  };
+  permute(frame.Ids, 1);
+  permute(frame.Points, 3);
+  if (frame.HasTypes)
+  {
+    permute(frame.Types, 1);
+  }
+  for (DumpColumn& column : frame.Columns)
+  {
+    permute(column.Values, 1);
+  }
+  for (DumpTextColumn& column : frame.TextColumns)
+  {
+    permute(column.Values, 1);
+  }
+}
+
+/// Reads the atoms of the snapshot `info` into frame: chooses the coordinates and every
+/// column's role, reads the atom lines, converts scaled coordinates, sorts by id.
+void ReadSnapshot(const std::string& fileName, const DumpFrameInfo& info, DumpFrame& frame)
+{
+  std::ptrdiff_t positions[3] = { -1, -1, -1 };
+  ChoosePositions(info, frame, positions);
+  const bool scaled =
+    frame.Positions == PositionSource::Scaled || frame.Positions == PositionSource::ScaledUnwrapped;
+  if (scaled && !info.Box.Present)
+  {
+    throw ParseError{ "scaled coordinates (" + frame.PositionColumns[0] +
+                      " ...) need the box, and the snapshot has no 'ITEM: BOX BOUNDS'" };
+  }
+  ColumnPlan plan = PlanColumns(info.ColumnNames, positions);
+  AllocateFrame(static_cast<std::size_t>(info.NumberOfAtoms), info.ColumnNames, frame);
+  ReadAtomLines(fileName, info, plan, frame);
+  if (frame.NumberOfAtoms == 0)
+  {
+    AddEmptyColumns(plan, frame);
+  }
+  if (scaled)
+  {
+    ConvertScaledPositions(info.Box, frame);
+  }
+  SortById(frame);
 }
 
 } // namespace
@@ -764,292 +1533,13 @@ bool DumpParser::Open(const std::string& fileName)
     std::error_code ec;
     this->FileSize = std::filesystem::file_size(fileName, ec);
     this->FileTime = FileTimeOf(fileName);
-    if (fileName.empty())
-    {
-      return this->Fail("no file name given");
-    }
-    if (!std::filesystem::exists(fileName, ec))
-    {
-      return this->Fail("cannot open '" + fileName + "': no such file");
-    }
-    if (std::filesystem::is_directory(fileName, ec))
-    {
-      return this->Fail("cannot open '" + fileName + "': it is a directory");
-    }
     LineReader reader;
-    if (!reader.Open(fileName, 0, 0))
+    const std::string unreadable = CheckFile(fileName, this->FileSize, reader);
+    if (!unreadable.empty())
     {
-      return this->Fail("cannot open '" + fileName + "' for reading: " + std::strerror(errno));
+      return this->Fail(unreadable);
     }
-    if (this->FileSize == 0)
-    {
-      return this->Fail("'" + fileName + "' is empty");
-    }
-    const std::string why = SniffNotADump(fileName, ReadHead(fileName, 4096));
-    if (!why.empty())
-    {
-      return this->Fail(why);
-    }
-
-    // The header items of the snapshot being read; it is complete at its ATOMS section.
-    DumpFrameInfo pending;
-    bool inHeader = false;
-    bool hasTimestep = false;
-    bool hasCount = false;
-    std::string units;
-    bool stop = false;
-    // A snapshot that stops short (a running or killed simulation): keep what is complete.
-    auto truncated = [&](const std::string& message)
-    {
-      if (this->Frames.empty())
-      {
-        throw ParseError{ message };
-      }
-      this->Warnings.push_back(
-        "'" + fileName + "': " + message + "; this incomplete snapshot is ignored");
-      stop = true;
-    };
-    auto beginHeader = [&](std::uint64_t line)
-    {
-      if (hasTimestep)
-      {
-        throw ParseError{ Where(line) + ": a new snapshot starts, but the one at " +
-                          Where(pending.HeaderLine) + " (timestep " +
-                          std::to_string(pending.Timestep) + ") has no 'ITEM: ATOMS' section" };
-      }
-      if (!inHeader)
-      {
-        inHeader = true;
-        pending = DumpFrameInfo();
-        pending.HeaderLine = line;
-        pending.Units = units;
-      }
-    };
-    // Reads the one line under a header item; false if the file ends there.
-    auto valueLine = [&](std::string_view item, std::string_view& value)
-    {
-      std::string_view line;
-      if (!reader.Next(line))
-      {
-        truncated(
-          "the file ends after 'ITEM: " + std::string(item) + "' at " + Where(reader.LineNumber()));
-        return false;
-      }
-      value = Trim(line);
-      return true;
-    };
-
-    std::string_view line;
-    while (!stop && reader.Next(line))
-    {
-      const std::string_view text = Trim(line);
-      const std::uint64_t lineNumber = reader.LineNumber();
-      if (text.empty())
-      {
-        continue; // tolerated between sections
-      }
-      if (text.find('\0') != std::string_view::npos)
-      {
-        throw ParseError{ Where(lineNumber) +
-                          " holds NUL bytes: binary data, not text (a crash can leave zeros at "
-                          "the end of a file)" };
-      }
-      if (reader.LastLineUnterminated())
-      {
-        // LAMMPS ends every line with a newline: a header line without one was cut short.
-        truncated("the file ends in the middle of " + Where(lineNumber) + " (" + Quote(text) + ")");
-        break;
-      }
-      if (!StartsWith(text, "ITEM:"))
-      {
-        throw ParseError{ Where(lineNumber) + ": expected an 'ITEM:' header, found " + Quote(text) +
-                          (!inHeader && !this->Frames.empty()
-                              ? " (are there more atom lines than NUMBER OF ATOMS says?)"
-                              : "") };
-      }
-      const std::string_view item = Trim(text.substr(5));
-      std::string_view value;
-      if (item == "UNITS")
-      {
-        beginHeader(lineNumber);
-        if (!valueLine(item, value))
-        {
-          break;
-        }
-        units = std::string(value);
-        pending.Units = units;
-      }
-      else if (item == "TIME")
-      {
-        beginHeader(lineNumber);
-        if (!valueLine(item, value))
-        {
-          break;
-        }
-        if (!ParseDouble(value, pending.Time))
-        {
-          throw ParseError{ Where(lineNumber + 1) + ": expected the simulation time, found " +
-                            Quote(value) };
-        }
-        pending.HasTime = true;
-      }
-      else if (item == "TIMESTEP")
-      {
-        beginHeader(lineNumber);
-        if (!valueLine(item, value))
-        {
-          break;
-        }
-        if (!ParseInt64(value, pending.Timestep))
-        {
-          throw ParseError{ Where(lineNumber + 1) + ": expected an integer timestep, found " +
-                            Quote(value) };
-        }
-        hasTimestep = true;
-      }
-      else if (item == "NUMBER OF ATOMS")
-      {
-        if (!hasTimestep)
-        {
-          throw ParseError{ Where(lineNumber) + ": 'ITEM: NUMBER OF ATOMS' before 'ITEM: "
-                                                "TIMESTEP'" };
-        }
-        if (!valueLine(item, value))
-        {
-          break;
-        }
-        if (!ParseInt64(value, pending.NumberOfAtoms) || pending.NumberOfAtoms < 0)
-        {
-          throw ParseError{ Where(lineNumber + 1) + ": expected a number of atoms >= 0, found " +
-                            Quote(value) };
-        }
-        hasCount = true;
-      }
-      else if (StartsWith(item, "BOX BOUNDS"))
-      {
-        if (!hasTimestep)
-        {
-          throw ParseError{ Where(lineNumber) + ": 'ITEM: BOX BOUNDS' before 'ITEM: TIMESTEP'" };
-        }
-        try
-        {
-          ParseBox(item.substr(10), reader, pending.Box);
-        }
-        catch (const ParseError& e)
-        {
-          if (StartsWith(e.Message, "the file ends"))
-          {
-            truncated(e.Message);
-            break;
-          }
-          throw;
-        }
-      }
-      else if (item == "ATOMS" || StartsWith(item, "ATOMS ") || StartsWith(item, "ATOMS\t"))
-      {
-        if (!hasTimestep || !hasCount)
-        {
-          throw ParseError{ Where(lineNumber) + ": 'ITEM: ATOMS' before " +
-                            (hasTimestep ? "'ITEM: NUMBER OF ATOMS'" : "'ITEM: TIMESTEP'") };
-        }
-        for (std::string_view name : Tokens(item.substr(5)))
-        {
-          pending.ColumnNames.emplace_back(name);
-        }
-        pending.AtomsOffset = reader.Offset();
-        pending.AtomsLine = lineNumber + 1;
-        const std::uint64_t count = static_cast<std::uint64_t>(pending.NumberOfAtoms);
-        std::uint64_t found = 0;
-        if (pending.ColumnNames.empty() && count > 0)
-        {
-          // Old "dump atom" output: infer the fixed columns from the first atom line.
-          std::string_view first;
-          if (reader.Next(first))
-          {
-            found = 1;
-            if (!LegacyAtomColumns(Tokens(first).size(), pending.ColumnNames))
-            {
-              throw ParseError{ Where(lineNumber) + ": 'ITEM: ATOMS' has no column names, and " +
-                                std::to_string(Tokens(first).size()) +
-                                " values per line do not match the old 'dump atom' layout" };
-            }
-          }
-        }
-        else if (pending.ColumnNames.empty())
-        {
-          LegacyAtomColumns(5, pending.ColumnNames);
-        }
-        const std::string beyond = AtomCountBeyondFile(count,
-          this->FileSize - std::min(this->FileSize, std::uintmax_t(pending.AtomsOffset)),
-          lineNumber);
-        if (!beyond.empty())
-        {
-          truncated(DescribeFrame(this->Frames.size(), pending) + ": " + beyond);
-          break;
-        }
-        found += reader.SkipLines(count - found);
-        std::uint64_t complete = found;
-        if (reader.LastLineUnterminated())
-        {
-          // LAMMPS ends every line with a newline, so the file was cut in this line (a
-          // simulation killed while writing) or written by hand. As the last atom line it is
-          // kept if it has all its values, well formed, but its last value may have lost
-          // digits; otherwise it is not a complete line.
-          const std::string last = ReadLastLine(fileName, reader.GetLastLineOffset());
-          const std::vector<std::string_view> values = Tokens(last);
-          const bool kept = found == count && IsCompleteAtomLine(values, pending.ColumnNames);
-          complete -= kept ? 0 : 1;
-          if (kept)
-          {
-            this->Warnings.push_back("'" + fileName + "': the file ends without a newline in " +
-                                     Where(reader.LineNumber()) + ", the last atom line of " +
-                                     DescribeFrame(this->Frames.size(), pending) +
-                                     ": it is kept, but its last value " + Quote(values.back()) +
-                                     " may have been cut short");
-          }
-        }
-        if (complete != count)
-        {
-          truncated(DescribeFrame(this->Frames.size(), pending) + " is truncated: it has " +
-                    std::to_string(count) + " atoms, the file ends after " +
-                    std::to_string(complete) + " complete atom lines");
-          break;
-        }
-        this->Frames.push_back(pending);
-        inHeader = false;
-        hasTimestep = false;
-        hasCount = false;
-      }
-      else if (item == "NUMBER OF ENTRIES" || StartsWith(item, "ENTRIES"))
-      {
-        throw ParseError{
-          Where(lineNumber) + ": " + Quote(text) +
-          " belongs to a 'dump local' file (per-bond or per-pair values), not to a per-atom "
-          "dump"
-        };
-      }
-      else if (StartsWith(item, "DIMENSION") || StartsWith(item, "GRID"))
-      {
-        throw ParseError{ Where(lineNumber) + ": " + Quote(text) +
-                          " belongs to a 'dump grid' file, not to a per-atom dump" };
-      }
-      else
-      {
-        throw ParseError{
-          Where(lineNumber) + ": unknown section " + Quote(text) +
-          " (expected TIMESTEP, NUMBER OF ATOMS, BOX BOUNDS, ATOMS, TIME or UNITS)"
-        };
-      }
-    }
-    if (inHeader && !stop && (hasTimestep || hasCount))
-    {
-      truncated("the file ends in the header of the snapshot at " + Where(pending.HeaderLine) +
-                " (timestep " + std::to_string(pending.Timestep) + ")");
-    }
-    if (this->Frames.empty())
-    {
-      throw ParseError{ "the file contains no snapshot ('ITEM: TIMESTEP' ... 'ITEM: ATOMS')" };
-    }
+    SnapshotIndexer(fileName, this->FileSize, reader, this->Frames, this->Warnings).Run();
   }
   catch (const ParseError& e)
   {
@@ -1078,19 +1568,6 @@ bool DumpParser::Open(const std::string& fileName)
   return true;
 }
 
-//------------------------------------------------------------------------------
-namespace
-{
-enum class Role
-{
-  Id,
-  Type,
-  Position,
-  Number,
-  Text,
-};
-}
-
 bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
 {
   frame.Clear();
@@ -1101,279 +1578,10 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
   }
   const DumpFrameInfo& info = this->Frames[index];
   frame.Info = info;
-  const std::vector<std::string>& names = info.ColumnNames;
-  const std::size_t columnCount = names.size();
   const std::string where = "'" + this->FileName + "', " + DescribeFrame(index, info);
   try
   {
-    auto find = [&](const char* name) -> std::ptrdiff_t
-    {
-      const auto it = std::find(names.begin(), names.end(), name);
-      return it == names.end() ? -1 : it - names.begin();
-    };
-
-    // Choose the coordinate triple.
-    struct Family
-    {
-      PositionSource Source;
-      const char* Names[3];
-    };
-    const Family families[] = {
-      { PositionSource::Wrapped, { "x", "y", "z" } },
-      { PositionSource::Unwrapped, { "xu", "yu", "zu" } },
-      { PositionSource::Scaled, { "xs", "ys", "zs" } },
-      { PositionSource::ScaledUnwrapped, { "xsu", "ysu", "zsu" } },
-    };
-    std::ptrdiff_t positionColumn[3] = { -1, -1, -1 };
-    std::string partial;
-    for (const Family& family : families)
-    {
-      std::ptrdiff_t c[3];
-      int have = 0;
-      for (int k = 0; k < 3; ++k)
-      {
-        c[k] = find(family.Names[k]);
-        have += c[k] >= 0 ? 1 : 0;
-      }
-      if (have == 3)
-      {
-        frame.Positions = family.Source;
-        for (int k = 0; k < 3; ++k)
-        {
-          positionColumn[k] = c[k];
-          frame.PositionColumns[k] = family.Names[k];
-        }
-        break;
-      }
-      if (have > 0 && partial.empty())
-      {
-        partial = std::string(" (it has only part of ") + family.Names[0] + " " + family.Names[1] +
-                  " " + family.Names[2] + ")";
-      }
-    }
-    if (frame.Positions == PositionSource::None)
-    {
-      throw ParseError{ "no atom coordinates: the columns are '" + JoinNames(names) +
-                        "', one of x y z, xu yu zu, xs ys zs or xsu ysu zsu is needed" + partial };
-    }
-    const bool scaled = frame.Positions == PositionSource::Scaled ||
-                        frame.Positions == PositionSource::ScaledUnwrapped;
-    if (scaled && !info.Box.Present)
-    {
-      throw ParseError{ "scaled coordinates (" + frame.PositionColumns[0] +
-                        " ...) need the box, and the snapshot has no 'ITEM: BOX BOUNDS'" };
-    }
-
-    // Role of every column; repeated names get a suffix so arrays stay distinct.
-    std::vector<Role> roles(columnCount, Role::Number);
-    std::vector<int> slot(columnCount, -1); // index in Columns / TextColumns / position k
-    std::vector<std::string> arrayNames(columnCount);
-    std::unordered_map<std::string, int> seenNames;
-    for (std::size_t c = 0; c < columnCount; ++c)
-    {
-      const int seen = seenNames[names[c]]++;
-      arrayNames[c] = seen ? names[c] + "_" + std::to_string(seen + 1) : names[c];
-      if (seen)
-      {
-        continue; // a repeated id/type/position column is kept as an ordinary array
-      }
-      if (names[c] == "id")
-      {
-        roles[c] = Role::Id;
-      }
-      else if (names[c] == "type")
-      {
-        roles[c] = Role::Type;
-      }
-      else if (names[c] == "element" || names[c] == "typelabel")
-      {
-        roles[c] = Role::Text;
-      }
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      roles[positionColumn[k]] = Role::Position;
-      slot[positionColumn[k]] = k;
-    }
-
-    const std::size_t count = static_cast<std::size_t>(info.NumberOfAtoms);
-    frame.NumberOfAtoms = count;
-    frame.Points.assign(3 * count, 0.0);
-    frame.HasIds = find("id") >= 0;
-    frame.HasTypes = find("type") >= 0;
-    if (frame.HasIds)
-    {
-      frame.Ids.resize(count);
-    }
-    if (frame.HasTypes)
-    {
-      frame.Types.resize(count);
-    }
-
-    LineReader reader;
-    if (count > 0 && !reader.Open(this->FileName, info.AtomsOffset, info.AtomsLine - 1))
-    {
-      throw ParseError{ "cannot open the file again: " + std::string(std::strerror(errno)) };
-    }
-    std::vector<std::string_view> tokens(columnCount);
-    std::string_view line;
-    for (std::size_t a = 0; a < count; ++a)
-    {
-      if (!reader.Next(line))
-      {
-        throw ParseError{ "the file ends after " + std::to_string(a) + " of " +
-                          std::to_string(count) +
-                          " atom lines (did it change since it was opened?)" };
-      }
-      std::string_view rest = line;
-      std::size_t found = 0;
-      std::string_view token;
-      while (found <= columnCount && NextToken(rest, token))
-      {
-        if (found < columnCount)
-        {
-          tokens[found] = token;
-        }
-        ++found;
-      }
-      if (found != columnCount)
-      {
-        throw ParseError{ Where(reader.LineNumber()) + ": expected " + std::to_string(columnCount) +
-                          " values (" + JoinNames(names) + "), found " +
-                          std::to_string(Tokens(line).size()) };
-      }
-      if (a == 0)
-      {
-        // Decide each remaining column's kind from its first value: numbers become double
-        // arrays, anything else (names, labels) text arrays.
-        for (std::size_t c = 0; c < columnCount; ++c)
-        {
-          double probe;
-          std::int64_t integer;
-          if (roles[c] == Role::Number && !ParseDouble(tokens[c], probe))
-          {
-            roles[c] = Role::Text;
-          }
-          if (roles[c] == Role::Type && !ParseInt64(tokens[c], integer))
-          {
-            // Type labels written in place of numeric types ("C1", "Ow"): keep them as text.
-            roles[c] = Role::Text;
-            frame.HasTypes = false;
-            frame.Types.clear();
-          }
-          if (roles[c] == Role::Number)
-          {
-            slot[c] = static_cast<int>(frame.Columns.size());
-            frame.Columns.push_back({ arrayNames[c], std::vector<double>(count) });
-          }
-          else if (roles[c] == Role::Text)
-          {
-            slot[c] = static_cast<int>(frame.TextColumns.size());
-            frame.TextColumns.push_back({ arrayNames[c], std::vector<std::string>(count) });
-          }
-        }
-      }
-      for (std::size_t c = 0; c < columnCount; ++c)
-      {
-        const std::string_view t = tokens[c];
-        bool ok = true;
-        switch (roles[c])
-        {
-          case Role::Id:
-            ok = ParseInt64(t, frame.Ids[a]);
-            break;
-          case Role::Type:
-          {
-            std::int64_t type = 0;
-            ok = ParseInt64(t, type) && type >= std::numeric_limits<std::int32_t>::min() &&
-                 type <= std::numeric_limits<std::int32_t>::max();
-            frame.Types[a] = static_cast<std::int32_t>(type);
-            break;
-          }
-          case Role::Position:
-            ok = ParseDouble(t, frame.Points[3 * a + slot[c]]);
-            break;
-          case Role::Number:
-            ok = ParseDouble(t, frame.Columns[slot[c]].Values[a]);
-            break;
-          case Role::Text:
-            frame.TextColumns[slot[c]].Values[a] = std::string(t);
-            break;
-        }
-        if (!ok)
-        {
-          throw ParseError{
-            Where(reader.LineNumber()) + ", column '" + names[c] + "': " + Quote(t) + " is not " +
-            (roles[c] == Role::Id || roles[c] == Role::Type ? "an integer" : "a number")
-          };
-        }
-      }
-    }
-
-    if (count == 0)
-    {
-      // No atom line to look at: every ordinary column becomes an empty numeric array, so a
-      // snapshot where all atoms left still has the same arrays as the others.
-      for (std::size_t c = 0; c < columnCount; ++c)
-      {
-        if (roles[c] == Role::Number)
-        {
-          frame.Columns.push_back({ arrayNames[c], std::vector<double>() });
-        }
-        else if (roles[c] == Role::Text)
-        {
-          frame.TextColumns.push_back({ arrayNames[c], std::vector<std::string>() });
-        }
-      }
-    }
-
-    if (scaled)
-    {
-      for (std::size_t a = 0; a < count; ++a)
-      {
-        const double s[3] = {
-          frame.Points[3 * a], frame.Points[3 * a + 1], frame.Points[3 * a + 2]
-        };
-        info.Box.ScaledToCartesian(s, &frame.Points[3 * a]);
-      }
-    }
-
-    // LAMMPS writes atoms in the order processors own them; sort by id so an atom keeps its
-    // index from one snapshot to the next (when no atom is lost or created).
-    if (frame.HasIds && !std::is_sorted(frame.Ids.begin(), frame.Ids.end()))
-    {
-      std::vector<std::size_t> order(count);
-      std::iota(order.begin(), order.end(), std::size_t(0));
-      std::stable_sort(order.begin(),
-        order.end(),
-        [&](std::size_t i, std::size_t j) { return frame.Ids[i] < frame.Ids[j]; });
-      auto permute = [&](auto& values, std::size_t components)
-      {
-        auto sorted = values;
-        for (std::size_t i = 0; i < count; ++i)
-        {
-          for (std::size_t k = 0; k < components; ++k)
-          {
-            sorted[components * i + k] = std::move(values[components * order[i] + k]);
-          }
-        }
-        values.swap(sorted);
-      };
-      permute(frame.Ids, 1);
-      permute(frame.Points, 3);
-      if (frame.HasTypes)
-      {
-        permute(frame.Types, 1);
-      }
-      for (DumpColumn& column : frame.Columns)
-      {
-        permute(column.Values, 1);
-      }
-      for (DumpTextColumn& column : frame.TextColumns)
-      {
-        permute(column.Values, 1);
-      }
-    }
+    ReadSnapshot(this->FileName, info, frame);
     const std::string repeated = frame.HasIds ? DescribeRepeatedIds(frame.Ids) : std::string();
     if (!repeated.empty())
     {
@@ -1389,7 +1597,7 @@ bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
   {
     frame.Clear();
     return this->Fail(where + ": out of memory for " + std::to_string(info.NumberOfAtoms) +
-                      " atoms x " + std::to_string(columnCount) + " columns");
+                      " atoms x " + std::to_string(info.ColumnNames.size()) + " columns");
   }
   catch (const std::exception& e)
   {
