@@ -1,4 +1,4 @@
-// Unit tests of raymappers::lammps::DumpParser (Filters/LAMMPS), the plain C++ kernel of
+// Unit tests of raymappers::lammps::DumpParser (IO/LAMMPS), the plain C++ kernel of
 // vtkLAMMPSDumpReader. Each test writes a small dump by hand into a temporary folder, so the
 // expected values follow from the text of the test.
 #include "LammpsDumpParser.h"
@@ -935,7 +935,7 @@ TEST_F(LammpsDump, GarbageAfterTheHeaderOrTheLastSnapshot)
 
   // After a complete snapshot shorter than the 4 KiB a file is sniffed with: the snapshot
   // stays readable (the zeros are not taken for a binary file), one warning. (The same with
-  // 2 GiB of zeros is Filters.TestLAMMPSDumpReader.Garbage2GB.)
+  // 2 GiB of zeros is IO.TestLAMMPSDumpReader.Garbage2GB.)
   const std::string good = header.substr(0, header.find("10\n")) + "1\n" +
                            header.substr(header.find("ITEM: BOX")) + "1 0.5 0.5 0.5\n";
   const std::string path = this->Write("goodzeros.dump", good);
