@@ -102,30 +102,21 @@ public:
     }
   }
 
-  /// Skips up to n lines; returns how many were skipped (fewer at the end of the file).
-  /// A final line without a newline counts; LastLineUnterminated() then says so.
+  /// Skips up to n lines; returns how many were skipped. Fewer at the end of the file, or
+  /// before a line that starts with "ITEM:" (a snapshot with fewer atom lines than it
+  /// announced: the next section's header is not an atom line); AtHeader() then says so and
+  /// Next() returns that line. A final line without a newline counts; LastLineUnterminated()
+  /// then says so.
   std::uint64_t SkipLines(std::uint64_t n)
   {
     const std::uint64_t first = this->Line;
     this->LastUnterminated = false;
-    while (this->Line - first < n)
+    this->StoppedAtHeader = false;
+    while (this->Line - first < n && !this->StoppedAtHeader)
     {
-      const char* base = this->Buffer.data();
-      const char* p = base + this->Pos;
-      const char* e = base + this->End;
-      while (this->Line - first < n && p < e)
-      {
-        const void* nl = std::memchr(p, '\n', e - p);
-        if (!nl)
-        {
-          break;
-        }
-        p = static_cast<const char*>(nl) + 1;
-        ++this->Line;
-      }
-      this->Pos = p - base;
+      this->ScanLines(first + n);
       // Fill keeps the unfinished line, so a line longer than MaxLineBytes stops here.
-      if (this->Line - first == n || this->Fill())
+      if (this->Line - first == n || this->StoppedAtHeader || this->Fill())
       {
         continue;
       }
@@ -146,6 +137,7 @@ public:
   /// Line number of the line most recently returned or skipped (1-based).
   std::uint64_t LineNumber() const { return this->Line; }
   bool LastLineUnterminated() const { return this->LastUnterminated; }
+  bool AtHeader() const { return this->StoppedAtHeader; }
   std::uint64_t GetLastLineOffset() const { return this->LastLineOffset; }
 
 private:
@@ -155,6 +147,35 @@ private:
     {
       line.remove_suffix(1);
     }
+  }
+
+  // Counts the buffered lines, up to line number `last`, stopping before a line that starts
+  // with "ITEM:" (LAMMPS writes headers at the start of a line). A header cut by the end of
+  // the buffer has no newline in it, so the scan stops there and sees the whole tag after
+  // Fill, which keeps the unfinished line.
+  void ScanLines(std::uint64_t last)
+  {
+    constexpr char tag[] = "ITEM:";
+    constexpr std::ptrdiff_t tagSize = sizeof(tag) - 1;
+    const char* base = this->Buffer.data();
+    const char* p = base + this->Pos;
+    const char* e = base + this->End;
+    while (this->Line < last)
+    {
+      if (e - p >= tagSize && std::memcmp(p, tag, tagSize) == 0)
+      {
+        this->StoppedAtHeader = true;
+        break;
+      }
+      const void* nl = std::memchr(p, '\n', e - p);
+      if (!nl)
+      {
+        break;
+      }
+      p = static_cast<const char*>(nl) + 1;
+      ++this->Line;
+    }
+    this->Pos = p - base;
   }
 
   // Moves the unread bytes to the front of the buffer (growing it if a line fills it) and
@@ -206,6 +227,7 @@ private:
   std::uint64_t Line = 0;
   bool Eof = false;
   bool LastUnterminated = false;
+  bool StoppedAtHeader = false;
   std::uint64_t LastLineOffset = 0;
 };
 
@@ -955,6 +977,10 @@ private:
       return this->Truncated(DescribeFrame(this->Frames.size(), this->Pending) + ": " + beyond);
     }
     const std::uint64_t complete = this->SkipAtomLines(count, found);
+    if (complete != count && this->Reader.AtHeader())
+    {
+      return this->DropShortSnapshot(complete, count);
+    }
     if (complete != count)
     {
       return this->Truncated(DescribeFrame(this->Frames.size(), this->Pending) +
@@ -963,9 +989,29 @@ private:
                              " complete atom lines");
     }
     this->Frames.push_back(this->Pending);
+    this->EndSnapshot();
+    return true;
+  }
+
+  /// The next snapshot's header items start afresh.
+  void EndSnapshot()
+  {
     this->InHeader = false;
     this->HasTimestep = false;
     this->HasCount = false;
+  }
+
+  /// An atom block that an "ITEM:" header ends before NUMBER OF ATOMS lines: which atoms
+  /// are missing cannot be told, so the snapshot is dropped with a warning, and indexing goes
+  /// on at that header (the snapshots after it are intact).
+  bool DropShortSnapshot(std::uint64_t complete, std::uint64_t count)
+  {
+    this->Warnings.push_back(
+      "'" + this->FileName + "': " + DescribeFrame(this->Frames.size(), this->Pending) +
+      " has only " + std::to_string(complete) + " of its " + std::to_string(count) +
+      " atom lines before the 'ITEM:' header at " + Where(this->Reader.LineNumber() + 1) +
+      "; this incomplete snapshot is ignored");
+    this->EndSnapshot();
     return true;
   }
 
