@@ -160,7 +160,8 @@ private:
     const char* base = this->Buffer.data();
     const char* p = base + this->Pos;
     const char* e = base + this->End;
-    while (this->Line < last)
+    std::uint64_t line = this->Line; // a local: memchr cannot change it
+    while (line < last)
     {
       if (e - p >= tagSize && std::memcmp(p, tag, tagSize) == 0)
       {
@@ -173,8 +174,9 @@ private:
         break;
       }
       p = static_cast<const char*>(nl) + 1;
-      ++this->Line;
+      ++line;
     }
+    this->Line = line;
     this->Pos = p - base;
   }
 
