@@ -1,4 +1,4 @@
-// Unit tests of raymappers::lammps::DumpParser (Filters/LAMMPS), the plain C++ kernel of
+// Unit tests of raymappers::lammps::DumpParser (IO/LAMMPS), the plain C++ kernel of
 // vtkLAMMPSDumpReader. Each test writes a small dump by hand into a temporary folder, so the
 // expected values follow from the text of the test.
 #include "LammpsDumpParser.h"
@@ -11,6 +11,7 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #ifdef _WIN32
@@ -804,6 +805,98 @@ TEST_F(LammpsDump, MoreOrFewerValuesThanColumnNames)
   }
 }
 
+TEST_F(LammpsDump, SnapshotWithTooFewAtomLinesKeepsTheNextOne)
+{
+  // Three snapshots that each say 2 atoms; one of them has fewer atom lines. Skipping its
+  // atom block stops at the next "ITEM:" line instead of counting the next snapshot's header
+  // as atoms: that snapshot is dropped with one warning, the others read exactly.
+  const auto dump = [](int shortStep, int linesOfShort)
+  {
+    std::string text;
+    for (int step = 0; step < 3; ++step)
+    {
+      text += "ITEM: TIMESTEP\n" + std::to_string(100 * step) +
+              "\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
+              "ITEM: ATOMS id x y z\n";
+      const int lines = step == shortStep ? linesOfShort : 2;
+      for (int a = 1; a <= lines; ++a)
+      {
+        text +=
+          std::to_string(a) + " " + std::to_string(step) + " 0." + std::to_string(a) + " 0.5\n";
+      }
+    }
+    return text;
+  };
+  DumpParser parser;
+  DumpFrame frame;
+  // Snapshot k (0-based) starts at line 1 + 11 k when all have 2 atom lines.
+  for (const auto& [shortStep, lines, kept, nextHeader] :
+    { std::tuple<int, int, std::vector<std::int64_t>, int>{ 1, 1, { 0, 200 }, 22 },
+      { 1, 0, { 0, 200 }, 21 },
+      { 0, 1, { 100, 200 }, 11 } })
+  {
+    const std::string what = "snapshot " + std::to_string(shortStep + 1) + " with " +
+                             std::to_string(lines) + " atom lines";
+    ASSERT_TRUE(parser.Open(this->Write("short.dump", dump(shortStep, lines))))
+      << what << ": " << parser.GetError();
+    ASSERT_EQ(parser.GetNumberOfFrames(), kept.size()) << what;
+    ASSERT_EQ(parser.GetWarnings().size(), 1u) << what;
+    const std::string& warning = parser.GetWarnings()[0];
+    EXPECT_TRUE(Contains(warning, "timestep " + std::to_string(100 * shortStep))) << warning;
+    EXPECT_TRUE(Contains(warning, std::to_string(lines) + " of its 2 atom lines")) << warning;
+    EXPECT_TRUE(Contains(warning, "line " + std::to_string(nextHeader))) << warning;
+    for (std::size_t i = 0; i < kept.size(); ++i)
+    {
+      ASSERT_TRUE(parser.ReadFrame(i, frame)) << what << ": " << parser.GetError();
+      EXPECT_EQ(frame.Info.Timestep, kept[i]) << what;
+      const double x = static_cast<double>(kept[i] / 100);
+      EXPECT_EQ(frame.Points, (std::vector<double>{ x, 0.1, 0.5, x, 0.2, 0.5 })) << what;
+    }
+  }
+}
+
+TEST_F(LammpsDump, TooFewAtomLinesWhereTheHeaderCrossesTheReadBuffer)
+{
+  // The index reads the file in blocks of 1 MiB: a header whose "ITEM:" straddles the end of
+  // the first block must still stop the skip of a short atom block. The first snapshot's
+  // padded atom lines put the second snapshot's "ITEM: TIMESTEP" k bytes before 1 MiB.
+  const std::string header = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n";
+  const std::string boxAndColumns =
+    "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\nITEM: ATOMS id x y z\n";
+  const std::string second =
+    "ITEM: TIMESTEP\n100\nITEM: NUMBER OF ATOMS\n1\n" + boxAndColumns + "7 0.25 0.5 0.75\n";
+  constexpr std::size_t block = std::size_t(1) << 20;
+  constexpr std::size_t width = 64; // bytes per atom line, newline included
+  DumpParser parser;
+  DumpFrame frame;
+  for (std::size_t k = 0; k <= 6; ++k)
+  {
+    // The count line's width is fixed (7 digits), so the atom lines' room is known first.
+    const std::size_t room = block - k - header.size() - 8 - boxAndColumns.size();
+    const std::size_t lines = room / width;
+    std::string atoms;
+    for (std::size_t a = 1; a <= lines; ++a)
+    {
+      std::string line = std::to_string(a) + " 0.1 0.2 0.3";
+      const std::size_t size = a == lines ? width + room % width : width;
+      atoms += line + std::string(size - 1 - line.size(), ' ') + "\n";
+    }
+    std::string count = std::to_string(lines + 1); // one atom line too few
+    count = std::string(7 - count.size(), '0') + count + "\n";
+    const std::string text = header + count + boxAndColumns + atoms + second;
+    ASSERT_EQ(text.find("ITEM: TIMESTEP\n100"), block - k);
+    ASSERT_TRUE(parser.Open(this->Write("boundary.dump", text))) << k << ": " << parser.GetError();
+    ASSERT_EQ(parser.GetNumberOfFrames(), 1u) << k;
+    ASSERT_EQ(parser.GetWarnings().size(), 1u) << k;
+    EXPECT_TRUE(Contains(parser.GetWarnings()[0],
+      std::to_string(lines) + " of its " + std::to_string(lines + 1) + " atom lines"))
+      << parser.GetWarnings()[0];
+    ASSERT_TRUE(parser.ReadFrame(0, frame)) << k << ": " << parser.GetError();
+    EXPECT_EQ(frame.Info.Timestep, 100) << k;
+    EXPECT_EQ(frame.Points, (std::vector<double>{ 0.25, 0.5, 0.75 })) << k;
+  }
+}
+
 TEST_F(LammpsDump, DuplicateIdsAreKeptWithOneWarning)
 {
   // Ids 3 and 1 occur twice and 5 three times: every atom line is kept (an atom is never
@@ -935,7 +1028,7 @@ TEST_F(LammpsDump, GarbageAfterTheHeaderOrTheLastSnapshot)
 
   // After a complete snapshot shorter than the 4 KiB a file is sniffed with: the snapshot
   // stays readable (the zeros are not taken for a binary file), one warning. (The same with
-  // 2 GiB of zeros is Filters.TestLAMMPSDumpReader.Garbage2GB.)
+  // 2 GiB of zeros is IO.TestLAMMPSDumpReader.Garbage2GB.)
   const std::string good = header.substr(0, header.find("10\n")) + "1\n" +
                            header.substr(header.find("ITEM: BOX")) + "1 0.5 0.5 0.5\n";
   const std::string path = this->Write("goodzeros.dump", good);

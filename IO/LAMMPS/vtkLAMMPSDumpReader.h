@@ -49,10 +49,10 @@
 #ifndef vtkLAMMPSDumpReader_h
 #define vtkLAMMPSDumpReader_h
 
-#include "RayMappersFiltersModule.h"
+#include "RayMappersIOModule.h"
 #include "vtkPolyDataAlgorithm.h"
 
-class RAYMAPPERSFILTERS_EXPORT vtkLAMMPSDumpReader : public vtkPolyDataAlgorithm
+class RAYMAPPERSIO_EXPORT vtkLAMMPSDumpReader : public vtkPolyDataAlgorithm
 {
 public:
   static vtkLAMMPSDumpReader* New();

@@ -35,7 +35,9 @@
 // Robustness: a malformed file gives a clear error naming the line and what was expected.
 // Damage after at least one complete snapshot (typically a truncated last snapshot of a
 // simulation still writing or killed) is a warning instead: the complete snapshots before it
-// stay readable. Values such as "nan" or "inf" are kept as they are.
+// stay readable. A snapshot whose atom lines end early at the next "ITEM:" header is dropped
+// with a warning; the snapshots after it stay readable. Values such as "nan" or "inf" are
+// kept as they are.
 #ifndef RayMappers_LammpsDumpParser_h
 #define RayMappers_LammpsDumpParser_h
 

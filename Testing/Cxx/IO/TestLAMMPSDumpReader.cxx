@@ -427,6 +427,22 @@ void Truncated(const fs::path& dir)
   }
 }
 
+// A middle snapshot with an atom line missing (NUMBER OF ATOMS says 3, 2 lines follow): it
+// is dropped with one warning, and the next snapshot's header is not taken for its atoms, so
+// the snapshots before and after it read exactly.
+void ShortSnapshot(const fs::path& dir)
+{
+  std::string middle = Snapshot(100);
+  middle.erase(middle.find(AtomLine(2, 100)), AtomLine(2, 100).size() + 1);
+  Opened dump(Write(dir / "short.dump", Snapshot(0) + middle + Snapshot(200)));
+  Check(TimeSteps(dump.Reader) == std::vector<double>{ 0, 200 }, "short snapshot: 2 steps");
+  ReadAllSteps(dump.Reader, { 0, 200 }, "short snapshot");
+  // The middle snapshot starts at line 13; its atom lines are 22 and 23.
+  dump.Log->ExpectOne(false,
+    { "timestep 100", "only 2 of its 3 atom lines", "'ITEM:' header at line 24" },
+    "short snapshot");
+}
+
 // A line with a value too many or too few: its snapshot gives one error (line, both counts)
 // and an empty output, the other snapshots read exactly.
 void ExtraColumns(const fs::path& dir)
@@ -765,6 +781,7 @@ int main(int argc, char* argv[])
   const std::string mode = argc > 1 ? argv[1] : "";
   const std::map<std::string, void (*)(const fs::path&)> cases = {
     { "Truncated", Truncated },
+    { "ShortSnapshot", ShortSnapshot },
     { "ExtraColumns", ExtraColumns },
     { "DuplicateIds", DuplicateIds },
     { "AtomCountOverflow", AtomCountOverflow },
