@@ -143,6 +143,15 @@ public:
   const Counts& counts() const { return Stats; }
 
 private:
+  void storeKeptCells(const ZSweepGrid& grid,
+    const std::vector<char>& used,
+    const std::vector<char>& state,
+    const std::vector<std::size_t>& recordStart,
+    const std::vector<std::uint16_t>& owned,
+    const std::vector<std::uint16_t>& back,
+    const std::vector<std::int32_t>& otherAt);
+  void findScalarRange();
+
   Vec3d Origin;
   double Extent = 0;
   std::vector<Vec3d> Points;
