@@ -1,6 +1,7 @@
 #include "FluidRenderer.h"
 
 #include "SurfaceLinks.h"
+#include "Tallies.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
@@ -106,6 +107,132 @@ struct EmptyTiles
   }
 };
 
+/// The marched ray o + t d in the terms of the march: its clip coordinates c0 + t cd, its depth
+/// z0 + t zd, the t where it leaves the grid's depth range, and the signs sx, sy of the motion
+/// of its pixel x(t) = (x_c / w_c + 1) W / 2 (monotonic; the sign of its derivative is that of
+/// x_c' w_c - x_c w_c').
+struct MarchLine
+{
+  std::array<double, 4> c0, cd;
+  double z0, zd, tMax;
+  int sx, sy;
+
+  MarchLine(const FluidSpans& spans, const ViewRays& rays, const Vec3d& o, const Vec3d& d)
+  {
+    c0 = rays.clip(o);
+    const std::array<double, 4> c1 = rays.clip(o + d);
+    for (int k = 0; k < 4; ++k)
+    {
+      cd[k] = c1[k] - c0[k];
+    }
+    z0 = rays.zetaOf(o);
+    zd = rays.zetaOf(o + d) - z0;
+    const double zmin = spans.layers.depths.front(), zmax = spans.layers.depths.back();
+    tMax = zd > 0 ? (zmax - z0) / zd : (zd < 0 ? (zmin - z0) / zd : Infinity);
+    const auto sgn = [](double v) { return v > 0 ? 1 : (v < 0 ? -1 : 0); };
+    sx = sgn(cd[0] * c0[3] - c0[0] * cd[3]);
+    sy = sgn(cd[1] * c0[3] - c0[1] * cd[3]);
+  }
+  /// The t >= 0 where the ray crosses the far side (in its direction s along `axis`) of pixel
+  /// `cell` of `size`; infinity when it does not move along the axis.
+  double boundary(int axis, int s, int cell, int size) const
+  {
+    if (s == 0)
+    {
+      return Infinity;
+    }
+    const double ndc = 2.0 * (s > 0 ? cell + 1 : cell) / size - 1.0;
+    const double den = cd[axis] - ndc * cd[3];
+    const double t = den != 0 ? (ndc * c0[3] - c0[axis]) / den : Infinity;
+    return t >= 0 ? t : Infinity;
+  }
+  /// The pixel coordinate along `axis` (image size `size`) at t.
+  double pixelAt(int axis, double t, int size) const
+  {
+    return ((c0[axis] + t * cd[axis]) / (c0[3] + t * cd[3]) + 1.0) * 0.5 * size;
+  }
+};
+
+/// Crosses the empty tile of pixel (i, j) in one step from tIn (the ray is outside the fluid
+/// and can meet no surface there): the ray leaves the tile through the nearer of the far sides
+/// of the tile's last pixel along each axis; (i, j) becomes the pixel beyond. Returns the t
+/// where it leaves.
+double crossEmptyTile(const MarchLine& line, int W, int H, double tIn, int& i, int& j)
+{
+  const int T = EmptyTiles::TileSize;
+  const int ei = line.sx > 0 ? std::min(W, (i / T + 1) * T) - 1 : (i / T) * T;
+  const int ej = line.sy > 0 ? std::min(H, (j / T + 1) * T) - 1 : (j / T) * T;
+  const double sideX = line.boundary(0, line.sx, ei, W), sideY = line.boundary(1, line.sy, ej, H);
+  const double tOut = std::max(tIn, std::min({ sideX, sideY, line.tMax }));
+  if (sideX <= sideY)
+  {
+    // Leaves through the x side: the row it is in there (within the tile's rows).
+    const double y = line.pixelAt(1, tOut, H);
+    j = std::clamp(static_cast<int>(std::floor(y)), (j / T) * T, std::min(H, (j / T + 1) * T) - 1);
+    i = ei + line.sx;
+  }
+  else
+  {
+    const double x = line.pixelAt(0, tOut, W);
+    i = std::clamp(static_cast<int>(std::floor(x)), (i / T) * T, std::min(W, (i / T + 1) * T) - 1);
+    j = ej + line.sy;
+  }
+  return tOut;
+}
+
+/// A hit at the side of column p where the ray enters it at depth za (inside/outside changed
+/// there): its normal is that of the column's depth value nearest to za.
+MarchHit sideHit(const FluidSpans& spans, std::size_t p, double tIn, double za)
+{
+  MarchHit result{ true, tIn, p, -1 };
+  double best = Infinity;
+  for (int s = 0; s < 2 * spans.count[p]; ++s)
+  {
+    const double gap = std::abs(spans.depth[spans.slot(p, s)] - za);
+    if (gap < best)
+    {
+      best = gap;
+      result.slot = s;
+    }
+  }
+  return result;
+}
+
+/// The first stored depth of column p along the ray between the depths za (excluded, with a
+/// relative margin) and zb where it enters and leaves the column; no hit when there is none.
+MarchHit storedDepthHit(const FluidSpans& spans,
+  const MarchLine& line,
+  std::size_t p,
+  double za,
+  double zb)
+{
+  const int slots = 2 * spans.count[p];
+  const double eps = 1e-6 * std::abs(za);
+  if (line.zd > 0)
+  {
+    for (int s = 0; s < slots; ++s)
+    {
+      const double z = spans.depth[spans.slot(p, s)];
+      if (z > za + eps && z <= zb)
+      {
+        return { true, (z - line.z0) / line.zd, p, s };
+      }
+    }
+  }
+  else if (line.zd < 0)
+  {
+    for (int s = slots - 1; s >= 0; --s)
+    {
+      const double z = spans.depth[spans.slot(p, s)];
+      if (z < za - eps && z >= zb)
+      {
+        return { true, (z - line.z0) / line.zd, p, s };
+      }
+    }
+  }
+  return {};
+}
+
 /// Listing 2: marches the ray o + t d (t >= 0, d unit, model coordinates; inside tells
 /// whether it starts in the fluid) through the columns from pixel (i, j), pixel boundary to
 /// pixel boundary along its projection. In each column it meets [za, zb] of depth: a change
@@ -123,130 +250,56 @@ MarchHit march(const FluidSpans& spans,
   int j,
   std::int64_t& columns)
 {
-  const std::array<double, 4> c0 = rays.clip(o), c1 = rays.clip(o + d);
-  std::array<double, 4> cd;
-  for (int k = 0; k < 4; ++k)
-  {
-    cd[k] = c1[k] - c0[k];
-  }
-  const double z0 = rays.zetaOf(o), zd = rays.zetaOf(o + d) - z0;
-  const double zmin = spans.layers.depths.front(), zmax = spans.layers.depths.back();
-  const double tMax = zd > 0 ? (zmax - z0) / zd : (zd < 0 ? (zmin - z0) / zd : Infinity);
-  // Pixel x(t) = (x_c / w_c + 1) W / 2 moves monotonically; the sign of its derivative is that
-  // of x_c' w_c - x_c w_c'.
-  const auto sgn = [](double v) { return v > 0 ? 1 : (v < 0 ? -1 : 0); };
-  const int sx = sgn(cd[0] * c0[3] - c0[0] * cd[3]), sy = sgn(cd[1] * c0[3] - c0[1] * cd[3]);
-  const auto boundary = [&](int axis, int s, int cell, int size)
-  {
-    if (s == 0)
-    {
-      return Infinity;
-    }
-    const double ndc = 2.0 * (s > 0 ? cell + 1 : cell) / size - 1.0;
-    const double den = cd[axis] - ndc * cd[3];
-    const double t = den != 0 ? (ndc * c0[3] - c0[axis]) / den : Infinity;
-    return t >= 0 ? t : Infinity;
-  };
+  const MarchLine line(spans, rays, o, d);
   const int W = spans.width, H = spans.height;
   double tIn = 0;
-  MarchHit result;
-  const int T = EmptyTiles::TileSize;
   int ti = -1, tj = -1; // the column whose sides tx, ty are
   double tx = Infinity, ty = Infinity;
-  for (bool first = true; i >= 0 && i < W && j >= 0 && j < H && tIn < tMax; first = false)
+  for (bool first = true; i >= 0 && i < W && j >= 0 && j < H && tIn < line.tMax; first = false)
   {
     if (!inside && tiles.empty(i, j))
     {
-      // The last pixel of the tile along each axis in the ray's direction: the ray leaves
-      // the tile through the nearer of their far sides.
-      const int ei = sx > 0 ? std::min(W, (i / T + 1) * T) - 1 : (i / T) * T;
-      const int ej = sy > 0 ? std::min(H, (j / T + 1) * T) - 1 : (j / T) * T;
-      const double sideX = boundary(0, sx, ei, W), sideY = boundary(1, sy, ej, H);
-      const double tOut = std::max(tIn, std::min({ sideX, sideY, tMax }));
       ++columns;
-      if (sideX <= sideY)
-      {
-        // Leaves through the x side: the row it is in there (within the tile's rows).
-        const double y = ((c0[1] + tOut * cd[1]) / (c0[3] + tOut * cd[3]) + 1.0) * 0.5 * H;
-        j = std::clamp(static_cast<int>(std::floor(y)), (j / T) * T, std::min(H, (j / T + 1) * T) - 1);
-        i = ei + sx;
-      }
-      else
-      {
-        const double x = ((c0[0] + tOut * cd[0]) / (c0[3] + tOut * cd[3]) + 1.0) * 0.5 * W;
-        i = std::clamp(static_cast<int>(std::floor(x)), (i / T) * T, std::min(W, (i / T + 1) * T) - 1);
-        j = ej + sy;
-      }
-      tIn = tOut;
+      tIn = crossEmptyTile(line, W, H, tIn, i, j);
       continue;
     }
     // The column's far sides, computed again only when the ray has moved along that axis.
     if (i != ti)
     {
       ti = i;
-      tx = boundary(0, sx, i, W);
+      tx = line.boundary(0, line.sx, i, W);
     }
     if (j != tj)
     {
       tj = j;
-      ty = boundary(1, sy, j, H);
+      ty = line.boundary(1, line.sy, j, H);
     }
-    const double tOut = std::max(tIn, std::min({ tx, ty, tMax }));
-    const double za = z0 + zd * tIn, zb = z0 + zd * tOut;
+    const double tOut = std::max(tIn, std::min({ tx, ty, line.tMax }));
+    const double za = line.z0 + line.zd * tIn, zb = line.z0 + line.zd * tOut;
     const std::size_t p = spans.pixel(i, j);
     ++columns;
-    const int slots = 2 * spans.count[p];
     if (!first && insideAt(spans, p, za) != inside)
     {
-      // The column's side: the normal of its depth value nearest to za.
-      result = { true, tIn, p, -1 };
-      double best = Infinity;
-      for (int s = 0; s < slots; ++s)
-      {
-        const double gap = std::abs(spans.depth[spans.slot(p, s)] - za);
-        if (gap < best)
-        {
-          best = gap;
-          result.slot = s;
-        }
-      }
-      return result;
+      return sideHit(spans, p, tIn, za);
     }
-    const double eps = 1e-6 * std::abs(za);
-    if (zd > 0)
+    const MarchHit hit = storedDepthHit(spans, line, p, za, zb);
+    if (hit.hit)
     {
-      for (int s = 0; s < slots; ++s)
-      {
-        const double z = spans.depth[spans.slot(p, s)];
-        if (z > za + eps && z <= zb)
-        {
-          return { true, (z - z0) / zd, p, s };
-        }
-      }
-    }
-    else if (zd < 0)
-    {
-      for (int s = slots - 1; s >= 0; --s)
-      {
-        const double z = spans.depth[spans.slot(p, s)];
-        if (z < za - eps && z >= zb)
-        {
-          return { true, (z - z0) / zd, p, s };
-        }
-      }
+      return hit;
     }
     if (tx <= ty)
     {
-      i += sx;
+      i += line.sx;
     }
     else
     {
-      j += sy;
+      j += line.sy;
     }
     tIn = tOut;
   }
-  result.t = std::min(tIn, tMax);
-  return result;
+  MarchHit escaped;
+  escaped.t = std::min(tIn, line.tMax);
+  return escaped;
 }
 
 /// The front surface seen through a pixel: its depth, the pixel's ray direction B (|B| per
@@ -325,6 +378,169 @@ double ambientOcclusion(const FluidSpans& spans,
   }
   return 1.0 - static_cast<double>(occluded) / samples;
 }
+
+/// The ambient occlusion of every front surface (section 3.6; 1 where there is no fluid).
+std::vector<float> frontSurfaceOcclusion(const FluidSpans& spans,
+  const ViewRays& rays,
+  const FluidRenderParameters& params,
+  tbb::combinable<Tally>& tallies)
+{
+  std::vector<float> occlusion(static_cast<std::size_t>(spans.width) * spans.height, 1.f);
+  forEachFrontSurface(spans,
+    rays,
+    tallies,
+    [&](int, int, std::size_t p, const FrontSurface& f, Tally& t)
+    {
+      // Off the surface by two layers, past the voxelization's conservative bulge.
+      const double layer = std::floor(spans.layers.coordinate(f.z));
+      const double offset =
+        2.0 * (spans.layers.depth(layer + 1) - spans.layers.depth(layer)) * length(f.B);
+      occlusion[p] = static_cast<float>(
+        ambientOcclusion(spans, rays, f.P, f.N, params.aoRadius, params.aoSamples, offset));
+      t.aoSamples += params.aoSamples;
+    });
+  return occlusion;
+}
+
+/// The fluid's look: the lit colour L(p) of a surface point (Lighting.h, world space) and the
+/// transmittance exp(-kappa_c s) of a path of length s through the medium.
+struct FluidLook
+{
+  const FluidRenderParameters& params;
+  Vec3d origin;
+  Vec3d kappa;
+
+  FluidLook(const FluidRenderParameters& p, const Vec3d& o)
+    : params(p)
+    , origin(o)
+    , kappa(p.absorptionColor * p.density)
+  {
+  }
+  /// Point p, outward normal n and view direction d in model coordinates.
+  Vec3d litColour(const Vec3d& pModel, const Vec3d& nModel, const Vec3d& dModel) const
+  {
+    const Vec3d nWorld = normalize(applyMatrix(params.normalToWorld, 3, nModel, false));
+    const Vec3d dWorld = normalize(applyMatrix(params.modelToWorld, 4, dModel, false));
+    const Vec3d pWorld = applyMatrix(params.modelToWorld, 4, pModel + origin, true);
+    return shade(params.lights, params.material, params.color, pWorld, nWorld, -dWorld);
+  }
+  Vec3d attenuation(double s) const
+  {
+    return Vec3d(std::exp(-kappa.x * s), std::exp(-kappa.y * s), std::exp(-kappa.z * s));
+  }
+};
+
+/// What a pixel shows: premultiplied colour and the transmittance `through` to the background.
+struct PixelLight
+{
+  Vec3d rgb, through;
+};
+
+/// Traces pixel (i, j)'s refraction path (section 3.5, the file comment) from its front
+/// surface f (seen along the unit direction d, lit colour L) through at most `bounces` surface
+/// events. At each event at o with outward normal `normal`, the Fresnel reflectance R of the
+/// interface takes w R L to the pixel and the path refracts with weight w (1 - R) (under total
+/// internal reflection, R = 1, it reflects, keeping w); between events it marches to the next
+/// surface, absorbing inside the medium: w_c (1 - exp(-kappa_c s)) L_c to the pixel, w_c
+/// exp(-kappa_c s) left. A path still inside after its bounces is absorbed (w L to the pixel),
+/// one that left reaches the background with its weight. Inlined into the pixel loop: with
+/// -march=native the compiler fuses multiplies and adds (FMA) differently in a call, and the
+/// chaotic paths (total internal reflection) then change a few pixels.
+[[gnu::always_inline]] inline PixelLight refract(const FluidSpans& spans,
+  const EmptyTiles& tiles,
+  const ViewRays& rays,
+  const FluidLook& look,
+  const FrontSurface& f,
+  const Vec3d& d,
+  const Vec3d& L,
+  int i,
+  int j,
+  Tally& t)
+{
+  ++t.paths;
+  const double eta = look.params.refractiveIndex;
+  const int bounces = std::max(0, look.params.bounces);
+  Vec3d rgb, w(1, 1, 1), o = f.P, dir = d, normal = f.N;
+  bool inside = false;
+  int ci = i, cj = j; // the column the path is in
+  for (int event = 0;; ++event)
+  {
+    ++t.events;
+    const Vec3d facing = dot(normal, dir) < 0 ? normal : -normal;
+    const double cosI = std::clamp(-dot(facing, dir), 0.0, 1.0);
+    double cosT = 0;
+    const double R = inside ? fresnel(cosI, eta, 1.0, cosT) : fresnel(cosI, 1.0, eta, cosT);
+    if (R >= 1.0)
+    {
+      dir = normalize(dir + facing * (2.0 * cosI));
+      ++t.tir;
+    }
+    else
+    {
+      rgb += w * L * R;
+      w = w * (1.0 - R);
+      const double ratio = inside ? eta : 1.0 / eta;
+      dir = normalize(dir * ratio + facing * (ratio * cosI - cosT));
+      inside = !inside;
+    }
+    if (event + 1 >= bounces)
+    {
+      break;
+    }
+    const MarchHit hit = march(spans, tiles, rays, o, dir, inside, ci, cj, t.columns);
+    const double s = std::max(0.0, hit.t);
+    if (inside)
+    {
+      const Vec3d a = look.attenuation(s);
+      rgb += w * L * (Vec3d(1, 1, 1) - a);
+      w = w * a;
+    }
+    if (!hit.hit)
+    {
+      inside = false; // left the grid: on to the background
+      break;
+    }
+    o = o + dir * s;
+    ci = static_cast<int>(hit.pixel % spans.width);
+    cj = static_cast<int>(hit.pixel / spans.width);
+    normal =
+      hit.slot >= 0 ? Vec3d(decodeNormal(spans.normals[spans.slot(hit.pixel, hit.slot)])) : -dir;
+  }
+  if (inside)
+  {
+    rgb += w * L; // out of bounces inside the fluid: absorbed
+    return { rgb, Vec3d(0, 0, 0) };
+  }
+  return { rgb, w };
+}
+
+/// Writes a pixel: its premultiplied colour, alpha = 1 - mean_c T_c, and the window depth of
+/// its front surface point P.
+void writePixel(Frame& frame,
+  const ViewRays& rays,
+  int i,
+  int j,
+  const PixelLight& light,
+  const Vec3d& P)
+{
+  float* out = &frame.rgba[4 * frame.index(i, j)];
+  out[0] = static_cast<float>(light.rgb.x);
+  out[1] = static_cast<float>(light.rgb.y);
+  out[2] = static_cast<float>(light.rgb.z);
+  out[3] = static_cast<float>(1.0 - (light.through.x + light.through.y + light.through.z) / 3.0);
+  const std::array<double, 4> c = rays.clip(P);
+  frame.depth[frame.index(i, j)] =
+    static_cast<float>(std::clamp(0.5 * (c[2] / c[3] + 1.0), 0.0, 1.0));
+}
+
+/// The tallies by their counters' names in the statistics.
+constexpr TallyField<Tally> Tallies[] = { { "shaded_pixels", &Tally::shaded },
+  { "translucent_pixels", &Tally::translucent },
+  { "refraction_paths", &Tally::paths },
+  { "surface_events", &Tally::events },
+  { "tir_events", &Tally::tir },
+  { "march_columns", &Tally::columns },
+  { "ao_samples", &Tally::aoSamples } };
 }
 
 void renderFluidSpans(const FluidSpans& spans,
@@ -340,168 +556,50 @@ void renderFluidSpans(const FluidSpans& spans,
   stats.setEffect("translucency", params.translucency);
   stats.setEffect("refraction", refraction);
   stats.setEffect("ambient_occlusion", ao);
-  for (const char* name : { "shaded_pixels",
-         "translucent_pixels",
-         "refraction_paths",
-         "surface_events",
-         "tir_events",
-         "march_columns",
-         "ao_samples" })
+  for (const TallyField<Tally>& f : Tallies)
   {
-    stats.declareCounter(name);
+    stats.declareCounter(f.name);
   }
-  const int W = spans.width, H = spans.height;
-  frame.resize(W, H);
+  frame.resize(spans.width, spans.height);
   if (spans.normals.size() != spans.depth.size())
   {
     return;
   }
-  const std::size_t n = static_cast<std::size_t>(W) * H;
   tbb::combinable<Tally> tallies;
-
-  // Ambient occlusion of the front surfaces.
   std::vector<float> occlusion;
   if (ao)
   {
     ScopedPhase phase(stats, "ao");
-    occlusion.assign(n, 1.f);
-    forEachFrontSurface(spans,
-      rays,
-      tallies,
-      [&](int, int, std::size_t p, const FrontSurface& f, Tally& t)
-      {
-        // Off the surface by two layers, past the voxelization's conservative bulge.
-        const double layer = std::floor(spans.layers.coordinate(f.z));
-        const double offset =
-          2.0 * (spans.layers.depth(layer + 1) - spans.layers.depth(layer)) * length(f.B);
-        occlusion[p] = static_cast<float>(
-          ambientOcclusion(spans, rays, f.P, f.N, params.aoRadius, params.aoSamples, offset));
-        t.aoSamples += params.aoSamples;
-      });
+    occlusion = frontSurfaceOcclusion(spans, rays, params, tallies);
   }
 
   ScopedPhase phase(stats, refraction ? "refract" : "render");
-  const Vec3d kappa = params.absorptionColor * params.density;
-  const double eta = params.refractiveIndex;
-  const int bounces = std::max(0, params.bounces);
+  const FluidLook look(params, origin);
   const EmptyTiles tiles = refraction ? EmptyTiles(spans) : EmptyTiles(FluidSpans());
-  const auto toWorld = [&](const Vec3d& pModel)
-  { return applyMatrix(params.modelToWorld, 4, pModel + origin, true); };
-  const auto litColour = [&](const Vec3d& pModel, const Vec3d& nModel, const Vec3d& dModel)
-  {
-    const Vec3d nWorld = normalize(applyMatrix(params.normalToWorld, 3, nModel, false));
-    const Vec3d dWorld = normalize(applyMatrix(params.modelToWorld, 4, dModel, false));
-    return shade(params.lights, params.material, params.color, toWorld(pModel), nWorld, -dWorld);
-  };
-  const auto attenuation = [&](double s)
-  { return Vec3d(std::exp(-kappa.x * s), std::exp(-kappa.y * s), std::exp(-kappa.z * s)); };
   forEachFrontSurface(spans,
     rays,
     tallies,
     [&](int i, int j, std::size_t p, const FrontSurface& f, Tally& t)
     {
-      const Vec3d& B = f.B;
-      const Vec3d& P = f.P;
-      const Vec3d& N = f.N;
-      const Vec3d d = normalize(B);
-      const Vec3d L = litColour(P, N, d) * (ao ? double(occlusion[p]) : 1.0);
+      const Vec3d d = normalize(f.B);
+      const Vec3d L = look.litColour(f.P, f.N, d) * (ao ? double(occlusion[p]) : 1.0);
       ++t.shaded;
-      Vec3d rgb = L, through(0, 0, 0);
+      PixelLight light{ L, Vec3d(0, 0, 0) };
       if (params.translucency && !refraction)
       {
-        through = attenuation(spans.thickness(p) * length(B));
-        rgb = L * (Vec3d(1, 1, 1) - through);
+        // Beer-Lambert over the whole thickness: the body scatters what it does not let through.
+        light.through = look.attenuation(spans.thickness(p) * length(f.B));
+        light.rgb = L * (Vec3d(1, 1, 1) - light.through);
         ++t.translucent;
       }
       else if (refraction)
       {
-        ++t.paths;
-        rgb = Vec3d();
-        Vec3d w(1, 1, 1), o = P, dir = d, normal = N;
-        bool inside = false;
-        int ci = i, cj = j;
-        for (int event = 0;; ++event)
-        {
-          // A surface event at o with outward normal `normal`.
-          ++t.events;
-          const Vec3d facing = dot(normal, dir) < 0 ? normal : -normal;
-          const double cosI = std::clamp(-dot(facing, dir), 0.0, 1.0);
-          double cosT = 0;
-          const double R = inside ? fresnel(cosI, eta, 1.0, cosT) : fresnel(cosI, 1.0, eta, cosT);
-          if (R >= 1.0)
-          {
-            dir = normalize(dir + facing * (2.0 * cosI));
-            ++t.tir;
-          }
-          else
-          {
-            rgb += w * L * R;
-            w = w * (1.0 - R);
-            const double ratio = inside ? eta : 1.0 / eta;
-            dir = normalize(dir * ratio + facing * (ratio * cosI - cosT));
-            inside = !inside;
-          }
-          if (event + 1 >= bounces)
-          {
-            break;
-          }
-          const MarchHit hit = march(spans, tiles, rays, o, dir, inside, ci, cj, t.columns);
-          const double s = std::max(0.0, hit.t);
-          if (inside)
-          {
-            const Vec3d a = attenuation(s);
-            rgb += w * L * (Vec3d(1, 1, 1) - a);
-            w = w * a;
-          }
-          if (!hit.hit)
-          {
-            inside = false; // left the grid: on to the background
-            break;
-          }
-          o = o + dir * s;
-          ci = static_cast<int>(hit.pixel % W);
-          cj = static_cast<int>(hit.pixel / W);
-          normal = hit.slot >= 0
-                     ? Vec3d(decodeNormal(spans.normals[spans.slot(hit.pixel, hit.slot)]))
-                     : -dir;
-        }
-        if (inside)
-        {
-          rgb += w * L; // out of bounces inside the fluid: absorbed
-        }
-        else
-        {
-          through = w;
-        }
+        light = refract(spans, tiles, rays, look, f, d, L, i, j, t);
       }
-      float* out = &frame.rgba[4 * frame.index(i, j)];
-      out[0] = static_cast<float>(rgb.x);
-      out[1] = static_cast<float>(rgb.y);
-      out[2] = static_cast<float>(rgb.z);
-      out[3] = static_cast<float>(1.0 - (through.x + through.y + through.z) / 3.0);
-      const std::array<double, 4> c = rays.clip(P);
-      frame.depth[frame.index(i, j)] =
-        static_cast<float>(std::clamp(0.5 * (c[2] / c[3] + 1.0), 0.0, 1.0));
+      writePixel(frame, rays, i, j, light, f.P);
     });
-  const Tally total = tallies.combine(
-    [](Tally a, const Tally& b)
-    {
-      a.shaded += b.shaded;
-      a.translucent += b.translucent;
-      a.paths += b.paths;
-      a.events += b.events;
-      a.tir += b.tir;
-      a.columns += b.columns;
-      a.aoSamples += b.aoSamples;
-      return a;
-    });
-  stats.addCounter("shaded_pixels", total.shaded);
-  stats.addCounter("translucent_pixels", total.translucent);
-  stats.addCounter("refraction_paths", total.paths);
-  stats.addCounter("surface_events", total.events);
-  stats.addCounter("tir_events", total.tir);
-  stats.addCounter("march_columns", total.columns);
-  stats.addCounter("ao_samples", total.aoSamples);
+  addTallies(
+    Tallies, [&](auto add) { tallies.combine_each(add); }, stats);
 }
 
 bool renderFluid(const FluidParticles& particles,

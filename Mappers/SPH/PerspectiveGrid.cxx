@@ -24,31 +24,28 @@ struct CellRange
   int tx0, tx1, ty0, ty1, tz0, tz1;
   float zlo, zhi; // depth span of the support, clipped to the view
 };
-}
 
-bool PerspectiveGrid::build(const SPHParticles& particles,
-  const ViewRays& rays,
-  const PerspectiveGridParameters& params)
+/// The depth range of the supports in view and how many particles are in view.
+struct DepthSpan
 {
-  TileSize = std::max(1, params.tileSize);
-  const int W = rays.width(), H = rays.height();
-  TilesX = (W + TileSize - 1) / TileSize;
-  TilesY = (H + TileSize - 1) / TileSize;
-  const std::size_t n = particles.size();
-  Footprints.resize(n);
-  std::vector<CellRange> ranges(n);
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  std::size_t count = 0;
+};
 
-  // 1. Each particle's pixel extent and depth span (section 4.1.2, kComputeRelevantCells).
-  struct Span
-  {
-    double lo = std::numeric_limits<double>::infinity();
-    double hi = -std::numeric_limits<double>::infinity();
-    std::size_t count = 0;
-  };
-  const Span span = tbb::parallel_reduce(
-    tbb::blocked_range<std::size_t>(0, n, 4096),
-    Span(),
-    [&](const tbb::blocked_range<std::size_t>& r, Span s)
+/// Each particle's pixel extent, its range of tiles and its depth span (section 4.1.2,
+/// kComputeRelevantCells; the cells along z follow once the depth steps are known), and the
+/// depth range of all of them.
+DepthSpan projectParticles(const SPHParticles& particles,
+  const ViewRays& rays,
+  int tileSize,
+  std::vector<ParticleFootprint>& footprints,
+  std::vector<CellRange>& ranges)
+{
+  return tbb::parallel_reduce(
+    tbb::blocked_range<std::size_t>(0, particles.size(), 4096),
+    DepthSpan(),
+    [&](const tbb::blocked_range<std::size_t>& r, DepthSpan s)
     {
       for (std::size_t i = r.begin(); i != r.end(); ++i)
       {
@@ -60,12 +57,15 @@ bool PerspectiveGrid::build(const SPHParticles& particles,
         {
           continue;
         }
-        Footprints[i] = { static_cast<float>(f.x0), static_cast<float>(f.x1), static_cast<float>(f.y0),
-          static_cast<float>(f.y1), static_cast<float>(f.zc) };
-        cr.tx0 = f.i0 / TileSize;
-        cr.tx1 = f.i1 / TileSize;
-        cr.ty0 = f.j0 / TileSize;
-        cr.ty1 = f.j1 / TileSize;
+        footprints[i] = { static_cast<float>(f.x0),
+          static_cast<float>(f.x1),
+          static_cast<float>(f.y0),
+          static_cast<float>(f.y1),
+          static_cast<float>(f.zc) };
+        cr.tx0 = f.i0 / tileSize;
+        cr.tx1 = f.i1 / tileSize;
+        cr.ty0 = f.j0 / tileSize;
+        cr.ty1 = f.j1 / tileSize;
         cr.tz0 = 0;
         cr.tz1 = 0;
         cr.zlo = static_cast<float>(f.zlo);
@@ -76,77 +76,117 @@ bool PerspectiveGrid::build(const SPHParticles& particles,
       }
       return s;
     },
-    [](Span a, const Span& b)
+    [](DepthSpan a, const DepthSpan& b)
     {
       a.lo = std::min(a.lo, b.lo);
       a.hi = std::max(a.hi, b.hi);
       a.count += b.count;
       return a;
     });
-  InView = span.count;
-  CellStart.assign(1, 0);
-  Refs.clear();
-  EmptyRun.clear();
-  Steps.cells = 0;
-  if (InView == 0 || !(span.lo < span.hi))
-  {
-    return false;
-  }
+}
 
-  // 2. Depth steps (equations 3.2 to 3.9).
+/// Perspective depth steps over [span.lo, span.hi] for cells of log-depth cellDepth holding S
+/// samples: uniform steps of the field step s_f from the front up to zeta* = s_f / (e^delta - 1),
+/// where the logarithmic step reaches s_f (whole cells), then logarithmic steps of delta =
+/// cellDepth / S (equation 3.5). Returns the extent in samples.
+double logarithmicSteps(const DepthSpan& span,
+  double fieldStep,
+  double cellDepth,
+  DepthSteps& steps)
+{
+  const int S = steps.samplesPerCell;
+  double uniformDepth = 0.0;
+  if (fieldStep > 0)
+  {
+    // Uniform steps of s_f up to where the logarithmic step reaches it (whole cells).
+    const double zStar = fieldStep / std::expm1(cellDepth / S);
+    uniformDepth = std::min(zStar, span.hi) - span.lo;
+    if (uniformDepth > 0)
+    {
+      steps.uniformStep = fieldStep;
+      if (uniformDepth / (S * steps.uniformStep) > MaxDepthCells)
+      {
+        steps.uniformStep = uniformDepth / (S * MaxDepthCells);
+      }
+      steps.uBreak = S * std::ceil(uniformDepth / (S * steps.uniformStep) - 1e-9);
+    }
+  }
+  const double logExtent =
+    span.hi > steps.zetaBreak() ? std::log(span.hi / steps.zetaBreak()) : 0.0;
+  if (logExtent / cellDepth > MaxDepthCells)
+  {
+    cellDepth = logExtent / MaxDepthCells;
+  }
+  steps.delta = cellDepth / S;
+  return steps.uBreak + logExtent / steps.delta;
+}
+
+/// Parallel depth steps (section 3.4.1, "a fixed sampling rate"): uniform steps of the longer of
+/// cellDepth / S and the field step. Returns the extent in samples.
+double uniformSteps(const DepthSpan& span, double fieldStep, double cellDepth, DepthSteps& steps)
+{
+  const int S = steps.samplesPerCell;
+  steps.delta = std::max(cellDepth / S, fieldStep);
+  if ((span.hi - span.lo) / (S * steps.delta) > MaxDepthCells)
+  {
+    steps.delta = (span.hi - span.lo) / (S * MaxDepthCells);
+  }
+  return (span.hi - span.lo) / steps.delta;
+}
+
+/// The depth steps (section 3.3, equations 3.2 to 3.9): S = ceil(tileSize lambda / stepFactor)
+/// samples per cell (lambda the obliquity, equation 3.4), a cell tileSize pixels deep (in
+/// log-depth, or depth for parallel views), as many cells as reach past the particles' back;
+/// beyond MaxDepthCells cells the cells deepen.
+DepthSteps depthSteps(const ViewRays& rays,
+  const PerspectiveGridParameters& params,
+  int tileSize,
+  const DepthSpan& span)
+{
   const double lambda = rays.obliquity();
   const double stepFactor = params.stepFactor > 0 ? params.stepFactor : 1.0;
-  Steps.logarithmic = rays.isPerspective();
-  Steps.zeta0 = span.lo;
-  Steps.uniformStep = 0.0;
-  Steps.uBreak = 0.0;
-  const int S = Steps.samplesPerCell =
-    std::clamp(static_cast<int>(std::ceil(TileSize * lambda / stepFactor - 1e-9)), 1, 1024);
-  // Pixel-tied step: a cell is TileSize pixels deep (log-depth or depth) and holds S samples.
-  double cellDepth = TileSize * rays.pixelSize();
-  double extent; // in samples
-  if (Steps.logarithmic)
+  DepthSteps steps;
+  steps.logarithmic = rays.isPerspective();
+  steps.zeta0 = span.lo;
+  steps.uniformStep = 0.0;
+  steps.uBreak = 0.0;
+  const int S = steps.samplesPerCell =
+    std::clamp(static_cast<int>(std::ceil(tileSize * lambda / stepFactor - 1e-9)), 1, 1024);
+  // Pixel-tied step: a cell is tileSize pixels deep (log-depth or depth) and holds S samples.
+  const double cellDepth = tileSize * rays.pixelSize();
+  const double extent = steps.logarithmic
+                          ? logarithmicSteps(span, params.fieldStep, cellDepth, steps)
+                          : uniformSteps(span, params.fieldStep, cellDepth, steps);
+  steps.cells = std::max(1, static_cast<int>(std::ceil(extent / S - 1e-9)));
+  return steps;
+}
+
+/// Calls fn(cell) for every cell of the range (x, y and z).
+template<typename Fn>
+void forEachCell(const PerspectiveGrid& grid, const CellRange& cr, Fn fn)
+{
+  for (int ty = cr.ty0; ty <= cr.ty1; ++ty)
   {
-    double uniformDepth = 0.0;
-    if (params.fieldStep > 0)
+    for (int tx = cr.tx0; tx <= cr.tx1; ++tx)
     {
-      // Uniform steps of s_f up to where the logarithmic step reaches it (whole cells).
-      const double zStar = params.fieldStep / std::expm1(cellDepth / S);
-      uniformDepth = std::min(zStar, span.hi) - span.lo;
-      if (uniformDepth > 0)
+      for (int tz = cr.tz0; tz <= cr.tz1; ++tz)
       {
-        Steps.uniformStep = params.fieldStep;
-        if (uniformDepth / (S * Steps.uniformStep) > MaxDepthCells)
-        {
-          Steps.uniformStep = uniformDepth / (S * MaxDepthCells);
-        }
-        Steps.uBreak = S * std::ceil(uniformDepth / (S * Steps.uniformStep) - 1e-9);
+        fn(grid.cellIndex(tx, ty, tz));
       }
     }
-    const double logExtent = span.hi > Steps.zetaBreak() ? std::log(span.hi / Steps.zetaBreak()) : 0.0;
-    if (logExtent / cellDepth > MaxDepthCells)
-    {
-      cellDepth = logExtent / MaxDepthCells;
-    }
-    Steps.delta = cellDepth / S;
-    extent = Steps.uBreak + logExtent / Steps.delta;
   }
-  else
-  {
-    Steps.delta = std::max(cellDepth / S, params.fieldStep);
-    if ((span.hi - span.lo) / (S * Steps.delta) > MaxDepthCells)
-    {
-      Steps.delta = (span.hi - span.lo) / (S * MaxDepthCells);
-    }
-    extent = (span.hi - span.lo) / Steps.delta;
-  }
-  Steps.cells = std::max(1, static_cast<int>(std::ceil(extent / S - 1e-9)));
-  const int totalSamples = Steps.samples();
+}
 
-  // 3. Count the references per cell, then their starts (prefix sum).
-  const std::size_t cells = cellCount();
-  std::unique_ptr<std::atomic<std::uint32_t>[]> counter(new std::atomic<std::uint32_t>[cells]);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 65536),
+/// The map from particles to cells, counted (section 3.4.2): each particle's range of cells
+/// along z (the sample coordinates of its depth span, equation 3.7), then one count per
+/// cell of its range.
+void countReferences(const PerspectiveGrid& grid,
+  std::vector<CellRange>& ranges,
+  std::atomic<std::uint32_t>* counter)
+{
+  const DepthSteps& steps = grid.steps();
+  const int S = steps.samplesPerCell, totalSamples = steps.samples();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.cellCount(), 65536),
     [&](const tbb::blocked_range<std::size_t>& r)
     {
       for (std::size_t c = r.begin(); c != r.end(); ++c)
@@ -154,7 +194,7 @@ bool PerspectiveGrid::build(const SPHParticles& particles,
         counter[c].store(0, std::memory_order_relaxed);
       }
     });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ranges.size(), 4096),
     [&](const tbb::blocked_range<std::size_t>& r)
     {
       for (std::size_t i = r.begin(); i != r.end(); ++i)
@@ -164,58 +204,96 @@ bool PerspectiveGrid::build(const SPHParticles& particles,
         {
           continue;
         }
-        const double u0 = Steps.coordinate(cr.zlo), u1 = Steps.coordinate(cr.zhi);
+        const double u0 = steps.coordinate(cr.zlo), u1 = steps.coordinate(cr.zhi);
         cr.tz0 = std::clamp(static_cast<int>(std::floor(u0)), 0, totalSamples - 1) / S;
         cr.tz1 = std::clamp(static_cast<int>(std::floor(u1)), 0, totalSamples - 1) / S;
-        for (int ty = cr.ty0; ty <= cr.ty1; ++ty)
-        {
-          for (int tx = cr.tx0; tx <= cr.tx1; ++tx)
-          {
-            for (int tz = cr.tz0; tz <= cr.tz1; ++tz)
-            {
-              counter[cellIndex(tx, ty, tz)].fetch_add(1, std::memory_order_relaxed);
-            }
-          }
-        }
+        forEachCell(
+          grid, cr, [&](std::size_t c) { counter[c].fetch_add(1, std::memory_order_relaxed); });
       }
     });
-  CellStart.resize(cells + 1);
+}
+
+/// The cells' starts in the map (prefix sum of the counts); the counters become the cells'
+/// write cursors. Returns the number of references.
+std::uint64_t cellStarts(std::atomic<std::uint32_t>* counter,
+  std::size_t cells,
+  std::vector<std::uint32_t>& start)
+{
+  start.resize(cells + 1);
   std::uint64_t total = 0;
   for (std::size_t c = 0; c < cells; ++c)
   {
-    CellStart[c] = static_cast<std::uint32_t>(total);
+    start[c] = static_cast<std::uint32_t>(total);
     total += counter[c].load(std::memory_order_relaxed);
-    counter[c].store(CellStart[c], std::memory_order_relaxed); // now the write cursor
+    counter[c].store(start[c], std::memory_order_relaxed); // now the write cursor
   }
-  CellStart[cells] = static_cast<std::uint32_t>(total);
-  Refs.resize(total);
+  start[cells] = static_cast<std::uint32_t>(total);
+  return total;
+}
 
-  // 4. Scatter the particle indices, then order each cell's list by index (the sums over a
-  //    cell's particles are then the same for any thread schedule).
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+/// Scatters the particle indices into their cells' lists.
+void scatterReferences(const PerspectiveGrid& grid,
+  const std::vector<CellRange>& ranges,
+  std::atomic<std::uint32_t>* counter,
+  std::vector<std::uint32_t>& refs)
+{
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ranges.size(), 4096),
     [&](const tbb::blocked_range<std::size_t>& r)
     {
       for (std::size_t i = r.begin(); i != r.end(); ++i)
       {
         const CellRange& cr = ranges[i];
-        for (int ty = cr.ty0; ty <= cr.ty1 && cr.tz0 <= cr.tz1; ++ty)
+        if (cr.tz0 > cr.tz1)
         {
-          for (int tx = cr.tx0; tx <= cr.tx1; ++tx)
-          {
-            for (int tz = cr.tz0; tz <= cr.tz1; ++tz)
-            {
-              const std::uint32_t slot =
-                counter[cellIndex(tx, ty, tz)].fetch_add(1, std::memory_order_relaxed);
-              Refs[slot] = static_cast<std::uint32_t>(i);
-            }
-          }
+          continue;
         }
+        forEachCell(grid,
+          cr,
+          [&](std::size_t c) {
+            refs[counter[c].fetch_add(1, std::memory_order_relaxed)] =
+              static_cast<std::uint32_t>(i);
+          });
       }
     });
-  // 5. Sort each cell's list; the empty successors cache per tile column (section 3.4.3).
-  EmptyRun.assign(cells, 0);
-  const int columns = TilesX * TilesY;
-  tbb::parallel_for(tbb::blocked_range<int>(0, columns, 16),
+}
+}
+
+bool PerspectiveGrid::build(const SPHParticles& particles,
+  const ViewRays& rays,
+  const PerspectiveGridParameters& params)
+{
+  TileSize = std::max(1, params.tileSize);
+  TilesX = (rays.width() + TileSize - 1) / TileSize;
+  TilesY = (rays.height() + TileSize - 1) / TileSize;
+  Footprints.resize(particles.size());
+  std::vector<CellRange> ranges(particles.size());
+  const DepthSpan span = projectParticles(particles, rays, TileSize, Footprints, ranges);
+  InView = span.count;
+  CellStart.assign(1, 0);
+  Refs.clear();
+  EmptyRun.clear();
+  Steps.cells = 0;
+  if (InView == 0 || !(span.lo < span.hi))
+  {
+    return false;
+  }
+  Steps = depthSteps(rays, params, TileSize, span);
+  const std::size_t cells = cellCount();
+  std::unique_ptr<std::atomic<std::uint32_t>[]> counter(new std::atomic<std::uint32_t>[cells]);
+  countReferences(*this, ranges, counter.get());
+  Refs.resize(cellStarts(counter.get(), cells, CellStart));
+  scatterReferences(*this, ranges, counter.get(), Refs);
+  sortCellsAndCountEmptyRuns();
+  return true;
+}
+
+/// Orders each cell's list by particle index (the sums over a cell's particles are then the
+/// same for any thread schedule) and fills the empty successors cache (section 3.4.3) per
+/// tile column, back to front.
+void PerspectiveGrid::sortCellsAndCountEmptyRuns()
+{
+  EmptyRun.assign(cellCount(), 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, TilesX * TilesY, 16),
     [&](const tbb::blocked_range<int>& r)
     {
       for (int col = r.begin(); col != r.end(); ++col)
@@ -232,7 +310,6 @@ bool PerspectiveGrid::build(const SPHParticles& particles,
         }
       }
     });
-  return true;
 }
 
 std::size_t PerspectiveGrid::memoryBytes() const

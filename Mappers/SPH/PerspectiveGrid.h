@@ -125,6 +125,8 @@ public:
   std::size_t memoryBytes() const;
 
 private:
+  void sortCellsAndCountEmptyRuns();
+
   int TileSize = 16, TilesX = 0, TilesY = 0;
   DepthSteps Steps;
   std::vector<std::uint32_t> CellStart; // cellCount() + 1

@@ -1,5 +1,7 @@
 #include "SpanVoxelizer.h"
 
+#include "Tallies.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
@@ -115,6 +117,16 @@ struct TallyCounters
   std::int64_t splatPixels = 0, boxPixels = 0, stoppedSpans = 0, setBitOps = 0, spansFound = 0, spansStored = 0, spansHidden = 0,
                gapsBridged = 0;
 };
+
+/// The tallies by their counters' names in the statistics.
+constexpr TallyField<TallyCounters> Tallies[] = { { "splat_pixels", &TallyCounters::splatPixels },
+  { "box_pixels", &TallyCounters::boxPixels },
+  { "stopped_spans", &TallyCounters::stoppedSpans },
+  { "set_bit_ops", &TallyCounters::setBitOps },
+  { "spans_found", &TallyCounters::spansFound },
+  { "spans_stored", &TallyCounters::spansStored },
+  { "spans_hidden", &TallyCounters::spansHidden },
+  { "gaps_bridged", &TallyCounters::gapsBridged } };
 
 /// The tile's bit grid: zeroed memory from the system, asked for in 2 MB pages where Linux
 /// gives them (a fresh 4 KB page costs a fault on first touch: some hundred thousand per
@@ -236,68 +248,60 @@ std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* 
   return out;
 }
 
-bool voxelizeFluid(const FluidParticles& particles,
-  const ViewRays& rays,
-  const VoxelizerParameters& params,
-  FluidSpans& out,
-  RenderStatistics& stats)
+namespace
 {
-  const bool bridging = params.gapThreshold > 0;
-  const bool shell = bridging && params.gapThreshold >= 2.0 * particles.maxRadius;
-  stats.setEffect("gap_bridging", bridging);
-  stats.setEffect("shell_splat", shell);
-  for (const char* name : { "angle_millidegrees",
-         "boxes_in_view",
-         "box_pixels",
-         "particles_in_view",
-         "layers",
-         "words_per_column",
-         "tiles",
-         "tile_width",
-         "tile_height",
-         "splat_pixels",
-         "stopped_spans",
-         "set_bit_ops",
-         "spans_found",
-         "spans_stored",
-         "spans_hidden",
-         "gaps_bridged",
-         "peak_temporary_bytes",
-         "budget_exceeded" })
-  {
-    stats.declareCounter(name);
-  }
-  const int W = rays.width(), H = rays.height();
-  const int S = std::clamp(params.maxSpans, 1, FluidSpans::MaxSpans);
-  out.reset(W, H, S);
-  const std::size_t n = particles.size();
-  if (n == 0 || W <= 0 || H <= 0)
-  {
-    return true;
-  }
+const char* const VoxelizerCounters[] = { "angle_millidegrees",
+  "boxes_in_view",
+  "box_pixels",
+  "particles_in_view",
+  "layers",
+  "words_per_column",
+  "tiles",
+  "tile_width",
+  "tile_height",
+  "splat_pixels",
+  "stopped_spans",
+  "set_bit_ops",
+  "spans_found",
+  "spans_stored",
+  "spans_hidden",
+  "gaps_bridged",
+  "peak_temporary_bytes",
+  "budget_exceeded" };
 
-  // The particles to splat (all, or those boundary-cell culling keeps, in its order) and the
-  // full cells' boxes; their footprints and the depth range of those in view.
-  const FluidCells* const cells = params.cells;
-  const std::size_t m = cells ? cells->kept.size() : n;
-  const auto particleAt = [&](std::size_t k) { return cells ? std::size_t(cells->kept[k]) : k; };
-  const std::size_t nBoxes = cells ? cells->boxes.size() : 0;
-  std::vector<Footprint> footprints(m + nBoxes);
+/// What is splatted: the particles (all, or those boundary-cell culling keeps, in its order)
+/// and the full cells' boxes, with their footprints (the particles', then the boxes').
+struct SplatList
+{
+  const FluidCells* cells = nullptr;
+  std::size_t particles = 0, boxes = 0;
+  std::vector<Footprint> footprints;
+
+  std::size_t particleAt(std::size_t k) const { return cells ? std::size_t(cells->kept[k]) : k; }
+};
+
+/// The footprints of the list's particles and boxes (sections 3.1, 4.1) and the depth range of
+/// those in view; boxesInView counts the boxes in view.
+DepthRange projectSplats(const FluidParticles& particles,
+  const ViewRays& rays,
+  SplatList& list,
+  std::size_t& boxesInView)
+{
   DepthRange range = tbb::parallel_reduce(
-    tbb::blocked_range<std::size_t>(0, m, 4096),
+    tbb::blocked_range<std::size_t>(0, list.particles, 4096),
     DepthRange(),
     [&](const tbb::blocked_range<std::size_t>& r, DepthRange d)
     {
       for (std::size_t k = r.begin(); k != r.end(); ++k)
       {
-        const std::size_t i = particleAt(k);
+        const std::size_t i = list.particleAt(k);
         const SphereFootprint f = rays.footprint(Vec3d(particles.centers[i]), particles.radius[i]);
         if (!f.inView)
         {
-          footprints[k] = { 1, 0, 1, 0 };
+          list.footprints[k] = { 1, 0, 1, 0 };
           continue;
         }
-        footprints[k] = { f.i0, f.i1, f.j0, f.j1 };
+        list.footprints[k] = { f.i0, f.i1, f.j0, f.j1 };
         d.lo = std::min(d.lo, f.zlo);
         d.hi = std::max(d.hi, f.zhi);
         ++d.inView;
@@ -311,46 +315,25 @@ bool voxelizeFluid(const FluidParticles& particles,
       a.inView += b.inView;
       return a;
     });
-  std::size_t boxesInView = 0;
-  for (std::size_t k = 0; k < nBoxes; ++k)
+  boxesInView = 0;
+  for (std::size_t k = 0; k < list.boxes; ++k)
   {
-    const Footprint f = boxFootprint(rays, cells->boxes[k], range);
-    footprints[m + k] = f;
+    const Footprint f = boxFootprint(rays, list.cells->boxes[k], range);
+    list.footprints[list.particles + k] = f;
     boxesInView += f.x0 <= f.x1 && f.y0 <= f.y1;
   }
-  stats.addCounter("boxes_in_view", static_cast<std::int64_t>(boxesInView));
-  stats.addCounter("particles_in_view", static_cast<std::int64_t>(range.inView));
-  const std::size_t footprintBytes = footprints.capacity() * sizeof(Footprint);
-  if (range.inView == 0 && boxesInView == 0)
-  {
-    stats.addCounter("peak_temporary_bytes", static_cast<std::int64_t>(footprintBytes));
-    return true;
-  }
+  return range;
+}
 
-  // Layers (section 4.2) and tiles within the budget.
-  VoxelDepthLayers& layers = out.layers;
-  layers.assign(rays.isPerspective(),
-    range.lo,
-    range.hi,
-    rays.pixelSize(),
-    params.angleResolutionDeg,
-    params.maxLayers);
-  const int L = layers.count;
-  const int words = (L + 63) / 64;
-  const std::size_t columnBytes = static_cast<std::size_t>(words) * sizeof(std::uint64_t);
-  stats.addCounter("layers", L);
-  stats.addCounter("angle_millidegrees",
-    static_cast<std::int64_t>(std::lround(1000.0 * layers.angleDeg(rays.pixelSize()))));
-  stats.addCounter("words_per_column", words);
-  const std::size_t gridBudget =
-    params.memoryBudget > footprintBytes ? params.memoryBudget - footprintBytes : 0;
-  const std::size_t tilePixels = gridBudget / (columnBytes + 1); // + the touched byte
-  if (tilePixels == 0)
-  {
-    stats.addCounter("budget_exceeded", 1);
-    stats.addCounter("peak_temporary_bytes", static_cast<std::int64_t>(footprintBytes));
-    return false;
-  }
+/// The screen's tiles: tw x th pixels, as many as the budget's tilePixels columns allow (whole
+/// rows while a row fits, else squares), tilesX x tilesY of them.
+struct TileLayout
+{
+  int tw, th, tilesX, tilesY;
+};
+
+TileLayout tilesWithinBudget(int W, int H, std::size_t tilePixels)
+{
   int tw = W, th = H;
   if (tilePixels < static_cast<std::size_t>(W) * H)
   {
@@ -364,229 +347,385 @@ bool voxelizeFluid(const FluidParticles& particles,
       th = std::min(H, static_cast<int>(tilePixels / tw));
     }
   }
-  const int tilesX = (W + tw - 1) / tw, tilesY = (H + th - 1) / th;
-  stats.addCounter("tiles", tilesX * tilesY);
-  stats.addCounter("tile_width", tw);
-  stats.addCounter("tile_height", th);
+  return { tw, th, (W + tw - 1) / tw, (H + th - 1) / th };
+}
+
+/// The voxelization of one tile after the other into the tile's bit grid, and its compression
+/// into the spans.
+struct TileVoxelizer
+{
+  const FluidParticles& particles;
+  const ViewRays& rays;
+  const SplatList& list;
+  const VoxelDepthLayers& layers;
+  std::uint64_t* grid;                // the tile's columns, `words` words each
+  std::vector<std::uint8_t>& touched; // per column of the tile: a splat wrote it
+  const float* stop;                  // the stop depths, or null
+  int words, W;
+  bool shell; // set only the layers of the spheres' surfaces
+  float g;    // the gap threshold
+  tbb::combinable<TallyCounters>& tallies;
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0; // the tile: pixels [x0, x1) x [y0, y1)
+
+  double front() const { return layers.depths.front(); }
+  double back() const { return layers.depths.back(); }
+  /// Depth z clipped to where pixel (px, j)'s ray ends: the layers' back or opaque geometry.
+  double clipToRayEnd(double z, int px, int j) const
+  {
+    return std::min(
+      std::min(z, back()), stop ? double(stop[static_cast<std::size_t>(j) * W + px]) : back());
+  }
+  /// The tile's column of pixel (px, j), marked as written.
+  std::uint64_t* column(int px, int j) const
+  {
+    const std::size_t q = static_cast<std::size_t>(j - y0) * (x1 - x0) + (px - x0);
+    touched[q] = 1; // every writer stores 1: the race is benign
+    return columnOf(grid, q, words);
+  }
+  void splatParticle(std::size_t k, TallyCounters& t) const;
+  void splatBox(std::size_t k, TallyCounters& t) const;
+  void splat() const;
+  void compressColumn(int px, int j, FluidSpans& out, TallyCounters& t) const;
+  void compress(FluidSpans& out) const;
+};
+
+/// Splat (sections 3.1, 4.1) of the list's particle k into the tile: the chord [zeta_0,
+/// zeta_1] of each of its pixels' centre rays through the sphere (clipped to the layers and
+/// the stop depth) sets the bits of its layers, or (shell splat, section 4.4) the layers of
+/// its ends only.
+void TileVoxelizer::splatParticle(std::size_t k, TallyCounters& t) const
+{
+  const Footprint& fp = list.footprints[k];
+  const std::size_t i = list.particleAt(k);
+  const int i0 = std::max(fp.x0, x0), i1 = std::min(fp.x1, x1 - 1);
+  const int j0 = std::max(fp.y0, y0), j1 = std::min(fp.y1, y1 - 1);
+  if (i0 > i1 || j0 > j1)
+  {
+    return;
+  }
+  const double dFront = front(), dBack = back();
+  const Vec3d c(particles.centers[i]);
+  const double r2 = double(particles.radius[i]) * particles.radius[i];
+  // Layers of the depths in the sphere from the layer coordinate at its centre, linearized: no
+  // logarithm per pixel. The linearization is off by at most r^2 max|u''| / 2 = r^2 / (2 z_min^2
+  // step) layers (logarithmic layers; uniform ones are linear), which layerOf corrects against
+  // the depth table in as many steps; spheres large against their depth take the exact
+  // coordinate instead.
+  const double zc = std::clamp(rays.zetaOf(c), dFront, dBack);
+  const double zmin = std::max(zc - particles.radius[i], dFront);
+  const bool linear = !layers.logarithmic || r2 < 4.0 * zmin * zmin * layers.step;
+  const double uc = layers.coordinate(zc), slope = layers.coordinateSlope(zc);
+  for (int j = j0; j <= j1; ++j)
+  {
+    for (int px = i0; px <= i1; ++px)
+    {
+      const Vec3d A = rays.start(px + 0.5, j + 0.5) - c;
+      const Vec3d B = rays.direction(px + 0.5, j + 0.5);
+      const double a = dot(B, B), b = dot(A, B);
+      const double disc = b * b - a * (dot(A, A) - r2);
+      if (!(disc > 0))
+      {
+        continue;
+      }
+      const double root = std::sqrt(disc);
+      const double z0 = std::max((-b - root) / a, dFront);
+      const double z1 = clipToRayEnd((-b + root) / a, px, j);
+      if (!(z0 < z1))
+      {
+        continue;
+      }
+      const int l0 = layers.layerOf(z0, linear ? uc + (z0 - zc) * slope : layers.coordinate(z0));
+      const int l1 = layers.layerOf(z1, linear ? uc + (z1 - zc) * slope : layers.coordinate(z1));
+      std::uint64_t* col = column(px, j);
+      ++t.splatPixels;
+      if (shell)
+      {
+        setBit(col, l0);
+        setBit(col, l1);
+        t.setBitOps += 2;
+      }
+      else
+      {
+        t.setBitOps += setBits(col, l0, l1);
+      }
+    }
+  }
+}
+
+/// Boundary-cell culling's full box k (FluidCells.h): every layer from each pixel ray's entry
+/// into the box to its exit (clipped to the layers and the stop depth).
+void TileVoxelizer::splatBox(std::size_t k, TallyCounters& t) const
+{
+  const Footprint& fp = list.footprints[list.particles + k];
+  const int i0 = std::max(fp.x0, x0), i1 = std::min(fp.x1, x1 - 1);
+  const int j0 = std::max(fp.y0, y0), j1 = std::min(fp.y1, y1 - 1);
+  for (int j = j0; j <= j1; ++j)
+  {
+    for (int px = i0; px <= i1; ++px)
+    {
+      double z0, z1;
+      rayBox(rays.start(px + 0.5, j + 0.5),
+        rays.direction(px + 0.5, j + 0.5),
+        list.cells->boxes[k],
+        z0,
+        z1);
+      z0 = std::max(z0, front());
+      z1 = clipToRayEnd(z1, px, j);
+      if (!(z0 < z1))
+      {
+        continue;
+      }
+      const int l0 = layers.layerOf(z0, layers.coordinate(z0));
+      const int l1 = layers.layerOf(z1, layers.coordinate(z1));
+      ++t.boxPixels;
+      t.setBitOps += setBits(column(px, j), l0, l1);
+    }
+  }
+}
+
+/// The tile's splat: its particles, then the full cells' boxes, in parallel.
+void TileVoxelizer::splat() const
+{
+  std::fill(touched.begin(), touched.end(), std::uint8_t(0));
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, list.particles, 1024),
+    [&](const tbb::blocked_range<std::size_t>& r)
+    {
+      TallyCounters& t = tallies.local();
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
+      {
+        splatParticle(k, t);
+      }
+    });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, list.boxes, 16),
+    [&](const tbb::blocked_range<std::size_t>& r)
+    {
+      TallyCounters& t = tallies.local();
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
+      {
+        splatBox(k, t);
+      }
+    });
+}
+
+/// Compression (sections 3.1, 4.3) of pixel (px, j)'s column: its runs of set bits, found word
+/// by word, become spans [d_s, d_e], an exit beyond the stop depth moved back to it; a run
+/// joins the span before it when the gap between them is shorter than g in world space (gap
+/// bridging, sections 3.2, 4.4); beyond S spans the last stored span extends over the rest and
+/// keeps the empty space inside it (hiddenEmpty). The column is cleared for the next tile.
+void TileVoxelizer::compressColumn(int px, int j, FluidSpans& out, TallyCounters& t) const
+{
+  const int L = layers.count, S = out.maxSpans;
+  std::uint64_t* column =
+    columnOf(grid, static_cast<std::size_t>(j - y0) * (x1 - x0) + (px - x0), words);
+  const std::size_t p = out.pixel(px, j);
+  const float rayLength = static_cast<float>(length(rays.direction(px + 0.5, j + 0.5)));
+  float* d = out.depth.data() + out.slot(p, 0);
+  int stored = 0;
+  std::uint32_t found = 0;
+  float hidden = 0.f;
+  const float stopAt = stop ? stop[p] : std::numeric_limits<float>::infinity();
+  int s = nextBit(column, words, 0, true);
+  while (s < L)
+  {
+    const int e = std::min(nextBit(column, words, s, false), L);
+    const float entry = static_cast<float>(layers.depths[s]);
+    float exit = static_cast<float>(layers.depths[e]);
+    if (exit > stopAt)
+    {
+      // The layer holding the stop depth: the fluid ends at the geometry.
+      exit = std::max(entry, stopAt);
+      ++t.stoppedSpans;
+    }
+    if (found > 0 && (entry - d[2 * stored - 1]) * rayLength < g)
+    {
+      // Bridged: the run extends the last span (its hidden gap stays zero).
+      d[2 * stored - 1] = exit;
+      ++t.gapsBridged;
+    }
+    else if (stored < S)
+    {
+      d[2 * stored] = entry;
+      d[2 * stored + 1] = exit;
+      ++stored;
+      ++found;
+    }
+    else
+    {
+      // Beyond S spans: the last stored span extends, its new gap is kept.
+      hidden += entry - d[2 * stored - 1];
+      d[2 * stored - 1] = exit;
+      ++found;
+    }
+    s = nextBit(column, words, e, true);
+  }
+  out.count[p] = static_cast<std::uint8_t>(stored);
+  out.found[p] = found;
+  out.hiddenEmpty[p] = hidden;
+  t.spansFound += found;
+  t.spansStored += stored;
+  t.spansHidden += found - stored;
+  std::fill(column, column + words, std::uint64_t(0)); // clear for the next tile
+}
+
+/// The tile's compression: the columns a splat wrote, rows in parallel (the others have no
+/// span: out.reset cleared them).
+void TileVoxelizer::compress(FluidSpans& out) const
+{
+  tbb::parallel_for(tbb::blocked_range<int>(y0, y1, 1),
+    [&](const tbb::blocked_range<int>& r)
+    {
+      TallyCounters& t = tallies.local();
+      for (int j = r.begin(); j != r.end(); ++j)
+      {
+        for (int px = x0; px < x1; ++px)
+        {
+          if (touched[static_cast<std::size_t>(j - y0) * (x1 - x0) + (px - x0)])
+          {
+            compressColumn(px, j, out, t);
+          }
+        }
+      }
+    });
+}
+
+/// The depth layers over the particles' depth range (section 4.2: logarithmic in perspective,
+/// their angular resolution from the pixel size) and their counters. Returns the 64-bit words
+/// of a column's bit mask.
+int assignLayers(const ViewRays& rays,
+  const VoxelizerParameters& params,
+  const DepthRange& range,
+  VoxelDepthLayers& layers,
+  RenderStatistics& stats)
+{
+  layers.assign(rays.isPerspective(),
+    range.lo,
+    range.hi,
+    rays.pixelSize(),
+    params.angleResolutionDeg,
+    params.maxLayers);
+  const int words = (layers.count + 63) / 64;
+  stats.addCounter("layers", layers.count);
+  stats.addCounter("angle_millidegrees",
+    static_cast<std::int64_t>(std::lround(1000.0 * layers.angleDeg(rays.pixelSize()))));
+  stats.addCounter("words_per_column", words);
+  return words;
+}
+
+/// The tiles one after the other (section 3.1): each splatted into the bit grid, then its
+/// columns compressed into spans.
+void voxelizeTiles(TileVoxelizer& tv,
+  const TileLayout& tiles,
+  int H,
+  FluidSpans& out,
+  RenderStatistics& stats)
+{
+  for (int ty = 0; ty < tiles.tilesY; ++ty)
+  {
+    for (int tx = 0; tx < tiles.tilesX; ++tx)
+    {
+      tv.x0 = tx * tiles.tw;
+      tv.y0 = ty * tiles.th;
+      tv.x1 = std::min(tv.W, tv.x0 + tiles.tw);
+      tv.y1 = std::min(H, tv.y0 + tiles.th);
+      {
+        ScopedPhase phase(stats, "splat");
+        tv.splat();
+      }
+      ScopedPhase phase(stats, "compress");
+      tv.compress(out);
+    }
+  }
+}
+
+/// The budget cannot hold the tiles' grid: an empty voxelization.
+bool budgetExceeded(std::size_t footprintBytes, RenderStatistics& stats)
+{
+  stats.addCounter("budget_exceeded", 1);
+  stats.addCounter("peak_temporary_bytes", static_cast<std::int64_t>(footprintBytes));
+  return false;
+}
+}
+
+bool voxelizeFluid(const FluidParticles& particles,
+  const ViewRays& rays,
+  const VoxelizerParameters& params,
+  FluidSpans& out,
+  RenderStatistics& stats)
+{
+  const bool bridging = params.gapThreshold > 0;
+  const bool shell = bridging && params.gapThreshold >= 2.0 * particles.maxRadius;
+  stats.setEffect("gap_bridging", bridging);
+  stats.setEffect("shell_splat", shell);
+  for (const char* name : VoxelizerCounters)
+  {
+    stats.declareCounter(name);
+  }
+  const int W = rays.width(), H = rays.height();
+  out.reset(W, H, std::clamp(params.maxSpans, 1, FluidSpans::MaxSpans));
+  if (particles.size() == 0 || W <= 0 || H <= 0)
+  {
+    return true;
+  }
+
+  SplatList list;
+  list.cells = params.cells;
+  list.particles = list.cells ? list.cells->kept.size() : particles.size();
+  list.boxes = list.cells ? list.cells->boxes.size() : 0;
+  list.footprints.resize(list.particles + list.boxes);
+  std::size_t boxesInView = 0;
+  const DepthRange range = projectSplats(particles, rays, list, boxesInView);
+  stats.addCounter("boxes_in_view", static_cast<std::int64_t>(boxesInView));
+  stats.addCounter("particles_in_view", static_cast<std::int64_t>(range.inView));
+  const std::size_t footprintBytes = list.footprints.capacity() * sizeof(Footprint);
+  if (range.inView == 0 && boxesInView == 0)
+  {
+    stats.addCounter("peak_temporary_bytes", static_cast<std::int64_t>(footprintBytes));
+    return true;
+  }
+
+  // Layers (section 4.2) and tiles within the budget (section 3.1).
+  VoxelDepthLayers& layers = out.layers;
+  const int words = assignLayers(rays, params, range, layers, stats);
+  const std::size_t columnBytes = static_cast<std::size_t>(words) * sizeof(std::uint64_t);
+  const std::size_t gridBudget =
+    params.memoryBudget > footprintBytes ? params.memoryBudget - footprintBytes : 0;
+  const std::size_t tilePixels = gridBudget / (columnBytes + 1); // + the touched byte
+  if (tilePixels == 0)
+  {
+    return budgetExceeded(footprintBytes, stats);
+  }
+  const TileLayout tiles = tilesWithinBudget(W, H, tilePixels);
+  stats.addCounter("tiles", tiles.tilesX * tiles.tilesY);
+  stats.addCounter("tile_width", tiles.tw);
+  stats.addCounter("tile_height", tiles.th);
   // Zeroed once; the compression zeroes again the columns it reads, so each tile finds the
   // grid clear. `touched` marks the tile's columns a splat wrote: only those are read.
-  const std::size_t gridWords = static_cast<std::size_t>(tw) * th * words;
+  const std::size_t gridWords = static_cast<std::size_t>(tiles.tw) * tiles.th * words;
   const BitGrid grid(gridWords);
   if (!grid.get())
   {
-    stats.addCounter("budget_exceeded", 1);
-    stats.addCounter("peak_temporary_bytes", static_cast<std::int64_t>(footprintBytes));
-    return false;
+    return budgetExceeded(footprintBytes, stats);
   }
-  std::vector<std::uint8_t> touched(static_cast<std::size_t>(tw) * th);
+  std::vector<std::uint8_t> touched(static_cast<std::size_t>(tiles.tw) * tiles.th);
   stats.addCounter("peak_temporary_bytes",
     static_cast<std::int64_t>(gridWords * sizeof(std::uint64_t) + touched.size() + footprintBytes));
 
-  const double dFront = layers.depths.front(), dBack = layers.depths.back();
-  const float g = static_cast<float>(params.gapThreshold);
-  const float* const stop = params.stopDepth;
   tbb::combinable<TallyCounters> tallies;
-  for (int ty = 0; ty < tilesY; ++ty)
-  {
-    for (int tx = 0; tx < tilesX; ++tx)
-    {
-      const int x0 = tx * tw, y0 = ty * th;
-      const int x1 = std::min(W, x0 + tw), y1 = std::min(H, y0 + th);
-      const int cw = x1 - x0;
-      {
-        ScopedPhase phase(stats, "splat");
-        std::fill(touched.begin(), touched.end(), std::uint8_t(0));
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m, 1024),
-          [&](const tbb::blocked_range<std::size_t>& r)
-          {
-            TallyCounters& t = tallies.local();
-            for (std::size_t k = r.begin(); k != r.end(); ++k)
-            {
-              const Footprint& fp = footprints[k];
-              const std::size_t i = particleAt(k);
-              const int i0 = std::max(fp.x0, x0), i1 = std::min(fp.x1, x1 - 1);
-              const int j0 = std::max(fp.y0, y0), j1 = std::min(fp.y1, y1 - 1);
-              if (i0 > i1 || j0 > j1)
-              {
-                continue;
-              }
-              const Vec3d c(particles.centers[i]);
-              const double r2 = double(particles.radius[i]) * particles.radius[i];
-              // Layers of the depths in the sphere from the layer coordinate at its centre,
-              // linearized: no logarithm per pixel. The linearization is off by at most
-              // r^2 max|u''| / 2 = r^2 / (2 z_min^2 step) layers (logarithmic layers; uniform
-              // ones are linear), which layerOf corrects against the depth table in as many
-              // steps; spheres large against their depth take the exact coordinate instead.
-              const double zc = std::clamp(rays.zetaOf(c), dFront, dBack);
-              const double zmin = std::max(zc - particles.radius[i], dFront);
-              const bool linear = !layers.logarithmic || r2 < 4.0 * zmin * zmin * layers.step;
-              const double uc = layers.coordinate(zc), slope = layers.coordinateSlope(zc);
-              for (int j = j0; j <= j1; ++j)
-              {
-                for (int px = i0; px <= i1; ++px)
-                {
-                  const Vec3d A = rays.start(px + 0.5, j + 0.5) - c;
-                  const Vec3d B = rays.direction(px + 0.5, j + 0.5);
-                  const double a = dot(B, B), b = dot(A, B);
-                  const double disc = b * b - a * (dot(A, A) - r2);
-                  if (!(disc > 0))
-                  {
-                    continue;
-                  }
-                  const double root = std::sqrt(disc);
-                  const double z0 = std::max((-b - root) / a, dFront);
-                  const double z1 = std::min(std::min((-b + root) / a, dBack),
-                    stop ? double(stop[static_cast<std::size_t>(j) * W + px]) : dBack);
-                  if (!(z0 < z1))
-                  {
-                    continue;
-                  }
-                  const int l0 =
-                    layers.layerOf(z0, linear ? uc + (z0 - zc) * slope : layers.coordinate(z0));
-                  const int l1 =
-                    layers.layerOf(z1, linear ? uc + (z1 - zc) * slope : layers.coordinate(z1));
-                  const std::size_t q = static_cast<std::size_t>(j - y0) * cw + (px - x0);
-                  std::uint64_t* column = columnOf(grid.get(), q, words);
-                  touched[q] = 1; // every writer stores 1: the race is benign
-                  ++t.splatPixels;
-                  if (shell)
-                  {
-                    setBit(column, l0);
-                    setBit(column, l1);
-                    t.setBitOps += 2;
-                  }
-                  else
-                  {
-                    t.setBitOps += setBits(column, l0, l1);
-                  }
-                }
-              }
-            }
-          });
-        // The full cells' boxes: every layer from the ray's entry to its exit.
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nBoxes, 16),
-          [&](const tbb::blocked_range<std::size_t>& r)
-          {
-            TallyCounters& t = tallies.local();
-            for (std::size_t k = r.begin(); k != r.end(); ++k)
-            {
-              const Footprint& fp = footprints[m + k];
-              const int i0 = std::max(fp.x0, x0), i1 = std::min(fp.x1, x1 - 1);
-              const int j0 = std::max(fp.y0, y0), j1 = std::min(fp.y1, y1 - 1);
-              for (int j = j0; j <= j1; ++j)
-              {
-                for (int px = i0; px <= i1; ++px)
-                {
-                  double z0, z1;
-                  rayBox(rays.start(px + 0.5, j + 0.5), rays.direction(px + 0.5, j + 0.5),
-                    cells->boxes[k], z0, z1);
-                  z0 = std::max(z0, dFront);
-                  z1 = std::min(std::min(z1, dBack),
-                    stop ? double(stop[static_cast<std::size_t>(j) * W + px]) : dBack);
-                  if (!(z0 < z1))
-                  {
-                    continue;
-                  }
-                  const int l0 = layers.layerOf(z0, layers.coordinate(z0));
-                  const int l1 = layers.layerOf(z1, layers.coordinate(z1));
-                  const std::size_t q = static_cast<std::size_t>(j - y0) * cw + (px - x0);
-                  touched[q] = 1;
-                  ++t.boxPixels;
-                  t.setBitOps += setBits(columnOf(grid.get(), q, words), l0, l1);
-                }
-              }
-            }
-          });
-      }
-      ScopedPhase phase(stats, "compress");
-      tbb::parallel_for(tbb::blocked_range<int>(y0, y1, 1),
-        [&](const tbb::blocked_range<int>& r)
-        {
-          TallyCounters& t = tallies.local();
-          for (int j = r.begin(); j != r.end(); ++j)
-          {
-            for (int px = x0; px < x1; ++px)
-            {
-              const std::size_t q = static_cast<std::size_t>(j - y0) * cw + (px - x0);
-              if (!touched[q])
-              {
-                continue; // no bit set: no span (out.reset cleared the pixel)
-              }
-              std::uint64_t* column = columnOf(grid.get(), q, words);
-              const std::size_t p = out.pixel(px, j);
-              const float rayLength = static_cast<float>(length(rays.direction(px + 0.5, j + 0.5)));
-              float* d = out.depth.data() + out.slot(p, 0);
-              int stored = 0;
-              std::uint32_t found = 0;
-              float hidden = 0.f;
-              const float stopAt = stop ? stop[p] : std::numeric_limits<float>::infinity();
-              int s = nextBit(column, words, 0, true);
-              while (s < L)
-              {
-                const int e = std::min(nextBit(column, words, s, false), L);
-                const float entry = static_cast<float>(layers.depths[s]);
-                float exit = static_cast<float>(layers.depths[e]);
-                if (exit > stopAt)
-                {
-                  // The layer holding the stop depth: the fluid ends at the geometry.
-                  exit = std::max(entry, stopAt);
-                  ++t.stoppedSpans;
-                }
-                if (found > 0 && (entry - d[2 * stored - 1]) * rayLength < g)
-                {
-                  // Bridged: the run extends the last span (its hidden gap stays zero).
-                  d[2 * stored - 1] = exit;
-                  ++t.gapsBridged;
-                }
-                else if (stored < S)
-                {
-                  d[2 * stored] = entry;
-                  d[2 * stored + 1] = exit;
-                  ++stored;
-                  ++found;
-                }
-                else
-                {
-                  // Beyond S spans: the last stored span extends, its new gap is kept.
-                  hidden += entry - d[2 * stored - 1];
-                  d[2 * stored - 1] = exit;
-                  ++found;
-                }
-                s = nextBit(column, words, e, true);
-              }
-              out.count[p] = static_cast<std::uint8_t>(stored);
-              out.found[p] = found;
-              out.hiddenEmpty[p] = hidden;
-              t.spansFound += found;
-              t.spansStored += stored;
-              t.spansHidden += found - stored;
-              std::fill(column, column + words, std::uint64_t(0)); // clear for the next tile
-            }
-          }
-        });
-    }
-  }
-  const TallyCounters total = tallies.combine(
-    [](TallyCounters a, const TallyCounters& b)
-    {
-      a.splatPixels += b.splatPixels;
-      a.boxPixels += b.boxPixels;
-      a.stoppedSpans += b.stoppedSpans;
-      a.setBitOps += b.setBitOps;
-      a.spansFound += b.spansFound;
-      a.spansStored += b.spansStored;
-      a.spansHidden += b.spansHidden;
-      a.gapsBridged += b.gapsBridged;
-      return a;
-    });
-  stats.addCounter("splat_pixels", total.splatPixels);
-  stats.addCounter("box_pixels", total.boxPixels);
-  stats.addCounter("stopped_spans", total.stoppedSpans);
-  stats.addCounter("set_bit_ops", total.setBitOps);
-  stats.addCounter("spans_found", total.spansFound);
-  stats.addCounter("spans_stored", total.spansStored);
-  stats.addCounter("spans_hidden", total.spansHidden);
-  stats.addCounter("gaps_bridged", total.gapsBridged);
+  TileVoxelizer tv{ particles,
+    rays,
+    list,
+    layers,
+    grid.get(),
+    touched,
+    params.stopDepth,
+    words,
+    W,
+    shell,
+    static_cast<float>(params.gapThreshold),
+    tallies };
+  voxelizeTiles(tv, tiles, H, out, stats);
+  addTallies(
+    Tallies, [&](auto add) { tallies.combine_each(add); }, stats);
   return true;
 }
 

@@ -65,6 +65,50 @@ inline Point reach(const FluidSpans& spans, const Point& c, int a, int b)
   const Point viaX = follow(spans, follow(spans, c, dx), dy);
   return viaX.pixel >= 0 ? viaX : follow(spans, follow(spans, c, dy), dx);
 }
+
+/// The links of span k of pixel p towards one neighbour column q holding m spans (Listing 1):
+/// e to the front entry of the overlapping neighbour spans (or, when that neighbour span also
+/// overlaps the previous span, to the previous exit: a bubble wall), x to their back exit (or
+/// to the next entry), or, when no neighbour span overlaps (a boundary span, figure 3c), e and
+/// x to each other. `neighbour` counts the links that leave the column, `own` the others.
+struct SpanLinks
+{
+  std::uint8_t entry, exit;
+  int neighbour, own;
+};
+
+SpanLinks linkSpan(const FluidSpans& spans, std::size_t p, int k, int count, std::size_t q, int m)
+{
+  const float inf = std::numeric_limits<float>::infinity();
+  const float e = spans.entry(p, k), x = spans.exit(p, k);
+  const float prevExit = k > 0 ? spans.exit(p, k - 1) : -inf;
+  const float nextEntry = k + 1 < count ? spans.entry(p, k + 1) : inf;
+  int f = 0;
+  while (f < m && spans.exit(q, f) < e)
+  {
+    ++f;
+  }
+  if (!(f < m && spans.entry(q, f) <= x))
+  {
+    return { static_cast<std::uint8_t>(OwnColumn | (2 * k + 1)),
+      static_cast<std::uint8_t>(OwnColumn | (2 * k)),
+      0,
+      2 };
+  }
+  const bool entryToNeighbour = spans.entry(q, f) > prevExit;
+  int b = f;
+  while (b + 1 < m && spans.entry(q, b + 1) <= x)
+  {
+    ++b;
+  }
+  const bool exitToNeighbour = nextEntry > spans.exit(q, b);
+  return { entryToNeighbour ? static_cast<std::uint8_t>(2 * f)
+                            : static_cast<std::uint8_t>(OwnColumn | (2 * k - 1)),
+    exitToNeighbour ? static_cast<std::uint8_t>(2 * b + 1)
+                    : static_cast<std::uint8_t>(OwnColumn | (2 * k + 2)),
+    int(entryToNeighbour) + int(exitToNeighbour),
+    int(!entryToNeighbour) + int(!exitToNeighbour) };
+}
 }
 
 void connectSurfaces(FluidSpans& spans, RenderStatistics& stats)
@@ -75,7 +119,6 @@ void connectSurfaces(FluidSpans& spans, RenderStatistics& stats)
   const int W = spans.width, H = spans.height;
   spans.links.assign(spans.depth.size(), 0);
   tbb::combinable<std::int64_t> neighbourLinks, ownLinks;
-  const float inf = std::numeric_limits<float>::infinity();
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 1),
     [&](const tbb::blocked_range<int>& r)
     {
@@ -95,39 +138,11 @@ void connectSurfaces(FluidSpans& spans, RenderStatistics& stats)
             const int m = inside ? spans.count[q] : 0;
             for (int k = 0; k < count; ++k)
             {
-              const float e = spans.entry(p, k), x = spans.exit(p, k);
-              const float prevExit = k > 0 ? spans.exit(p, k - 1) : -inf;
-              const float nextEntry = k + 1 < count ? spans.entry(p, k + 1) : inf;
-              int f = 0;
-              while (f < m && spans.exit(q, f) < e)
-              {
-                ++f;
-              }
-              std::uint8_t entryLink, exitLink;
-              if (f < m && spans.entry(q, f) <= x)
-              {
-                const bool entryToNeighbour = spans.entry(q, f) > prevExit;
-                entryLink = entryToNeighbour ? static_cast<std::uint8_t>(2 * f)
-                                             : static_cast<std::uint8_t>(OwnColumn | (2 * k - 1));
-                int b = f;
-                while (b + 1 < m && spans.entry(q, b + 1) <= x)
-                {
-                  ++b;
-                }
-                const bool exitToNeighbour = nextEntry > spans.exit(q, b);
-                exitLink = exitToNeighbour ? static_cast<std::uint8_t>(2 * b + 1)
-                                           : static_cast<std::uint8_t>(OwnColumn | (2 * k + 2));
-                nb += int(entryToNeighbour) + int(exitToNeighbour);
-                own += int(!entryToNeighbour) + int(!exitToNeighbour);
-              }
-              else
-              {
-                entryLink = static_cast<std::uint8_t>(OwnColumn | (2 * k + 1));
-                exitLink = static_cast<std::uint8_t>(OwnColumn | (2 * k));
-                own += 2;
-              }
-              spans.links[spans.slot(p, 2 * k)] |= std::uint32_t(entryLink) << (8 * dir);
-              spans.links[spans.slot(p, 2 * k + 1)] |= std::uint32_t(exitLink) << (8 * dir);
+              const SpanLinks l = linkSpan(spans, p, k, count, q, m);
+              nb += l.neighbour;
+              own += l.own;
+              spans.links[spans.slot(p, 2 * k)] |= std::uint32_t(l.entry) << (8 * dir);
+              spans.links[spans.slot(p, 2 * k + 1)] |= std::uint32_t(l.exit) << (8 * dir);
             }
           }
         }
@@ -186,6 +201,118 @@ void findNeighbourhoods(const FluidSpans& spans,
   stats.addCounter("neighbourhood_bytes", static_cast<std::int64_t>(nbh.bytes()));
 }
 
+namespace
+{
+/// The depth slot of surface point k.
+std::size_t depthSlot(const FluidSpans& spans, const SurfaceNeighbourhoods& nbh, std::size_t k)
+{
+  const std::uint32_t p = nbh.pixel[k];
+  return spans.slot(p, static_cast<int>(k - nbh.pointStart[p]));
+}
+
+/// The smoothing filter's state per surface point (section 4.6): the value filtered (1 / zeta
+/// perspective, zeta parallel) before and after an iteration, the point's own number of
+/// iterations and whether its column holds a depth value before and after it.
+struct SmoothingState
+{
+  std::vector<std::uint8_t> iterationsOf, hasPrev, hasNext;
+  std::vector<float> cur, next;
+  int iterations = 0; // the most any point takes
+};
+
+/// The filter's start: each point's value and its iterations n = min(maxIterations, 255,
+/// ceil(R / w)), w = sigma zeta the pixel's width at its depth (sigma for parallel views), so
+/// that n iterations spread over the world radius R.
+void startSmoothing(const FluidSpans& spans,
+  const SurfaceNeighbourhoods& nbh,
+  const ViewRays& rays,
+  double radius,
+  int maxIterations,
+  SmoothingState& f)
+{
+  const bool perspective = rays.isPerspective();
+  const double sigma = rays.pixelSize();
+  const std::size_t points = nbh.points();
+  f.iterationsOf.resize(points);
+  f.hasPrev.resize(points);
+  f.hasNext.resize(points);
+  f.cur.resize(points);
+  f.next.resize(points);
+  const auto iterationsAt = [&](float zeta)
+  {
+    const double width = perspective ? sigma * zeta : sigma;
+    return static_cast<int>(
+      std::min<double>(std::min(maxIterations, 255), std::ceil(radius / width)));
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points, 4096),
+    [&](const tbb::blocked_range<std::size_t>& r)
+    {
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
+      {
+        const std::uint32_t p = nbh.pixel[k];
+        const std::size_t s = k - nbh.pointStart[p];
+        const float z = spans.depth[depthSlot(spans, nbh, k)];
+        f.cur[k] = perspective ? 1.f / z : z;
+        f.iterationsOf[k] = static_cast<std::uint8_t>(iterationsAt(z));
+        f.hasPrev[k] = s > 0;
+        f.hasNext[k] = k + 1 < nbh.pointStart[p + 1];
+      }
+    });
+  f.iterations = points ? *std::max_element(f.iterationsOf.begin(), f.iterationsOf.end()) : 0;
+}
+
+/// Iteration `it` of the binomial kernel (1 2 1)^T (1 2 1) / 16 along the links: the points
+/// that still take iterations average their present neighbours (weights renormalized), and
+/// the result stays between the column's neighbouring depth values, so spans stay ordered.
+void smoothingIteration(const SurfaceNeighbourhoods& nbh,
+  bool perspective,
+  int it,
+  SmoothingState& f,
+  tbb::combinable<std::int64_t>& filtered)
+{
+  // (1 2 1)^T (1 2 1) without the centre, in the neighbours' order.
+  static constexpr float Weight[8] = { 1, 2, 1, 2, 2, 1, 2, 1 };
+  const std::vector<float>& cur = f.cur;
+  std::vector<float>& next = f.next;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nbh.points(), 4096),
+    [&](const tbb::blocked_range<std::size_t>& r)
+    {
+      std::int64_t& done = filtered.local();
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
+      {
+        if (f.iterationsOf[k] <= it)
+        {
+          next[k] = cur[k];
+          continue;
+        }
+        float sum = 4.f * cur[k], wsum = 4.f;
+        const std::int32_t* nb = &nbh.neighbours[8 * k];
+        for (int m = 0; m < 8; ++m)
+        {
+          if (nb[m] >= 0)
+          {
+            sum += Weight[m] * cur[nb[m]];
+            wsum += Weight[m];
+          }
+        }
+        // Stay between the column's neighbouring depth values (1/zeta falls with depth).
+        float v = sum / wsum;
+        if (f.hasPrev[k])
+        {
+          v = perspective ? std::min(v, cur[k - 1]) : std::max(v, cur[k - 1]);
+        }
+        if (f.hasNext[k])
+        {
+          v = perspective ? std::max(v, cur[k + 1]) : std::min(v, cur[k + 1]);
+        }
+        next[k] = v;
+        ++done;
+      }
+    });
+  std::swap(f.cur, f.next);
+}
+}
+
 void smoothSurfaces(FluidSpans& spans,
   const SurfaceNeighbourhoods& nbh,
   const ViewRays& rays,
@@ -204,90 +331,101 @@ void smoothSurfaces(FluidSpans& spans,
   }
   ScopedPhase phase(stats, "filter");
   const bool perspective = rays.isPerspective();
-  const double sigma = rays.pixelSize();
-  const std::size_t points = nbh.points();
-  std::vector<std::uint8_t> iterationsOf(points), hasPrev(points), hasNext(points);
-  std::vector<float> cur(points), next(points);
-  stats.addCounter("filter_bytes", static_cast<std::int64_t>(11 * points));
-  const auto iterationsAt = [&](float zeta)
-  {
-    const double width = perspective ? sigma * zeta : sigma;
-    return static_cast<int>(
-      std::min<double>(std::min(maxIterations, 255), std::ceil(radius / width)));
-  };
-  const auto slotOf = [&](std::size_t k)
-  {
-    const std::uint32_t p = nbh.pixel[k];
-    return spans.slot(p, static_cast<int>(k - nbh.pointStart[p]));
-  };
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points, 4096),
-    [&](const tbb::blocked_range<std::size_t>& r)
-    {
-      for (std::size_t k = r.begin(); k != r.end(); ++k)
-      {
-        const std::uint32_t p = nbh.pixel[k];
-        const std::size_t s = k - nbh.pointStart[p];
-        const float z = spans.depth[slotOf(k)];
-        // Values filtered: 1 / zeta (perspective) or zeta.
-        cur[k] = perspective ? 1.f / z : z;
-        iterationsOf[k] = static_cast<std::uint8_t>(iterationsAt(z));
-        hasPrev[k] = s > 0;
-        hasNext[k] = k + 1 < nbh.pointStart[p + 1];
-      }
-    });
-  const int iterations = points ? *std::max_element(iterationsOf.begin(), iterationsOf.end()) : 0;
-  // (1 2 1)^T (1 2 1) without the centre, in the neighbours' order.
-  static constexpr float Weight[8] = { 1, 2, 1, 2, 2, 1, 2, 1 };
+  stats.addCounter("filter_bytes", static_cast<std::int64_t>(11 * nbh.points()));
+  SmoothingState f;
+  startSmoothing(spans, nbh, rays, radius, maxIterations, f);
   tbb::combinable<std::int64_t> filtered;
-  for (int it = 0; it < iterations; ++it)
+  for (int it = 0; it < f.iterations; ++it)
   {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points, 4096),
-      [&](const tbb::blocked_range<std::size_t>& r)
-      {
-        std::int64_t& done = filtered.local();
-        for (std::size_t k = r.begin(); k != r.end(); ++k)
-        {
-          if (iterationsOf[k] <= it)
-          {
-            next[k] = cur[k];
-            continue;
-          }
-          float sum = 4.f * cur[k], wsum = 4.f;
-          const std::int32_t* nb = &nbh.neighbours[8 * k];
-          for (int m = 0; m < 8; ++m)
-          {
-            if (nb[m] >= 0)
-            {
-              sum += Weight[m] * cur[nb[m]];
-              wsum += Weight[m];
-            }
-          }
-          // Stay between the column's neighbouring depth values (1/zeta falls with depth).
-          float v = sum / wsum;
-          if (hasPrev[k])
-          {
-            v = perspective ? std::min(v, cur[k - 1]) : std::max(v, cur[k - 1]);
-          }
-          if (hasNext[k])
-          {
-            v = perspective ? std::max(v, cur[k + 1]) : std::min(v, cur[k + 1]);
-          }
-          next[k] = v;
-          ++done;
-        }
-      });
-    std::swap(cur, next);
+    smoothingIteration(nbh, perspective, it, f, filtered);
   }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points, 4096),
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nbh.points(), 4096),
     [&](const tbb::blocked_range<std::size_t>& r)
     {
       for (std::size_t k = r.begin(); k != r.end(); ++k)
       {
-        spans.depth[slotOf(k)] = perspective ? 1.f / cur[k] : cur[k];
+        spans.depth[depthSlot(spans, nbh, k)] = perspective ? 1.f / f.cur[k] : f.cur[k];
       }
     });
-  stats.addCounter("filter_iterations", iterations);
+  stats.addCounter("filter_iterations", f.iterations);
   stats.addCounter("filtered_points", filtered.combine(std::plus<std::int64_t>()));
+}
+
+namespace
+{
+/// The positions P[b + 1][a + 1] of the 3 x 3 neighbourhood of surface point k on their
+/// pixels' centre rays (model coordinates); a missing point is replaced by the one a step
+/// nearer to the centre (edges by the centre, corners by their edge in the same row).
+void neighbourhoodPositions(const FluidSpans& spans,
+  const SurfaceNeighbourhoods& nbh,
+  const ViewRays& rays,
+  std::size_t k,
+  Vec3d P[3][3])
+{
+  const int W = spans.width;
+  const auto position = [&](std::size_t q)
+  {
+    const std::uint32_t p = nbh.pixel[q];
+    return rays.pointAt(p % W + 0.5, p / W + 0.5, spans.depth[depthSlot(spans, nbh, q)]);
+  };
+  bool found[3][3];
+  P[1][1] = position(k);
+  found[1][1] = true;
+  const std::int32_t* nb = &nbh.neighbours[8 * k];
+  for (int m = 0, b = 0; b < 3; ++b)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      if (a != 1 || b != 1)
+      {
+        found[b][a] = nb[m] >= 0;
+        if (found[b][a])
+        {
+          P[b][a] = position(static_cast<std::size_t>(nb[m]));
+        }
+        ++m;
+      }
+    }
+  }
+  for (const auto& [b, a] : { std::pair{ 1, 0 }, { 1, 2 }, { 0, 1 }, { 2, 1 } })
+  {
+    if (!found[b][a])
+    {
+      P[b][a] = P[1][1];
+    }
+  }
+  for (const int b : { 0, 2 })
+  {
+    for (const int a : { 0, 2 })
+    {
+      if (!found[b][a])
+      {
+        P[b][a] = P[b][1];
+      }
+    }
+  }
+}
+
+/// The Sobel normal n = G_x x G_y / |G_x x G_y| of the neighbourhood P (section 3.4), turned
+/// to face out of the fluid: against the pixel's ray at an entry, along it at an exit (the
+/// ray's direction where the neighbourhood is degenerate).
+Vec3d sobelNormal(const Vec3d P[3][3], const Vec3d& ray, bool entry)
+{
+  Vec3d gx, gy;
+  for (int c = 0; c < 3; ++c)
+  {
+    gx += (P[c][2] - P[c][0]) * SobelWeight[c];
+    gy += (P[2][c] - P[0][c]) * SobelWeight[c];
+  }
+  Vec3d n = cross(gx, gy);
+  const double len = length(n);
+  n = len > 0 && std::isfinite(len) ? n * (1.0 / len) : normalize(ray);
+  if ((dot(n, ray) > 0) == entry)
+  {
+    n = -n;
+  }
+  return n;
+}
 }
 
 void computeNormals(FluidSpans& spans,
@@ -300,13 +438,6 @@ void computeNormals(FluidSpans& spans,
   const int W = spans.width;
   spans.normals.assign(spans.depth.size(), 0);
   const std::size_t points = nbh.points();
-  // Position of point k on its pixel's centre ray.
-  const auto position = [&](std::size_t k)
-  {
-    const std::uint32_t p = nbh.pixel[k];
-    const double z = spans.depth[spans.slot(p, static_cast<int>(k - nbh.pointStart[p]))];
-    return rays.pointAt(p % W + 0.5, p / W + 0.5, z);
-  };
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points, 4096),
     [&](const tbb::blocked_range<std::size_t>& r)
     {
@@ -314,61 +445,10 @@ void computeNormals(FluidSpans& spans,
       {
         const std::uint32_t p = nbh.pixel[k];
         const int s = static_cast<int>(k - nbh.pointStart[p]);
-        // P[b + 1][a + 1]; a missing point is replaced by the one a step nearer to the
-        // centre (edges by the centre, corners by their edge in the same row).
         Vec3d P[3][3];
-        bool found[3][3];
-        P[1][1] = position(k);
-        found[1][1] = true;
-        const std::int32_t* nb = &nbh.neighbours[8 * k];
-        for (int m = 0, b = 0; b < 3; ++b)
-        {
-          for (int a = 0; a < 3; ++a)
-          {
-            if (a != 1 || b != 1)
-            {
-              found[b][a] = nb[m] >= 0;
-              if (found[b][a])
-              {
-                P[b][a] = position(static_cast<std::size_t>(nb[m]));
-              }
-              ++m;
-            }
-          }
-        }
-        for (const auto& [b, a] : { std::pair{ 1, 0 }, { 1, 2 }, { 0, 1 }, { 2, 1 } })
-        {
-          if (!found[b][a])
-          {
-            P[b][a] = P[1][1];
-          }
-        }
-        for (const int b : { 0, 2 })
-        {
-          for (const int a : { 0, 2 })
-          {
-            if (!found[b][a])
-            {
-              P[b][a] = P[b][1];
-            }
-          }
-        }
-        Vec3d gx, gy;
-        for (int c = 0; c < 3; ++c)
-        {
-          gx += (P[c][2] - P[c][0]) * SobelWeight[c];
-          gy += (P[2][c] - P[0][c]) * SobelWeight[c];
-        }
+        neighbourhoodPositions(spans, nbh, rays, k, P);
         const Vec3d ray = rays.direction(p % W + 0.5, p / W + 0.5);
-        Vec3d n = cross(gx, gy);
-        const double len = length(n);
-        const bool entry = (s & 1) == 0;
-        n = len > 0 && std::isfinite(len) ? n * (1.0 / len) : normalize(ray);
-        if ((dot(n, ray) > 0) == entry)
-        {
-          n = -n;
-        }
-        spans.normals[spans.slot(p, s)] = encodeNormal(Vec3f(n));
+        spans.normals[spans.slot(p, s)] = encodeNormal(Vec3f(sobelNormal(P, ray, (s & 1) == 0)));
       }
     });
   stats.addCounter("normals", static_cast<std::int64_t>(points));
