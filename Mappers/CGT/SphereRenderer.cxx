@@ -163,82 +163,6 @@ SurfacePoint shadeHit(const SphereFrame& f, const Ray& ray, std::uint32_t id, fl
   return sp;
 }
 
-// The secondary rays of a hit in one packet: rays rayOf(0 .. count - 1) in its first lanes,
-// the rest invalid; returns how many of them meet a sphere.
-template<typename RayOf>
-int countBlocked(const SphereFrame& f,
-  int count,
-  const RayOf& rayOf,
-  RayPacket& packet,
-  PacketHits& hits,
-  SphereCounts& counts)
-{
-  for (int a = 0; a < packet.side * packet.side; ++a)
-  {
-    packet.valid[a] = a < count;
-    if (a < count)
-    {
-      packet.rays[a] = rayOf(a);
-    }
-  }
-  f.accel.intersect(packet, hits, counts.traversal);
-  int blocked = 0;
-  for (int a = 0; a < count; ++a)
-  {
-    blocked += hits.prim[a] != NoHit ? 1 : 0;
-  }
-  return blocked;
-}
-
-// Soft shadows (section 4.3): a packet of shadow rays from just above the surface to the
-// area light's stratified samples (shadowTarget); returns the share of them that reach the
-// light.
-double lightVisibility(const SphereFrame& f,
-  const SurfacePoint& sp,
-  std::uint32_t pixel,
-  RayPacket& packet,
-  PacketHits& hits,
-  SphereCounts& counts)
-{
-  const int shadowSide = f.shadowSide;
-  const Vec3d start = sp.pRel + sp.n * (1e-4 * sp.r);
-  const int count = shadowSide * shadowSide;
-  const auto shadowRay = [&](int a)
-  {
-    const Vec3d q = shadowTarget(f.shading, a % shadowSide, a / shadowSide, pixel);
-    const Vec3d toLight = q - start;
-    const double dist = length(toLight);
-    return Ray{ Vec3f(start), Vec3f(toLight * (1.0 / dist)), 0.f, static_cast<float>(dist) };
-  };
-  const int blocked = countBlocked(f, count, shadowRay, packet, hits, counts);
-  counts.shadowRays += count;
-  return 1.0 - static_cast<double>(blocked) / count;
-}
-
-// Ambient occlusion: a packet of cosine-weighted hemisphere rays (aoDirection) from just
-// above the surface, so that they cannot hit their own sphere; returns the share of them
-// that meet no sphere within the radius.
-double unoccluded(const SphereFrame& f,
-  const SurfacePoint& sp,
-  std::uint32_t pixel,
-  RayPacket& packet,
-  PacketHits& hits,
-  SphereCounts& counts)
-{
-  const int aoSamples = f.aoSamples;
-  const Vec3d start = sp.pRel + sp.n * (1e-4 * sp.r);
-  const auto aoRay = [&](int a)
-  {
-    return Ray{ Vec3f(start),
-      Vec3f(aoDirection(sp.n, a, aoSamples, pixel)),
-      0.f,
-      static_cast<float>(f.shading.aoRadius) };
-  };
-  const int occluded = countBlocked(f, aoSamples, aoRay, packet, hits, counts);
-  counts.aoRays += aoSamples;
-  return 1.0 - static_cast<double>(occluded) / aoSamples;
-}
-
 // The secondary packets of a tile: shadow rays and ambient-occlusion rays, which bound no
 // pixel block's frustum.
 struct SecondaryPackets
@@ -254,6 +178,79 @@ struct SecondaryPackets
     ao.pixelBlock = false;
   }
 };
+
+// The secondary rays of a hit in one packet: rays rayOf(a, start) for a < count in its first
+// lanes, the rest invalid, all leaving from just above the surface so that they cannot hit
+// their own sphere; returns how many of them meet a sphere.
+template<typename RayOf>
+int countBlocked(const SphereFrame& f,
+  const SurfacePoint& sp,
+  int count,
+  const RayOf& rayOf,
+  RayPacket& packet,
+  PacketHits& hits,
+  SphereCounts& counts)
+{
+  const Vec3d start = sp.pRel + sp.n * (1e-4 * sp.r);
+  for (int a = 0; a < packet.side * packet.side; ++a)
+  {
+    packet.valid[a] = a < count;
+    if (a < count)
+    {
+      packet.rays[a] = rayOf(a, start);
+    }
+  }
+  f.accel.intersect(packet, hits, counts.traversal);
+  int blocked = 0;
+  for (int a = 0; a < count; ++a)
+  {
+    blocked += hits.prim[a] != NoHit ? 1 : 0;
+  }
+  return blocked;
+}
+
+// Soft shadows (section 4.3): a packet of shadow rays to the area light's stratified
+// samples (shadowTarget); returns the share of them that reach the light.
+double lightVisibility(const SphereFrame& f,
+  const SurfacePoint& sp,
+  std::uint32_t pixel,
+  SecondaryPackets& secondary,
+  SphereCounts& counts)
+{
+  const int count = f.shadowSide * f.shadowSide;
+  const auto shadowRay = [&](int a, const Vec3d& start)
+  {
+    const Vec3d q = shadowTarget(f.shading, a % f.shadowSide, a / f.shadowSide, pixel);
+    const Vec3d toLight = q - start;
+    const double dist = length(toLight);
+    return Ray{ Vec3f(start), Vec3f(toLight * (1.0 / dist)), 0.f, static_cast<float>(dist) };
+  };
+  const int blocked =
+    countBlocked(f, sp, count, shadowRay, secondary.shadow, secondary.shadowHits, counts);
+  counts.shadowRays += count;
+  return 1.0 - static_cast<double>(blocked) / count;
+}
+
+// Ambient occlusion: a packet of cosine-weighted hemisphere rays (aoDirection); returns
+// the share of them that meet no sphere within the radius.
+double unoccluded(const SphereFrame& f,
+  const SurfacePoint& sp,
+  std::uint32_t pixel,
+  SecondaryPackets& secondary,
+  SphereCounts& counts)
+{
+  const auto aoRay = [&](int a, const Vec3d& start)
+  {
+    return Ray{ Vec3f(start),
+      Vec3f(aoDirection(sp.n, a, f.aoSamples, pixel)),
+      0.f,
+      static_cast<float>(f.shading.aoRadius) };
+  };
+  const int occluded =
+    countBlocked(f, sp, f.aoSamples, aoRay, secondary.ao, secondary.aoHits, counts);
+  counts.aoRays += f.aoSamples;
+  return 1.0 - static_cast<double>(occluded) / f.aoSamples;
+}
 
 // The primary packet of the pixel block at (bx, by): the rays of its pixels inside the tile.
 // Returns how many there are.
@@ -290,14 +287,13 @@ void renderHit(const SphereFrame& f,
   const auto pixel = static_cast<std::uint32_t>(idx);
   if (f.shadowSide > 0)
   {
-    const double visible =
-      lightVisibility(f, sp, pixel, secondary.shadow, secondary.shadowHits, counts);
+    const double visible = lightVisibility(f, sp, pixel, secondary, counts);
     const Vec3d ambient = sp.base * f.shading.material.ambient;
     color = ambient + (color - ambient) * visible;
   }
   if (f.aoSamples > 0)
   {
-    color = color * unoccluded(f, sp, pixel, secondary.ao, secondary.aoHits, counts);
+    color = color * unoccluded(f, sp, pixel, secondary, counts);
   }
   Frame& frame = f.frame;
   frame.rgba[4 * idx] = static_cast<float>(std::clamp(color.x, 0.0, 1.0));
