@@ -58,15 +58,15 @@ struct PacketLanes
   // last).
   alignas(64) std::int32_t touchedFirst[MaxPacketRays];
   alignas(64) std::int32_t touchedLast[MaxPacketRays];
-  // Front-to-back state (premultiplied colour and opacity), and for the pass's
-  // integration the samples to blend [from, to] and whether the ray is still open.
+  // For the pass's integration the samples to blend [from, to] and whether the ray is
+  // still open, and the front-to-back state (premultiplied colour and opacity).
+  alignas(64) std::int32_t from[MaxPacketRays];
+  alignas(64) std::int32_t to[MaxPacketRays];
+  alignas(64) std::int32_t open[MaxPacketRays];
   alignas(64) float cr[MaxPacketRays];
   alignas(64) float cg[MaxPacketRays];
   alignas(64) float cb[MaxPacketRays];
   alignas(64) float ca[MaxPacketRays];
-  alignas(64) std::int32_t from[MaxPacketRays];
-  alignas(64) std::int32_t to[MaxPacketRays];
-  alignas(64) std::int32_t open[MaxPacketRays];
 };
 
 // A packet: its lanes, and per ray its pixel, its ray (for shading), its samples and whether
