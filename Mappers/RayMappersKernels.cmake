@@ -14,6 +14,8 @@ add_library(RayMappersKernels STATIC
   ${CMAKE_CURRENT_LIST_DIR}/CGT/SphereRenderer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/RBF/ParticleBVH.cxx
   ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFVolumeRenderer.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFDirectMethod.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFCoherentMethod.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/OpticalModel.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepMesh.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepNearPlane.cxx

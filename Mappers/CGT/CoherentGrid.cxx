@@ -24,15 +24,14 @@ std::array<int, 3> CoherentGrid::cellOf(const Vec3f& p) const
   return c;
 }
 
-void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& params)
+namespace
 {
-  NumSpheres = spheres.size();
-  MaxRadius = spheres.maxRadius;
-  MacroSize = std::max(1, params.macrocellSize);
-  const std::size_t n = NumSpheres;
+using Box = std::pair<Vec3f, Vec3f>;
 
-  // Bounds of the centres (a parallel reduction).
-  using Box = std::pair<Vec3f, Vec3f>;
+// The bounds of the centres (a parallel reduction); a zero box without spheres.
+Box centreBounds(const SphereSet& spheres)
+{
+  const std::size_t n = spheres.size();
   const float big = std::numeric_limits<float>::max();
   const Box empty(Vec3f(big, big, big), Vec3f(-big, -big, -big));
   const Box box = tbb::parallel_reduce(
@@ -60,16 +59,14 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
       }
       return a;
     });
-  Vec3f lo = box.first, hi = box.second;
-  if (n == 0)
-  {
-    lo = hi = Vec3f();
-  }
-  Lower = lo;
+  return n == 0 ? Box(Vec3f(), Vec3f()) : box;
+}
 
-  // Cubic cells of side h with about lambda * N cells over the extents that are not flat:
-  // h^d = (product of the d positive extents) / (lambda N).
-  const double lambda = params.lambda > 0 && std::isfinite(params.lambda) ? params.lambda : 1.0;
+// The cell size (section 4.2): cubic cells of side h with about lambda * N cells over the
+// extents that are not flat, h^d = (product of the d positive extents) / (lambda N).
+double cellSide(const Box& box, std::size_t n, double lambda, float maxRadius)
+{
+  const Vec3f &lo = box.first, &hi = box.second;
   double volume = 1.0;
   int d = 0;
   double largest = 0.0;
@@ -95,29 +92,102 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   // r_max (spheres crowded far closer than their size, e.g. 10^7 centres in a box of 1e-4
   // with r = 0.5) would make every packet walk the whole grid. Up to r_max / h = 2 the
   // traversal's time does not depend on h (measured: 200,000 spheres of radius 3 h).
-  h = std::max(h, 0.5 * static_cast<double>(MaxRadius));
-  auto dimsFor = [&](double side)
+  return std::max(h, 0.5 * static_cast<double>(maxRadius));
+}
+
+// The cells of side `side` that cover the box (at least one per axis).
+std::array<int, 3> dimsFor(const Box& box, double side)
+{
+  std::array<int, 3> dims;
+  for (int a = 0; a < 3; ++a)
   {
-    std::array<int, 3> dims;
-    for (int a = 0; a < 3; ++a)
+    const double e = static_cast<double>(box.second[a]) - box.first[a];
+    dims[a] = std::max(1, static_cast<int>(std::ceil(e / side)));
+  }
+  return dims;
+}
+
+std::int64_t cellCount(const std::array<int, 3>& dims)
+{
+  return static_cast<std::int64_t>(dims[0]) * dims[1] * static_cast<std::int64_t>(dims[2]);
+}
+
+// Permutes the spheres into cell order, sphere i becoming input sphere perm[i], by gathering
+// into new arrays that are swapped with the spheres' (the old ones are freed).
+void permute(SphereSet& spheres, const std::vector<std::uint32_t>& perm)
+{
+  const std::size_t n = spheres.size();
+  SphereSet sorted;
+  const int na = spheres.numAttributes;
+  sorted.centers.resize(n);
+  sorted.radii.resize(n);
+  sorted.colors.resize(n);
+  sorted.sourceIds.resize(n);
+  sorted.attributes.resize(spheres.attributes.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+    [&](const tbb::blocked_range<std::size_t>& range)
     {
-      const double e = static_cast<double>(hi[a]) - lo[a];
-      dims[a] = std::max(1, static_cast<int>(std::ceil(e / side)));
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      {
+        const std::uint32_t from = perm[i];
+        sorted.centers[i] = spheres.centers[from];
+        sorted.radii[i] = spheres.radii[from];
+        sorted.colors[i] = spheres.colors[from];
+        sorted.sourceIds[i] = spheres.sourceIds[from];
+        for (int a = 0; a < na; ++a)
+        {
+          sorted.attributes[i * na + a] = spheres.attributes[from * na + a];
+        }
+      }
+    });
+  spheres.centers.swap(sorted.centers);
+  spheres.radii.swap(sorted.radii);
+  spheres.colors.swap(sorted.colors);
+  spheres.sourceIds.swap(sorted.sourceIds);
+  spheres.attributes.swap(sorted.attributes);
+}
+
+// Widens the extrema mn, mx of the macrocell by the attributes of spheres [begin, end) (NaN
+// values are left out).
+void addExtrema(const SphereSet& spheres,
+  std::uint32_t begin,
+  std::uint32_t end,
+  int numAttributes,
+  float* mn,
+  float* mx)
+{
+  for (std::uint32_t id = begin; id < end; ++id)
+  {
+    const float* v = spheres.attributesOf(id);
+    for (int a = 0; a < numAttributes; ++a)
+    {
+      if (!std::isnan(v[a]))
+      {
+        mn[a] = std::min(mn[a], v[a]);
+        mx[a] = std::max(mx[a], v[a]);
+      }
     }
-    return dims;
-  };
-  Dims = dimsFor(h);
-  auto total = [&]()
-  { return static_cast<std::int64_t>(Dims[0]) * Dims[1] * static_cast<std::int64_t>(Dims[2]); };
-  while (total() > params.maxCells)
+  }
+}
+}
+
+void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& params)
+{
+  NumSpheres = spheres.size();
+  MaxRadius = spheres.maxRadius;
+  MacroSize = std::max(1, params.macrocellSize);
+  const Box box = centreBounds(spheres);
+  Lower = box.first;
+  const double lambda = params.lambda > 0 && std::isfinite(params.lambda) ? params.lambda : 1.0;
+  double h = cellSide(box, NumSpheres, lambda, MaxRadius);
+  Dims = dimsFor(box, h);
+  while (cellCount(Dims) > params.maxCells)
   {
     h *= 1.25;
-    Dims = dimsFor(h);
+    Dims = dimsFor(box, h);
   }
   CellSize = static_cast<float>(h);
   InvCellSize = 1.f / CellSize;
-  const std::int64_t cells = total();
-
   // Counting sort of the spheres by the cell of their centre, in parallel: cell ids, then a
   // histogram with atomic increments, an exclusive prefix sum, and a scatter through atomic
   // per-cell cursors. The scatter leaves the spheres of one cell in arbitrary order, so each
@@ -126,6 +196,14 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   // The build's temporaries are freed when it ends: between builds the grid holds only its
   // offsets and macrocells (reusing them across time steps would save about a millisecond
   // per million spheres and cost 36 bytes per sphere of resident memory).
+  permute(spheres, placeInCells(countPerCell(spheres)));
+  buildMacrocells(spheres);
+}
+
+std::vector<std::uint32_t> CoherentGrid::countPerCell(const SphereSet& spheres)
+{
+  const std::size_t n = NumSpheres;
+  const std::int64_t cells = cellCount(Dims);
   std::vector<std::uint32_t> cellOfSphere(n);
   CellStart.assign(static_cast<std::size_t>(cells) + 1, 0);
   std::uint32_t* counts = CellStart.data() + 1;
@@ -151,67 +229,42 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   {
     CellStart[static_cast<std::size_t>(c) + 1] += CellStart[static_cast<std::size_t>(c)];
   }
-  std::vector<std::uint32_t> perm(n);
-  {
-    std::vector<std::uint32_t> cursor(CellStart.begin(), CellStart.end() - 1);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
-      [&](const tbb::blocked_range<std::size_t>& range)
-      {
-        for (std::size_t i = range.begin(); i != range.end(); ++i)
-        {
-          const std::uint32_t slot =
-            __atomic_fetch_add(&cursor[cellOfSphere[i]], 1u, __ATOMIC_RELAXED);
-          perm[slot] = static_cast<std::uint32_t>(i);
-        }
-      });
-    tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, cells, 65536),
-      [&](const tbb::blocked_range<std::int64_t>& range)
-      {
-        for (std::int64_t c = range.begin(); c != range.end(); ++c)
-        {
-          const auto first = perm.begin() + cellBegin(c), last = perm.begin() + cellEnd(c);
-          if (last - first > 1)
-          {
-            std::sort(first, last);
-          }
-        }
-      });
-  }
-  // Permute the spheres into cell order (stable: equal cells keep the input order), gathering
-  // into new arrays that are swapped with the spheres' (the old ones are freed).
-  {
-    SphereSet sorted;
-    const int na = spheres.numAttributes;
-    sorted.centers.resize(n);
-    sorted.radii.resize(n);
-    sorted.colors.resize(n);
-    sorted.sourceIds.resize(n);
-    sorted.attributes.resize(spheres.attributes.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
-      [&](const tbb::blocked_range<std::size_t>& range)
-      {
-        for (std::size_t i = range.begin(); i != range.end(); ++i)
-        {
-          const std::uint32_t from = perm[i];
-          sorted.centers[i] = spheres.centers[from];
-          sorted.radii[i] = spheres.radii[from];
-          sorted.colors[i] = spheres.colors[from];
-          sorted.sourceIds[i] = spheres.sourceIds[from];
-          for (int a = 0; a < na; ++a)
-          {
-            sorted.attributes[i * na + a] = spheres.attributes[from * na + a];
-          }
-        }
-      });
-    spheres.centers.swap(sorted.centers);
-    spheres.radii.swap(sorted.radii);
-    spheres.colors.swap(sorted.colors);
-    spheres.sourceIds.swap(sorted.sourceIds);
-    spheres.attributes.swap(sorted.attributes);
-  }
+  return cellOfSphere;
+}
 
-  // Macrocells: how many spheres each M x M x M block of cells holds, and the extrema of
-  // their attributes.
+std::vector<std::uint32_t> CoherentGrid::placeInCells(
+  const std::vector<std::uint32_t>& cellOfSphere) const
+{
+  const std::size_t n = cellOfSphere.size();
+  std::vector<std::uint32_t> perm(n);
+  std::vector<std::uint32_t> cursor(CellStart.begin(), CellStart.end() - 1);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
+    [&](const tbb::blocked_range<std::size_t>& range)
+    {
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      {
+        const std::uint32_t slot =
+          __atomic_fetch_add(&cursor[cellOfSphere[i]], 1u, __ATOMIC_RELAXED);
+        perm[slot] = static_cast<std::uint32_t>(i);
+      }
+    });
+  tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, cellCount(Dims), 65536),
+    [&](const tbb::blocked_range<std::int64_t>& range)
+    {
+      for (std::int64_t c = range.begin(); c != range.end(); ++c)
+      {
+        const auto first = perm.begin() + cellBegin(c), last = perm.begin() + cellEnd(c);
+        if (last - first > 1)
+        {
+          std::sort(first, last);
+        }
+      }
+    });
+  return perm;
+}
+
+void CoherentGrid::buildMacrocells(const SphereSet& spheres)
+{
   for (int a = 0; a < 3; ++a)
   {
     MacroDims[a] = (Dims[a] + MacroSize - 1) / MacroSize;
@@ -240,20 +293,12 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
             }
             const std::size_t m = macrocellIndex(i / MacroSize, j / MacroSize, k / MacroSize);
             MacroCount[m] += count;
-            float* mn = MacroMin.data() + m * NumAttributes;
-            float* mx = MacroMax.data() + m * NumAttributes;
-            for (std::uint32_t id = cellBegin(c); id < cellEnd(c); ++id)
-            {
-              const float* v = spheres.attributesOf(id);
-              for (int a = 0; a < NumAttributes; ++a)
-              {
-                if (!std::isnan(v[a]))
-                {
-                  mn[a] = std::min(mn[a], v[a]);
-                  mx[a] = std::max(mx[a], v[a]);
-                }
-              }
-            }
+            addExtrema(spheres,
+              cellBegin(c),
+              cellEnd(c),
+              NumAttributes,
+              MacroMin.data() + m * NumAttributes,
+              MacroMax.data() + m * NumAttributes);
           }
         }
       }

@@ -75,6 +75,13 @@ public:
   }
 
 private:
+  // The phases of build() (section 4.2) after the cell size: the counting (each sphere's
+  // cell, the cells' offsets by a histogram and its prefix sum), the placement (the
+  // permutation into cell order) and the macrocells with their attribute extrema.
+  std::vector<std::uint32_t> countPerCell(const SphereSet& spheres);
+  std::vector<std::uint32_t> placeInCells(const std::vector<std::uint32_t>& cellOfSphere) const;
+  void buildMacrocells(const SphereSet& spheres);
+
   std::array<int, 3> Dims{ 0, 0, 0 };
   std::array<int, 3> MacroDims{ 0, 0, 0 };
   int MacroSize = 6;

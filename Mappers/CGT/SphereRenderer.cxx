@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 namespace raymappers
@@ -91,6 +92,269 @@ Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel)
   return normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(1.0 - u));
 }
 
+namespace
+{
+// What every tile of a frame reads: the spheres, the accelerator, the camera, the shading
+// and the effects it asks for.
+struct SphereFrame
+{
+  const SphereSet& spheres;
+  const SphereAccelerator& accel;
+  const RayCamera& camera;
+  const SphereShading& shading;
+  Frame& frame;
+  int side;                     // primary packets of side x side rays
+  bool lit;                     // lights or the area light shade the spheres
+  int shadowSide;               // shadow rays per hit: shadowSide^2 (0: none)
+  int aoSamples;                // ambient-occlusion rays per hit (0: none)
+  int aoSide;                   // the ambient-occlusion packet's side
+  std::vector<Light> areaLight; // the area light's centre as the direct light (shadows)
+};
+
+// The counts of a tile, summed into the frame's counters.
+struct SphereCounts
+{
+  std::int64_t rays = 0, packets = 0, hits = 0, aoRays = 0, shadowRays = 0;
+  TraversalCounters traversal;
+};
+
+// A primary hit: the exact point (refined in double), its normal facing the ray, the
+// sphere's colour and the shaded colour.
+struct SurfacePoint
+{
+  double t;
+  Vec3d pRel; // origin-relative
+  Vec3d n;
+  double r;
+  Vec3d base, color;
+};
+
+// Shading of a primary hit (VTK's Lambert + Phong model, Lighting.h): the
+// hit refined in double, its normal, the colour of the sphere lit in world space (by the
+// area light's centre when there are soft shadows).
+SurfacePoint shadeHit(const SphereFrame& f, const Ray& ray, std::uint32_t id, float tHit)
+{
+  const SphereSet& spheres = f.spheres;
+  const double* mw = f.shading.modelToWorld;
+  SurfacePoint sp;
+  const Vec3d o(ray.org), d(ray.dir), c(spheres.centers[id]);
+  sp.r = spheres.radii[id];
+  sp.t = refineSphereHit(o, d, c, sp.r, tHit);
+  sp.pRel = o + d * sp.t;
+  sp.n = (sp.pRel - c) * (1.0 / sp.r);
+  if (dot(sp.n, d) > 0)
+  {
+    sp.n = -sp.n; // the near plane cuts the sphere: we see its inside
+  }
+  const std::uint32_t packed = spheres.colors[id];
+  sp.base =
+    Vec3d((packed & 0xFF) / 255.0, ((packed >> 8) & 0xFF) / 255.0, ((packed >> 16) & 0xFF) / 255.0);
+  sp.color = sp.base;
+  if (f.lit)
+  {
+    const Vec3d pm = sp.pRel + spheres.origin;
+    const Vec3d pw = mul3(mw, 4, pm) + Vec3d(mw[3], mw[7], mw[11]);
+    const Vec3d nw = normalize(mul3(f.shading.normalToWorld, 3, sp.n));
+    const Vec3d vw = normalize(-mul3(mw, 4, d));
+    const bool shadows = f.shadowSide > 0;
+    sp.color =
+      shade(shadows ? f.areaLight : f.shading.lights, f.shading.material, sp.base, pw, nw, vw);
+  }
+  return sp;
+}
+
+// The secondary packets of a tile: shadow rays and ambient-occlusion rays, which bound no
+// pixel block's frustum.
+struct SecondaryPackets
+{
+  RayPacket shadow, ao;
+  PacketHits shadowHits, aoHits;
+
+  explicit SecondaryPackets(const SphereFrame& f)
+  {
+    shadow.side = f.shadowSide <= 4 ? 4 : (f.shadowSide <= 8 ? 8 : MaxPacketSide);
+    shadow.pixelBlock = false;
+    ao.side = f.aoSide;
+    ao.pixelBlock = false;
+  }
+};
+
+// The secondary rays of a hit in one packet: rays rayOf(a, start) for a < count in its first
+// lanes, the rest invalid, all leaving from just above the surface so that they cannot hit
+// their own sphere; returns how many of them meet a sphere.
+template<typename RayOf>
+int countBlocked(const SphereFrame& f,
+  const SurfacePoint& sp,
+  int count,
+  const RayOf& rayOf,
+  RayPacket& packet,
+  PacketHits& hits,
+  SphereCounts& counts)
+{
+  const Vec3d start = sp.pRel + sp.n * (1e-4 * sp.r);
+  for (int a = 0; a < packet.side * packet.side; ++a)
+  {
+    packet.valid[a] = a < count;
+    if (a < count)
+    {
+      packet.rays[a] = rayOf(a, start);
+    }
+  }
+  f.accel.intersect(packet, hits, counts.traversal);
+  int blocked = 0;
+  for (int a = 0; a < count; ++a)
+  {
+    blocked += hits.prim[a] != NoHit ? 1 : 0;
+  }
+  return blocked;
+}
+
+// Soft shadows (section 4.3): a packet of shadow rays to the area light's stratified
+// samples (shadowTarget); returns the share of them that reach the light.
+double lightVisibility(const SphereFrame& f,
+  const SurfacePoint& sp,
+  std::uint32_t pixel,
+  SecondaryPackets& secondary,
+  SphereCounts& counts)
+{
+  const int count = f.shadowSide * f.shadowSide;
+  const auto shadowRay = [&](int a, const Vec3d& start)
+  {
+    const Vec3d q = shadowTarget(f.shading, a % f.shadowSide, a / f.shadowSide, pixel);
+    const Vec3d toLight = q - start;
+    const double dist = length(toLight);
+    return Ray{ Vec3f(start), Vec3f(toLight * (1.0 / dist)), 0.f, static_cast<float>(dist) };
+  };
+  const int blocked =
+    countBlocked(f, sp, count, shadowRay, secondary.shadow, secondary.shadowHits, counts);
+  counts.shadowRays += count;
+  return 1.0 - static_cast<double>(blocked) / count;
+}
+
+// Ambient occlusion: a packet of cosine-weighted hemisphere rays (aoDirection); returns
+// the share of them that meet no sphere within the radius.
+double unoccluded(const SphereFrame& f,
+  const SurfacePoint& sp,
+  std::uint32_t pixel,
+  SecondaryPackets& secondary,
+  SphereCounts& counts)
+{
+  const auto aoRay = [&](int a, const Vec3d& start)
+  {
+    return Ray{ Vec3f(start),
+      Vec3f(aoDirection(sp.n, a, f.aoSamples, pixel)),
+      0.f,
+      static_cast<float>(f.shading.aoRadius) };
+  };
+  const int occluded =
+    countBlocked(f, sp, f.aoSamples, aoRay, secondary.ao, secondary.aoHits, counts);
+  counts.aoRays += f.aoSamples;
+  return 1.0 - static_cast<double>(occluded) / f.aoSamples;
+}
+
+// The primary packet of the pixel block at (bx, by): the rays of its pixels inside the tile.
+// Returns how many there are.
+int makePrimaryPacket(const SphereFrame& f, const Tile& tile, int bx, int by, RayPacket& packet)
+{
+  const int side = f.side;
+  int rays = 0;
+  for (int k = 0; k < side * side; ++k)
+  {
+    const int i = bx + k % side;
+    const int j = by + k / side;
+    packet.valid[k] = i < tile.x1 && j < tile.y1;
+    if (packet.valid[k])
+    {
+      packet.rays[k] = f.camera.pixelRay(i, j);
+      ++rays;
+    }
+  }
+  return rays;
+}
+
+// A hit's pixel: its shaded colour, darkened by its shadows (the visible share scales the
+// direct, non-ambient light) and its occlusion, and the window depth of the hit.
+void renderHit(const SphereFrame& f,
+  const Ray& ray,
+  std::uint32_t id,
+  float tHit,
+  std::size_t idx,
+  SecondaryPackets& secondary,
+  SphereCounts& counts)
+{
+  const SurfacePoint sp = shadeHit(f, ray, id, tHit);
+  Vec3d color = sp.color;
+  const auto pixel = static_cast<std::uint32_t>(idx);
+  if (f.shadowSide > 0)
+  {
+    const double visible = lightVisibility(f, sp, pixel, secondary, counts);
+    const Vec3d ambient = sp.base * f.shading.material.ambient;
+    color = ambient + (color - ambient) * visible;
+  }
+  if (f.aoSamples > 0)
+  {
+    color = color * unoccluded(f, sp, pixel, secondary, counts);
+  }
+  Frame& frame = f.frame;
+  frame.rgba[4 * idx] = static_cast<float>(std::clamp(color.x, 0.0, 1.0));
+  frame.rgba[4 * idx + 1] = static_cast<float>(std::clamp(color.y, 0.0, 1.0));
+  frame.rgba[4 * idx + 2] = static_cast<float>(std::clamp(color.z, 0.0, 1.0));
+  frame.rgba[4 * idx + 3] = 1.f;
+  const double depth = f.camera.depthMap(ray).depthOf(sp.t);
+  frame.depth[idx] = static_cast<float>(std::clamp(depth, 0.0, 1.0));
+}
+
+// A tile: primary packets of side x side pixels, the closest hits from the accelerator
+// (section 4), and every hit's pixel.
+void renderTile(const SphereFrame& f, const Tile& tile, SphereCounts& counts)
+{
+  const int side = f.side;
+  SecondaryPackets secondary(f);
+  RayPacket packet;
+  packet.side = side;
+  PacketHits result;
+  for (int by = tile.y0; by < tile.y1; by += side)
+  {
+    for (int bx = tile.x0; bx < tile.x1; bx += side)
+    {
+      counts.rays += makePrimaryPacket(f, tile, bx, by, packet);
+      ++counts.packets;
+      f.accel.intersect(packet, result, counts.traversal);
+      for (int k = 0; k < side * side; ++k)
+      {
+        if (!packet.valid[k] || result.prim[k] == NoHit)
+        {
+          continue;
+        }
+        ++counts.hits;
+        const std::size_t idx = f.frame.index(bx + k % side, by + k / side);
+        renderHit(f, packet.rays[k], result.prim[k], result.t[k], idx, secondary, counts);
+      }
+    }
+  }
+}
+
+// The frame's counters, summed over the tiles.
+struct SphereCounters
+{
+  std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, hits{ 0 }, cells{ 0 }, culled{ 0 }, tests{ 0 },
+    rangeCulled{ 0 }, aoRays{ 0 }, shadowRays{ 0 };
+
+  void add(const SphereCounts& c)
+  {
+    rays += c.rays;
+    packets += c.packets;
+    hits += c.hits;
+    cells += c.traversal.cells;
+    culled += c.traversal.culled;
+    tests += c.traversal.sphereTests;
+    rangeCulled += c.traversal.rangeCulled;
+    aoRays += c.aoRays;
+    shadowRays += c.shadowRays;
+  }
+};
+}
+
 void renderSpheres(const SphereSet& spheres,
   const SphereAccelerator& accel,
   int packetSide,
@@ -110,28 +374,18 @@ void renderSpheres(const SphereSet& spheres,
   const int aoSamples = std::clamp(shading.aoSamples, 0, MaxPacketRays);
   const bool ao = aoSamples > 0 && shading.aoRadius > 0;
   stats.setEffect("ambient_occlusion", ao);
-  const int aoSide = aoSamples <= 16 ? 4 : (aoSamples <= 64 ? 8 : MaxPacketSide);
   const int shadowSide = std::clamp(shading.shadowSide, 0, MaxPacketSide);
-  const bool shadows = shadowSide > 0;
-  stats.setEffect("soft_shadows", shadows);
-  std::vector<Light> areaLight;
-  if (shadows)
-  {
-    Light l;
-    l.positional = true;
-    l.position = shading.lightCenterWorld;
-    l.color = Vec3d(1, 1, 1) * shading.lightIntensity;
-    areaLight.push_back(l);
-  }
-  for (const char* c : { "rays",
-         "packets",
-         "hits",
-         "cells",
-         "culled",
-         "sphere_tests",
-         "range_culled",
-         "ao_rays",
-         "shadow_rays" })
+  stats.setEffect("soft_shadows", shadowSide > 0);
+  const char* const counterNames[] = { "rays",
+    "packets",
+    "hits",
+    "cells",
+    "culled",
+    "sphere_tests",
+    "range_culled",
+    "ao_rays",
+    "shadow_rays" };
+  for (const char* c : counterNames)
   {
     stats.declareCounter(c);
   }
@@ -139,11 +393,26 @@ void renderSpheres(const SphereSet& spheres,
   {
     return;
   }
-  const int side = std::clamp(packetSide, 1, MaxPacketSide);
-
-  const double* mw = shading.modelToWorld;
-  std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, hits{ 0 }, cells{ 0 }, culled{ 0 }, tests{ 0 },
-    rangeCulled{ 0 }, aoRays{ 0 }, shadowRays{ 0 };
+  SphereFrame f{ spheres,
+    accel,
+    camera,
+    shading,
+    frame,
+    std::clamp(packetSide, 1, MaxPacketSide),
+    lit,
+    shadowSide,
+    ao ? aoSamples : 0,
+    aoSamples <= 16 ? 4 : (aoSamples <= 64 ? 8 : MaxPacketSide),
+    {} };
+  if (shadowSide > 0)
+  {
+    Light l;
+    l.positional = true;
+    l.position = shading.lightCenterWorld;
+    l.color = Vec3d(1, 1, 1) * shading.lightIntensity;
+    f.areaLight.push_back(l);
+  }
+  SphereCounters counters;
   {
     ScopedPhase phase(stats, "trace");
     forEachTile(width,
@@ -151,160 +420,24 @@ void renderSpheres(const SphereSet& spheres,
       tileSize,
       [&](const Tile& tile)
       {
-        std::int64_t tileRays = 0, tilePackets = 0, tileHits = 0, tileAoRays = 0,
-                     tileShadowRays = 0;
-        RayPacket shadowPacket;
-        shadowPacket.side = shadowSide <= 4 ? 4 : (shadowSide <= 8 ? 8 : MaxPacketSide);
-        shadowPacket.pixelBlock = false;
-        PacketHits shadowHits;
-        RayPacket aoPacket;
-        aoPacket.side = aoSide;
-        aoPacket.pixelBlock = false;
-        PacketHits aoHits;
-        TraversalCounters counters;
-        RayPacket packet;
-        packet.side = side;
-        PacketHits result;
-        for (int by = tile.y0; by < tile.y1; by += side)
-        {
-          for (int bx = tile.x0; bx < tile.x1; bx += side)
-          {
-            for (int k = 0; k < side * side; ++k)
-            {
-              const int i = bx + k % side;
-              const int j = by + k / side;
-              packet.valid[k] = i < tile.x1 && j < tile.y1;
-              if (packet.valid[k])
-              {
-                packet.rays[k] = camera.pixelRay(i, j);
-                ++tileRays;
-              }
-            }
-            ++tilePackets;
-            accel.intersect(packet, result, counters);
-            for (int k = 0; k < side * side; ++k)
-            {
-              if (!packet.valid[k] || result.prim[k] == NoHit)
-              {
-                continue;
-              }
-              ++tileHits;
-              const std::uint32_t id = result.prim[k];
-              const Ray& ray = packet.rays[k];
-              const Vec3d o(ray.org), d(ray.dir), c(spheres.centers[id]);
-              const double r = spheres.radii[id];
-              const double t = refineSphereHit(o, d, c, r, result.t[k]);
-              const Vec3d pRel = o + d * t;
-              Vec3d n = (pRel - c) * (1.0 / r);
-              if (dot(n, d) > 0)
-              {
-                n = -n; // the near plane cuts the sphere: we see its inside
-              }
-              const std::uint32_t packed = spheres.colors[id];
-              const Vec3d base((packed & 0xFF) / 255.0,
-                ((packed >> 8) & 0xFF) / 255.0,
-                ((packed >> 16) & 0xFF) / 255.0);
-              Vec3d color = base;
-              if (lit)
-              {
-                const Vec3d pm = pRel + spheres.origin;
-                const Vec3d pw = mul3(mw, 4, pm) + Vec3d(mw[3], mw[7], mw[11]);
-                const Vec3d nw = normalize(mul3(shading.normalToWorld, 3, n));
-                const Vec3d vw = normalize(-mul3(mw, 4, d));
-                color =
-                  shade(shadows ? areaLight : shading.lights, shading.material, base, pw, nw, vw);
-              }
-              const std::size_t idx = frame.index(bx + k % side, by + k / side);
-              if (shadows)
-              {
-                // Shadow rays from just above the surface to the light's samples; the
-                // visible share scales the direct (non-ambient) light.
-                const Vec3d start = pRel + n * (1e-4 * r);
-                const int count = shadowSide * shadowSide;
-                for (int a = 0; a < shadowPacket.side * shadowPacket.side; ++a)
-                {
-                  shadowPacket.valid[a] = a < count;
-                  if (a < count)
-                  {
-                    const Vec3d q = shadowTarget(
-                      shading, a % shadowSide, a / shadowSide, static_cast<std::uint32_t>(idx));
-                    const Vec3d toLight = q - start;
-                    const double dist = length(toLight);
-                    Ray& sr = shadowPacket.rays[a];
-                    sr.org = Vec3f(start);
-                    sr.dir = Vec3f(toLight * (1.0 / dist));
-                    sr.tnear = 0.f;
-                    sr.tfar = static_cast<float>(dist);
-                  }
-                }
-                accel.intersect(shadowPacket, shadowHits, counters);
-                int blocked = 0;
-                for (int a = 0; a < count; ++a)
-                {
-                  blocked += shadowHits.prim[a] != NoHit ? 1 : 0;
-                }
-                tileShadowRays += count;
-                const double visible = 1.0 - static_cast<double>(blocked) / count;
-                const Vec3d ambient = base * shading.material.ambient;
-                color = ambient + (color - ambient) * visible;
-              }
-              if (ao)
-              {
-                // Ambient occlusion: the fraction of hemisphere rays that escape within
-                // the radius scales the shaded colour. The rays leave slightly above the
-                // surface so they cannot hit their own sphere.
-                const Vec3d start = pRel + n * (1e-4 * r);
-                for (int a = 0; a < aoSide * aoSide; ++a)
-                {
-                  aoPacket.valid[a] = a < aoSamples;
-                  if (a < aoSamples)
-                  {
-                    Ray& aoRay = aoPacket.rays[a];
-                    aoRay.org = Vec3f(start);
-                    aoRay.dir =
-                      Vec3f(aoDirection(n, a, aoSamples, static_cast<std::uint32_t>(idx)));
-                    aoRay.tnear = 0.f;
-                    aoRay.tfar = static_cast<float>(shading.aoRadius);
-                  }
-                }
-                accel.intersect(aoPacket, aoHits, counters);
-                int occluded = 0;
-                for (int a = 0; a < aoSamples; ++a)
-                {
-                  occluded += aoHits.prim[a] != NoHit ? 1 : 0;
-                }
-                tileAoRays += aoSamples;
-                color = color * (1.0 - static_cast<double>(occluded) / aoSamples);
-              }
-              frame.rgba[4 * idx] = static_cast<float>(std::clamp(color.x, 0.0, 1.0));
-              frame.rgba[4 * idx + 1] = static_cast<float>(std::clamp(color.y, 0.0, 1.0));
-              frame.rgba[4 * idx + 2] = static_cast<float>(std::clamp(color.z, 0.0, 1.0));
-              frame.rgba[4 * idx + 3] = 1.f;
-              const double depth = camera.depthMap(ray).depthOf(t);
-              frame.depth[idx] = static_cast<float>(std::clamp(depth, 0.0, 1.0));
-            }
-          }
-        }
-        rays += tileRays;
-        packets += tilePackets;
-        hits += tileHits;
-        cells += counters.cells;
-        culled += counters.culled;
-        tests += counters.sphereTests;
-        rangeCulled += counters.rangeCulled;
-        aoRays += tileAoRays;
-        shadowRays += tileShadowRays;
+        SphereCounts counts;
+        renderTile(f, tile, counts);
+        counters.add(counts);
       });
   }
-  stats.addCounter("rays", rays.load());
-  stats.addCounter("packets", packets.load());
-  stats.addCounter("hits", hits.load());
-  stats.addCounter("cells", cells.load());
-  stats.addCounter("culled", culled.load());
-  stats.addCounter("sphere_tests", tests.load());
-  stats.addCounter("range_culled", rangeCulled.load());
-  stats.addCounter("ao_rays", aoRays.load());
-  stats.addCounter("shadow_rays", shadowRays.load());
+  const std::int64_t counts[] = { counters.rays,
+    counters.packets,
+    counters.hits,
+    counters.cells,
+    counters.culled,
+    counters.tests,
+    counters.rangeCulled,
+    counters.aoRays,
+    counters.shadowRays };
+  for (std::size_t c = 0; c < std::size(counts); ++c)
+  {
+    stats.addCounter(counterNames[c], counts[c]);
+  }
 }
 
 } // namespace raymappers

@@ -66,36 +66,34 @@ void* createLeaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, 
   return node;
 }
 
-struct DeviceHolder
+// The build's Embree device and BVH (whose allocator holds the TempNodes), released in that
+// order, also when the build throws.
+struct EmbreeBuild
 {
   RTCDevice device = nullptr;
-  ~DeviceHolder()
+  RTCBVH bvh = nullptr;
+  void release()
   {
+    if (bvh)
+    {
+      rtcReleaseBVH(bvh);
+      bvh = nullptr;
+    }
+  }
+  ~EmbreeBuild()
+  {
+    release();
     if (device)
     {
       rtcReleaseDevice(device);
     }
   }
 };
-}
 
-void ParticleBVH::build(RBFParticles& particles, int leafSize)
+// The primitives of the build (section 5.1): each particle's box x_i +- r_i.
+std::vector<RTCBuildPrimitive> particleBoxes(const RBFParticles& particles)
 {
-  Nodes.clear();
-  Depth = 0;
   const std::size_t n = particles.size();
-  if (n == 0)
-  {
-    return;
-  }
-  leafSize = std::clamp(leafSize, 1, 64);
-
-  DeviceHolder holder;
-  holder.device = rtcNewDevice(nullptr);
-  if (!holder.device)
-  {
-    throw std::runtime_error("Embree: rtcNewDevice failed");
-  }
   std::vector<RTCBuildPrimitive> prims(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
     [&](const tbb::blocked_range<std::size_t>& range)
@@ -115,7 +113,16 @@ void ParticleBVH::build(RBFParticles& particles, int leafSize)
         p.primID = static_cast<unsigned int>(i);
       }
     });
-  RTCBVH bvh = rtcNewBVH(holder.device);
+  return prims;
+}
+
+// Embree's SAH build over the boxes: binary nodes, a node of at most leafSize particles is a
+// leaf. The nodes live in `bvh` until it is released.
+const TempNode* buildSAH(RTCDevice device,
+  RTCBVH bvh,
+  std::vector<RTCBuildPrimitive>& prims,
+  int leafSize)
+{
   RTCBuildArguments args = rtcDefaultBuildArguments();
   args.buildQuality = RTC_BUILD_QUALITY_MEDIUM;
   args.maxBranchingFactor = 2;
@@ -124,25 +131,33 @@ void ParticleBVH::build(RBFParticles& particles, int leafSize)
   args.maxLeafSize = static_cast<unsigned int>(leafSize);
   args.bvh = bvh;
   args.primitives = prims.data();
-  args.primitiveCount = n;
-  args.primitiveArrayCapacity = n;
+  args.primitiveCount = prims.size();
+  args.primitiveArrayCapacity = prims.size();
   args.createNode = createNode;
   args.setNodeChildren = setNodeChildren;
   args.setNodeBounds = setNodeBounds;
   args.createLeaf = createLeaf;
-  auto* root = static_cast<TempNode*>(rtcBuildBVH(&args));
+  const auto* root = static_cast<TempNode*>(rtcBuildBVH(&args));
   if (!root)
   {
-    rtcReleaseBVH(bvh);
     throw std::runtime_error("Embree: rtcBuildBVH failed (error " +
-                             std::to_string(static_cast<int>(rtcGetDeviceError(holder.device))) +
-                             ")");
+                             std::to_string(static_cast<int>(rtcGetDeviceError(device))) + ")");
   }
+  return root;
+}
 
-  // Flatten depth first; leaves take their particles in order, giving the permutation.
+// Flattens the tree depth first into `nodes` (children a, a + 1 after their parent); the
+// leaves take their particles in order, which gives the permutation returned (new index to
+// input index). `depth` becomes the tree's depth.
+std::vector<std::uint32_t> flatten(const TempNode* root,
+  std::size_t n,
+  int leafSize,
+  std::vector<BVHNode>& nodes,
+  int& depth)
+{
   std::vector<std::uint32_t> order;
   order.reserve(n);
-  Nodes.reserve(2 * n / static_cast<std::size_t>(leafSize) + 2);
+  nodes.reserve(2 * n / static_cast<std::size_t>(leafSize) + 2);
   struct Item
   {
     const TempNode* node;
@@ -150,13 +165,13 @@ void ParticleBVH::build(RBFParticles& particles, int leafSize)
     int depth;
   };
   std::vector<Item> stack{ { root, 0, 1 } };
-  Nodes.emplace_back();
+  nodes.emplace_back();
   while (!stack.empty())
   {
     const Item item = stack.back();
     stack.pop_back();
-    Depth = std::max(Depth, item.depth);
-    BVHNode& out = Nodes[item.index];
+    depth = std::max(depth, item.depth);
+    BVHNode& out = nodes[item.index];
     if (item.node->leaf)
     {
       out.first = static_cast<std::uint32_t>(order.size());
@@ -164,47 +179,53 @@ void ParticleBVH::build(RBFParticles& particles, int leafSize)
       order.insert(order.end(), item.node->ids, item.node->ids + item.node->count);
       continue;
     }
-    const auto a = static_cast<std::uint32_t>(Nodes.size());
-    Nodes.emplace_back();
-    Nodes.emplace_back();
-    BVHNode& parent = Nodes[item.index]; // (emplace_back may have moved it)
+    const auto a = static_cast<std::uint32_t>(nodes.size());
+    nodes.emplace_back();
+    nodes.emplace_back();
+    BVHNode& parent = nodes[item.index]; // (emplace_back may have moved it)
     parent.first = a;
     parent.count = 0;
     stack.push_back({ item.node->child[1], a + 1, item.depth + 1 });
     stack.push_back({ item.node->child[0], a, item.depth + 1 });
   }
-  rtcReleaseBVH(bvh);
+  return order;
+}
 
-  // Permute the particles into leaf order.
-  {
-    RBFParticles sorted;
-    sorted.centers.resize(n);
-    sorted.radii.resize(n);
-    sorted.values.resize(n);
-    sorted.fields.resize(n);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
-      [&](const tbb::blocked_range<std::size_t>& range)
+// Permutes the particles into leaf order: particle i becomes input particle order[i].
+void permute(RBFParticles& particles, const std::vector<std::uint32_t>& order)
+{
+  const std::size_t n = particles.size();
+  RBFParticles sorted;
+  sorted.centers.resize(n);
+  sorted.radii.resize(n);
+  sorted.values.resize(n);
+  sorted.fields.resize(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
+    [&](const tbb::blocked_range<std::size_t>& range)
+    {
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
       {
-        for (std::size_t i = range.begin(); i != range.end(); ++i)
-        {
-          const std::uint32_t from = order[i];
-          sorted.centers[i] = particles.centers[from];
-          sorted.radii[i] = particles.radii[from];
-          sorted.values[i] = particles.values[from];
-          sorted.fields[i] = particles.fields[from];
-        }
-      });
-    particles.centers.swap(sorted.centers);
-    particles.radii.swap(sorted.radii);
-    particles.values.swap(sorted.values);
-    particles.fields.swap(sorted.fields);
-  }
+        const std::uint32_t from = order[i];
+        sorted.centers[i] = particles.centers[from];
+        sorted.radii[i] = particles.radii[from];
+        sorted.values[i] = particles.values[from];
+        sorted.fields[i] = particles.fields[from];
+      }
+    });
+  particles.centers.swap(sorted.centers);
+  particles.radii.swap(sorted.radii);
+  particles.values.swap(sorted.values);
+  particles.fields.swap(sorted.fields);
+}
 
-  // Bounds bottom-up: children always come after their parent, so a reverse sweep sees
-  // both children of a node before the node.
-  for (std::size_t k = Nodes.size(); k-- > 0;)
+// Each node's box of the centres below it and their largest radius, bottom-up: children
+// always come after their parent, so a reverse sweep sees both children of a node before
+// the node.
+void computeBounds(std::vector<BVHNode>& nodes, const RBFParticles& particles)
+{
+  for (std::size_t k = nodes.size(); k-- > 0;)
   {
-    BVHNode& node = Nodes[k];
+    BVHNode& node = nodes[k];
     const float big = std::numeric_limits<float>::max();
     float lo[3] = { big, big, big }, hi[3] = { -big, -big, -big }, rMax = 0.f;
     if (node.count > 0)
@@ -226,16 +247,42 @@ void ParticleBVH::build(RBFParticles& particles, int leafSize)
       {
         for (int a = 0; a < 3; ++a)
         {
-          lo[a] = std::min(lo[a], Nodes[c].lo[a]);
-          hi[a] = std::max(hi[a], Nodes[c].hi[a]);
+          lo[a] = std::min(lo[a], nodes[c].lo[a]);
+          hi[a] = std::max(hi[a], nodes[c].hi[a]);
         }
-        rMax = std::max(rMax, Nodes[c].rMax);
+        rMax = std::max(rMax, nodes[c].rMax);
       }
     }
     std::copy(lo, lo + 3, node.lo);
     std::copy(hi, hi + 3, node.hi);
     node.rMax = rMax;
   }
+}
+}
+
+void ParticleBVH::build(RBFParticles& particles, int leafSize)
+{
+  Nodes.clear();
+  Depth = 0;
+  const std::size_t n = particles.size();
+  if (n == 0)
+  {
+    return;
+  }
+  leafSize = std::clamp(leafSize, 1, 64);
+  EmbreeBuild embree;
+  embree.device = rtcNewDevice(nullptr);
+  if (!embree.device)
+  {
+    throw std::runtime_error("Embree: rtcNewDevice failed");
+  }
+  std::vector<RTCBuildPrimitive> prims = particleBoxes(particles);
+  embree.bvh = rtcNewBVH(embree.device);
+  const TempNode* root = buildSAH(embree.device, embree.bvh, prims, leafSize);
+  const std::vector<std::uint32_t> order = flatten(root, n, leafSize, Nodes, Depth);
+  embree.release();
+  permute(particles, order);
+  computeBounds(Nodes, particles);
 }
 
 } // namespace raymappers
