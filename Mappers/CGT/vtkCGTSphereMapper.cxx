@@ -211,6 +211,35 @@ void vtkCGTSphereMapper::ComputeBounds()
   }
 }
 
+// A sphere's colour: its point's mapped scalar colour (RGB or grey, opaque), or the actor's
+// diffuse colour when nothing is mapped.
+struct vtkCGTSphereMapper::SphereColors
+{
+  SphereColors(vtkUnsignedCharArray* colors, const double* actorColor)
+    : Rgba(colors ? colors->GetPointer(0) : nullptr)
+    , Components(colors ? colors->GetNumberOfComponents() : 0)
+    , ActorColor(raymappers::packRGBA8(
+        static_cast<unsigned>(std::lround(std::clamp(actorColor[0], 0.0, 1.0) * 255)),
+        static_cast<unsigned>(std::lround(std::clamp(actorColor[1], 0.0, 1.0) * 255)),
+        static_cast<unsigned>(std::lround(std::clamp(actorColor[2], 0.0, 1.0) * 255)),
+        255))
+  {
+  }
+  std::uint32_t operator()(std::size_t i) const
+  {
+    if (!Rgba)
+    {
+      return ActorColor;
+    }
+    const unsigned char* c = Rgba + Components * i;
+    return Components >= 3 ? raymappers::packRGBA8(c[0], c[1], c[2], 255)
+                           : raymappers::packRGBA8(c[0], c[0], c[0], 255);
+  }
+  const unsigned char* Rgba;
+  int Components;
+  std::uint32_t ActorColor;
+};
+
 void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
 {
   if (ren->GetSelector())
@@ -227,9 +256,55 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     return;
   }
 
-  // 1. Update. The sphere set depends on the points and the radius settings, its colours
-  //    on the scalars, lookup table and actor colour, the accelerator on the sphere set and
-  //    its own parameters; a camera or light change reuses all of them.
+  // 1. Update: the sphere set, then the accelerator over it.
+  this->UpdateSpheres(input, actor, stats);
+  const bool grid = this->UpdateAccelerator(stats);
+
+  // 2. Gather the camera, lights and material.
+  raymappers::SphereShading shading;
+  const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(actor);
+  std::copy(model.modelToWorld, model.modelToWorld + 16, shading.modelToWorld);
+  std::copy(model.normalToWorld, model.normalToWorld + 9, shading.normalToWorld);
+  int width = 0, height = 0;
+  const std::array<double, 16> modelToClip =
+    vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
+  if (!Impl->Camera.Usable(this, modelToClip))
+  {
+    Impl->Statistics->Set(stats);
+    return;
+  }
+  const raymappers::RayCamera camera(modelToClip, width, height, Impl->Spheres.origin);
+  this->GatherShading(ren, actor, model, shading);
+
+  // 3. Trace, 4. show.
+  raymappers::SphereAccelerator& accelerator =
+    grid ? static_cast<raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
+  this->SetRangeFilter(accelerator);
+  raymappers::renderSpheres(Impl->Spheres,
+    accelerator,
+    grid ? this->PacketSize : 4,
+    camera,
+    shading,
+    this->TileSize,
+    Impl->Frame,
+    stats);
+  {
+    raymappers::ScopedPhase phase(stats, "draw");
+    Impl->Drawer.Draw(ren,
+      Impl->Frame,
+      vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth,
+      Impl->Statistics->GetValidateFrames(),
+      stats);
+  }
+  Impl->Statistics->Set(stats);
+}
+
+void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
+  vtkActor* actor,
+  raymappers::RenderStatistics& stats)
+{
+  // The sphere set depends on the points and the radius settings, its colours on the
+  // scalars, lookup table and actor colour; a camera or light change reuses both.
   this->MapScalars(input, 1.0);
   vtkMTimeType colorTime = this->Colors ? this->Colors->GetMTime() : 0;
   colorTime = std::max(colorTime, actor->GetProperty()->GetMTime());
@@ -238,123 +313,121 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     !Impl->HasBuilt || Impl->BuiltInputTime != input->GetMTime() ||
     Impl->BuiltRadius != this->Radius || Impl->BuiltScale != this->RadiusScale ||
     Impl->BuiltRadiusArray != radiusArray || Impl->BuiltRangeArrays != Impl->RangeArrays;
-  if (geometryChanged || Impl->BuiltColorTime != colorTime)
+  if (!geometryChanged && Impl->BuiltColorTime == colorTime)
   {
-    raymappers::ScopedPhase phase(stats, geometryChanged ? "spheres" : "recolor");
-    int cellFlag = 0;
-    vtkUnsignedCharArray* colors = this->MapScalars(input, 1.0, cellFlag);
-    if (colors && cellFlag != 0)
-    {
-      vtkWarningMacro(<< "Sphere glyphs are colored by point data; the selected cell (or field) "
-                         "data is ignored and the actor color is used.");
-      colors = nullptr;
-    }
-    const double* ac = actor->GetProperty()->GetDiffuseColor();
-    const std::uint32_t actorColor =
-      raymappers::packRGBA8(static_cast<unsigned>(std::lround(std::clamp(ac[0], 0.0, 1.0) * 255)),
-        static_cast<unsigned>(std::lround(std::clamp(ac[1], 0.0, 1.0) * 255)),
-        static_cast<unsigned>(std::lround(std::clamp(ac[2], 0.0, 1.0) * 255)),
-        255);
-    const unsigned char* rgba = colors ? colors->GetPointer(0) : nullptr;
-    const int nc = colors ? colors->GetNumberOfComponents() : 0;
-    auto colorOf = [&](std::size_t i) -> std::uint32_t
-    {
-      if (!rgba)
-      {
-        return actorColor;
-      }
-      const unsigned char* c = rgba + nc * i;
-      return nc >= 3 ? raymappers::packRGBA8(c[0], c[1], c[2], 255)
-                     : raymappers::packRGBA8(c[0], c[0], c[0], 255);
-    };
-
-    if (geometryChanged)
-    {
-      std::string why;
-      vtkDataArray* radii =
-        vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
-      if (!why.empty())
-      {
-        vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
-      }
-      vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
-      vtkPoints* points = input->GetPoints();
-      const double scale = this->RadiusScale;
-      const double constantRadius = this->Radius * scale;
-      // Float and double arrays (nearly all data) are read directly, others through the
-      // generic vtkDataArray interface.
-      const vtkRayMapperRenderHelpers::TupleReader pointReader(points->GetData());
-      const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
-      raymappers::buildSphereSet(
-        static_cast<std::size_t>(input->GetNumberOfPoints()),
-        vtkRayMapperRenderHelpers::FiniteCenter(points),
-        [&](std::size_t i) {
-          return raymappers::Vec3d(
-            pointReader.get(i, 0), pointReader.get(i, 1), pointReader.get(i, 2));
-        },
-        [&](std::size_t i) { return radii ? radiusReader.get(i, 0) * scale : constantRadius; },
-        colorOf,
-        Impl->Spheres);
-      // The attributes of parameter-range culling (first component of each range's array).
-      vtkDataArray* rangeArrays[raymappers::MaxRangeAttributes] = {};
-      int numRanges = 0;
-      for (int r = 0; r < raymappers::MaxRangeAttributes; ++r)
-      {
-        const std::string& name = Impl->RangeArrays[r];
-        if (!name.empty())
-        {
-          rangeArrays[r] = input->GetPointData()->GetArray(name.c_str());
-          numRanges = r + 1;
-          if (!rangeArrays[r])
-          {
-            vtkWarningMacro(<< "range array '" << name
-                            << "' is not a point array of the input; that range is ignored.");
-          }
-        }
-      }
-      raymappers::setSphereAttributes(Impl->Spheres,
-        numRanges,
-        [&](std::uint32_t id, int a) {
-          return rangeArrays[a] ? rangeArrays[a]->GetComponent(static_cast<vtkIdType>(id), 0) : 0.0;
-        });
-      Impl->RangeArrayFound.fill(false);
-      for (int r = 0; r < numRanges; ++r)
-      {
-        Impl->RangeArrayFound[r] = rangeArrays[r] != nullptr;
-      }
-      if (Impl->Spheres.skippedNonFinite > 0)
-      {
-        vtkWarningMacro(<< Impl->Spheres.skippedNonFinite
-                        << " points have NaN or infinite coordinates and are not drawn.");
-      }
-      if (Impl->Spheres.skippedBadRadius > 0)
-      {
-        vtkWarningMacro(<< Impl->Spheres.skippedBadRadius
-                        << " spheres have a zero, negative, non-finite or huge (above 1e15) radius and are not "
-                           "drawn.");
-      }
-      Impl->BuiltAccelerator = -1;
-    }
-    else
-    {
-      // Only the colours changed: recolour in place (the spheres may be in grid order).
-      for (std::size_t i = 0; i < Impl->Spheres.size(); ++i)
-      {
-        Impl->Spheres.colors[i] = colorOf(Impl->Spheres.sourceIds[i]);
-      }
-    }
-    Impl->BuiltInputTime = input->GetMTime();
-    Impl->BuiltColorTime = colorTime;
-    Impl->BuiltRadius = this->Radius;
-    Impl->BuiltScale = this->RadiusScale;
-    Impl->BuiltRadiusArray = radiusArray;
-    Impl->BuiltRangeArrays = Impl->RangeArrays;
-    Impl->HasBuilt = true;
+    return;
   }
+  raymappers::ScopedPhase phase(stats, geometryChanged ? "spheres" : "recolor");
+  int cellFlag = 0;
+  vtkUnsignedCharArray* colors = this->MapScalars(input, 1.0, cellFlag);
+  if (colors && cellFlag != 0)
+  {
+    vtkWarningMacro(<< "Sphere glyphs are colored by point data; the selected cell (or field) "
+                       "data is ignored and the actor color is used.");
+    colors = nullptr;
+  }
+  const SphereColors colorOf(colors, actor->GetProperty()->GetDiffuseColor());
+  if (geometryChanged)
+  {
+    this->BuildSpheres(input, colorOf);
+  }
+  else
+  {
+    // Only the colours changed: recolour in place (the spheres may be in grid order).
+    for (std::size_t i = 0; i < Impl->Spheres.size(); ++i)
+    {
+      Impl->Spheres.colors[i] = colorOf(Impl->Spheres.sourceIds[i]);
+    }
+  }
+  Impl->BuiltInputTime = input->GetMTime();
+  Impl->BuiltColorTime = colorTime;
+  Impl->BuiltRadius = this->Radius;
+  Impl->BuiltScale = this->RadiusScale;
+  Impl->BuiltRadiusArray = radiusArray;
+  Impl->BuiltRangeArrays = Impl->RangeArrays;
+  Impl->HasBuilt = true;
+}
+
+void vtkCGTSphereMapper::BuildSpheres(vtkPolyData* input, const SphereColors& colorOf)
+{
+  std::string why;
+  vtkDataArray* radii =
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+  if (!why.empty())
+  {
+    vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
+  }
+  vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
+  vtkPoints* points = input->GetPoints();
+  const double scale = this->RadiusScale;
+  const double constantRadius = this->Radius * scale;
+  // Float and double arrays (nearly all data) are read directly, others through the
+  // generic vtkDataArray interface.
+  const vtkRayMapperRenderHelpers::TupleReader pointReader(points->GetData());
+  const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
+  raymappers::buildSphereSet(
+    static_cast<std::size_t>(input->GetNumberOfPoints()),
+    vtkRayMapperRenderHelpers::FiniteCenter(points),
+    [&](std::size_t i) {
+      return raymappers::Vec3d(pointReader.get(i, 0), pointReader.get(i, 1), pointReader.get(i, 2));
+    },
+    [&](std::size_t i) { return radii ? radiusReader.get(i, 0) * scale : constantRadius; },
+    colorOf,
+    Impl->Spheres);
+  this->ReadRangeAttributes(input);
+  if (Impl->Spheres.skippedNonFinite > 0)
+  {
+    vtkWarningMacro(<< Impl->Spheres.skippedNonFinite
+                    << " points have NaN or infinite coordinates and are not drawn.");
+  }
+  if (Impl->Spheres.skippedBadRadius > 0)
+  {
+    vtkWarningMacro(
+      << Impl->Spheres.skippedBadRadius
+      << " spheres have a zero, negative, non-finite or huge (above 1e15) radius and are not "
+         "drawn.");
+  }
+  Impl->BuiltAccelerator = -1;
+}
+
+void vtkCGTSphereMapper::ReadRangeAttributes(vtkPolyData* input)
+{
+  // The attributes of parameter-range culling (first component of each range's array).
+  vtkDataArray* rangeArrays[raymappers::MaxRangeAttributes] = {};
+  int numRanges = 0;
+  for (int r = 0; r < raymappers::MaxRangeAttributes; ++r)
+  {
+    const std::string& name = Impl->RangeArrays[r];
+    if (!name.empty())
+    {
+      rangeArrays[r] = input->GetPointData()->GetArray(name.c_str());
+      numRanges = r + 1;
+      if (!rangeArrays[r])
+      {
+        vtkWarningMacro(<< "range array '" << name
+                        << "' is not a point array of the input; that range is ignored.");
+      }
+    }
+  }
+  raymappers::setSphereAttributes(Impl->Spheres,
+    numRanges,
+    [&](std::uint32_t id, int a)
+    { return rangeArrays[a] ? rangeArrays[a]->GetComponent(static_cast<vtkIdType>(id), 0) : 0.0; });
+  Impl->RangeArrayFound.fill(false);
+  for (int r = 0; r < numRanges; ++r)
+  {
+    Impl->RangeArrayFound[r] = rangeArrays[r] != nullptr;
+  }
+}
+
+bool vtkCGTSphereMapper::UpdateAccelerator(raymappers::RenderStatistics& stats)
+{
+  // The accelerator depends on the sphere set and its own parameters.
   stats.declareCounter("builds_this_render");
   const bool grid = this->Accelerator == VTK_CGT_ACCELERATOR_GRID;
   if (Impl->BuiltAccelerator != this->Accelerator ||
-      (grid && (Impl->BuiltLambda != this->Lambda || Impl->BuiltMacrocell != this->MacrocellSize)) ||
+      (grid &&
+        (Impl->BuiltLambda != this->Lambda || Impl->BuiltMacrocell != this->MacrocellSize)) ||
       (!grid && Impl->BuiltQuality != this->EmbreeBuildQuality))
   {
     raymappers::ScopedPhase phase(stats, grid ? "grid_build" : "bvh_build");
@@ -393,21 +466,14 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     stats.addCounter("simd_lanes",
       path == raymappers::SimdPath::Avx512 ? 16 : (path == raymappers::SimdPath::Avx2 ? 8 : 1));
   }
+  return grid;
+}
 
-  // 2. Gather the camera, lights and material.
-  raymappers::SphereShading shading;
-  const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(actor);
-  std::copy(model.modelToWorld, model.modelToWorld + 16, shading.modelToWorld);
-  std::copy(model.normalToWorld, model.normalToWorld + 9, shading.normalToWorld);
-  int width = 0, height = 0;
-  const std::array<double, 16> modelToClip =
-    vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
-  if (!Impl->Camera.Usable(this, modelToClip))
-  {
-    Impl->Statistics->Set(stats);
-    return;
-  }
-  const raymappers::RayCamera camera(modelToClip, width, height, Impl->Spheres.origin);
+void vtkCGTSphereMapper::GatherShading(vtkRenderer* ren,
+  vtkActor* actor,
+  const vtkRayMapperRenderHelpers::ModelTransform& model,
+  raymappers::SphereShading& shading)
+{
   vtkProperty* property = actor->GetProperty();
   if (property->GetLighting())
   {
@@ -426,10 +492,10 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   shading.material.specularPower = property->GetSpecularPower();
   const double* sc = property->GetSpecularColor();
   shading.material.specularColor = { sc[0], sc[1], sc[2] };
+}
 
-  // 3. Trace, 4. show.
-  raymappers::SphereAccelerator& accelerator =
-    grid ? static_cast<raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
+void vtkCGTSphereMapper::SetRangeFilter(raymappers::SphereAccelerator& accelerator)
+{
   // Parameter ranges: set on the accelerator at every render, never a rebuild. A range whose
   // array is missing passes everything.
   raymappers::RangeFilter filter;
@@ -443,20 +509,6 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
       active ? static_cast<float>(Impl->RangeHi[r]) : std::numeric_limits<float>::max();
   }
   accelerator.setRangeFilter(filter);
-  raymappers::renderSpheres(Impl->Spheres,
-    accelerator,
-    grid ? this->PacketSize : 4,
-    camera,
-    shading,
-    this->TileSize,
-    Impl->Frame,
-    stats);
-  {
-    raymappers::ScopedPhase phase(stats, "draw");
-    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth,
-      Impl->Statistics->GetValidateFrames(), stats);
-  }
-  Impl->Statistics->Set(stats);
 }
 
 void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)

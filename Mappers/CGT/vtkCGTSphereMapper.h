@@ -46,6 +46,8 @@ struct ModelTransform;
 }
 namespace raymappers
 {
+class RenderStatistics;
+class SphereAccelerator;
 struct SphereShading;
 }
 
@@ -238,6 +240,19 @@ private:
   /// Places the area light of the soft shadows into the kernel's shading input.
   void SetUpShadowLight(const vtkRayMapperRenderHelpers::ModelTransform& model,
     raymappers::SphereShading& shading);
+  // The phases of RenderPiece: the sphere set (rebuilt or recoloured when its inputs
+  // change), the accelerator over it (true: the coherent grid), the shading input, the
+  // parameter ranges.
+  struct SphereColors;
+  void UpdateSpheres(vtkPolyData* input, vtkActor* actor, raymappers::RenderStatistics& stats);
+  void BuildSpheres(vtkPolyData* input, const SphereColors& colorOf);
+  void ReadRangeAttributes(vtkPolyData* input);
+  bool UpdateAccelerator(raymappers::RenderStatistics& stats);
+  void GatherShading(vtkRenderer* ren,
+    vtkActor* actor,
+    const vtkRayMapperRenderHelpers::ModelTransform& model,
+    raymappers::SphereShading& shading);
+  void SetRangeFilter(raymappers::SphereAccelerator& accelerator);
   void operator=(const vtkCGTSphereMapper&) = delete;
 
   struct Internals;

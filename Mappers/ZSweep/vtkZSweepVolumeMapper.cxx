@@ -150,9 +150,171 @@ std::string SkippedTypesText(const std::map<int, std::size_t>& counts)
   {
     const char* name = vtkCellTypes::GetClassNameFromTypeId(it->first);
     text << (it == counts.begin() ? "" : ", ") << it->second << " "
-         << (name && *name ? name : "cells of type ") << (name && *name ? "" : std::to_string(it->first));
+         << (name && *name ? name : "cells of type ")
+         << (name && *name ? "" : std::to_string(it->first));
   }
   return text.str();
+}
+
+// The sweep's kind of a VTK cell type; false for the types it does not render.
+bool SweepCellType(int type, raymappers::ZSweepCellType& kind)
+{
+  switch (type)
+  {
+    case VTK_TETRA:
+      kind = raymappers::ZSweepCellType::Tetra;
+      return true;
+    case VTK_HEXAHEDRON:
+    case VTK_VOXEL:
+      kind = raymappers::ZSweepCellType::Hexahedron;
+      return true;
+    case VTK_WEDGE:
+      kind = raymappers::ZSweepCellType::Wedge;
+      return true;
+    case VTK_PYRAMID:
+      kind = raymappers::ZSweepCellType::Pyramid;
+      return true;
+    default:
+      return false;
+  }
+}
+
+// The grid's points into the kernel's grid (double, as VTK gives them).
+void CopyPoints(vtkUnstructuredGridBase* input, raymappers::ZSweepGrid& grid)
+{
+  if (input->GetPoints() && input->GetPoints()->GetDataType() == VTK_FLOAT)
+  {
+    grid.pointEpsilon = std::numeric_limits<float>::epsilon() / 2;
+  }
+  const vtkIdType numPoints = input->GetNumberOfPoints();
+  grid.points.resize(static_cast<std::size_t>(numPoints));
+  double x[3];
+  for (vtkIdType i = 0; i < numPoints; ++i)
+  {
+    input->GetPoint(i, x);
+    grid.points[static_cast<std::size_t>(i)] = raymappers::Vec3d(x[0], x[1], x[2]);
+  }
+}
+
+// The cells the sweep renders into the kernel's grid (a voxel's points reordered as a
+// hexahedron's); returns their ids, and counts the skipped ones by type in `skippedTypes`.
+std::vector<vtkIdType> CopyCells(vtkUnstructuredGridBase* input,
+  raymappers::ZSweepGrid& grid,
+  std::map<int, std::size_t>& skippedTypes)
+{
+  const vtkIdType numCells = input->GetNumberOfCells();
+  grid.cellOffsets.push_back(0);
+  vtkNew<vtkIdList> ids;
+  std::vector<vtkIdType> keptCells;
+  for (vtkIdType c = 0; c < numCells; ++c)
+  {
+    const int type = input->GetCellType(c);
+    raymappers::ZSweepCellType zt;
+    if (!SweepCellType(type, zt))
+    {
+      ++skippedTypes[type];
+      continue;
+    }
+    input->GetCellPoints(c, ids);
+    const vtkIdType n = ids->GetNumberOfIds();
+    if (type == VTK_VOXEL && n == 8)
+    {
+      // A voxel's points go in x-fastest order; the hexahedron's go around each face.
+      const vtkIdType order[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
+      for (const vtkIdType k : order)
+      {
+        grid.connectivity.push_back(ids->GetId(k));
+      }
+    }
+    else
+    {
+      for (vtkIdType k = 0; k < n; ++k)
+      {
+        grid.connectivity.push_back(ids->GetId(k));
+      }
+    }
+    grid.cellTypes.push_back(zt);
+    grid.cellOffsets.push_back(static_cast<std::int64_t>(grid.connectivity.size()));
+    keptCells.push_back(c);
+  }
+  return keptCells;
+}
+
+// The scalar of each kept cell (cell data) or of each point (point data): the first
+// component; NaN where the array is shorter than the grid (the mesh skips those cells).
+void CopyScalars(vtkDataArray* scalars,
+  const std::vector<vtkIdType>& keptCells,
+  vtkIdType numPoints,
+  raymappers::ZSweepGrid& grid)
+{
+  const vtkRayMapperRenderHelpers::TupleReader reader(scalars);
+  if (grid.cellScalars)
+  {
+    grid.scalars.resize(keptCells.size());
+    for (std::size_t k = 0; k < keptCells.size(); ++k)
+    {
+      grid.scalars[k] = static_cast<vtkIdType>(keptCells[k]) < scalars->GetNumberOfTuples()
+                          ? reader.get(static_cast<std::size_t>(keptCells[k]), 0)
+                          : std::nan("");
+    }
+  }
+  else
+  {
+    grid.scalars.resize(static_cast<std::size_t>(numPoints));
+    const vtkIdType available = std::min(numPoints, scalars->GetNumberOfTuples());
+    for (vtkIdType i = 0; i < numPoints; ++i)
+    {
+      grid.scalars[static_cast<std::size_t>(i)] =
+        i < available ? reader.get(static_cast<std::size_t>(i), 0) : std::nan("");
+    }
+  }
+}
+
+// One warning for each kind of cell the mesh left out.
+void WarnAboutSkippedCells(vtkObject* self,
+  const std::map<int, std::size_t>& skippedTypes,
+  const raymappers::ZSweepMesh::Counts& counts,
+  vtkDataArray* scalars)
+{
+  if (!skippedTypes.empty())
+  {
+    vtkWarningWithObjectMacro(self,
+      << "cells of types the sweep does not render were skipped (" << SkippedTypesText(skippedTypes)
+      << "); tetrahedra, hexahedra, voxels, wedges and pyramids are rendered.");
+  }
+  if (counts.badIndex)
+  {
+    vtkWarningWithObjectMacro(
+      self, << counts.badIndex << " cells with a point index out of range were skipped.");
+  }
+  if (counts.nonFinitePoint)
+  {
+    vtkWarningWithObjectMacro(self,
+      << counts.nonFinitePoint << " cells with a NaN or infinite point coordinate were skipped.");
+  }
+  if (counts.nonFiniteScalar)
+  {
+    vtkWarningWithObjectMacro(self,
+      << counts.nonFiniteScalar << " cells with a NaN or infinite scalar ('"
+      << (scalars->GetName() ? scalars->GetName() : "") << "') were skipped.");
+  }
+  if (counts.zeroVolume)
+  {
+    vtkWarningWithObjectMacro(self,
+      << counts.zeroVolume
+      << " cells of zero volume (flat, collapsed or with repeated points: flat to "
+         "the precision of their points' coordinates, or a volume of at most "
+      << raymappers::ZSweepMesh::ZeroVolumeRatio
+      << " of their bounding box's diagonal cubed) were skipped.");
+  }
+  if (counts.nonManifoldTriangles)
+  {
+    vtkWarningWithObjectMacro(self,
+      << counts.nonManifoldTriangles
+      << " faces are shared by more than two cells, or by two cells on the same "
+         "side: cells overlap (duplicated or intersecting cells), and the picture "
+         "is undefined where they do.");
+  }
 }
 }
 
@@ -183,7 +345,7 @@ double* vtkZSweepVolumeMapper::GetBounds()
   vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
   double* bounds = this->Bounds;
   if (input && (input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0) &&
-    Impl->WarnedEmptyInputTime != input->GetMTime())
+      Impl->WarnedEmptyInputTime != input->GetMTime())
   {
     // The renderer culls a volume with empty bounds before it renders: warn here, once per
     // input change.
@@ -202,12 +364,8 @@ void vtkZSweepVolumeMapper::ReleaseGraphicsResources(vtkWindow* win)
 bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
 {
   int cellFlag = 0;
-  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(input,
-    this->ScalarMode,
-    this->ArrayAccessMode,
-    this->ArrayId,
-    this->ArrayName,
-    cellFlag);
+  vtkDataArray* scalars = vtkAbstractMapper::GetScalars(
+    input, this->ScalarMode, this->ArrayAccessMode, this->ArrayId, this->ArrayName, cellFlag);
   if (!scalars || scalars->GetNumberOfTuples() == 0)
   {
     // Once per input and selection, not on every render.
@@ -220,138 +378,24 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
     Impl->HasMesh = false;
     return false;
   }
-  if (Impl->HasMesh && Impl->BuiltInputTime == input->GetMTime() &&
-      Impl->BuiltScalars == scalars && Impl->BuiltScalarsTime == scalars->GetMTime() &&
-      Impl->BuiltCellFlag == cellFlag && Impl->BuiltSparse == this->Sparsification)
+  if (Impl->HasMesh && Impl->BuiltInputTime == input->GetMTime() && Impl->BuiltScalars == scalars &&
+      Impl->BuiltScalarsTime == scalars->GetMTime() && Impl->BuiltCellFlag == cellFlag &&
+      Impl->BuiltSparse == this->Sparsification)
   {
     return true;
   }
 
   raymappers::ZSweepGrid grid;
   grid.cellScalars = cellFlag == 1;
-  if (input->GetPoints() && input->GetPoints()->GetDataType() == VTK_FLOAT)
-  {
-    grid.pointEpsilon = std::numeric_limits<float>::epsilon() / 2;
-  }
-  const vtkIdType numPoints = input->GetNumberOfPoints();
-  grid.points.resize(static_cast<std::size_t>(numPoints));
-  double x[3];
-  for (vtkIdType i = 0; i < numPoints; ++i)
-  {
-    input->GetPoint(i, x);
-    grid.points[static_cast<std::size_t>(i)] = raymappers::Vec3d(x[0], x[1], x[2]);
-  }
-  const vtkIdType numCells = input->GetNumberOfCells();
-  grid.cellOffsets.push_back(0);
-  vtkNew<vtkIdList> ids;
+  CopyPoints(input, grid);
   std::map<int, std::size_t> skippedTypes; // cells of types the sweep does not render
-  std::vector<vtkIdType> keptCells;
-  for (vtkIdType c = 0; c < numCells; ++c)
-  {
-    const int type = input->GetCellType(c);
-    raymappers::ZSweepCellType zt;
-    switch (type)
-    {
-      case VTK_TETRA:
-        zt = raymappers::ZSweepCellType::Tetra;
-        break;
-      case VTK_HEXAHEDRON:
-      case VTK_VOXEL:
-        zt = raymappers::ZSweepCellType::Hexahedron;
-        break;
-      case VTK_WEDGE:
-        zt = raymappers::ZSweepCellType::Wedge;
-        break;
-      case VTK_PYRAMID:
-        zt = raymappers::ZSweepCellType::Pyramid;
-        break;
-      default:
-        ++skippedTypes[type];
-        continue;
-    }
-    input->GetCellPoints(c, ids);
-    const vtkIdType n = ids->GetNumberOfIds();
-    if (type == VTK_VOXEL && n == 8)
-    {
-      // A voxel's points go in x-fastest order; the hexahedron's go around each face.
-      const vtkIdType order[8] = { 0, 1, 3, 2, 4, 5, 7, 6 };
-      for (const vtkIdType k : order)
-      {
-        grid.connectivity.push_back(ids->GetId(k));
-      }
-    }
-    else
-    {
-      for (vtkIdType k = 0; k < n; ++k)
-      {
-        grid.connectivity.push_back(ids->GetId(k));
-      }
-    }
-    grid.cellTypes.push_back(zt);
-    grid.cellOffsets.push_back(static_cast<std::int64_t>(grid.connectivity.size()));
-    keptCells.push_back(c);
-  }
+  const std::vector<vtkIdType> keptCells = CopyCells(input, grid, skippedTypes);
   vtkRayMapperWarnIfComponentsDiffer(this, scalars, "scalar");
-  const vtkRayMapperRenderHelpers::TupleReader reader(scalars);
-  if (grid.cellScalars)
-  {
-    grid.scalars.resize(keptCells.size());
-    for (std::size_t k = 0; k < keptCells.size(); ++k)
-    {
-      grid.scalars[k] = static_cast<vtkIdType>(keptCells[k]) < scalars->GetNumberOfTuples()
-        ? reader.get(static_cast<std::size_t>(keptCells[k]), 0)
-        : std::nan("");
-    }
-  }
-  else
-  {
-    grid.scalars.resize(static_cast<std::size_t>(numPoints));
-    const vtkIdType available = std::min(numPoints, scalars->GetNumberOfTuples());
-    for (vtkIdType i = 0; i < numPoints; ++i)
-    {
-      grid.scalars[static_cast<std::size_t>(i)] =
-        i < available ? reader.get(static_cast<std::size_t>(i), 0) : std::nan("");
-    }
-  }
+  CopyScalars(scalars, keptCells, input->GetNumberOfPoints(), grid);
   Impl->Mesh.build(grid, this->Sparsification);
   ++Impl->Builds;
+  WarnAboutSkippedCells(this, skippedTypes, Impl->Mesh.counts(), scalars);
 
-  const auto& counts = Impl->Mesh.counts();
-  if (!skippedTypes.empty())
-  {
-    vtkWarningMacro(<< "cells of types the sweep does not render were skipped ("
-                    << SkippedTypesText(skippedTypes)
-                    << "); tetrahedra, hexahedra, voxels, wedges and pyramids are rendered.");
-  }
-  if (counts.badIndex)
-  {
-    vtkWarningMacro(<< counts.badIndex << " cells with a point index out of range were skipped.");
-  }
-  if (counts.nonFinitePoint)
-  {
-    vtkWarningMacro(<< counts.nonFinitePoint
-                    << " cells with a NaN or infinite point coordinate were skipped.");
-  }
-  if (counts.nonFiniteScalar)
-  {
-    vtkWarningMacro(<< counts.nonFiniteScalar << " cells with a NaN or infinite scalar ('"
-                    << (scalars->GetName() ? scalars->GetName() : "") << "') were skipped.");
-  }
-  if (counts.zeroVolume)
-  {
-    vtkWarningMacro(<< counts.zeroVolume
-                    << " cells of zero volume (flat, collapsed or with repeated points: flat to "
-                       "the precision of their points' coordinates, or a volume of at most "
-                    << raymappers::ZSweepMesh::ZeroVolumeRatio
-                    << " of their bounding box's diagonal cubed) were skipped.");
-  }
-  if (counts.nonManifoldTriangles)
-  {
-    vtkWarningMacro(<< counts.nonManifoldTriangles
-                    << " faces are shared by more than two cells, or by two cells on the same "
-                       "side: cells overlap (duplicated or intersecting cells), and the picture "
-                       "is undefined where they do.");
-  }
   Impl->HasMesh = true;
   Impl->BuiltInputTime = input->GetMTime();
   Impl->BuiltScalars = scalars;
