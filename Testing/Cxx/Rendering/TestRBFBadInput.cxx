@@ -11,6 +11,7 @@
 //     others are clamped: the picture of the bound set directly);
 //   - degenerate cameras (zero view angle drawn; the eye at the focal point and a NaN
 //     position: one warning each, nothing drawn).
+#include "BadInputViewer.h"
 #include "RenderingTestHelpers.h"
 #include "vtkRBFVolumeMapper.h"
 
@@ -26,15 +27,8 @@ namespace
 {
 using raymappers::test::RGBImage;
 
-struct Viewer
+struct Viewer : rmtest::BadInputVolumeViewer<vtkRBFVolumeMapper, vtkPolyData>
 {
-  vtkNew<vtkRBFVolumeMapper> Mapper;
-  vtkNew<vtkVolumeProperty> Property;
-  vtkNew<vtkVolume> Volume;
-  vtkNew<vtkRenderer> Ren;
-  vtkNew<vtkRenderWindow> Win;
-  rmtest::EventCounter Events;
-  rmtest::BadInputLog Log{ Events, Mapper->GetStatistics() };
   Viewer()
   {
     vtkNew<vtkColorTransferFunction> color;
@@ -47,26 +41,9 @@ struct Viewer
     Property->SetScalarOpacity(opacity);
     Property->SetScalarOpacityUnitDistance(0.3);
     Mapper->SetSampleDistance(0.05);
-    Volume->SetMapper(Mapper);
-    Volume->SetProperty(Property);
-    Ren->AddVolume(Volume);
-    Win->SetSize(120, 120);
-    Win->AddRenderer(Ren);
-    Ren->GetActiveCamera()->SetPosition(0.5, 0.7, 6);
-    Ren->GetActiveCamera()->SetFocalPoint(0, 0, 0);
     Ren->GetActiveCamera()->SetViewAngle(40);
-    Events.Observe(Mapper);
-  }
-  RGBImage Show(vtkPolyData* data)
-  {
-    Mapper->SetInputData(data);
-    return Render();
-  }
-  RGBImage Render()
-  {
-    Ren->ResetCameraClippingRange(-3, 3, -3, 3, -3, 3);
-    Win->Render();
-    return raymappers::test::fromWindow(Win);
+    ClipHalfSide = 3;
+    Open(120, 0.5, 0.7, 6);
   }
 };
 

@@ -12,6 +12,7 @@
 //   - degenerate cameras (zero view angle drawn; the eye at the focal point and a NaN
 //     position: one warning each, nothing drawn); a camera inside the particles;
 //   - an empty input (one warning, nothing drawn).
+#include "BadInputViewer.h"
 #include "RenderingTestHelpers.h"
 #include "vtkSPHVolumeMapper.h"
 
@@ -27,15 +28,8 @@ namespace
 {
 using raymappers::test::RGBImage;
 
-struct Viewer
+struct Viewer : rmtest::BadInputVolumeViewer<vtkSPHVolumeMapper, vtkPolyData>
 {
-  vtkNew<vtkSPHVolumeMapper> Mapper;
-  vtkNew<vtkVolumeProperty> Property;
-  vtkNew<vtkVolume> Volume;
-  vtkNew<vtkRenderer> Ren;
-  vtkNew<vtkRenderWindow> Win;
-  rmtest::EventCounter Events;
-  rmtest::BadInputLog Log{ Events, Mapper->GetStatistics() };
   Viewer()
   {
     vtkNew<vtkColorTransferFunction> color;
@@ -48,25 +42,7 @@ struct Viewer
     Property->SetScalarOpacity(opacity);
     Mapper->SetSmoothingLength(0.2);
     Mapper->SetValueArrayName("value");
-    Volume->SetMapper(Mapper);
-    Volume->SetProperty(Property);
-    Ren->AddVolume(Volume);
-    Win->SetSize(96, 96);
-    Win->AddRenderer(Ren);
-    Ren->GetActiveCamera()->SetPosition(1, 2, 7);
-    Ren->GetActiveCamera()->SetFocalPoint(0, 0, 0);
-    Events.Observe(Mapper);
-  }
-  RGBImage Show(vtkPolyData* data)
-  {
-    Mapper->SetInputData(data);
-    return Render();
-  }
-  RGBImage Render()
-  {
-    Ren->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
-    Win->Render();
-    return raymappers::test::fromWindow(Win);
+    Open(96, 1, 2, 7);
   }
 };
 

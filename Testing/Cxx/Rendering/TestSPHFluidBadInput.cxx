@@ -12,6 +12,7 @@
 //   - degenerate cameras (zero view angle drawn; the eye at the focal point and a NaN
 //     position: one warning each, nothing drawn); a camera inside the fluid;
 //   - an empty input (one warning, nothing drawn).
+#include "BadInputViewer.h"
 #include "RenderingTestHelpers.h"
 #include "vtkSPHFluidMapper.h"
 
@@ -25,41 +26,16 @@ namespace
 {
 using raymappers::test::RGBImage;
 
-struct Viewer
+struct Viewer : rmtest::BadInputVolumeViewer<vtkSPHFluidMapper, vtkPolyData>
 {
-  vtkNew<vtkSPHFluidMapper> Mapper;
-  vtkNew<vtkVolumeProperty> Property;
-  vtkNew<vtkVolume> Volume;
-  vtkNew<vtkRenderer> Ren;
-  vtkNew<vtkRenderWindow> Win;
-  rmtest::EventCounter Events;
-  rmtest::BadInputLog Log{ Events, Mapper->GetStatistics() };
   Viewer()
   {
     Mapper->SetRadius(0.25);
     // A grey absorption: with a coloured one the premultiplied frame has colours above its
     // alpha (the alpha is the mean transmittance, see ColouredAbsorption below).
     Mapper->SetAbsorptionColor(0.5, 0.5, 0.5);
-    Volume->SetMapper(Mapper);
-    Volume->SetProperty(Property);
-    Ren->AddVolume(Volume);
     Ren->SetBackground(0.2, 0.4, 0.6);
-    Win->SetSize(96, 96);
-    Win->AddRenderer(Ren);
-    Ren->GetActiveCamera()->SetPosition(1, 2, 7);
-    Ren->GetActiveCamera()->SetFocalPoint(0, 0, 0);
-    Events.Observe(Mapper);
-  }
-  RGBImage Show(vtkPolyData* data)
-  {
-    Mapper->SetInputData(data);
-    return Render();
-  }
-  RGBImage Render()
-  {
-    Ren->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
-    Win->Render();
-    return raymappers::test::fromWindow(Win);
+    Open(96, 1, 2, 7);
   }
 };
 

@@ -12,6 +12,7 @@
 //     others are clamped: the picture of the bound set directly);
 //   - degenerate cameras: a zero view angle (VTK clamps it; drawn, no warning), the eye at
 //     the focal point and a NaN position (one warning each, nothing drawn, the background).
+#include "BadInputViewer.h"
 #include "RenderingTestHelpers.h"
 #include "vtkCGTSphereMapper.h"
 
@@ -27,37 +28,17 @@ namespace
 {
 using raymappers::test::RGBImage;
 
-struct Viewer
+struct Viewer : rmtest::BadInputViewer<vtkCGTSphereMapper, vtkPolyData>
 {
-  vtkNew<vtkCGTSphereMapper> Mapper;
   vtkNew<vtkActor> Actor;
-  vtkNew<vtkRenderer> Ren;
-  vtkNew<vtkRenderWindow> Win;
-  rmtest::EventCounter Events;
-  rmtest::BadInputLog Log{ Events, Mapper->GetStatistics() };
   Viewer()
   {
     Mapper->SetScalarRange(0, 30);
     Actor->SetMapper(Mapper);
     Ren->AddActor(Actor);
-    Win->SetSize(160, 160);
-    Win->AddRenderer(Ren);
-    Ren->GetActiveCamera()->SetPosition(0.5, 0.7, 6);
-    Ren->GetActiveCamera()->SetFocalPoint(0, 0, 0);
     Ren->GetActiveCamera()->SetViewAngle(40);
     Ren->SetNearClippingPlaneTolerance(1e-4);
-    Events.Observe(Mapper);
-  }
-  RGBImage Show(vtkPolyData* data)
-  {
-    Mapper->SetInputData(data);
-    return Render();
-  }
-  RGBImage Render()
-  {
-    Ren->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
-    Win->Render();
-    return raymappers::test::fromWindow(Win);
+    Open(160, 0.5, 0.7, 6);
   }
 };
 

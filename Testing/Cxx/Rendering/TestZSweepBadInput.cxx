@@ -17,6 +17,7 @@
 //     position: one warning each, nothing drawn).
 //
 // usage: TestZSweepBadInput -D <dir with PentaHexa.vtk>
+#include "BadInputViewer.h"
 #include "RenderingTestHelpers.h"
 #include "vtkZSweepVolumeMapper.h"
 
@@ -111,15 +112,8 @@ vtkSmartPointer<vtkUnstructuredGrid> WithBadCells()
   return bad;
 }
 
-struct Viewer
+struct Viewer : rmtest::BadInputVolumeViewer<vtkZSweepVolumeMapper, vtkUnstructuredGrid>
 {
-  vtkNew<vtkZSweepVolumeMapper> Mapper;
-  vtkNew<vtkVolumeProperty> Property;
-  vtkNew<vtkVolume> Volume;
-  vtkNew<vtkRenderer> Ren;
-  vtkNew<vtkRenderWindow> Win;
-  rmtest::EventCounter Events;
-  rmtest::BadInputLog Log{ Events, Mapper->GetStatistics() };
   Viewer()
   {
     vtkNew<vtkColorTransferFunction> color;
@@ -130,25 +124,7 @@ struct Viewer
     opacity->AddPoint(1, 0.8);
     Property->SetColor(color);
     Property->SetScalarOpacity(opacity);
-    Volume->SetMapper(Mapper);
-    Volume->SetProperty(Property);
-    Ren->AddVolume(Volume);
-    Win->SetSize(100, 100);
-    Win->AddRenderer(Ren);
-    Ren->GetActiveCamera()->SetPosition(2, 3, 6);
-    Ren->GetActiveCamera()->SetFocalPoint(0, 0, 0);
-    Events.Observe(Mapper);
-  }
-  RGBImage Show(vtkUnstructuredGrid* grid)
-  {
-    Mapper->SetInputData(grid);
-    return Render();
-  }
-  RGBImage Render()
-  {
-    Ren->ResetCameraClippingRange(-2, 2, -2, 2, -2, 2);
-    Win->Render();
-    return raymappers::test::fromWindow(Win);
+    Open(100, 2, 3, 6);
   }
 };
 
