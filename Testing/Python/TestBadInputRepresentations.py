@@ -35,13 +35,13 @@ from paraview.simple import (  # noqa: E402
     ColorBy, CreateView, Delete, GetColorTransferFunction, GetOpacityTransferFunction, Hide,
     LoadPlugin, PVTrivialProducer, Render, SaveScreenshot, Show)
 from vtkmodules.vtkCommonCore import (  # noqa: E402
-    vtkDoubleArray, vtkIntArray, vtkOutputWindow, vtkPoints, vtkStringOutputWindow)
+    vtkDoubleArray, vtkIntArray, vtkPoints)
 from vtkmodules.vtkCommonDataModel import (  # noqa: E402
     vtkCellArray, vtkPolyData, vtkUnstructuredGrid)
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import raymappers_testing  # noqa: E402
-from raymappers_testing import failures, finish, prepare_view  # noqa: E402
+from raymappers_testing import finish, prepare_view  # noqa: E402
 
 PLUGIN, CASE, OUTPUT = sys.argv[1], sys.argv[2], sys.argv[3]
 LoadPlugin(PLUGIN, remote=False, ns=globals())
@@ -49,42 +49,11 @@ os.makedirs(OUTPUT, exist_ok=True)
 NAN, INF = float('nan'), float('inf')
 SIZE = [160, 160]
 BACKGROUND = [0.2, 0.4, 0.6]  # 51 102 153 in 8 bits, exactly
-held = None  # check lines made while the output window is captured
+check = raymappers_testing.check
 
 
-def check(condition, message):
-    line = ('ok    ' if condition else 'FAIL  ') + message
-    if held is None:
-        print(line)
-    else:
-        held.append(line)
-    if not condition:
-        failures.append(message)
-
-
-class Messages:
-    """What reaches VTK's output window inside the block (pvpython sends print() there too,
-    so checks made inside it are printed after it)."""
-
-    def __enter__(self):
-        global held
-        held = []
-        self.window = vtkStringOutputWindow()
-        self.previous = vtkOutputWindow.GetInstance()
-        vtkOutputWindow.SetInstance(self.window)
-        return self
-
-    def __exit__(self, *exc):
-        global held
-        vtkOutputWindow.SetInstance(self.previous)
-        lines, held = held, None
-        for line in lines:
-            print(line)
-        text = self.window.GetOutput()
-        self.errors = re.findall(r"ERROR: In [^\n]*\n(.*?)\n\n", text, re.S)
-        self.warnings = re.findall(r"Warning: In [^\n]*\n(.*?)\n\n", text, re.S)
-        self.count = text.count("ERROR: In ") + text.count("Warning: In ")
-        return False
+class Messages(raymappers_testing.OutputWindowMessages):
+    """What reaches VTK's output window inside the block, with the counts these tests expect."""
 
     def expect(self, n, text, what, ours_only=False):
         """Exactly n messages, all warnings naming `text`. With `ours_only`, ParaView's own

@@ -15,29 +15,16 @@ usage: pvpython TestLAMMPSReaderPlugin.py PLUGIN.so DUMP
 """
 import math
 import os
-import re
 import sys
 import time
 
 from paraview.simple import (  # noqa: E402
     Delete, GetActiveViewOrCreate, LoadPlugin, OpenDataFile, Render, Show)
-from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from raymappers_testing import OutputWindowMessages, check, failures  # noqa: E402
 
 plugin = sys.argv[1]
 LoadPlugin(plugin, remote=False, ns=globals())
-
-failures = []
-held = None  # the lines of checks made inside a Messages block, printed after it
-
-
-def check(condition, message):
-    line = ("ok    " if condition else "FAIL  ") + message
-    if held is None:
-        print(line)
-    else:
-        held.append(line)
-    if not condition:
-        failures.append(message)
 
 
 def real_dump(dump):
@@ -62,29 +49,9 @@ def real_dump(dump):
 
 # -- bad input -------------------------------------------------------------------------
 
-class Messages:
+class Messages(OutputWindowMessages):
     """What reaches VTK's output window inside the block: the errors and warnings of every
     object (pvpython sends print() there too, so the block prints nothing)."""
-
-    def __enter__(self):
-        global held
-        held = []
-        self.window = vtkStringOutputWindow()
-        self.previous = vtkOutputWindow.GetInstance()
-        vtkOutputWindow.SetInstance(self.window)
-        return self
-
-    def __exit__(self, *exc):
-        global held
-        vtkOutputWindow.SetInstance(self.previous)
-        lines, held = held, None
-        for line in lines:
-            print(line)
-        text = self.window.GetOutput()
-        self.errors = re.findall(r"ERROR: In [^\n]*\n(.*?)\n\n", text, re.S)
-        self.warnings = re.findall(r"Warning: In [^\n]*\n(.*?)\n\n", text, re.S)
-        self.count = text.count("ERROR: In ") + text.count("Warning: In ")
-        return False
 
     def describe(self):
         return "".join("\n      error: " + e for e in self.errors) + \

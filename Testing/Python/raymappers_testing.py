@@ -1,7 +1,10 @@
 """What the pvpython tests of the RayMappers representations share: a check log, reading
-screenshots, a representation's statistics, and the project's baseline comparison."""
+screenshots, a representation's statistics, the project's baseline comparison, and the
+messages of VTK's output window."""
 import os
+import re
 
+from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkIOImage import vtkPNGReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
@@ -9,9 +12,40 @@ failures = []
 
 
 def check(condition, message):
-    print(('ok    ' if condition else 'FAIL  ') + message)
+    """Prints 'ok' or 'FAIL' and the message (after the OutputWindowMessages block it is made
+    in, if any) and counts a failure."""
+    line = ('ok    ' if condition else 'FAIL  ') + message
+    if OutputWindowMessages.held is None:
+        print(line)
+    else:
+        OutputWindowMessages.held.append(line)
     if not condition:
         failures.append(message)
+
+
+class OutputWindowMessages:
+    """The errors and warnings that reach VTK's output window inside the block (texts in
+    `errors` and `warnings`, their number in `count`). pvpython sends print() there too, so
+    the lines of checks made inside the block are held and printed after it."""
+    held = None
+
+    def __enter__(self):
+        OutputWindowMessages.held = []
+        self.window = vtkStringOutputWindow()
+        self.previous = vtkOutputWindow.GetInstance()
+        vtkOutputWindow.SetInstance(self.window)
+        return self
+
+    def __exit__(self, *exc):
+        vtkOutputWindow.SetInstance(self.previous)
+        lines, OutputWindowMessages.held = OutputWindowMessages.held, None
+        for line in lines:
+            print(line)
+        text = self.window.GetOutput()
+        self.errors = re.findall(r"ERROR: In [^\n]*\n(.*?)\n\n", text, re.S)
+        self.warnings = re.findall(r"Warning: In [^\n]*\n(.*?)\n\n", text, re.S)
+        self.count = text.count("ERROR: In ") + text.count("Warning: In ")
+        return False
 
 
 def pixels(png):
