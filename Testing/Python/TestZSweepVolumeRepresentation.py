@@ -189,7 +189,6 @@ def run_checks(view, source, stem, build_dir, output, baseline):
 def tetrahedra_scene(view, grid, lut, opacity, unit):
     """The reference scene: the view's camera, the maps as nodes, every tetrahedron with the
     point field Temp at its corners."""
-    import numpy
     from vtkmodules.util.numpy_support import vtk_to_numpy
     points = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
     temp = vtk_to_numpy(grid.GetPointData().GetArray('Temp')).astype(float)
@@ -198,13 +197,7 @@ def tetrahedra_scene(view, grid, lut, opacity, unit):
           'Tetrahedralize gives tetrahedra only')
     corners = vtk_to_numpy(cells.GetConnectivityArray()).reshape(-1, 4)
     lines = raymappers_reference.camera_lines(view, REFERENCE_SIZE)
-    lo, hi = lut.GetRange()
-    lines.append('nodes %r %d' % (unit, TRANSFER_NODES))
-    rgb = [0.0, 0.0, 0.0]
-    for v in numpy.linspace(lo, hi, TRANSFER_NODES):
-        lut.GetColor(float(v), rgb)
-        lines.append('%r %r %r %r %r' % (float(v), rgb[0], rgb[1], rgb[2],
-                                         opacity.GetValue(float(v))))
+    lines += raymappers_reference.node_lines(lut, opacity, unit, TRANSFER_NODES)
     for tet in corners:
         lines.append('tetra ' + ' '.join('%r %r %r %r' % (points[k][0], points[k][1],
                                                             points[k][2], temp[k]) for k in tet))

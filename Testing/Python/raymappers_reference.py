@@ -60,6 +60,19 @@ def transfer_lines(color, opacity, unit):
     return lines
 
 
+def node_lines(color, opacity, unit, n):
+    """VTK's color and opacity functions as n nodes over the color map's range, for the
+    piecewise-linear transfer function of 'render unstructured'."""
+    lo, hi = color.GetRange()
+    lines = ['nodes %r %d' % (unit, n)]
+    rgb = [0.0, 0.0, 0.0]
+    for v in numpy.linspace(lo, hi, n):
+        color.GetColor(float(v), rgb)
+        lines.append('%r %r %r %r %r' % (float(v), rgb[0], rgb[1], rgb[2],
+                                         opacity.GetValue(float(v))))
+    return lines
+
+
 def render(lines, size, stem):
     """Writes the scene to stem.scene.txt, renders it; returns (W*H, 5) (premultiplied
     RGBA and window depth, rows from the bottom)."""

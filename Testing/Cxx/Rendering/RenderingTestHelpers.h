@@ -291,6 +291,22 @@ private:
   int ErrorMark = 0;
 };
 
+/// The window's picture against a reference picture under `bound` (differing: beyond 2
+/// levels); prints "ok"/"FAIL", `what` and the measured values; true when within the bound.
+inline bool CheckAgainstReference(vtkRenderWindow* win,
+  const raymappers::test::RGBImage& reference,
+  const raymappers::test::ImageThresholds& bound,
+  const char* what)
+{
+  const auto d = raymappers::test::compareImages(raymappers::test::fromWindow(win), reference, 2);
+  const bool pass = raymappers::test::withinThresholds(d, bound);
+  std::printf("%s %s against the reference: %s\n",
+    pass ? "ok  " : "FAIL",
+    what,
+    raymappers::test::describe(d, bound).c_str());
+  return pass;
+}
+
 /// The picture after VTK's own Reset Camera (the bounds of the visible props, so the
 /// mapper's GetBounds, place the camera and its clipping range); the camera is put back.
 inline raymappers::test::RGBImage ResetCameraImage(vtkRenderer* ren, vtkRenderWindow* win)

@@ -104,13 +104,7 @@ int TestRBFVolumeMapperReference(int argc, char* argv[])
     mapper->SetSampleDistance(s.sampleDistance);
     mapper->SetTerminationOpacity(s.termination);
     win->Render();
-    const auto d = raymappers::test::compareImages(raymappers::test::fromWindow(win), want, 2);
-    const bool pass = raymappers::test::withinThresholds(d, s.bound);
-    std::printf("%s %s against the reference: %s\n",
-      pass ? "ok  " : "FAIL",
-      s.name,
-      raymappers::test::describe(d, s.bound).c_str());
-    ok = ok && pass;
+    ok = rmtest::CheckAgainstReference(win, want, s.bound, s.name) && ok;
   }
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

@@ -151,14 +151,8 @@ int TestSPHVolumeMapperReference(int argc, char* argv[])
     mapper->SetSamplesPerSupport(s.samplesPerSupport);
     win->Render();
     const auto& want = referenceFor(s.kernel, s.normalized);
-    const auto d = raymappers::test::compareImages(raymappers::test::fromWindow(win), want, 2);
     const raymappers::test::ImageThresholds bound{ s.rmse, s.differing, 2, s.maxError };
-    const bool pass = raymappers::test::withinThresholds(d, bound);
-    std::printf("%s %s against the reference: %s\n",
-      pass ? "ok  " : "FAIL",
-      s.name,
-      raymappers::test::describe(d, bound).c_str());
-    ok = ok && pass;
+    ok = rmtest::CheckAgainstReference(win, want, bound, s.name) && ok;
   }
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

@@ -193,13 +193,7 @@ int TestZSweepVolumeMapperReference(int argc, char* argv[])
   {
     mapper->SetIntegrator(s.integrator);
     win->Render();
-    const auto d = raymappers::test::compareImages(raymappers::test::fromWindow(win), want, 2);
-    const bool pass = raymappers::test::withinThresholds(d, s.bound);
-    std::printf("%s %s against the reference: %s\n",
-      pass ? "ok  " : "FAIL",
-      s.name,
-      raymappers::test::describe(d, s.bound).c_str());
-    ok = ok && pass;
+    ok = rmtest::CheckAgainstReference(win, want, s.bound, s.name) && ok;
   }
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }
