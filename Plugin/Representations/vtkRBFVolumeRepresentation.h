@@ -26,6 +26,9 @@
  * Changing Kappa, Sigma, SampleDistance, the maps or the lights never rebuilds the BVH;
  * only new data, new arrays or LeafSize do.
  *
+ * The particles, their radii and the material come from vtkRayMapperParticleRepresentation,
+ * the volume and its classification from vtkRayMapperParticleVolumeRepresentation.
+ *
  * Like the "Ray-Traced Spheres" representation, it is added by the plugin's XML as a
  * sub-representation "RBF Volume" of ParaView's composite representations.
  */
@@ -34,47 +37,23 @@
 #define vtkRBFVolumeRepresentation_h
 
 #include "RayMappersRepresentationsModule.h" // for export macro
-#include "vtkRayMapperPropRepresentation.h"
+#include "vtkRayMapperParticleVolumeRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
 #include <string> // for std::string
 
-class vtkColorTransferFunction;
-class vtkPiecewiseFunction;
-class vtkDataSet;
-class vtkPolyData;
 class vtkRBFVolumeMapper;
-class vtkScalarsToColors;
-class vtkVolume;
-class vtkVolumeProperty;
 
-class RAYMAPPERSREPRESENTATIONS_EXPORT vtkRBFVolumeRepresentation : public vtkRayMapperPropRepresentation
+class RAYMAPPERSREPRESENTATIONS_EXPORT vtkRBFVolumeRepresentation
+  : public vtkRayMapperParticleVolumeRepresentation
 {
 public:
   static vtkRBFVolumeRepresentation* New();
-  vtkTypeMacro(vtkRBFVolumeRepresentation, vtkRayMapperPropRepresentation);
+  vtkTypeMacro(vtkRBFVolumeRepresentation, vtkRayMapperParticleVolumeRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-
-
-
   //***************************************************************************
-  // Classification.
-
-  /**
-   * Color map of the color array (a vtkColorTransferFunction, as ParaView's are).
-   */
-  void SetLookupTable(vtkScalarsToColors* lut);
-
-  /**
-   * Opacity map of the color array.
-   */
-  void SetScalarOpacity(vtkPiecewiseFunction* opacity);
-
-  /**
-   * Distance over which the opacity map's opacity holds (model units).
-   */
-  void SetScalarOpacityUnitDistance(double distance);
+  // Multi-field classification.
 
   /**
    * Color maps (with their own opacity maps) of fields 2, 3 and 4; null: the first field's.
@@ -96,78 +75,34 @@ public:
   void SetSigma(double sigma);
   void SetSampleDistance(double distance);
   void SetTerminationOpacity(double opacity);
-  void SetRadius(double radius);
-  void SetUseRadiusArray(bool use);
-  void SelectRadiusArray(int, int, int, int, const char* name);
-  void SetRadiusScale(double scale);
   void SetMethod(int method);
   void SetSamplesPerPass(int samples);
   void SetPacketSize(int side);
   void SetLeafSize(int particles);
 
-  //***************************************************************************
-  // Lighting and solid color, forwarded to the volume property.
-  void SetShade(bool shade);
-  void SetAmbient(double value);
-  void SetDiffuse(double value);
-  void SetSpecular(double value);
-  void SetSpecularPower(double value);
-  void SetDiffuseColor(double r, double g, double b);
-
   /**
-   * The mapper's statistics of the last render (phases, counters such as "builds", the
-   * cumulative number of BVH builds, and effects), one "kind name value" per line.
-   */
-  const char* GetRenderStatistics();
-
-  ///@{
-  /**
-   * The mapper, the volume and its property, for tests and C++ users.
+   * The mapper, for tests and C++ users.
    */
   vtkRBFVolumeMapper* GetMapper();
-  vtkVolume* GetVolume();
-  vtkVolumeProperty* GetVolumeProperty();
-  ///@}
 
 protected:
   vtkRBFVolumeRepresentation();
   ~vtkRBFVolumeRepresentation() override;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  vtkDataSet* GetProcessedData() override;
-  double GetBoundsMargin() override;
-  void SetDeliveredPiece(vtkDataObject* piece) override;
-  Distribution GetDistribution() override { return Distribution::Particles; }
+  void PushRadius(double& radius, double& scale, const char* radiusArray) override;
+  /** The field reaches Sigma radii beyond the points. */
+  double GetParticleReach() override;
   void SetRegion(const double bounds[6]) override;
+  void SetValueArray(const char* name) override;
+  int GetNumberOfFields() override { return 4; }
+  void GetFieldMaps(int field,
+    vtkColorTransferFunction*& color,
+    vtkPiecewiseFunction*& opacity) override;
 
   void SetFieldLookupTable(int field, vtkScalarsToColors* lut);
 
-  /**
-   * Pushes the color array (the values k_i) to the mapper and fills the volume property's
-   * components from the color and opacity maps of the fields.
-   */
-  void UpdateClassification();
-  void UpdateRadiusParameters();
-
-
-  vtkSmartPointer<vtkVolume> Volume;
   vtkSmartPointer<vtkRBFVolumeMapper> Mapper;
-  vtkSmartPointer<vtkVolumeProperty> Property;
-  vtkSmartPointer<vtkPolyData> ProcessedData;
-
-  vtkSmartPointer<vtkScalarsToColors> LookupTable;
-  vtkSmartPointer<vtkPiecewiseFunction> ScalarOpacity;
   vtkSmartPointer<vtkScalarsToColors> FieldLookupTables[4];
-  // The classification without a color array: DiffuseColor, opacity ramp on [0, 1].
-  vtkSmartPointer<vtkColorTransferFunction> SolidColor;
-  vtkSmartPointer<vtkPiecewiseFunction> SolidOpacity;
-  double DiffuseColor[3] = { 1, 1, 1 };
-  double ScalarOpacityUnitDistance = 1.0;
-
-  double Radius = 1.0;
-  double RadiusScale = 1.0;
-  bool UseRadiusArray = false;
-  std::string RadiusArrayName;
   std::string FieldArrayName;
 
 private:

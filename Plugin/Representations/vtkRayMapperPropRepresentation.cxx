@@ -1,5 +1,6 @@
 #include "vtkRayMapperPropRepresentation.h"
 
+#include "vtkAbstractVolumeMapper.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCommand.h"
 #include "vtkDataSet.h"
@@ -17,9 +18,12 @@
 #include "vtkRayMapperGatherPoints.h"
 #include "vtkRayMapperParticleExchange.h"
 #include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperStatistics.h"
 #include "vtkRayMapperThreads.h"
 #include "vtkOutputWindow.h"
 #include "vtkRenderer.h"
+#include "vtkVolume.h"
+#include "vtkVolumeProperty.h"
 #include "vtkWeakPointer.h"
 
 namespace
@@ -91,6 +95,22 @@ void vtkRayMapperPropRepresentation::SetProp(vtkProp3D* prop, bool selectable)
 {
   this->Prop = prop;
   this->Selectable = selectable;
+}
+
+vtkSmartPointer<vtkVolume> vtkRayMapperPropRepresentation::SetVolumeProp(
+  vtkAbstractVolumeMapper* mapper)
+{
+  auto volume = vtkSmartPointer<vtkVolume>::New();
+  volume->SetMapper(mapper);
+  volume->SetProperty(vtkSmartPointer<vtkVolumeProperty>::New());
+  this->SetProp(volume, false);
+  this->WarnOnlyWhenShown(mapper);
+  return volume;
+}
+
+const char* vtkRayMapperPropRepresentation::GetRenderStatistics()
+{
+  return this->Statistics ? this->Statistics->GetSummary() : "";
 }
 
 int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey* request_type,
@@ -247,34 +267,40 @@ vtkDataObject* vtkRayMapperPropRepresentation::GetRenderedDataObject(int port)
   return data ? data : this->Superclass::GetRenderedDataObject(port);
 }
 
-bool vtkRayMapperPropRepresentation::AddToView(vtkView* view)
+bool vtkRayMapperPropRepresentation::PlaceProp(vtkView* view, bool add)
 {
   vtkPVRenderView* rview = vtkPVRenderView::SafeDownCast(view);
   if (!rview || !this->Prop)
   {
     return false;
   }
-  rview->GetRenderer()->AddViewProp(this->Prop);
-  if (this->Selectable)
+  if (add)
+  {
+    rview->GetRenderer()->AddViewProp(this->Prop);
+  }
+  else
+  {
+    rview->GetRenderer()->RemoveViewProp(this->Prop);
+  }
+  if (this->Selectable && add)
   {
     rview->RegisterPropForHardwareSelection(this, this->Prop);
   }
-  return this->Superclass::AddToView(view);
+  else if (this->Selectable)
+  {
+    rview->UnRegisterPropForHardwareSelection(this, this->Prop);
+  }
+  return true;
+}
+
+bool vtkRayMapperPropRepresentation::AddToView(vtkView* view)
+{
+  return this->PlaceProp(view, true) && this->Superclass::AddToView(view);
 }
 
 bool vtkRayMapperPropRepresentation::RemoveFromView(vtkView* view)
 {
-  vtkPVRenderView* rview = vtkPVRenderView::SafeDownCast(view);
-  if (!rview || !this->Prop)
-  {
-    return false;
-  }
-  rview->GetRenderer()->RemoveViewProp(this->Prop);
-  if (this->Selectable)
-  {
-    rview->UnRegisterPropForHardwareSelection(this, this->Prop);
-  }
-  return this->Superclass::RemoveFromView(view);
+  return this->PlaceProp(view, false) && this->Superclass::RemoveFromView(view);
 }
 
 void vtkRayMapperPropRepresentation::SetVisibility(bool val)

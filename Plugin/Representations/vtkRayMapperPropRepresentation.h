@@ -39,8 +39,11 @@
 
 #include <vector> // for std::vector
 
+class vtkAbstractVolumeMapper;
 class vtkDataSet;
 class vtkProp3D;
+class vtkRayMapperStatistics;
+class vtkVolume;
 
 class RAYMAPPERSREPRESENTATIONS_EXPORT vtkRayMapperPropRepresentation
   : public vtkPVDataRepresentation
@@ -75,6 +78,12 @@ public:
   virtual void SetScale(double, double, double);
   virtual void SetUserTransform(const double matrix[16]);
 
+  /**
+   * The mapper's statistics of the last render (phases, counters, effects), one
+   * "kind name value" per line.
+   */
+  const char* GetRenderStatistics();
+
 protected:
   vtkRayMapperPropRepresentation();
   ~vtkRayMapperPropRepresentation() override;
@@ -84,6 +93,18 @@ protected:
    * hardware selection may pick it.
    */
   void SetProp(vtkProp3D* prop, bool selectable);
+
+  /**
+   * A new vtkVolume, drawn by `mapper` with a new vtkVolumeProperty, made this
+   * representation's prop (not selectable: ParaView's hardware selection picks no volumes);
+   * `mapper`'s warnings reach the output window only while this representation is shown.
+   */
+  vtkSmartPointer<vtkVolume> SetVolumeProp(vtkAbstractVolumeMapper* mapper);
+
+  /**
+   * The statistics object of the mapper, which GetRenderStatistics() reports.
+   */
+  vtkSmartPointer<vtkRayMapperStatistics> Statistics;
 
   bool AddToView(vtkView* view) override;
   bool RemoveFromView(vtkView* view) override;
@@ -145,6 +166,10 @@ protected:
   bool HasPiece = false;
 
 private:
+  /// Adds the prop to the renderer of `view` (and to its hardware selection when the prop is
+  /// selectable), or removes it; false when `view` is no render view or there is no prop.
+  bool PlaceProp(vtkView* view, bool add);
+
   /// The piece to render in parallel runs: the delivered particles with their ghosts
   /// (Particles) or all particles on the first process (GatherToFirst). Collective.
   vtkDataObject* DistributedPiece(vtkDataObject* delivered);

@@ -22,7 +22,7 @@
  * depth, and ParaView's translucent pass (depth peeling) cannot draw them.
  *
  * The sphere radius is RadiusScale * (UseRadiusArray ? the value of the selected
- * 1-component point array : Radius).
+ * 1-component point array : Radius) (vtkRayMapperParticleRepresentation).
  *
  * This representation is not meant to be created on its own: the server-manager XML of
  * the plugin adds it as a sub-representation "Ray-Traced Spheres" of ParaView's
@@ -33,7 +33,7 @@
 #define vtkRayTracedSpheresRepresentation_h
 
 #include "RayMappersRepresentationsModule.h" // for export macro
-#include "vtkRayMapperPropRepresentation.h"
+#include "vtkRayMapperParticleRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
 #include <string> // for std::string
@@ -45,15 +45,12 @@ class vtkPolyData;
 class vtkScalarsToColors;
 
 class RAYMAPPERSREPRESENTATIONS_EXPORT vtkRayTracedSpheresRepresentation
-  : public vtkRayMapperPropRepresentation
+  : public vtkRayMapperParticleRepresentation
 {
 public:
   static vtkRayTracedSpheresRepresentation* New();
-  vtkTypeMacro(vtkRayTracedSpheresRepresentation, vtkRayMapperPropRepresentation);
+  vtkTypeMacro(vtkRayTracedSpheresRepresentation, vtkRayMapperParticleRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-
-
 
   //***************************************************************************
   // Coloring.
@@ -68,42 +65,6 @@ public:
    * with up to 4 components directly as colors.
    */
   void SetMapScalars(int val);
-
-  //***************************************************************************
-  // Sphere size.
-
-  ///@{
-  /**
-   * Radius of every sphere when no radius array is used. Default 1.
-   */
-  void SetRadius(double radius);
-  double GetRadius() const { return this->Radius; }
-  ///@}
-
-  ///@{
-  /**
-   * Use the point array chosen with SelectRadiusArray() as the radius of each sphere.
-   * Default off.
-   */
-  void SetUseRadiusArray(bool use);
-  bool GetUseRadiusArray() const { return this->UseRadiusArray; }
-  ///@}
-
-  /**
-   * Chooses the point array (1 component) giving each sphere's radius. The first four
-   * arguments (index, port, connection, field association) are ignored; they are there
-   * for the signature of ParaView's array-selection properties.
-   */
-  void SelectRadiusArray(int, int, int, int, const char* name);
-  const char* GetRadiusArrayName() const { return this->RadiusArrayName.c_str(); }
-
-  ///@{
-  /**
-   * Factor applied to every radius (constant or from the array). Default 1.
-   */
-  void SetRadiusScale(double scale);
-  double GetRadiusScale() const { return this->RadiusScale; }
-  ///@}
 
   //***************************************************************************
   // Accelerator (forwarded to vtkCGTSphereMapper, see there).
@@ -131,18 +92,11 @@ public:
   void SetRange4(double minimum, double maximum) { this->SetRangeBounds(3, minimum, maximum); }
 
   //***************************************************************************
-  // Forwarded to the actor's vtkProperty.
-  virtual void SetAmbient(double);
-  virtual void SetDiffuse(double);
-  virtual void SetSpecular(double);
-  virtual void SetSpecularPower(double val);
+  // Forwarded to the actor's vtkProperty (the lighting coefficients: see the superclass).
   virtual void SetAmbientColor(double r, double g, double b);
   virtual void SetDiffuseColor(double r, double g, double b);
   virtual void SetSpecularColor(double r, double g, double b);
   virtual void SetOpacity(double val);
-
-  /** The mapper's statistics of the last render, one "kind name value" per line. */
-  const char* GetRenderStatistics();
 
   ///@{
   /**
@@ -156,34 +110,20 @@ protected:
   vtkRayTracedSpheresRepresentation();
   ~vtkRayTracedSpheresRepresentation() override;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  vtkDataSet* GetProcessedData() override;
-  double GetBoundsMargin() override;
-  void SetDeliveredPiece(vtkDataObject* piece) override;
+  void UpdateMapperParameters() override;
+  void PushRadius(double& radius, double& scale, const char* radiusArray) override;
 
   /**
    * Pushes the color array selection (SetInputArrayToProcess(0, ...)) to the mapper.
    */
   void UpdateColoringParameters();
 
-  /**
-   * Pushes Radius, RadiusScale and the radius array to the mapper.
-   */
-  void UpdateRadiusParameters();
-
-
   vtkSmartPointer<vtkActor> Actor;
   vtkSmartPointer<vtkCGTSphereMapper> Mapper;
-  vtkSmartPointer<vtkPolyData> ProcessedData;
-
-  double Radius = 1.0;
   std::string RangeArrayNames[4];
   double RangeBounds[4][2] = { { 0, 1 }, { 0, 1 }, { 0, 1 }, { 0, 1 } };
   void SetRangeBounds(int slot, double minimum, double maximum);
   void UpdateRange(int slot);
-  double RadiusScale = 1.0;
-  bool UseRadiusArray = false;
-  std::string RadiusArrayName;
   bool WarnedLocalShadows = false;
 
 private:

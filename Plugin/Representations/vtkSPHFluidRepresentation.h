@@ -10,6 +10,9 @@
  * translucent with Beer-Lambert absorption (AbsorptionColor times Density per world unit),
  * refracting when the index of refraction is not 1, with ambient occlusion when asked.
  *
+ * The particles, their radii (Radius, the radius array whenever one is selected,
+ * RadiusScale) and the material come from vtkRayMapperParticleRepresentation.
+ *
  * Like the other representations of this plugin it is added by the plugin's XML as a
  * sub-representation "SPH Fluid" of ParaView's composite representations.
  */
@@ -17,29 +20,22 @@
 #define vtkSPHFluidRepresentation_h
 
 #include "RayMappersRepresentationsModule.h" // for export macro
-#include "vtkRayMapperPropRepresentation.h"
+#include "vtkRayMapperParticleRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
-class vtkDataSet;
-class vtkPolyData;
 class vtkSPHFluidMapper;
 class vtkVolume;
-class vtkVolumeProperty;
 
 class RAYMAPPERSREPRESENTATIONS_EXPORT vtkSPHFluidRepresentation
-  : public vtkRayMapperPropRepresentation
+  : public vtkRayMapperParticleRepresentation
 {
 public:
   static vtkSPHFluidRepresentation* New();
-  vtkTypeMacro(vtkSPHFluidRepresentation, vtkRayMapperPropRepresentation);
+  vtkTypeMacro(vtkSPHFluidRepresentation, vtkRayMapperParticleRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   //***************************************************************************
-  // Forwarded to vtkSPHFluidMapper (see there). The array selector takes ParaView's five
-  // array-selection arguments, of which only the name is used; empty or "None": no array.
-  void SetRadius(double radius);
-  void SelectRadiusArray(int, int, int, int, const char* name);
-  void SetRadiusScale(double scale);
+  // Forwarded to vtkSPHFluidMapper (see there).
   void SetAngleResolution(double degrees);
   void SetMaximumLayers(int layers);
   void SetMaximumSpans(int spans);
@@ -61,16 +57,6 @@ public:
   void SetAmbientOcclusionRadius(double radius);
   void SetAmbientOcclusionSamples(int samples);
 
-  //***************************************************************************
-  // Lighting, forwarded to the volume property.
-  void SetAmbient(double value);
-  void SetDiffuse(double value);
-  void SetSpecular(double value);
-  void SetSpecularPower(double value);
-
-  /** The mapper's statistics of the last render, one "kind name value" per line. */
-  const char* GetRenderStatistics();
-
   ///@{
   /** The mapper and the volume, for tests and C++ users. */
   vtkSPHFluidMapper* GetMapper();
@@ -81,16 +67,11 @@ protected:
   vtkSPHFluidRepresentation();
   ~vtkSPHFluidRepresentation() override;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  vtkDataSet* GetProcessedData() override;
-  double GetBoundsMargin() override;
-  void SetDeliveredPiece(vtkDataObject* piece) override;
+  void PushRadius(double& radius, double& scale, const char* radiusArray) override;
   Distribution GetDistribution() override { return Distribution::GatherToFirst; }
 
   vtkSmartPointer<vtkVolume> Volume;
   vtkSmartPointer<vtkSPHFluidMapper> Mapper;
-  vtkSmartPointer<vtkVolumeProperty> Property;
-  vtkSmartPointer<vtkPolyData> ProcessedData;
 
 private:
   vtkSPHFluidRepresentation(const vtkSPHFluidRepresentation&) = delete;

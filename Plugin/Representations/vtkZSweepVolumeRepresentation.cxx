@@ -4,32 +4,28 @@
 #include "vtkColorTransferFunction.h"
 #include "vtkCompositeDataSet.h"
 #include "vtkDataSet.h"
-#include "vtkDiscretizableColorTransferFunction.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
-#include "vtkPiecewiseFunction.h"
+#include "vtkRayMapperForward.h"
 #include "vtkRayMapperStatistics.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkRayMapperVolumeClassification.h"
 #include "vtkUnstructuredGrid.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 #include "vtkZSweepVolumeMapper.h"
 
-#include <cmath>
-
 vtkStandardNewMacro(vtkZSweepVolumeRepresentation);
 
 //----------------------------------------------------------------------------
 vtkZSweepVolumeRepresentation::vtkZSweepVolumeRepresentation()
+  : Classification(new vtkRayMapperVolumeClassification)
 {
   this->Mapper = vtkSmartPointer<vtkZSweepVolumeMapper>::New();
-  this->Property = vtkSmartPointer<vtkVolumeProperty>::New();
-  this->Volume = vtkSmartPointer<vtkVolume>::New();
-  this->Volume->SetMapper(this->Mapper);
-  this->SetProp(this->Volume, false);
-  this->WarnOnlyWhenShown(this->Mapper);
-  this->Volume->SetProperty(this->Property);
+  this->Statistics = this->Mapper->GetStatistics();
+  this->Volume = this->SetVolumeProp(this->Mapper);
 }
 
 vtkZSweepVolumeRepresentation::~vtkZSweepVolumeRepresentation() = default;
@@ -37,6 +33,8 @@ vtkZSweepVolumeRepresentation::~vtkZSweepVolumeRepresentation() = default;
 void vtkZSweepVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "ScalarOpacityUnitDistance: "
+     << this->Classification->GetScalarOpacityUnitDistance() << "\n";
   os << indent << "ProcessedData: " << this->ProcessedData.Get() << "\n";
 }
 
@@ -48,11 +46,6 @@ vtkZSweepVolumeMapper* vtkZSweepVolumeRepresentation::GetMapper()
 vtkVolume* vtkZSweepVolumeRepresentation::GetVolume()
 {
   return this->Volume;
-}
-
-const char* vtkZSweepVolumeRepresentation::GetRenderStatistics()
-{
-  return this->Mapper->GetStatistics()->GetSummary();
 }
 
 //----------------------------------------------------------------------------
@@ -131,87 +124,47 @@ void vtkZSweepVolumeRepresentation::UpdateClassification()
       ? VTK_SCALAR_MODE_USE_CELL_FIELD_DATA
       : VTK_SCALAR_MODE_USE_POINT_FIELD_DATA);
 
-  auto* color = vtkColorTransferFunction::SafeDownCast(this->LookupTable);
-  vtkPiecewiseFunction* opacity = this->ScalarOpacity;
-  if (!opacity)
+  // Without a color or an opacity map the property keeps the last one.
+  vtkVolumeProperty* property = this->Volume->GetProperty();
+  if (vtkColorTransferFunction* color = this->Classification->GetColorMap())
   {
-    if (auto* discretizable = vtkDiscretizableColorTransferFunction::SafeDownCast(color))
-    {
-      opacity = discretizable->GetScalarOpacityFunction();
-    }
+    property->SetColor(color);
   }
-  if (color)
+  if (vtkPiecewiseFunction* opacity = this->Classification->GetOpacityMap())
   {
-    this->Property->SetColor(color);
+    property->SetScalarOpacity(opacity);
   }
-  if (opacity)
-  {
-    this->Property->SetScalarOpacity(opacity);
-  }
+  property->SetScalarOpacityUnitDistance(this->Classification->GetScalarOpacityUnitDistance());
 }
 
 void vtkZSweepVolumeRepresentation::SetLookupTable(vtkScalarsToColors* lut)
 {
-  this->LookupTable = lut;
+  this->Classification->LookupTable = lut;
   this->Modified();
 }
 
 void vtkZSweepVolumeRepresentation::SetScalarOpacity(vtkPiecewiseFunction* opacity)
 {
-  this->ScalarOpacity = opacity;
+  this->Classification->ScalarOpacity = opacity;
   this->Modified();
 }
 
 void vtkZSweepVolumeRepresentation::SetScalarOpacityUnitDistance(double distance)
 {
-  if (!(distance > 0) || !std::isfinite(distance))
+  if (this->Classification->SetScalarOpacityUnitDistance(this, distance))
   {
-    vtkWarningMacro(<< "ScalarOpacityUnitDistance must be positive (got " << distance << ").");
-    return;
+    this->Modified();
   }
-  this->Property->SetScalarOpacityUnitDistance(distance);
-  this->Modified();
 }
 
-void vtkZSweepVolumeRepresentation::SetIntegrator(int integrator)
-{
-  this->Mapper->SetIntegrator(integrator);
-  this->Modified();
-}
-
-void vtkZSweepVolumeRepresentation::SetTileSize(int size)
-{
-  this->Mapper->SetTileSize(size);
-  this->Modified();
-}
-
-void vtkZSweepVolumeRepresentation::SetListThreshold(int k)
-{
-  this->Mapper->SetListThreshold(k);
-  this->Modified();
-}
-
-void vtkZSweepVolumeRepresentation::SetSparsification(bool on)
-{
-  this->Mapper->SetSparsification(on);
-  this->Modified();
-}
-
-void vtkZSweepVolumeRepresentation::SetTerminationOpacity(double opacity)
-{
-  this->Mapper->SetTerminationOpacity(opacity);
-  this->Modified();
-}
-
-void vtkZSweepVolumeRepresentation::SetSubsampling(int p)
-{
-  this->Mapper->SetSubsampling(p);
-  this->Modified();
-}
-
-void vtkZSweepVolumeRepresentation::SetFrameBudget(double seconds)
-{
-  this->Mapper->SetFrameBudget(seconds);
-  this->Modified();
-}
-
+//----------------------------------------------------------------------------
+// Forwarded to the mapper.
+// clang-format off
+vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetIntegrator, int, SetIntegrator)
+vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetTileSize, int, SetTileSize)
+vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetListThreshold, int, SetListThreshold)
+vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetSparsification, bool, SetSparsification)
+vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetTerminationOpacity, double, SetTerminationOpacity)
+vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetSubsampling, int, SetSubsampling)
+vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetFrameBudget, double, SetFrameBudget)
+// clang-format on

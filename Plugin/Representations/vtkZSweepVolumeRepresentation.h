@@ -9,6 +9,9 @@
  * rendered with the color array's color map (LookupTable) and opacity map
  * (ScalarOpacityFunction) over ScalarOpacityUnitDistance, point or cell data.
  *
+ * The classification (the maps and the unit distance) is vtkRayMapperVolumeClassification,
+ * shared with the particle volumes.
+ *
  * Its own properties: the integrator (exact, the dissertation's formula, midpoint), the
  * tile size, the list threshold K and the early-termination opacity. The mapper's
  * statistics of the last render are an information property (ZSweepRenderStatistics).
@@ -21,12 +24,14 @@
 #include "vtkRayMapperPropRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
+#include <memory> // for std::unique_ptr
+
 class vtkDataSet;
 class vtkPiecewiseFunction;
+class vtkRayMapperVolumeClassification;
 class vtkScalarsToColors;
 class vtkUnstructuredGrid;
 class vtkVolume;
-class vtkVolumeProperty;
 class vtkZSweepVolumeMapper;
 
 class RAYMAPPERSREPRESENTATIONS_EXPORT vtkZSweepVolumeRepresentation : public vtkRayMapperPropRepresentation
@@ -35,7 +40,6 @@ public:
   static vtkZSweepVolumeRepresentation* New();
   vtkTypeMacro(vtkZSweepVolumeRepresentation, vtkRayMapperPropRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
 
   //***************************************************************************
   // Classification.
@@ -52,11 +56,6 @@ public:
   void SetTerminationOpacity(double opacity);
   void SetSubsampling(int p);
   void SetFrameBudget(double seconds);
-
-  /**
-   * The mapper's statistics of the last render, one "kind name value" per line.
-   */
-  const char* GetRenderStatistics();
 
   vtkZSweepVolumeMapper* GetMapper();
   vtkVolume* GetVolume();
@@ -78,10 +77,8 @@ protected:
 
   vtkSmartPointer<vtkVolume> Volume;
   vtkSmartPointer<vtkZSweepVolumeMapper> Mapper;
-  vtkSmartPointer<vtkVolumeProperty> Property;
   vtkSmartPointer<vtkUnstructuredGrid> ProcessedData;
-  vtkSmartPointer<vtkScalarsToColors> LookupTable;
-  vtkSmartPointer<vtkPiecewiseFunction> ScalarOpacity;
+  std::unique_ptr<vtkRayMapperVolumeClassification> Classification;
 
 private:
   vtkZSweepVolumeRepresentation(const vtkZSweepVolumeRepresentation&) = delete;
