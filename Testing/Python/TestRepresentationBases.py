@@ -7,7 +7,10 @@ Checks:
 - every representation proxy has the properties of its bases, under the names pvpython
   users know (a proxy that stops inheriting its base loses them), and the bases are not
   offered as representations;
-- on a small lattice of particles, each lighting coefficient of the particles' material
+- on a small lattice of particles, the view frames the points grown by the reach of each
+  particle representation (its bounds margin: one radius, Sigma radii, the SPH kernel's
+  support 2h, one radius);
+- each lighting coefficient of the particles' material
   reaches the picture of each particle representation ("Ray-Traced Spheres", "RBF Volume",
   "SPH Volume", "SPH Fluid"): a larger Ambient brightens it, a smaller Diffuse darkens it, a
   larger Specular brightens it and a smaller SpecularPower (a wider highlight) brightens it
@@ -18,6 +21,7 @@ Checks:
 
 usage: pvpython TestRepresentationBases.py PLUGIN OUTPUT_DIR
 """
+import math
 import os
 import sys
 
@@ -58,6 +62,12 @@ PARTICLE_TYPES = {
     'SPH Fluid': {'SPHFluidRadius': 0.35},
 }
 
+# How far each type's rendering reaches beyond the points with these settings: a sphere's
+# radius; Sigma (default 2) Gaussian radii; the cubic spline's (the default kernel's) support
+# 2h (Limper 2012: h is half the support of M4); a fluid sphere's radius.
+MARGINS = {'Ray-Traced Spheres': 0.35, 'RBF Volume': 2.0 * 0.35, 'SPH Volume': 2.0 * 0.6,
+           'SPH Fluid': 0.35}
+
 
 def check_shared_properties():
     """Every representation proxy lists the properties of its bases; the bases are no
@@ -92,6 +102,18 @@ def lattice():
     producer.GetClientSideObject().SetOutput(data)
     producer.UpdatePipeline()
     return producer
+
+
+def check_margin(view, kind):
+    """The view frames the lattice's box [0, 3]^3 grown by the rendering's reach: after
+    ResetCamera the camera is at distance R / sin(angle / 2) from the centre, R the half
+    diagonal sqrt(3) (1.5 + margin) of the grown box."""
+    camera = view.GetActiveCamera()
+    distance = math.dist(camera.GetPosition(), camera.GetFocalPoint())
+    margin = distance * math.sin(math.radians(camera.GetViewAngle()) / 2) / math.sqrt(3) - 1.5
+    check(abs(margin - MARGINS[kind]) < 1e-6 * (1.5 + MARGINS[kind]),
+          '%s: the view frames the points grown by %g (the reach of the particles: %g)'
+          % (kind, margin, MARGINS[kind]))
 
 
 def check_material(view, rep, kind, stem):
@@ -135,6 +157,7 @@ def check_particle_types(view, producer, out_dir):
         for name, value in settings.items():
             rep.SetPropertyWithName(name, value)
         view.ResetCamera()
+        check_margin(view, kind)
         stem = os.path.join(out_dir, 'TestRepresentationBases-' + kind.replace(' ', ''))
         check_material(view, rep, kind, stem)
         if kind in ('RBF Volume', 'SPH Volume'):
