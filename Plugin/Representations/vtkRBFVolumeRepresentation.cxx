@@ -4,7 +4,6 @@
 #include "vtkDiscretizableColorTransferFunction.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
-#include "vtkPolyData.h"
 #include "vtkRBFVolumeMapper.h"
 #include "vtkRayMapperForward.h"
 #include "vtkRayMapperGatherPoints.h"

@@ -4,12 +4,11 @@
 #include "vtkCGTSphereMapper.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
+#include "vtkProperty.h"
 #include "vtkRayMapperForward.h"
 #include "vtkRayMapperGatherPoints.h"
-#include "vtkPolyData.h"
-#include "vtkRayMapperStatistics.h"
-#include "vtkProperty.h"
 #include "vtkRayMapperSetGet.h"
+#include "vtkRayMapperStatistics.h"
 #include "vtkScalarsToColors.h"
 
 vtkStandardNewMacro(vtkRayTracedSpheresRepresentation);

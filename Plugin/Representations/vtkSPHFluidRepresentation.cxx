@@ -1,7 +1,6 @@
 #include "vtkSPHFluidRepresentation.h"
 
 #include "vtkObjectFactory.h"
-#include "vtkPolyData.h"
 #include "vtkRayMapperForward.h"
 #include "vtkRayMapperGatherPoints.h"
 #include "vtkRayMapperStatistics.h"

@@ -2,7 +2,6 @@
 
 #include "SPHKernels.h"
 #include "vtkObjectFactory.h"
-#include "vtkPolyData.h"
 #include "vtkRayMapperForward.h"
 #include "vtkRayMapperStatistics.h"
 #include "vtkSPHVolumeMapper.h"

@@ -170,17 +170,12 @@ def main():
     os.makedirs(out_dir, exist_ok=True)
     LoadPlugin(plugin, remote=False, ns=globals())
     check_shared_properties()
-    producer = lattice()
     view = CreateView('RenderView')
     prepare_view(view, SIZE, BACKGROUND)
-    try:
-        check_particle_types(view, producer, out_dir)
-    finally:
-        Delete(view)
+    check_particle_types(view, lattice(), out_dir)
+    Delete(view)
     return finish()
 
 
 if __name__ == '__main__':
-    code = main()
-    if code:
-        sys.exit(code)
+    sys.exit(main())
