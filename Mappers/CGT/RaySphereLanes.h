@@ -15,6 +15,7 @@
 #ifndef RayMappers_RaySphereLanes_h
 #define RayMappers_RaySphereLanes_h
 
+#include "SimdLanes.h"
 #include "SimdPath.h"
 #include "SphereAccelerator.h"
 
@@ -31,22 +32,14 @@
 namespace raymappers
 {
 
-constexpr int LanePadding = 16;
-
-struct RayLanes
+struct RayLanes : RayLaneArrays<MaxPacketRays>
 {
-  alignas(64) float ox[MaxPacketRays];
-  alignas(64) float oy[MaxPacketRays];
-  alignas(64) float oz[MaxPacketRays];
-  alignas(64) float dx[MaxPacketRays];
-  alignas(64) float dy[MaxPacketRays];
-  alignas(64) float dz[MaxPacketRays];
   alignas(64) float tNear[MaxPacketRays];
   alignas(64) float tBest[MaxPacketRays];
   alignas(64) std::uint32_t prim[MaxPacketRays];
 
   /// Lanes [count, padded(count)) become padding.
-  static int padded(int count) { return (count + LanePadding - 1) / LanePadding * LanePadding; }
+  static int padded(int count) { return paddedLaneCount(count); }
   void pad(int count)
   {
     for (int i = count; i < padded(count); ++i)

@@ -12,6 +12,7 @@
 #include "RBFMethods.h"
 
 #include "FastExp.h"
+#include "SimdLanes.h"
 #include "TileScheduler.h"
 
 #include <limits>
@@ -25,48 +26,42 @@ namespace
 {
 // The rays of a packet in structure-of-arrays form, so that a particle or a node is tested
 // against all of them in SIMD lanes (section 5.3: "a packet is simply a varying Ray").
-// Lanes are padded to a multiple of 16 (the widest SIMD width); a padding lane, like a ray
-// without samples in the pass, has an empty interval and an empty sample range.
-constexpr int MaxPacketRays = MaxRBFPacketSide * MaxRBFPacketSide;
-static_assert(MaxPacketRays <= 64, "a packet's rays fit a 64-bit mask");
-constexpr int LaneMultiple = 16;
+// Lanes are padded to a multiple of SimdLaneWidth (SimdLanes.h); a padding lane, like a ray
+// without samples in the pass, has an empty interval and an empty sample range. At most 64
+// rays (CGT's packets take up to 256): a packet's active rays are a 64-bit mask.
+constexpr int MaxRBFPacketRays = MaxRBFPacketSide * MaxRBFPacketSide;
+static_assert(MaxRBFPacketRays <= 64, "a packet's rays fit a 64-bit mask");
 
-struct PacketLanes
+struct PacketLanes : RayLaneArrays<MaxRBFPacketRays>
 {
-  alignas(64) float ox[MaxPacketRays];
-  alignas(64) float oy[MaxPacketRays];
-  alignas(64) float oz[MaxPacketRays];
-  alignas(64) float dx[MaxPacketRays];
-  alignas(64) float dy[MaxPacketRays];
-  alignas(64) float dz[MaxPacketRays];
-  alignas(64) float ix[MaxPacketRays]; // 1 / d per axis
-  alignas(64) float iy[MaxPacketRays];
-  alignas(64) float iz[MaxPacketRays];
+  alignas(64) float ix[MaxRBFPacketRays]; // 1 / d per axis
+  alignas(64) float iy[MaxRBFPacketRays];
+  alignas(64) float iz[MaxRBFPacketRays];
   // This pass: the t interval of the ray's samples (empty: t0 > t1) and their indices
   // relative to the pass's first sample, [first, last] (empty: first > last).
-  alignas(64) float t0[MaxPacketRays];
-  alignas(64) float t1[MaxPacketRays];
-  alignas(64) std::int32_t first[MaxPacketRays];
-  alignas(64) std::int32_t last[MaxPacketRays];
+  alignas(64) float t0[MaxRBFPacketRays];
+  alignas(64) float t1[MaxRBFPacketRays];
+  alignas(64) std::int32_t first[MaxRBFPacketRays];
+  alignas(64) std::int32_t last[MaxRBFPacketRays];
   // For the particle being deposited: b = f.d, h^2, and the samples in its support
   // [ka, kb] (pass-relative, empty when the ray misses the support).
-  alignas(64) float b[MaxPacketRays];
-  alignas(64) float h2[MaxPacketRays];
-  alignas(64) std::int32_t ka[MaxPacketRays];
-  alignas(64) std::int32_t kb[MaxPacketRays];
+  alignas(64) float b[MaxRBFPacketRays];
+  alignas(64) float h2[MaxRBFPacketRays];
+  alignas(64) std::int32_t ka[MaxRBFPacketRays];
+  alignas(64) std::int32_t kb[MaxRBFPacketRays];
   // The pass's samples some particle reached, [touchedFirst, touchedLast] (empty: first >
   // last).
-  alignas(64) std::int32_t touchedFirst[MaxPacketRays];
-  alignas(64) std::int32_t touchedLast[MaxPacketRays];
+  alignas(64) std::int32_t touchedFirst[MaxRBFPacketRays];
+  alignas(64) std::int32_t touchedLast[MaxRBFPacketRays];
   // For the pass's integration the samples to blend [from, to] and whether the ray is
   // still open, and the front-to-back state (premultiplied colour and opacity).
-  alignas(64) std::int32_t from[MaxPacketRays];
-  alignas(64) std::int32_t to[MaxPacketRays];
-  alignas(64) std::int32_t open[MaxPacketRays];
-  alignas(64) float cr[MaxPacketRays];
-  alignas(64) float cg[MaxPacketRays];
-  alignas(64) float cb[MaxPacketRays];
-  alignas(64) float ca[MaxPacketRays];
+  alignas(64) std::int32_t from[MaxRBFPacketRays];
+  alignas(64) std::int32_t to[MaxRBFPacketRays];
+  alignas(64) std::int32_t open[MaxRBFPacketRays];
+  alignas(64) float cr[MaxRBFPacketRays];
+  alignas(64) float cg[MaxRBFPacketRays];
+  alignas(64) float cb[MaxRBFPacketRays];
+  alignas(64) float ca[MaxRBFPacketRays];
 };
 
 // A packet: its lanes, and per ray its pixel, its ray (for shading), its samples and whether
@@ -74,12 +69,12 @@ struct PacketLanes
 struct Packet
 {
   PacketLanes P;
-  Ray ray[MaxPacketRays];
-  SampleRange range[MaxPacketRays];
-  bool active[MaxPacketRays];
-  int pi[MaxPacketRays], pj[MaxPacketRays];
+  Ray ray[MaxRBFPacketRays];
+  SampleRange range[MaxRBFPacketRays];
+  bool active[MaxRBFPacketRays];
+  int pi[MaxRBFPacketRays], pj[MaxRBFPacketRays];
   int n = 0;     // rays
-  int lanes = 0; // n padded to a multiple of LaneMultiple
+  int lanes = 0; // n padded to a multiple of SimdLaneWidth
   // The samples of all rays, [kFirst, kLast].
   std::int64_t kFirst = 0, kLast = -1;
 };
@@ -96,7 +91,7 @@ struct SampleBuffer
   std::vector<float> t; // t of the pass's samples
 
   SampleBuffer(int maxRays, int K, int numFields, bool grads)
-    : laneStride((maxRays + LaneMultiple - 1) / LaneMultiple * LaneMultiple)
+    : laneStride(paddedLaneCount(maxRays))
     , fieldStride(static_cast<std::ptrdiff_t>(K) * laneStride)
     , phi(static_cast<std::size_t>(numFields) * fieldStride)
     , grad(grads ? static_cast<std::size_t>(3) * fieldStride : 0)
@@ -225,13 +220,13 @@ void makePacketRays(const RBFFrameInputs& in, const Tile& tile, int bx, int by, 
       ++n;
     }
   }
-  const int lanes = (n + LaneMultiple - 1) / LaneMultiple * LaneMultiple;
+  const int lanes = paddedLaneCount(n);
   pk.n = n;
   pk.lanes = lanes;
   PacketLanes& P = pk.P;
   float* const org[3] = { P.ox, P.oy, P.oz };
   float* const dir[3] = { P.dx, P.dy, P.dz };
-  float tFar[MaxPacketRays];
+  float tFar[MaxRBFPacketRays];
   in.camera.pixelRays(pk.pi, pk.pj, n, org, dir, tFar);
   for (int r = n; r < lanes; ++r)
   {
@@ -350,7 +345,7 @@ inline void clipToSlab(float l, float h, float o, float inv, float& t0, float& t
 }
 
 // The node test of the BVH pass: whether some ray of the packet meets the box grown by
-// `grow` within its pass interval (a SIMD block of LaneMultiple rays at a time, all of its
+// `grow` within its pass interval (a SIMD block of SimdLaneWidth rays at a time, all of its
 // lanes at once: a block costs about one ray; the first block with a hit answers).
 inline bool packetMeetsBox(const PacketLanes& P,
   int lanes,
@@ -360,11 +355,11 @@ inline bool packetMeetsBox(const PacketLanes& P,
 {
   const float lx = lo[0] - grow, ly = lo[1] - grow, lz = lo[2] - grow;
   const float hx = hi[0] + grow, hy = hi[1] + grow, hz = hi[2] + grow;
-  for (int b0 = 0; b0 < lanes; b0 += LaneMultiple)
+  for (int b0 = 0; b0 < lanes; b0 += SimdLaneWidth)
   {
     int hit = 0;
 #pragma omp simd reduction(| : hit)
-    for (int r = b0; r < b0 + LaneMultiple; ++r)
+    for (int r = b0; r < b0 + SimdLaneWidth; ++r)
     {
       float t0 = P.t0[r], t1 = P.t1[r];
       clipToSlab(lx, hx, P.ox[r], P.ix[r], t0, t1);
@@ -468,7 +463,7 @@ BlockReach reachBlock(PacketLanes& P, int b0, std::int32_t slots)
   std::int32_t kLo = slots, kHi = -1;
   int reached = 0;
 #pragma omp simd reduction(min : kLo) reduction(max : kHi) reduction(+ : reached)
-  for (int r = b0; r < b0 + LaneMultiple; ++r)
+  for (int r = b0; r < b0 + SimdLaneWidth; ++r)
   {
     const bool in = P.ka[r] <= P.kb[r];
     kLo = std::min(kLo, P.ka[r]);
@@ -505,7 +500,7 @@ void depositBlock(const PacketLanes& P,
     const float t = buffer.t[k];
     float* phi = buffer.phiAt(d.field, k);
 #pragma omp simd
-    for (int r = b0; r < b0 + LaneMultiple; ++r)
+    for (int r = b0; r < b0 + SimdLaneWidth; ++r)
     {
       const float u = t + P.b[r];
       const float g = amp * fastExp(-(u * u + P.h2[r]) * inv2r2);
@@ -530,7 +525,7 @@ void depositBlockWithGradient(const PacketLanes& P,
     float* phi = buffer.phiAt(d.field, k);
     float *gx = buffer.gradAt(0, k), *gy = buffer.gradAt(1, k), *gz = buffer.gradAt(2, k);
 #pragma omp simd
-    for (int r = b0; r < b0 + LaneMultiple; ++r)
+    for (int r = b0; r < b0 + SimdLaneWidth; ++r)
     {
       const float u = t + P.b[r];
       const bool on = (k >= P.ka[r]) & (k <= P.kb[r]);
@@ -565,7 +560,7 @@ void depositParticle(const RBFFrameInputs& in,
     return;
   }
   const Deposit d{ c, in.kappa * particles.values[p], inv2r2, -2.f * inv2r2, particles.fields[p] };
-  for (int b0 = 0; b0 < lanes; b0 += LaneMultiple)
+  for (int b0 = 0; b0 < lanes; b0 += SimdLaneWidth)
   {
     const BlockReach reach = reachBlock(P, b0, ix.slots);
     if (reach.reached == 0)
@@ -646,7 +641,7 @@ BlockSpan blockSpan(const PacketLanes& P, int b0, int b1)
 // (section 5.3: "all samples for the packet are integrated, iterating using a uniform t
 // variable spanning minimum and maximum sample positions"): ray r blends its samples
 // [from[r], to[r]] while open[r], with the arithmetic of Classifier::blend, and closes when
-// its opacity reaches the threshold. The loop runs per SIMD block of LaneMultiple rays, and
+// its opacity reaches the threshold. The loop runs per SIMD block of SimdLaneWidth rays, and
 // a block with no open ray costs nothing. Step i of a block blends, in each ray, either the
 // block's sample kLo + i (the uniform t over the block's span) or the ray's own sample
 // from[r] + i (read by a gather): the latter when the rays' spans are staggered, as where
@@ -667,17 +662,17 @@ std::int64_t integrateLanes(const std::vector<StepTable>& tables,
   std::int64_t& staggeredBlocks)
 {
   std::int64_t blended = 0, closed = 0;
-  for (int b0 = 0; b0 < n; b0 += LaneMultiple)
+  for (int b0 = 0; b0 < n; b0 += SimdLaneWidth)
   {
     // (The block's lanes past n are padding, closed with empty ranges.)
-    const BlockSpan span = blockSpan(P, b0, std::min(n, b0 + LaneMultiple));
+    const BlockSpan span = blockSpan(P, b0, std::min(n, b0 + SimdLaneWidth));
     const std::int32_t kLo = span.kLo, kHi = span.kHi, longest = span.longest;
     const bool staggered = kHi - kLo + 1 > longest;
     staggeredBlocks += staggered;
     const std::int32_t steps = staggered ? longest : kHi - kLo + 1;
     // Step i's sample of lane r is first[r] + i.
-    alignas(64) std::int32_t first[LaneMultiple];
-    for (int r = 0; r < LaneMultiple; ++r)
+    alignas(64) std::int32_t first[SimdLaneWidth];
+    for (int r = 0; r < SimdLaneWidth; ++r)
     {
       first[r] = staggered ? P.from[b0 + r] : kLo;
     }
@@ -692,7 +687,7 @@ std::int64_t integrateLanes(const std::vector<StepTable>& tables,
         const std::int32_t rowStride = static_cast<std::int32_t>(sampleStride);
         const std::int32_t lastRow = static_cast<std::int32_t>(fieldStride / sampleStride) - 1;
 #pragma omp simd
-        for (int r = 0; r < LaneMultiple; ++r)
+        for (int r = 0; r < SimdLaneWidth; ++r)
         {
           const int q = b0 + r;
           const std::int32_t k = first[r] + i;
@@ -711,7 +706,7 @@ std::int64_t integrateLanes(const std::vector<StepTable>& tables,
       }
       int stillOpen = 0;
 #pragma omp simd reduction(+ : blended, closed, stillOpen)
-      for (int r = 0; r < LaneMultiple; ++r)
+      for (int r = 0; r < SimdLaneWidth; ++r)
       {
         const int q = b0 + r;
         const std::int32_t k = first[r] + i;
