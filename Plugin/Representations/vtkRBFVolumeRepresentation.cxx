@@ -99,4 +99,4 @@ vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetMethod, int, SetMethod)
 vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetSamplesPerPass, int, SetSamplesPerPass)
 vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetPacketSize, int, SetPacketSize)
 vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetLeafSize, int, SetLeafSize)
-  // clang-format on
+// clang-format on

@@ -64,9 +64,9 @@ vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetBounces, int, SetBounces)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetAmbientOcclusion, bool, SetAmbientOcclusion)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetAmbientOcclusionRadius, double, SetAmbientOcclusionRadius)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetAmbientOcclusionSamples, int, SetAmbientOcclusionSamples)
-  // clang-format on
+// clang-format on
 
-  void vtkSPHFluidRepresentation::SetFluidColor(double r, double g, double b)
+void vtkSPHFluidRepresentation::SetFluidColor(double r, double g, double b)
 {
   this->Mapper->SetColor(r, g, b);
   this->Modified();

@@ -87,9 +87,9 @@ vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetTerminationOpacity, doub
 vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetJitter, bool, SetJitter)
 vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetMaximumReduction, double, SetMaximumReduction)
 vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetFrameBudget, double, SetFrameBudget)
-  // clang-format on
+// clang-format on
 
-  void vtkSPHVolumeRepresentation::SetContourColor(double r, double g, double b)
+void vtkSPHVolumeRepresentation::SetContourColor(double r, double g, double b)
 {
   this->Mapper->SetContourColor(r, g, b);
   this->Modified();
