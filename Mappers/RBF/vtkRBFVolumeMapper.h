@@ -48,6 +48,12 @@
 
 class vtkPointSet;
 class vtkRayMapperStatistics;
+struct vtkRayMapperView;
+namespace raymappers
+{
+class RenderStatistics;
+struct RBFRenderParameters;
+}
 
 #define VTK_RBF_METHOD_COHERENT 0
 #define VTK_RBF_METHOD_DIRECT 1
@@ -199,6 +205,12 @@ private:
 
   /// Rebuilds the particles (and marks the BVH stale) when the input or the arrays changed.
   bool UpdateParticles(vtkPointSet* input);
+  /// The particles, then the BVH over them, rebuilt where their stamps changed.
+  void UpdateAcceleration(vtkPointSet* input, raymappers::RenderStatistics& stats);
+  /// The kernel's parameters: the properties, the model transform, lights and material.
+  raymappers::RBFRenderParameters GatherParameters(vtkRenderer* ren,
+    vtkVolume* vol,
+    const vtkRayMapperView& view);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

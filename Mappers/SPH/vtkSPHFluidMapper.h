@@ -66,6 +66,12 @@
 
 class vtkPointSet;
 class vtkRayMapperStatistics;
+struct vtkRayMapperView;
+namespace raymappers
+{
+class RenderStatistics;
+struct FluidRenderParameters;
+}
 
 class RAYMAPPERSMAPPERS_EXPORT vtkSPHFluidMapper : public vtkAbstractVolumeMapper
 {
@@ -221,6 +227,14 @@ private:
   /// Rebuilds the particles when the input, the radius array or the radius settings changed;
   /// returns whether it did.
   bool UpdateParticles(vtkPointSet* input);
+  /// Rebuilds the boundary-culling cells when the particles or the culling settings changed.
+  void UpdateCells(raymappers::RenderStatistics& stats);
+  /// The kernel's parameters: the properties, the model transform, lights and material.
+  raymappers::FluidRenderParameters GatherParameters(vtkRenderer* ren,
+    vtkVolume* vol,
+    const vtkRayMapperView& view);
+  /// The warning that the memory budget holds no voxel column, once per budget and size.
+  void WarnAboutMemoryBudget(const vtkRayMapperView& view, const raymappers::RenderStatistics& stats);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

@@ -56,6 +56,11 @@
 
 class vtkPointSet;
 class vtkRayMapperStatistics;
+struct vtkRayMapperView;
+namespace raymappers
+{
+struct SPHRenderParameters;
+}
 
 #define VTK_SPH_KERNEL_POLY6 0
 #define VTK_SPH_KERNEL_CUBIC_SPLINE 1
@@ -225,6 +230,14 @@ private:
 
   /// Rebuilds the particles when the input, the arrays or the particle settings changed.
   void UpdateParticles(vtkPointSet* input);
+  /// Support radius per smoothing length: SupportFactor, or the kernel's convention.
+  double GetSupportPerSmoothingLength();
+  /// The kernel's parameters: the properties, the model transform, lights and material.
+  raymappers::SPHRenderParameters GatherParameters(vtkRenderer* ren,
+    vtkVolume* vol,
+    const vtkRayMapperView& view);
+  /// The sampling reduction r of this render (equation 3.1).
+  double InteractiveReduction(vtkRenderer* ren);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

@@ -49,6 +49,10 @@
 #include <memory> // for std::unique_ptr
 
 class vtkRayMapperStatistics;
+namespace raymappers
+{
+struct ZSweepParameters;
+}
 
 #define VTK_ZSWEEP_INTEGRATOR_EXACT 0
 #define VTK_ZSWEEP_INTEGRATOR_FARIAS 1
@@ -159,6 +163,8 @@ private:
   /// changed.
   /// Returns false (with an error) when there is no scalar to render.
   bool UpdateMesh(vtkUnstructuredGridBase* input);
+  /// The kernel's parameters from the properties.
+  raymappers::ZSweepParameters GatherParameters() const;
 
   struct Internals;
   std::unique_ptr<Internals> Impl;
