@@ -61,7 +61,7 @@ vtkCGTSphereMapper::vtkCGTSphereMapper()
 
 vtkCGTSphereMapper::~vtkCGTSphereMapper()
 {
-  this->SetRadiusArrayName(nullptr);
+  this->SetScaleArray(nullptr);
 }
 
 void vtkCGTSphereMapper::SetRange(int index, const char* arrayName, double minimum, double maximum)
@@ -184,10 +184,10 @@ void vtkCGTSphereMapper::ComputeBounds()
   }
   std::string why;
   vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
   vtkRayMapperCore::GrowBounds(this->Bounds,
-    radii ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
-          : this->Radius * this->RadiusScale);
+    radii ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
+          : this->Radius * this->ScaleFactor);
 }
 
 // A sphere's colour: its point's mapped scalar colour (RGB or grey, opaque), or the actor's
@@ -273,7 +273,7 @@ void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
   vtkMTimeType colorTime = this->Colors ? this->Colors->GetMTime() : 0;
   colorTime = std::max(colorTime, actor->GetProperty()->GetMTime());
   const bool geometryChanged = Impl->SpheresStamp.Changed(this, input,
-    { this->Radius, this->RadiusScale, vtkRayMapperString(this->RadiusArrayName),
+    { this->Radius, this->ScaleFactor, vtkRayMapperString(this->ScaleArray),
       Impl->RangeArrays });
   if (!geometryChanged && Impl->BuiltColorTime == colorTime)
   {
@@ -308,14 +308,14 @@ void vtkCGTSphereMapper::BuildSpheres(vtkPolyData* input, const SphereColors& co
 {
   std::string why;
   vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
   }
   vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
   vtkPoints* points = input->GetPoints();
-  const double scale = this->RadiusScale;
+  const double scale = this->ScaleFactor;
   const double constantRadius = this->Radius * scale;
   // Float and double arrays (nearly all data) are read directly, others through the
   // generic vtkDataArray interface.
@@ -467,9 +467,9 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Radius: " << this->Radius << "\n";
-  os << indent << "RadiusArrayName: " << (this->RadiusArrayName ? this->RadiusArrayName : "(none)")
+  os << indent << "ScaleArray: " << (this->ScaleArray ? this->ScaleArray : "(none)")
      << "\n";
-  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
   os << indent << "Accelerator: "
      << (this->Accelerator == VTK_CGT_ACCELERATOR_GRID ? "coherent grid" : "Embree") << "\n";

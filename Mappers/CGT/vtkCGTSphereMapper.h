@@ -3,7 +3,7 @@
  * @brief   Renders every point of its input as an exact, ray-traced sphere.
  *
  * Each point of the input vtkPolyData (cells are ignored) becomes a sphere of radius
- *   r_i = RadiusScale * (RadiusArrayName set ? radius[i] : Radius).
+ *   r_i = ScaleFactor * (ScaleArray set ? radius[i] : Radius).
  * Spheres are colored by the mapper's scalars through its lookup table (the usual
  * vtkMapper coloring: ScalarVisibility, ColorMode, SelectColorArray, ...) or by the
  * actor's color, and shaded with the renderer's lights (Lambert diffuse plus Phong
@@ -77,20 +77,27 @@ public:
 
   ///@{
   /**
-   * Name of a point array giving each sphere's radius (its first component, so the
+   * Name of a point array giving each sphere's radius (vtkPointGaussianMapper's name) (its first component, so the
    * 3-component "radius" of vtkPDBReader works as is). nullptr (default) means the
    * constant Radius for all.
    */
-  vtkSetStringMacro(RadiusArrayName);
-  vtkGetStringMacro(RadiusArrayName);
+  vtkSetStringMacro(ScaleArray);
+  vtkGetStringMacro(ScaleArray);
   ///@}
 
   ///@{
   /**
    * Factor applied to every radius (constant or from the array). Default 1.
    */
-  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
-  vtkGetMacro(RadiusScale, double);
+  vtkRayMapperSetClampMacro(ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
+  vtkGetMacro(ScaleFactor, double);
+  ///@}
+
+  ///@{
+  /** @deprecated RadiusArrayName and RadiusScale, the old names of ScaleArray and ScaleFactor
+   * (those of vtkPointGaussianMapper), kept for one release. */
+  vtkRayMapperDeprecatedStringAliasMacro(RadiusArrayName, ScaleArray);
+  vtkRayMapperDeprecatedClampAliasMacro(RadiusScale, ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   ///@}
 
   ///@{
@@ -218,8 +225,8 @@ protected:
   void ComputeBounds() override;
 
   double Radius = 1.0;
-  char* RadiusArrayName = nullptr;
-  double RadiusScale = 1.0;
+  char* ScaleArray = nullptr;
+  double ScaleFactor = 1.0;
   int TileSize = 32;
   int Accelerator = VTK_CGT_ACCELERATOR_GRID;
   int PacketSize = 8;

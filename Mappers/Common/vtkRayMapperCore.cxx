@@ -7,9 +7,12 @@
 #include "vtkDataObject.h"
 #include "vtkMath.h"
 #include "vtkPointSet.h"
+#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
+#include "vtkTimerLog.h"
 #include "vtkVolumeProperty.h"
 
+#include <algorithm>
 #include <cmath>
 
 void vtkRayMapperCore::WarnEmptyInput(vtkObject* mapper,
@@ -93,6 +96,43 @@ const float* vtkRayMapperCore::OpaqueDepth(vtkRenderer* ren,
                                                       : this->CoarseDepth.data();
 }
 
+void vtkRayMapperSampleDistances::Print(ostream& os, vtkIndent indent) const
+{
+  os << indent << "ImageSampleDistance: " << this->imageSampleDistance << "\n";
+  os << indent << "AutoAdjustSampleDistances: " << this->autoAdjust << "\n";
+  os << indent << "MinimumImageSampleDistance: " << this->minimum << "\n";
+  os << indent << "MaximumImageSampleDistance: " << this->maximum << "\n";
+  os << indent << "FrameBudget: " << this->frameBudget << "\n";
+}
+
+double vtkRayMapperCore::BeginFrame(vtkRenderer* ren,
+  const vtkRayMapperSampleDistances& distances,
+  raymappers::RenderStatistics& stats)
+{
+  double d = distances.imageSampleDistance;
+  if (distances.autoAdjust)
+  {
+    const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
+    const double budget =
+      distances.frameBudget > 0 ? distances.frameBudget : (rate > 0 ? 1.0 / rate : 0);
+    d = distances.minimum;
+    if (rate >= 1.0 && budget > 0 && this->LastSeconds > 0)
+    {
+      d = std::clamp(this->LastDistance * std::sqrt(this->LastSeconds / budget),
+        distances.minimum, std::max(distances.minimum, distances.maximum));
+    }
+  }
+  stats.addCounter("image_sample_distance_percent", std::lround(100 * d));
+  this->FrameDistance = d;
+  this->FrameStart = vtkTimerLog::GetUniversalTime();
+  return d;
+}
+
+int vtkRayMapperCore::SampledSize(int full, double d)
+{
+  return d > 1.0 ? std::max(1, static_cast<int>(std::ceil(full / d))) : full;
+}
+
 raymappers::Material vtkRayMapperCore::GatherMaterial(vtkVolumeProperty* property)
 {
   raymappers::Material material;
@@ -112,6 +152,12 @@ void vtkRayMapperCore::Show(vtkRenderer* ren,
     this->Drawer.Draw(ren, this->FullFrame, mode, this->Statistics->GetValidateFrames(), stats);
   }
   this->Statistics->Set(stats);
+  if (this->FrameStart >= 0)
+  {
+    this->LastSeconds = vtkTimerLog::GetUniversalTime() - this->FrameStart;
+    this->LastDistance = this->FrameDistance;
+    this->FrameStart = -1.0;
+  }
 }
 
 void vtkRayMapperCore::ShowReduced(vtkRenderer* ren,

@@ -88,6 +88,26 @@ struct vtkRayMapperView
   int height = 0;
 };
 
+/// A mapper's time-critical properties (vtkRayMapperSampleDistanceMacro, vtkRayMapperSetGet.h).
+struct vtkRayMapperSampleDistances
+{
+  bool autoAdjust = true;
+  double imageSampleDistance = 1.0;
+  double minimum = 1.0;
+  double maximum = 1.0;
+  double frameBudget = 0.0;
+
+  template <typename Mapper>
+  static vtkRayMapperSampleDistances Of(Mapper* m)
+  {
+    return { m->GetAutoAdjustSampleDistances() != 0, m->GetImageSampleDistance(),
+      m->GetMinimumImageSampleDistance(), m->GetMaximumImageSampleDistance(),
+      m->GetFrameBudget() };
+  }
+  /// The properties as a mapper's PrintSelf prints them.
+  void Print(ostream& os, vtkIndent indent) const;
+};
+
 class RAYMAPPERSMAPPERS_EXPORT vtkRayMapperCore
 {
 public:
@@ -132,6 +152,20 @@ public:
   /// The material of a volume property (ambient, diffuse, specular, specular power).
   static raymappers::Material GatherMaterial(vtkVolumeProperty* property);
 
+  /// The time-critical loop: the image sample distance d of this render (rays d pixels
+  /// apart; 1: one ray per pixel), and the start of the frame's clock that Show stops.
+  /// Without AutoAdjustSampleDistances, ImageSampleDistance. With it, a still render uses
+  /// the minimum; an interactive one (the window's DesiredUpdateRate at least 1 frame per
+  /// second, as an interactor sets it while the camera moves) d = d_last sqrt(t_last / budget)
+  /// within [minimum, maximum]: a frame's time goes with its number of rays, d^-2, so that d
+  /// meets the budget. Counter image_sample_distance_percent (100 d).
+  double BeginFrame(vtkRenderer* ren,
+    const vtkRayMapperSampleDistances& distances,
+    raymappers::RenderStatistics& stats);
+
+  /// The number of rays along a side of `full` pixels at sample distance d (at least 1).
+  static int SampledSize(int full, double d);
+
   /// The frame the kernel renders into: full size, or the coarse one of a reduced render
   /// (width x height smaller than the view; see ShowReduced).
   raymappers::Frame& Frame() { return this->FullFrame; }
@@ -161,6 +195,11 @@ private:
   std::vector<float> CoarseDepth;
   std::int64_t Builds = 0;
   vtkMTimeType WarnedEmptyInputTime = 0;
+  // The time-critical loop's last frame: its start, its distance and its time.
+  double FrameStart = -1.0;
+  double FrameDistance = 1.0;
+  double LastDistance = 1.0;
+  double LastSeconds = 0.0;
 };
 
 #endif

@@ -48,7 +48,7 @@ vtkRBFVolumeMapper::vtkRBFVolumeMapper()
 
 vtkRBFVolumeMapper::~vtkRBFVolumeMapper()
 {
-  this->SetRadiusArrayName(nullptr);
+  this->SetScaleArray(nullptr);
   this->SetValueArrayName(nullptr);
   this->SetFieldArrayName(nullptr);
 }
@@ -84,10 +84,10 @@ double* vtkRBFVolumeMapper::GetBounds()
   {
     std::string why;
     vtkDataArray* radii =
-      vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+      vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
     const double rMax = radii
-      ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
-      : this->Radius * this->RadiusScale;
+      ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
+      : this->Radius * this->ScaleFactor;
     vtkRayMapperCore::GrowBounds(this->Bounds, this->Sigma * rMax);
   }
   return this->Bounds;
@@ -96,14 +96,14 @@ double* vtkRBFVolumeMapper::GetBounds()
 bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
 {
   if (!Impl->ParticlesStamp.Changed(this, input,
-        { this->Radius, this->RadiusScale, vtkRayMapperString(this->RadiusArrayName),
+        { this->Radius, this->ScaleFactor, vtkRayMapperString(this->ScaleArray),
           vtkRayMapperString(this->ValueArrayName), vtkRayMapperString(this->FieldArrayName) }))
   {
     return false;
   }
   std::string why;
   vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
@@ -156,7 +156,7 @@ bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
   const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
   const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
   const vtkRayMapperRenderHelpers::TupleReader valueReader(values);
-  const double scale = this->RadiusScale, constantRadius = this->Radius * scale;
+  const double scale = this->ScaleFactor, constantRadius = this->Radius * scale;
   raymappers::buildRBFParticles(
     n,
     vtkRayMapperRenderHelpers::FiniteCenter(input->GetPoints()),
@@ -291,9 +291,9 @@ void vtkRBFVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Sigma: " << this->Sigma << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "Radius: " << this->Radius << "\n";
-  os << indent << "RadiusArrayName: " << (this->RadiusArrayName ? this->RadiusArrayName : "(none)")
+  os << indent << "ScaleArray: " << (this->ScaleArray ? this->ScaleArray : "(none)")
      << "\n";
-  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "ValueArrayName: " << (this->ValueArrayName ? this->ValueArrayName : "(none)")
      << "\n";
   os << indent << "FieldArrayName: " << (this->FieldArrayName ? this->FieldArrayName : "(none)")

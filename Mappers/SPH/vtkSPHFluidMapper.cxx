@@ -4,7 +4,6 @@
 #include "FluidRenderer.h"
 #include "FluidSpans.h"
 #include "Frame.h"
-#include "FrameResample.h"
 #include "RenderStatistics.h"
 #include "SpanVoxelizer.h"
 #include "ViewRays.h"
@@ -20,9 +19,7 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
-#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkTimerLog.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -40,7 +37,6 @@ struct vtkSPHFluidMapper::Internals
   raymappers::FluidParticles Particles;
   raymappers::FluidCells Cells;
   raymappers::FluidSpans Spans;
-  double LastFullFrameSeconds = 0; // the last full-resolution voxelization and render
   // The particles are built from the points and the radius settings, the culling cells from
   // the particles and the culling settings.
   vtkRayMapperStamp<double, double, std::string> ParticlesStamp;
@@ -56,7 +52,7 @@ vtkSPHFluidMapper::vtkSPHFluidMapper()
 
 vtkSPHFluidMapper::~vtkSPHFluidMapper()
 {
-  this->SetRadiusArrayName(nullptr);
+  this->SetScaleArray(nullptr);
 }
 
 void vtkSPHFluidMapper::SetInputData(vtkPointSet* input)
@@ -89,10 +85,10 @@ double* vtkSPHFluidMapper::GetBounds()
   {
     std::string why;
     vtkDataArray* radii =
-      vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+      vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
     vtkRayMapperCore::GrowBounds(this->Bounds,
-      radii ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
-            : this->Radius * this->RadiusScale);
+      radii ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
+            : this->Radius * this->ScaleFactor);
   }
   return this->Bounds;
 }
@@ -100,13 +96,13 @@ double* vtkSPHFluidMapper::GetBounds()
 bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
 {
   if (!Impl->ParticlesStamp.Changed(
-        this, input, { this->Radius, this->RadiusScale, vtkRayMapperString(this->RadiusArrayName) }))
+        this, input, { this->Radius, this->ScaleFactor, vtkRayMapperString(this->ScaleArray) }))
   {
     return false;
   }
   std::string why;
   vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
@@ -114,7 +110,7 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
   vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
   const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
   const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
-  const double scale = this->RadiusScale, constant = this->Radius * this->RadiusScale;
+  const double scale = this->ScaleFactor, constant = this->Radius * this->ScaleFactor;
   raymappers::buildFluidParticles(
     static_cast<std::size_t>(input->GetNumberOfPoints()),
     vtkRayMapperRenderHelpers::FiniteCenter(input->GetPoints()),
@@ -229,14 +225,12 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     return;
   }
   raymappers::FluidRenderParameters params = this->GatherParameters(ren, vol, view);
-  // Interactive renders: p x p fewer pixels when the last full frame overran the budget.
-  const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
-  const int p = this->Subsampling > 0
-    ? this->Subsampling
-    : raymappers::interactiveReduction(Impl->LastFullFrameSeconds, this->FrameBudget, rate, 8);
-  stats.addCounter("subsampling", p);
-  const int rw = p > 1 ? raymappers::reducedSize(view.width, p) : view.width;
-  const int rh = p > 1 ? raymappers::reducedSize(view.height, p) : view.height;
+  // Interactive renders: rays d pixels apart, the image enlarged.
+  const double d = Impl->Core.BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
+  stats.addCounter("subsampling", static_cast<std::int64_t>(std::ceil(d)));
+  const int rw = vtkRayMapperCore::SampledSize(view.width, d);
+  const int rh = vtkRayMapperCore::SampledSize(view.height, d);
+  const bool reduced = rw != view.width || rh != view.height;
   raymappers::ViewRays rays;
   if (view.width <= 0 || view.height <= 0 ||
     !rays.assign(view.modelToClip, rw, rh, Impl->Particles.origin))
@@ -252,20 +246,18 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     depth ? raymappers::stopDepthsFromWindowDepth(rays, depth) : std::vector<float>();
   params.voxelizer.stopDepth = depth ? stop.data() : nullptr;
 
-  const double start = vtkTimerLog::GetUniversalTime();
   if (!raymappers::renderFluid(Impl->Particles, rays, params, Impl->Spans,
-        p > 1 ? Impl->Core.Coarse() : Impl->Core.Frame(), stats))
+        reduced ? Impl->Core.Coarse() : Impl->Core.Frame(), stats))
   {
     this->WarnAboutMemoryBudget(view, stats);
   }
   const auto mode = this->Translucency ? vtkRayMapperFrameDrawer::Mode::BlendPremultiplied
                                        : vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth;
-  if (p > 1)
+  if (reduced)
   {
     Impl->Core.ShowReduced(ren, view, mode, true, stats);
     return;
   }
-  Impl->LastFullFrameSeconds = vtkTimerLog::GetUniversalTime() - start;
   Impl->Core.Show(ren, mode, stats);
 }
 
@@ -273,8 +265,8 @@ void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Radius: " << this->Radius << "\n";
-  os << indent << "RadiusArrayName: " << vtkRayMapperString(this->RadiusArrayName) << "\n";
-  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "ScaleArray: " << vtkRayMapperString(this->ScaleArray) << "\n";
+  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "AngleResolution: " << this->AngleResolution << "\n";
   os << indent << "MaximumLayers: " << this->MaximumLayers << "\n";
   os << indent << "MaximumSpans: " << this->MaximumSpans << "\n";
@@ -282,8 +274,7 @@ void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GapThreshold: " << this->GapThreshold << "\n";
   os << indent << "BoundaryCulling: " << this->BoundaryCulling << "\n";
   os << indent << "CellSize: " << this->CellSize << "\n";
-  os << indent << "Subsampling: " << this->Subsampling << "\n";
-  os << indent << "FrameBudget: " << this->FrameBudget << "\n";
+  vtkRayMapperSampleDistances::Of(this).Print(os, indent);
   os << indent << "SmoothingRadius: " << this->SmoothingRadius << "\n";
   os << indent << "SmoothingIterations: " << this->SmoothingIterations << "\n";
   os << indent << "Color: " << this->Color[0] << " " << this->Color[1] << " " << this->Color[2]

@@ -1,7 +1,6 @@
 #include "vtkSPHVolumeMapper.h"
 
 #include "Frame.h"
-#include "FrameResample.h"
 #include "PerspectiveGrid.h"
 #include "RenderStatistics.h"
 #include "SPHParticles.h"
@@ -19,9 +18,7 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
-#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkTimerLog.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -42,8 +39,6 @@ struct vtkSPHVolumeMapper::Internals
   vtkRayMapperStamp<double, double, double, std::string, std::string, std::string, std::string,
     std::string, std::string, double>
     ParticlesStamp;
-  double Reduction = 1.0;        // r of equation 3.1
-  double LastFrameSeconds = 0.0; // of the last render
 };
 
 vtkSPHVolumeMapper::vtkSPHVolumeMapper()
@@ -53,7 +48,7 @@ vtkSPHVolumeMapper::vtkSPHVolumeMapper()
 
 vtkSPHVolumeMapper::~vtkSPHVolumeMapper()
 {
-  this->SetSmoothingLengthArrayName(nullptr);
+  this->SetScaleArray(nullptr);
   this->SetValueArrayName(nullptr);
   this->SetVolumeArrayName(nullptr);
   this->SetMassArrayName(nullptr);
@@ -97,12 +92,12 @@ double* vtkSPHVolumeMapper::GetBounds()
   {
     std::string why;
     vtkDataArray* h = vtkRayMapperRenderHelpers::FindPointArray(
-      input, this->SmoothingLengthArrayName, "smoothing length", why);
+      input, this->ScaleArray, "smoothing length", why);
     const double factor = this->GetSupportPerSmoothingLength();
     // The largest support H = factor * scale * h the particles may have.
     vtkRayMapperCore::GrowBounds(this->Bounds,
-      h ? vtkRayMapperRenderHelpers::LargestParticleLength(h, factor * this->SmoothingLengthScale)
-        : factor * this->SmoothingLength * this->SmoothingLengthScale);
+      h ? vtkRayMapperRenderHelpers::LargestParticleLength(h, factor * this->ScaleFactor)
+        : factor * this->SmoothingLength * this->ScaleFactor);
   }
   return this->Bounds;
 }
@@ -112,8 +107,8 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   const double factor = this->GetSupportPerSmoothingLength();
   vtkDataArray* activeScalars = input->GetPointData()->GetScalars();
   if (!Impl->ParticlesStamp.Changed(this, input,
-        { factor, this->SmoothingLength, this->SmoothingLengthScale,
-          vtkRayMapperString(this->SmoothingLengthArrayName),
+        { factor, this->SmoothingLength, this->ScaleFactor,
+          vtkRayMapperString(this->ScaleArray),
           vtkRayMapperString(this->ValueArrayName),
           vtkRayMapperString(activeScalars ? activeScalars->GetName() : nullptr),
           vtkRayMapperString(this->VolumeArrayName), vtkRayMapperString(this->MassArrayName),
@@ -123,7 +118,7 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   }
   std::string why;
   vtkDataArray* h = vtkRayMapperRenderHelpers::FindPointArray(
-    input, this->SmoothingLengthArrayName, "smoothing length", why);
+    input, this->ScaleArray, "smoothing length", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << "; using the constant smoothing length " << this->SmoothingLength << ".");
@@ -167,7 +162,7 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
   const vtkRayMapperRenderHelpers::TupleReader hReader(h), valueReader(values),
     volumeReader(volumes), massReader(masses), densityReader(densities);
-  const double hScale = this->SmoothingLengthScale * factor;
+  const double hScale = this->ScaleFactor * factor;
   const double hConstant = this->SmoothingLength * hScale, vConstant = this->Volume;
   const auto n = static_cast<std::size_t>(input->GetNumberOfPoints());
   raymappers::buildSPHParticles(
@@ -241,26 +236,6 @@ raymappers::SPHRenderParameters vtkSPHVolumeMapper::GatherParameters(vtkRenderer
   return params;
 }
 
-double vtkSPHVolumeMapper::InteractiveReduction(vtkRenderer* ren)
-{
-  // Sampling-rate reduction while the user interacts (equation 3.1): r grows by 0.25 per
-  // frame over the budget, up to MaximumReduction; still renders use r = 1.
-  const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
-  const double budget = this->FrameBudget > 0 ? this->FrameBudget : (rate > 0 ? 1.0 / rate : 0);
-  if (rate >= 1.0 && this->MaximumReduction > 1.0)
-  {
-    if (budget > 0 && Impl->LastFrameSeconds > budget)
-    {
-      Impl->Reduction = std::min(Impl->Reduction + 0.25, this->MaximumReduction);
-    }
-  }
-  else
-  {
-    Impl->Reduction = 1.0;
-  }
-  return Impl->Reduction;
-}
-
 void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
   raymappers::RenderStatistics stats;
@@ -271,7 +246,6 @@ void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     Impl->Core.Skip(stats);
     return;
   }
-  const double start = vtkTimerLog::GetUniversalTime();
   {
     raymappers::ScopedPhase phase(stats, "particles");
     this->UpdateParticles(input);
@@ -279,7 +253,8 @@ void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
   const raymappers::TransferFunctionTable table =
     vtkRayMapperRenderHelpers::SampleVolumeProperty(vol->GetProperty(), 0, 1024);
-  const double r = this->InteractiveReduction(ren);
+  // The sampling reduction r of equation 3.1: the image sample distance.
+  const double r = Impl->Core.BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
   stats.addCounter("reduction_percent", static_cast<std::int64_t>(std::lround(100 * r)));
   if (!Impl->Core.GatherView(this, ren, vol, view))
   {
@@ -290,8 +265,8 @@ void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.stepFactor = this->StepFactor * r;
   params.samplesPerSupport = this->SamplesPerSupport / r;
   // r times fewer rays along each axis.
-  const int rw = r > 1.0 ? std::max(1, static_cast<int>(std::ceil(view.width / r))) : view.width;
-  const int rh = r > 1.0 ? std::max(1, static_cast<int>(std::ceil(view.height / r))) : view.height;
+  const int rw = vtkRayMapperCore::SampledSize(view.width, r);
+  const int rh = vtkRayMapperCore::SampledSize(view.height, r);
   const bool reduced = rw != view.width || rh != view.height;
   const float* depth = Impl->Core.OpaqueDepth(ren, view, rw, rh, stats);
   raymappers::ViewRays rays;
@@ -312,7 +287,6 @@ void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   {
     Impl->Core.Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
   }
-  Impl->LastFrameSeconds = vtkTimerLog::GetUniversalTime() - start;
 }
 
 void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
@@ -321,8 +295,8 @@ void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Kernel: " << this->Kernel << "\n";
   os << indent << "SupportFactor: " << this->SupportFactor << "\n";
   os << indent << "SmoothingLength: " << this->SmoothingLength << "\n";
-  os << indent << "SmoothingLengthArrayName: " << vtkRayMapperString(this->SmoothingLengthArrayName) << "\n";
-  os << indent << "SmoothingLengthScale: " << this->SmoothingLengthScale << "\n";
+  os << indent << "ScaleArray: " << vtkRayMapperString(this->ScaleArray) << "\n";
+  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "ValueArrayName: " << vtkRayMapperString(this->ValueArrayName) << "\n";
   os << indent << "VolumeArrayName: " << vtkRayMapperString(this->VolumeArrayName) << "\n";
   os << indent << "MassArrayName: " << vtkRayMapperString(this->MassArrayName) << "\n";
@@ -343,6 +317,5 @@ void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SlabDepth: " << this->SlabDepth << "\n";
   os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";
   os << indent << "Jitter: " << this->Jitter << "\n";
-  os << indent << "MaximumReduction: " << this->MaximumReduction << "\n";
-  os << indent << "FrameBudget: " << this->FrameBudget << "\n";
+  vtkRayMapperSampleDistances::Of(this).Print(os, indent);
 }

@@ -1,7 +1,6 @@
 #include "vtkZSweepVolumeMapper.h"
 
 #include "Frame.h"
-#include "FrameResample.h"
 #include "OpticalModel.h"
 #include "RenderStatistics.h"
 #include "ZSweepMesh.h"
@@ -19,9 +18,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPoints.h"
-#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkTimerLog.h"
 #include "vtkUnstructuredGridBase.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -41,7 +38,6 @@ struct vtkZSweepVolumeMapper::Internals
 {
   vtkRayMapperCore Core;
   raymappers::ZSweepMesh Mesh;
-  double LastFullFrameSeconds = 0;    // of the last full-resolution render (0: none yet)
   raymappers::ZSweepEventOrder Order; // the last frame's event order, the next sort's start
   // The mesh is built from the grid, the scalar array chosen (and its MTime), whether it is
   // cell data, and Sparsification.
@@ -424,28 +420,23 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     Impl->Core.Skip(stats);
     return;
   }
-  // Time-critical rendering: p x p fewer rays when the last full frame overran the budget.
-  // Interactive renders are those VTK asks at least 1 frame per second of (an
-  // interactor's DesiredUpdateRate while the user moves the camera; StillUpdateRate after).
-  const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
-  const int p = this->Subsampling > 0
-    ? this->Subsampling
-    : raymappers::interactiveReduction(Impl->LastFullFrameSeconds, this->FrameBudget, rate, 9);
-  stats.addCounter("subsampling", p);
-  const int w = p > 1 ? raymappers::reducedSize(view.width, p) : view.width;
-  const int h = p > 1 ? raymappers::reducedSize(view.height, p) : view.height;
+  // Time-critical rendering: rays d pixels apart, the image enlarged.
+  const double d =
+    Impl->Core.BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
+  stats.addCounter("subsampling", static_cast<std::int64_t>(std::ceil(d)));
+  const int w = vtkRayMapperCore::SampledSize(view.width, d);
+  const int h = vtkRayMapperCore::SampledSize(view.height, d);
+  const bool reduced = w != view.width || h != view.height;
   const float* depth = Impl->Core.OpaqueDepth(ren, view, w, h, stats);
-  raymappers::Frame& target = p > 1 ? Impl->Core.Coarse() : Impl->Core.Frame();
+  raymappers::Frame& target = reduced ? Impl->Core.Coarse() : Impl->Core.Frame();
   target.resize(w, h);
-  const double start = vtkTimerLog::GetUniversalTime();
   raymappers::renderZSweep(Impl->Mesh, optics, view.modelToClip, this->GatherParameters(), depth,
     target, stats, &Impl->Order);
-  if (p > 1)
+  if (reduced)
   {
     Impl->Core.ShowReduced(ren, view, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, stats);
     return;
   }
-  Impl->LastFullFrameSeconds = vtkTimerLog::GetUniversalTime() - start;
   Impl->Core.Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
 }
 
@@ -456,7 +447,6 @@ void vtkZSweepVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TileSize: " << this->TileSize << "\n";
   os << indent << "ListThreshold: " << this->ListThreshold << "\n";
   os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";
-  os << indent << "Subsampling: " << this->Subsampling << "\n";
-  os << indent << "FrameBudget: " << this->FrameBudget << "\n";
+  vtkRayMapperSampleDistances::Of(this).Print(os, indent);
   os << indent << "Sparsification: " << this->Sparsification << "\n";
 }
