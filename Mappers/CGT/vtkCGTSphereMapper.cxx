@@ -221,6 +221,11 @@ struct vtkCGTSphereMapper::SphereColors
 
 void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
 {
+  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); });
+}
+
+void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)
+{
   if (ren->GetSelector())
   {
     // A hardware selection pass asks for ids, not colours: spheres are not pickable yet,
@@ -471,6 +476,7 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
      << "\n";
   os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "Accelerator: "
      << (this->Accelerator == VTK_CGT_ACCELERATOR_GRID ? "coherent grid" : "Embree") << "\n";
   os << indent << "PacketSize: " << this->PacketSize << "\n";

@@ -214,6 +214,11 @@ public:
    */
   vtkRayMapperStatistics* GetStatistics();
 
+  ///@{
+  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
+  vtkRayMapperNumberOfThreadsMacro();
+  ///@}
+
   void RenderPiece(vtkRenderer* ren, vtkActor* act) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
 
@@ -242,6 +247,8 @@ protected:
   double ShadowLightIntensity = 1.0;
   double AmbientOcclusionRadius = 0.0;
 
+  int NumberOfThreads = 0;
+
 private:
   vtkCGTSphereMapper(const vtkCGTSphereMapper&) = delete;
   /// Places the area light of the soft shadows into the kernel's shading input.
@@ -261,6 +268,9 @@ private:
     raymappers::SphereShading& shading);
   void SetRangeFilter(raymappers::SphereAccelerator& accelerator);
   void operator=(const vtkCGTSphereMapper&) = delete;
+
+  /// One render, in the mapper's task arena (RenderPiece runs it there).
+  void RenderFrame(vtkRenderer* ren, vtkActor* actor);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

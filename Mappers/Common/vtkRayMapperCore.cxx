@@ -14,6 +14,33 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <thread>
+
+namespace
+{
+int PositiveEnvironment(const char* name)
+{
+  const char* value = std::getenv(name);
+  const int n = value ? std::atoi(value) : 0;
+  return n > 0 ? n : 0;
+}
+}
+
+int vtkRayMapperCore::DefaultNumberOfThreads()
+{
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (const int n = PositiveEnvironment("RAYMAPPERS_THREADS"))
+  {
+    return n;
+  }
+  int local = PositiveEnvironment("OMPI_COMM_WORLD_LOCAL_SIZE");
+  if (!local)
+  {
+    local = PositiveEnvironment("MPI_LOCALNRANKS");
+  }
+  return local > 1 ? std::max(1, cores / local) : cores;
+}
 
 void vtkRayMapperCore::WarnEmptyInput(vtkObject* mapper,
   vtkDataObject* input,
@@ -151,6 +178,7 @@ void vtkRayMapperCore::Show(vtkRenderer* ren,
     raymappers::ScopedPhase phase(stats, "draw");
     this->Drawer.Draw(ren, this->FullFrame, mode, this->Statistics->GetValidateFrames(), stats);
   }
+  stats.addCounter("threads", this->Concurrency);
   this->Statistics->Set(stats);
   if (this->FrameStart >= 0)
   {

@@ -19,8 +19,11 @@
 #include "vtkNew.h"
 #include "vtkObject.h"
 
+#include <tbb/task_arena.h>
+
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -119,6 +122,35 @@ public:
 
   vtkRayMapperStatistics* GetStatistics() { return this->Statistics; }
 
+  /// The threads of a mapper whose NumberOfThreads is 0: RAYMAPPERS_THREADS when set (> 0);
+  /// else, under MPI with L ranks on this machine (Open MPI's OMPI_COMM_WORLD_LOCAL_SIZE,
+  /// MPICH's MPI_LOCALNRANKS), the machine's cores divided among them (at least one each), so
+  /// that the ranks do not oversubscribe the cores; else all the cores.
+  static int DefaultNumberOfThreads();
+
+  /// Runs `render` (the builds, the kernel and the draw of one render) in the mapper's own
+  /// tbb::task_arena of `numberOfThreads` threads (0: DefaultNumberOfThreads), so the
+  /// kernels' parallel loops use at most that many. The calling thread runs `render`
+  /// itself (the arena's slot for it is free: no other thread enters a mapper's arena), so
+  /// the OpenGL context stays current. Show records the arena's concurrency in the counter
+  /// "threads".
+  template <typename Render>
+  void Execute(int numberOfThreads, Render&& render)
+  {
+    const int n = numberOfThreads > 0 ? numberOfThreads : DefaultNumberOfThreads();
+    if (!this->Arena || this->ArenaThreads != n)
+    {
+      this->Arena = std::make_unique<tbb::task_arena>(n);
+      this->ArenaThreads = n;
+    }
+    this->Arena->execute(
+      [&]
+      {
+        this->Concurrency = tbb::this_task_arena::max_concurrency();
+        render();
+      });
+  }
+
   /// The number of cache builds over the mapper's life (the counter "builds"), one more.
   std::int64_t CountBuild() { return ++this->Builds; }
   std::int64_t GetBuilds() const { return this->Builds; }
@@ -195,6 +227,9 @@ private:
   std::vector<float> CoarseDepth;
   std::int64_t Builds = 0;
   vtkMTimeType WarnedEmptyInputTime = 0;
+  std::unique_ptr<tbb::task_arena> Arena;
+  int ArenaThreads = 0;
+  int Concurrency = 0; // of the arena the last render ran in
   // The time-critical loop's last frame: its start, its distance and its time.
   double FrameStart = -1.0;
   double FrameDistance = 1.0;

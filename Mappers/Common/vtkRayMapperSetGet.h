@@ -166,6 +166,14 @@ bool AcceptVector(vtkObject* self, const char* name, T (&value)[N], T min, T max
   vtkRayMapperSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);                             \
   vtkGetMacro(FrameBudget, double)
 
+/// NumberOfThreads of a RayMappers mapper (0 to 4096): its kernels and builds run in its own
+/// TBB task arena of that many threads; 0 (default): all the cores, or under MPI the ranks'
+/// share of them on this machine; the environment variable RAYMAPPERS_THREADS overrides the
+/// default (vtkRayMapperCore::DefaultNumberOfThreads). The mapper declares the member.
+#define vtkRayMapperNumberOfThreadsMacro()                                                        \
+  vtkRayMapperSetClampMacro(NumberOfThreads, int, 0, 4096);                                        \
+  vtkGetMacro(NumberOfThreads, int)
+
 /// @deprecated The old Subsampling p of vtkZSweepVolumeMapper and vtkSPHFluidMapper (0 to
 /// maxP), kept for one release: 0 is AutoAdjustSampleDistances on, p > 0 a fixed
 /// ImageSampleDistance p with AutoAdjustSampleDistances off.

@@ -248,6 +248,11 @@ raymappers::RBFRenderParameters vtkRBFVolumeMapper::GatherParameters(vtkRenderer
 
 void vtkRBFVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
+  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
+}
+
+void vtkRBFVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
+{
   raymappers::RenderStatistics stats;
   auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
   vtkRayMapperCore::View view;
@@ -303,6 +308,7 @@ void vtkRBFVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PacketSize: " << this->PacketSize << "\n";
   os << indent << "LeafSize: " << this->LeafSize << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "RegionBounds: (" << this->RegionBounds[0] << ", " << this->RegionBounds[1]
      << ", " << this->RegionBounds[2] << ", " << this->RegionBounds[3] << ", "
      << this->RegionBounds[4] << ", " << this->RegionBounds[5] << ")\n";

@@ -182,6 +182,11 @@ public:
   double* GetBounds() VTK_SIZEHINT(6) override;
   void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
 
+  ///@{
+  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
+  vtkRayMapperNumberOfThreadsMacro();
+  ///@}
+
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
 
@@ -207,6 +212,8 @@ protected:
   double RegionBounds[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
     -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
 
+  int NumberOfThreads = 0;
+
 private:
   vtkRBFVolumeMapper(const vtkRBFVolumeMapper&) = delete;
   void operator=(const vtkRBFVolumeMapper&) = delete;
@@ -219,6 +226,9 @@ private:
   raymappers::RBFRenderParameters GatherParameters(vtkRenderer* ren,
     vtkVolume* vol,
     const vtkRayMapperView& view);
+
+  /// One render, in the mapper's task arena (Render runs it there).
+  void RenderFrame(vtkRenderer* ren, vtkVolume* vol);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

@@ -202,6 +202,11 @@ void vtkSPHFluidMapper::WarnAboutMemoryBudget(const vtkRayMapperView& view,
 
 void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
+  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
+}
+
+void vtkSPHFluidMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
+{
   raymappers::RenderStatistics stats;
   auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
   vtkRayMapperView view;
@@ -267,6 +272,7 @@ void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Radius: " << this->Radius << "\n";
   os << indent << "ScaleArray: " << vtkRayMapperString(this->ScaleArray) << "\n";
   os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "AngleResolution: " << this->AngleResolution << "\n";
   os << indent << "MaximumLayers: " << this->MaximumLayers << "\n";
   os << indent << "MaximumSpans: " << this->MaximumSpans << "\n";

@@ -198,6 +198,11 @@ public:
   double* GetBounds() VTK_SIZEHINT(6) override;
   void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
 
+  ///@{
+  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
+  vtkRayMapperNumberOfThreadsMacro();
+  ///@}
+
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
 
@@ -233,6 +238,8 @@ protected:
   double AmbientOcclusionRadius = 0.1;
   int AmbientOcclusionSamples = 16;
 
+  int NumberOfThreads = 0;
+
 private:
   vtkSPHFluidMapper(const vtkSPHFluidMapper&) = delete;
   void operator=(const vtkSPHFluidMapper&) = delete;
@@ -248,6 +255,9 @@ private:
     const vtkRayMapperView& view);
   /// The warning that the memory budget holds no voxel column, once per budget and size.
   void WarnAboutMemoryBudget(const vtkRayMapperView& view, const raymappers::RenderStatistics& stats);
+
+  /// One render, in the mapper's task arena (Render runs it there).
+  void RenderFrame(vtkRenderer* ren, vtkVolume* vol);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

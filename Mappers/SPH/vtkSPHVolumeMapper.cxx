@@ -238,6 +238,11 @@ raymappers::SPHRenderParameters vtkSPHVolumeMapper::GatherParameters(vtkRenderer
 
 void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
+  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
+}
+
+void vtkSPHVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
+{
   raymappers::RenderStatistics stats;
   auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
   vtkRayMapperView view;
@@ -314,6 +319,7 @@ void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "StepFactor: " << this->StepFactor << "\n";
   os << indent << "SamplesPerSupport: " << this->SamplesPerSupport << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "SlabDepth: " << this->SlabDepth << "\n";
   os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";
   os << indent << "Jitter: " << this->Jitter << "\n";

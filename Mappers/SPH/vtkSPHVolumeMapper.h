@@ -204,6 +204,11 @@ public:
   double* GetBounds() VTK_SIZEHINT(6) override;
   void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
 
+  ///@{
+  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
+  vtkRayMapperNumberOfThreadsMacro();
+  ///@}
+
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
 
@@ -241,6 +246,8 @@ protected:
   double RegionBounds[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
     -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
 
+  int NumberOfThreads = 0;
+
 private:
   vtkSPHVolumeMapper(const vtkSPHVolumeMapper&) = delete;
   void operator=(const vtkSPHVolumeMapper&) = delete;
@@ -253,6 +260,9 @@ private:
   raymappers::SPHRenderParameters GatherParameters(vtkRenderer* ren,
     vtkVolume* vol,
     const vtkRayMapperView& view);
+
+  /// One render, in the mapper's task arena (Render runs it there).
+  void RenderFrame(vtkRenderer* ren, vtkVolume* vol);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

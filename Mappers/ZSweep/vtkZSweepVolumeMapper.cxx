@@ -390,6 +390,11 @@ raymappers::ZSweepParameters vtkZSweepVolumeMapper::GatherParameters() const
 
 void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
+  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
+}
+
+void vtkZSweepVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
+{
   raymappers::RenderStatistics stats;
   vtkUnstructuredGridBase* input = this->GetInput();
   vtkRayMapperView view;
@@ -445,6 +450,7 @@ void vtkZSweepVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Integrator: " << this->Integrator << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "ListThreshold: " << this->ListThreshold << "\n";
   os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";
   vtkRayMapperSampleDistances::Of(this).Print(os, indent);

@@ -143,6 +143,11 @@ public:
   double* GetBounds() VTK_SIZEHINT(6) override;
   void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
 
+  ///@{
+  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
+  vtkRayMapperNumberOfThreadsMacro();
+  ///@}
+
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
 
@@ -161,6 +166,8 @@ protected:
   double FrameBudget = 0.0;
   bool Sparsification = false;
 
+  int NumberOfThreads = 0;
+
 private:
   vtkZSweepVolumeMapper(const vtkZSweepVolumeMapper&) = delete;
   void operator=(const vtkZSweepVolumeMapper&) = delete;
@@ -171,6 +178,9 @@ private:
   bool UpdateMesh(vtkUnstructuredGridBase* input);
   /// The kernel's parameters from the properties.
   raymappers::ZSweepParameters GatherParameters() const;
+
+  /// One render, in the mapper's task arena (Render runs it there).
+  void RenderFrame(vtkRenderer* ren, vtkVolume* vol);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

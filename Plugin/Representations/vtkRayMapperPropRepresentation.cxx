@@ -17,7 +17,6 @@
 #include "vtkRayMapperGatherPoints.h"
 #include "vtkRayMapperParticleExchange.h"
 #include "vtkRayMapperRenderHelpers.h"
-#include "vtkRayMapperThreads.h"
 #include "vtkOutputWindow.h"
 #include "vtkRenderer.h"
 #include "vtkWeakPointer.h"
@@ -40,7 +39,6 @@ struct vtkRayMapperPropRepresentation::Forwarding
 
 vtkRayMapperPropRepresentation::vtkRayMapperPropRepresentation()
 {
-  vtkRayMapperLimitThreads();
   this->WarnOnlyWhenShown(this);
 }
 
