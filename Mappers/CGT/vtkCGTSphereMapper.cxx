@@ -6,10 +6,9 @@
 #include "RenderStatistics.h"
 #include "SphereRenderer.h"
 #include "SphereSet.h"
-#include "vtkRayMapperFrameDrawer.h"
+#include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
-#include "vtkRayMapperStatistics.h"
 
 #include "vtkActor.h"
 #include "vtkDataArray.h"
@@ -35,32 +34,24 @@ vtkStandardNewMacro(vtkCGTSphereMapper);
 
 struct vtkCGTSphereMapper::Internals
 {
+  vtkRayMapperCore Core;
   raymappers::SphereSet Spheres;
   raymappers::EmbreeSphereAccelerator Embree;
   raymappers::CoherentGridAccelerator Grid;
-  int BuiltAccelerator = -1;
-  double BuiltLambda = 0;
-  int BuiltMacrocell = 0;
-  int BuiltQuality = -1;
-  raymappers::Frame Frame;
-  vtkRayMapperFrameDrawer Drawer;
-  vtkRayMapperRenderHelpers::CameraCheck Camera;
-  vtkNew<vtkRayMapperStatistics> Statistics;
-  std::int64_t Builds = 0;
-
-  // What the sphere set was built from: rebuild only when one of these changes.
-  vtkMTimeType BuiltInputTime = 0;
-  vtkMTimeType BuiltColorTime = 0;
-  double BuiltRadius = 0, BuiltScale = 0;
-  std::string BuiltRadiusArray;
 
   // Parameter ranges: array names (empty: unused slot) and bounds.
   std::array<std::string, raymappers::MaxRangeAttributes> RangeArrays;
-  std::array<std::string, raymappers::MaxRangeAttributes> BuiltRangeArrays;
   std::array<double, raymappers::MaxRangeAttributes> RangeLo{}, RangeHi{};
   std::array<bool, raymappers::MaxRangeAttributes> RangeArrayFound{};
-  bool HasBuilt = false;
-  vtkMTimeType WarnedEmptyInputTime = 0;
+
+  // The sphere set is built from the points, the radius settings and the range arrays; its
+  // colours from the mapped scalars and the actor's property (their latest MTime); the
+  // accelerator from the sphere set and its kind's own parameters.
+  vtkRayMapperStamp<double, double, std::string,
+    std::array<std::string, raymappers::MaxRangeAttributes>>
+    SpheresStamp;
+  vtkMTimeType BuiltColorTime = 0;
+  vtkRayMapperStamp<int, double, int, int> AcceleratorStamp;
 };
 
 vtkCGTSphereMapper::vtkCGTSphereMapper()
@@ -70,7 +61,7 @@ vtkCGTSphereMapper::vtkCGTSphereMapper()
 
 vtkCGTSphereMapper::~vtkCGTSphereMapper()
 {
-  this->SetRadiusArrayName(nullptr);
+  this->SetScaleArray(nullptr);
 }
 
 void vtkCGTSphereMapper::SetRange(int index, const char* arrayName, double minimum, double maximum)
@@ -170,12 +161,12 @@ void vtkCGTSphereMapper::SetUpShadowLight(const vtkRayMapperRenderHelpers::Model
 
 vtkRayMapperStatistics* vtkCGTSphereMapper::GetStatistics()
 {
-  return Impl->Statistics;
+  return Impl->Core.GetStatistics();
 }
 
 void vtkCGTSphereMapper::ReleaseGraphicsResources(vtkWindow* win)
 {
-  Impl->Drawer.ReleaseGraphicsResources(win);
+  Impl->Core.ReleaseGraphicsResources(win);
   this->Superclass::ReleaseGraphicsResources(win);
 }
 
@@ -183,13 +174,9 @@ void vtkCGTSphereMapper::ComputeBounds()
 {
   vtkPolyData* input = this->GetInput();
   vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
-  if (input && input->GetNumberOfPoints() == 0 && Impl->WarnedEmptyInputTime != input->GetMTime())
+  if (input && input->GetNumberOfPoints() == 0)
   {
-    // The renderer culls a prop with empty bounds before it renders: warn here, once per
-    // input change.
-    Impl->WarnedEmptyInputTime = input->GetMTime();
-    Impl->Statistics->Set(raymappers::RenderStatistics());
-    vtkWarningMacro(<< "The input has no points: no sphere to draw.");
+    Impl->Core.WarnEmptyInput(this, input, "points", "sphere");
   }
   if (!input || input->GetNumberOfPoints() == 0 || !vtkMath::AreBoundsInitialized(this->Bounds))
   {
@@ -197,18 +184,10 @@ void vtkCGTSphereMapper::ComputeBounds()
   }
   std::string why;
   vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
-  const double rmax = radii
-    ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
-    : this->Radius * this->RadiusScale;
-  if (rmax > 0 && std::isfinite(rmax))
-  {
-    for (int i = 0; i < 3; ++i)
-    {
-      this->Bounds[2 * i] -= rmax;
-      this->Bounds[2 * i + 1] += rmax;
-    }
-  }
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
+  vtkRayMapperCore::GrowBounds(this->Bounds,
+    radii ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
+          : this->Radius * this->ScaleFactor);
 }
 
 // A sphere's colour: its point's mapped scalar colour (RGB or grey, opaque), or the actor's
@@ -242,6 +221,11 @@ struct vtkCGTSphereMapper::SphereColors
 
 void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
 {
+  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); });
+}
+
+void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)
+{
   if (ren->GetSelector())
   {
     // A hardware selection pass asks for ids, not colours: spheres are not pickable yet,
@@ -250,32 +234,25 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   }
   raymappers::RenderStatistics stats;
   vtkPolyData* input = this->GetInput();
+  vtkRayMapperView view;
   if (!input || input->GetNumberOfPoints() == 0)
   {
-    Impl->Statistics->Set(stats);
+    Impl->Core.Skip(stats);
     return;
   }
-
   // 1. Update: the sphere set, then the accelerator over it.
   this->UpdateSpheres(input, actor, stats);
   const bool grid = this->UpdateAccelerator(stats);
-
   // 2. Gather the camera, lights and material.
-  raymappers::SphereShading shading;
-  const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(actor);
-  std::copy(model.modelToWorld, model.modelToWorld + 16, shading.modelToWorld);
-  std::copy(model.normalToWorld, model.normalToWorld + 9, shading.normalToWorld);
-  int width = 0, height = 0;
-  const std::array<double, 16> modelToClip =
-    vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
-  if (!Impl->Camera.Usable(this, modelToClip))
+  if (!Impl->Core.GatherView(this, ren, actor, view))
   {
-    Impl->Statistics->Set(stats);
+    Impl->Core.Skip(stats);
     return;
   }
-  const raymappers::RayCamera camera(modelToClip, width, height, Impl->Spheres.origin);
-  this->GatherShading(ren, actor, model, shading);
-
+  raymappers::SphereShading shading;
+  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, shading.modelToWorld);
+  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, shading.normalToWorld);
+  this->GatherShading(ren, actor, view.model, shading);
   // 3. Trace, 4. show.
   raymappers::SphereAccelerator& accelerator =
     grid ? static_cast<raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
@@ -283,20 +260,12 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   raymappers::renderSpheres(Impl->Spheres,
     accelerator,
     grid ? this->PacketSize : 4,
-    camera,
+    raymappers::RayCamera(view.modelToClip, view.width, view.height, Impl->Spheres.origin),
     shading,
     this->TileSize,
-    Impl->Frame,
+    Impl->Core.Frame(),
     stats);
-  {
-    raymappers::ScopedPhase phase(stats, "draw");
-    Impl->Drawer.Draw(ren,
-      Impl->Frame,
-      vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth,
-      Impl->Statistics->GetValidateFrames(),
-      stats);
-  }
-  Impl->Statistics->Set(stats);
+  Impl->Core.Show(ren, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth, stats);
 }
 
 void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
@@ -308,11 +277,9 @@ void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
   this->MapScalars(input, 1.0);
   vtkMTimeType colorTime = this->Colors ? this->Colors->GetMTime() : 0;
   colorTime = std::max(colorTime, actor->GetProperty()->GetMTime());
-  const std::string radiusArray = this->RadiusArrayName ? this->RadiusArrayName : "";
-  const bool geometryChanged =
-    !Impl->HasBuilt || Impl->BuiltInputTime != input->GetMTime() ||
-    Impl->BuiltRadius != this->Radius || Impl->BuiltScale != this->RadiusScale ||
-    Impl->BuiltRadiusArray != radiusArray || Impl->BuiltRangeArrays != Impl->RangeArrays;
+  const bool geometryChanged = Impl->SpheresStamp.Changed(this, input,
+    { this->Radius, this->ScaleFactor, vtkRayMapperString(this->ScaleArray),
+      Impl->RangeArrays });
   if (!geometryChanged && Impl->BuiltColorTime == colorTime)
   {
     return;
@@ -339,27 +306,21 @@ void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
       Impl->Spheres.colors[i] = colorOf(Impl->Spheres.sourceIds[i]);
     }
   }
-  Impl->BuiltInputTime = input->GetMTime();
   Impl->BuiltColorTime = colorTime;
-  Impl->BuiltRadius = this->Radius;
-  Impl->BuiltScale = this->RadiusScale;
-  Impl->BuiltRadiusArray = radiusArray;
-  Impl->BuiltRangeArrays = Impl->RangeArrays;
-  Impl->HasBuilt = true;
 }
 
 void vtkCGTSphereMapper::BuildSpheres(vtkPolyData* input, const SphereColors& colorOf)
 {
   std::string why;
   vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
   }
   vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
   vtkPoints* points = input->GetPoints();
-  const double scale = this->RadiusScale;
+  const double scale = this->ScaleFactor;
   const double constantRadius = this->Radius * scale;
   // Float and double arrays (nearly all data) are read directly, others through the
   // generic vtkDataArray interface.
@@ -387,7 +348,7 @@ void vtkCGTSphereMapper::BuildSpheres(vtkPolyData* input, const SphereColors& co
       << " spheres have a zero, negative, non-finite or huge (above 1e15) radius and are not "
          "drawn.");
   }
-  Impl->BuiltAccelerator = -1;
+  Impl->AcceleratorStamp.Invalidate();
 }
 
 void vtkCGTSphereMapper::ReadRangeAttributes(vtkPolyData* input)
@@ -425,10 +386,10 @@ bool vtkCGTSphereMapper::UpdateAccelerator(raymappers::RenderStatistics& stats)
   // The accelerator depends on the sphere set and its own parameters.
   stats.declareCounter("builds_this_render");
   const bool grid = this->Accelerator == VTK_CGT_ACCELERATOR_GRID;
-  if (Impl->BuiltAccelerator != this->Accelerator ||
-      (grid &&
-        (Impl->BuiltLambda != this->Lambda || Impl->BuiltMacrocell != this->MacrocellSize)) ||
-      (!grid && Impl->BuiltQuality != this->EmbreeBuildQuality))
+  // The grid's parameters matter only to the grid, the build quality only to Embree.
+  if (Impl->AcceleratorStamp.Changed(this, nullptr,
+        { this->Accelerator, grid ? this->Lambda : 0.0, grid ? this->MacrocellSize : 0,
+          grid ? 0 : this->EmbreeBuildQuality }))
   {
     raymappers::ScopedPhase phase(stats, grid ? "grid_build" : "bvh_build");
     if (grid)
@@ -447,14 +408,10 @@ bool vtkCGTSphereMapper::UpdateAccelerator(raymappers::RenderStatistics& stats)
                                            : raymappers::EmbreeSphereAccelerator::Quality::Medium);
       Impl->Embree.build(Impl->Spheres, quality);
     }
-    Impl->BuiltAccelerator = this->Accelerator;
-    Impl->BuiltLambda = this->Lambda;
-    Impl->BuiltMacrocell = this->MacrocellSize;
-    Impl->BuiltQuality = this->EmbreeBuildQuality;
-    ++Impl->Builds;
+    Impl->Core.CountBuild();
     stats.addCounter("builds_this_render", 1);
   }
-  stats.addCounter("builds", Impl->Builds);
+  stats.addCounter("builds", Impl->Core.GetBuilds());
   stats.addCounter("spheres", static_cast<std::int64_t>(Impl->Spheres.size()));
   if (grid)
   {
@@ -515,10 +472,11 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Radius: " << this->Radius << "\n";
-  os << indent << "RadiusArrayName: " << (this->RadiusArrayName ? this->RadiusArrayName : "(none)")
+  os << indent << "ScaleArray: " << (this->ScaleArray ? this->ScaleArray : "(none)")
      << "\n";
-  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "Accelerator: "
      << (this->Accelerator == VTK_CGT_ACCELERATOR_GRID ? "coherent grid" : "Embree") << "\n";
   os << indent << "PacketSize: " << this->PacketSize << "\n";

@@ -3,7 +3,7 @@
  * @brief   Renders every point of its input as an exact, ray-traced sphere.
  *
  * Each point of the input vtkPolyData (cells are ignored) becomes a sphere of radius
- *   r_i = RadiusScale * (RadiusArrayName set ? radius[i] : Radius).
+ *   r_i = ScaleFactor * (ScaleArray set ? radius[i] : Radius).
  * Spheres are colored by the mapper's scalars through its lookup table (the usual
  * vtkMapper coloring: ScalarVisibility, ColorMode, SelectColorArray, ...) or by the
  * actor's color, and shaded with the renderer's lights (Lambert diffuse plus Phong
@@ -77,20 +77,27 @@ public:
 
   ///@{
   /**
-   * Name of a point array giving each sphere's radius (its first component, so the
+   * Name of a point array giving each sphere's radius (vtkPointGaussianMapper's name) (its first component, so the
    * 3-component "radius" of vtkPDBReader works as is). nullptr (default) means the
    * constant Radius for all.
    */
-  vtkSetStringMacro(RadiusArrayName);
-  vtkGetStringMacro(RadiusArrayName);
+  vtkSetStringMacro(ScaleArray);
+  vtkGetStringMacro(ScaleArray);
   ///@}
 
   ///@{
   /**
    * Factor applied to every radius (constant or from the array). Default 1.
    */
-  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
-  vtkGetMacro(RadiusScale, double);
+  vtkRayMapperSetClampMacro(ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
+  vtkGetMacro(ScaleFactor, double);
+  ///@}
+
+  ///@{
+  /** @deprecated RadiusArrayName and RadiusScale, the old names of ScaleArray and ScaleFactor
+   * (those of vtkPointGaussianMapper), kept for one release. */
+  vtkRayMapperDeprecatedStringAliasMacro(RadiusArrayName, ScaleArray);
+  vtkRayMapperDeprecatedClampAliasMacro(RadiusScale, ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   ///@}
 
   ///@{
@@ -207,6 +214,11 @@ public:
    */
   vtkRayMapperStatistics* GetStatistics();
 
+  ///@{
+  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
+  vtkRayMapperNumberOfThreadsMacro();
+  ///@}
+
   void RenderPiece(vtkRenderer* ren, vtkActor* act) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
 
@@ -218,8 +230,8 @@ protected:
   void ComputeBounds() override;
 
   double Radius = 1.0;
-  char* RadiusArrayName = nullptr;
-  double RadiusScale = 1.0;
+  char* ScaleArray = nullptr;
+  double ScaleFactor = 1.0;
   int TileSize = 32;
   int Accelerator = VTK_CGT_ACCELERATOR_GRID;
   int PacketSize = 8;
@@ -234,6 +246,8 @@ protected:
   double ShadowLightSize = 1.0;
   double ShadowLightIntensity = 1.0;
   double AmbientOcclusionRadius = 0.0;
+
+  int NumberOfThreads = 0;
 
 private:
   vtkCGTSphereMapper(const vtkCGTSphereMapper&) = delete;
@@ -254,6 +268,9 @@ private:
     raymappers::SphereShading& shading);
   void SetRangeFilter(raymappers::SphereAccelerator& accelerator);
   void operator=(const vtkCGTSphereMapper&) = delete;
+
+  /// One render, in the mapper's task arena (RenderPiece runs it there).
+  void RenderFrame(vtkRenderer* ren, vtkActor* actor);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

@@ -14,27 +14,6 @@
 namespace raymappers
 {
 
-/// The reduction p of an interactive frame (the renderer asks at least 1 frame per second:
-/// an interactor's DesiredUpdateRate while the camera moves; still renders ask less): when
-/// the last full-resolution frame took longer than the budget (frameBudget seconds, or
-/// 1 / desiredRate when 0), p x p fewer rays bring it back within it, p = ceil(sqrt(last /
-/// budget)) up to maxP; otherwise 1 (the full frame).
-inline int interactiveReduction(double lastFullSeconds, double frameBudget, double desiredRate, int maxP)
-{
-  const double budget = frameBudget > 0 ? frameBudget : (desiredRate > 0 ? 1.0 / desiredRate : 0);
-  if (desiredRate < 1.0 || !(budget > 0) || !(lastFullSeconds > budget))
-  {
-    return 1;
-  }
-  return std::clamp(static_cast<int>(std::ceil(std::sqrt(lastFullSeconds / budget))), 1, maxP);
-}
-
-/// The size of a frame of `full` pixels reduced by p (rounded up).
-inline int reducedSize(int full, int p)
-{
-  return std::max(1, (full + p - 1) / p);
-}
-
 /// Depth of the full-resolution pixel under each coarse pixel's centre.
 inline std::vector<float> sampleDepth(const std::vector<float>& depth,
   int width,

@@ -143,4 +143,73 @@ bool AcceptVector(vtkObject* self, const char* name, T (&value)[N], T min, T max
   }                                                                                                \
   virtual void Set##name(const type _arg[2]) { this->Set##name(_arg[0], _arg[1]); }
 
+/// The time-critical rendering properties of VTK's volume ray casters
+/// (vtkFixedPointVolumeRayCastMapper, vtkUnstructuredGridVolumeZSweepMapper), declared the same
+/// way in each RayMappers mapper that has them (vtkRayMapperCore::BeginFrame reads them):
+///   ImageSampleDistance (1 to 16, default 1): the distance between rays in pixels while
+///     AutoAdjustSampleDistances is off (1: one ray per pixel, the exact image);
+///   AutoAdjustSampleDistances (default on): interactive renders choose the distance from the
+///     last frame's time against the budget, within [MinimumImageSampleDistance,
+///     MaximumImageSampleDistance]; still renders use MinimumImageSampleDistance (default 1);
+///   FrameBudget (seconds, default 0: 1 / the render window's DesiredUpdateRate).
+/// The mapper declares the members (and the default of MaximumImageSampleDistance).
+#define vtkRayMapperSampleDistanceMacro()                                                         \
+  vtkRayMapperSetClampMacro(ImageSampleDistance, double, 1.0, 16.0);                               \
+  vtkGetMacro(ImageSampleDistance, double);                                                        \
+  vtkSetMacro(AutoAdjustSampleDistances, vtkTypeBool);                                             \
+  vtkGetMacro(AutoAdjustSampleDistances, vtkTypeBool);                                             \
+  vtkBooleanMacro(AutoAdjustSampleDistances, vtkTypeBool);                                         \
+  vtkRayMapperSetClampMacro(MinimumImageSampleDistance, double, 1.0, 16.0);                        \
+  vtkGetMacro(MinimumImageSampleDistance, double);                                                 \
+  vtkRayMapperSetClampMacro(MaximumImageSampleDistance, double, 1.0, 16.0);                        \
+  vtkGetMacro(MaximumImageSampleDistance, double);                                                 \
+  vtkRayMapperSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);                             \
+  vtkGetMacro(FrameBudget, double)
+
+/// NumberOfThreads of a RayMappers mapper (0 to 4096): its kernels and builds run in its own
+/// TBB task arena of that many threads; 0 (default): all the cores, or under MPI the ranks'
+/// share of them on this machine; the environment variable RAYMAPPERS_THREADS overrides the
+/// default (vtkRayMapperCore::DefaultNumberOfThreads). The mapper declares the member.
+#define vtkRayMapperNumberOfThreadsMacro()                                                        \
+  vtkRayMapperSetClampMacro(NumberOfThreads, int, 0, 4096);                                        \
+  vtkGetMacro(NumberOfThreads, int)
+
+/// @deprecated The old Subsampling p of vtkZSweepVolumeMapper and vtkSPHFluidMapper (0 to
+/// maxP), kept for one release: 0 is AutoAdjustSampleDistances on, p > 0 a fixed
+/// ImageSampleDistance p with AutoAdjustSampleDistances off.
+#define vtkRayMapperDeprecatedSubsamplingMacro(maxP)                                              \
+  virtual void SetSubsampling(int _arg)                                                            \
+  {                                                                                                \
+    if (vtkRayMapperSetGet::Accept<int>(this, "Subsampling", _arg, 0, maxP, this->GetSubsampling())) \
+    {                                                                                              \
+      this->SetAutoAdjustSampleDistances(_arg == 0);                                               \
+      if (_arg > 0)                                                                                \
+      {                                                                                            \
+        this->SetImageSampleDistance(_arg);                                                        \
+      }                                                                                            \
+    }                                                                                              \
+  }                                                                                                \
+  virtual int GetSubsampling()                                                                     \
+  {                                                                                                \
+    return this->AutoAdjustSampleDistances ? 0 : static_cast<int>(std::lround(this->ImageSampleDistance)); \
+  }
+
+/// @deprecated A numeric property's old name, kept for one release: Set<oldName> checks the
+/// value as the old setter did (its warnings name the old property) and forwards it to
+/// Set<newName>; Get<oldName> reads <newName>.
+#define vtkRayMapperDeprecatedClampAliasMacro(oldName, newName, type, min, max)                   \
+  virtual void Set##oldName(type _arg)                                                             \
+  {                                                                                                \
+    if (vtkRayMapperSetGet::Accept<type>(this, #oldName, _arg, min, max, this->Get##oldName()))    \
+    {                                                                                              \
+      this->Set##newName(_arg);                                                                    \
+    }                                                                                              \
+  }                                                                                                \
+  virtual type Get##oldName() { return this->Get##newName(); }
+
+/// @deprecated A string property's old name, kept for one release (forwards to <newName>).
+#define vtkRayMapperDeprecatedStringAliasMacro(oldName, newName)                                  \
+  virtual void Set##oldName(const char* _arg) { this->Set##newName(_arg); }                        \
+  virtual char* Get##oldName() { return this->Get##newName(); }
+
 #endif

@@ -5,10 +5,9 @@
 #include "RBFParticles.h"
 #include "RBFVolumeRenderer.h"
 #include "RenderStatistics.h"
-#include "vtkRayMapperFrameDrawer.h"
+#include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
-#include "vtkRayMapperStatistics.h"
 
 #include "vtkAlgorithm.h"
 #include "vtkDataArray.h"
@@ -25,29 +24,21 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <vector>
 #include <string>
 
 vtkStandardNewMacro(vtkRBFVolumeMapper);
 
 struct vtkRBFVolumeMapper::Internals
 {
+  vtkRayMapperCore Core;
   raymappers::RBFParticles Particles;
   raymappers::ParticleBVH BVH;
-  raymappers::Frame Frame;
-  vtkRayMapperFrameDrawer Drawer;
-  vtkRayMapperRenderHelpers::CameraCheck Camera;
-  vtkNew<vtkRayMapperStatistics> Statistics;
-  std::int64_t Builds = 0;
   double MeanRadius = 0.0;
-
-  // What the particles were built from: rebuild only when one of these changes.
-  bool HasParticles = false;
-  vtkMTimeType BuiltInputTime = 0;
-  double BuiltRadius = 0, BuiltScale = 0;
-  std::string BuiltRadiusArray, BuiltValueArray, BuiltFieldArray;
-  bool BVHStale = true;
-  int BuiltLeafSize = 0;
-  vtkMTimeType WarnedEmptyInputTime = 0;
+  // The particles are built from the points and the radius, value and field arrays, the
+  // BVH from the particles and the leaf size.
+  vtkRayMapperStamp<double, double, std::string, std::string, std::string> ParticlesStamp;
+  vtkRayMapperStamp<int> BVHStamp;
 };
 
 vtkRBFVolumeMapper::vtkRBFVolumeMapper()
@@ -57,7 +48,7 @@ vtkRBFVolumeMapper::vtkRBFVolumeMapper()
 
 vtkRBFVolumeMapper::~vtkRBFVolumeMapper()
 {
-  this->SetRadiusArrayName(nullptr);
+  this->SetScaleArray(nullptr);
   this->SetValueArrayName(nullptr);
   this->SetFieldArrayName(nullptr);
 }
@@ -75,12 +66,12 @@ int vtkRBFVolumeMapper::FillInputPortInformation(int, vtkInformation* info)
 
 vtkRayMapperStatistics* vtkRBFVolumeMapper::GetStatistics()
 {
-  return Impl->Statistics;
+  return Impl->Core.GetStatistics();
 }
 
 void vtkRBFVolumeMapper::ReleaseGraphicsResources(vtkWindow* win)
 {
-  Impl->Drawer.ReleaseGraphicsResources(win);
+  Impl->Core.ReleaseGraphicsResources(win);
   this->Superclass::ReleaseGraphicsResources(win);
 }
 
@@ -88,63 +79,31 @@ double* vtkRBFVolumeMapper::GetBounds()
 {
   // The points' bounds grown by the largest support, Sigma * r_max, so a camera reset
   // frames the whole field.
-  // Bring the input up to date first (as vtkAbstractVolumeMapper::GetBounds does).
-  if (vtkAlgorithm* producer = this->GetInputAlgorithm())
+  vtkPointSet* input = Impl->Core.PointSetBounds(this, this->Bounds, "volume");
+  if (input)
   {
-    producer->Update();
-  }
-  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
-  if (!input || input->GetNumberOfPoints() == 0)
-  {
-    vtkMath::UninitializeBounds(this->Bounds);
-    if (input && Impl->WarnedEmptyInputTime != input->GetMTime())
-    {
-      // The renderer culls a volume with empty bounds before it renders: warn here, once
-      // per input change.
-      Impl->WarnedEmptyInputTime = input->GetMTime();
-      Impl->Statistics->Set(raymappers::RenderStatistics());
-      vtkWarningMacro(<< "The input has no points: no volume to draw.");
-    }
-    return this->Bounds;
-  }
-  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
-  if (!vtkMath::AreBoundsInitialized(this->Bounds))
-  {
-    return this->Bounds; // no finite point
-  }
-  std::string why;
-  vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
-  const double rMax = radii
-    ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
-    : this->Radius * this->RadiusScale;
-  const double grow = this->Sigma * rMax;
-  if (grow > 0 && std::isfinite(grow))
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      this->Bounds[2 * a] -= grow;
-      this->Bounds[2 * a + 1] += grow;
-    }
+    std::string why;
+    vtkDataArray* radii =
+      vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
+    const double rMax = radii
+      ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
+      : this->Radius * this->ScaleFactor;
+    vtkRayMapperCore::GrowBounds(this->Bounds, this->Sigma * rMax);
   }
   return this->Bounds;
 }
 
 bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
 {
-  const std::string radiusArray = this->RadiusArrayName ? this->RadiusArrayName : "";
-  const std::string valueArray = this->ValueArrayName ? this->ValueArrayName : "";
-  const std::string fieldArray = this->FieldArrayName ? this->FieldArrayName : "";
-  if (Impl->HasParticles && Impl->BuiltInputTime == input->GetMTime() &&
-      Impl->BuiltRadius == this->Radius && Impl->BuiltScale == this->RadiusScale &&
-      Impl->BuiltRadiusArray == radiusArray && Impl->BuiltValueArray == valueArray &&
-      Impl->BuiltFieldArray == fieldArray)
+  if (!Impl->ParticlesStamp.Changed(this, input,
+        { this->Radius, this->ScaleFactor, vtkRayMapperString(this->ScaleArray),
+          vtkRayMapperString(this->ValueArrayName), vtkRayMapperString(this->FieldArrayName) }))
   {
     return false;
   }
   std::string why;
   vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
@@ -197,7 +156,7 @@ bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
   const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
   const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
   const vtkRayMapperRenderHelpers::TupleReader valueReader(values);
-  const double scale = this->RadiusScale, constantRadius = this->Radius * scale;
+  const double scale = this->ScaleFactor, constantRadius = this->Radius * scale;
   raymappers::buildRBFParticles(
     n,
     vtkRayMapperRenderHelpers::FiniteCenter(input->GetPoints()),
@@ -233,57 +192,37 @@ bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
     sum += r;
   }
   Impl->MeanRadius = Impl->Particles.size() ? sum / Impl->Particles.size() : 0.0;
-  Impl->HasParticles = true;
-  Impl->BuiltInputTime = input->GetMTime();
-  Impl->BuiltRadius = this->Radius;
-  Impl->BuiltScale = this->RadiusScale;
-  Impl->BuiltRadiusArray = radiusArray;
-  Impl->BuiltValueArray = valueArray;
-  Impl->BuiltFieldArray = fieldArray;
-  Impl->BVHStale = true;
+  Impl->BVHStamp.Invalidate();
   return true;
 }
 
-void vtkRBFVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+void vtkRBFVolumeMapper::UpdateAcceleration(vtkPointSet* input, raymappers::RenderStatistics& stats)
 {
-  raymappers::RenderStatistics stats;
-  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
-  if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
-  {
-    Impl->Statistics->Set(stats);
-    return;
-  }
-
-  // 1. Update: the particles depend on the input and the arrays, the BVH on the particles
-  //    and the leaf size; Kappa, Sigma, the step, the transfer functions and the camera
-  //    rebuild nothing.
+  // The particles depend on the input and the arrays, the BVH on the particles and the leaf
+  // size; Kappa, Sigma, the step, the transfer functions and the camera rebuild nothing.
   stats.declareCounter("builds_this_render");
   {
     raymappers::ScopedPhase phase(stats, "particles");
     this->UpdateParticles(input);
   }
-  if (Impl->BVHStale || Impl->BuiltLeafSize != this->LeafSize)
+  if (Impl->BVHStamp.Changed(this, nullptr, { this->LeafSize }))
   {
     raymappers::ScopedPhase phase(stats, "bvh_build");
     Impl->BVH.build(Impl->Particles, this->LeafSize);
-    Impl->BVHStale = false;
-    Impl->BuiltLeafSize = this->LeafSize;
-    ++Impl->Builds;
+    Impl->Core.CountBuild();
     stats.addCounter("builds_this_render", 1);
   }
-  stats.addCounter("builds", Impl->Builds);
+  stats.addCounter("builds", Impl->Core.GetBuilds());
   stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
   stats.addCounter("bvh_nodes", static_cast<std::int64_t>(Impl->BVH.nodes().size()));
   stats.addCounter("bvh_bytes", static_cast<std::int64_t>(Impl->BVH.memoryBytes()));
   stats.addCounter("fields", Impl->Particles.numFields);
+}
 
-  // 2. Classification, camera, lights, opaque depth.
-  vtkVolumeProperty* property = vol->GetProperty();
-  std::vector<raymappers::TransferFunctionTable> tables;
-  for (int m = 0; m < Impl->Particles.numFields; ++m)
-  {
-    tables.push_back(vtkRayMapperRenderHelpers::SampleVolumeProperty(property, m, 1024));
-  }
+raymappers::RBFRenderParameters vtkRBFVolumeMapper::GatherParameters(vtkRenderer* ren,
+  vtkVolume* vol,
+  const vtkRayMapperView& view)
+{
   raymappers::RBFRenderParameters params;
   params.kappa = this->Kappa;
   params.sigma = this->Sigma;
@@ -295,55 +234,59 @@ void vtkRBFVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.tileSize = this->TileSize;
   params.direct = this->Method == VTK_RBF_METHOD_DIRECT;
   params.region = vtkRayMapperRenderHelpers::RegionFromBounds(this->RegionBounds);
-  const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(vol);
-  std::copy(model.modelToWorld, model.modelToWorld + 16, params.modelToWorld);
-  std::copy(model.normalToWorld, model.normalToWorld + 9, params.normalToWorld);
+  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.modelToWorld);
+  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.normalToWorld);
+  vtkVolumeProperty* property = vol->GetProperty();
   params.shade = property->GetShade() != 0;
   if (params.shade)
   {
     params.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
-    params.material.ambient = property->GetAmbient();
-    params.material.diffuse = property->GetDiffuse();
-    params.material.specular = property->GetSpecular();
-    params.material.specularPower = property->GetSpecularPower();
+    params.material = vtkRayMapperCore::GatherMaterial(property);
   }
-  int width = 0, height = 0;
-  const std::array<double, 16> modelToClip =
-    vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
-  if (!Impl->Camera.Usable(this, modelToClip))
+  return params;
+}
+
+void vtkRBFVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+{
+  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
+}
+
+void vtkRBFVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
+{
+  raymappers::RenderStatistics stats;
+  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
+  vtkRayMapperCore::View view;
+  if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
   {
-    Impl->Statistics->Set(stats);
+    Impl->Core.Skip(stats);
     return;
   }
-  const raymappers::RayCamera camera(modelToClip, width, height, Impl->Particles.origin);
-  std::vector<float> depth;
-  int dw = 0, dh = 0;
-  bool haveDepth = false;
+  this->UpdateAcceleration(input, stats);
+  // Classification: component m of the volume property for field m.
+  std::vector<raymappers::TransferFunctionTable> tables;
+  for (int m = 0; m < Impl->Particles.numFields; ++m)
   {
-    raymappers::ScopedPhase phase(stats, "opaque_depth");
-    haveDepth = vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
-      dw == camera.width() && dh == camera.height();
+    tables.push_back(vtkRayMapperRenderHelpers::SampleVolumeProperty(vol->GetProperty(), m, 1024));
   }
-  stats.setEffect("opaque_depth", haveDepth);
-
-  // 3. Trace, 4. show.
+  if (!Impl->Core.GatherView(this, ren, vol, view))
+  {
+    Impl->Core.Skip(stats);
+    return;
+  }
+  const raymappers::RBFRenderParameters params = this->GatherParameters(ren, vol, view);
+  const float* depth = Impl->Core.OpaqueDepth(ren, view, view.width, view.height, stats);
   {
     raymappers::ScopedPhase phase(stats, "trace");
     raymappers::renderRBF(Impl->Particles,
       Impl->BVH,
-      camera,
+      raymappers::RayCamera(view.modelToClip, view.width, view.height, Impl->Particles.origin),
       params,
       tables,
-      haveDepth ? depth.data() : nullptr,
-      Impl->Frame,
+      depth,
+      Impl->Core.Frame(),
       stats);
   }
-  {
-    raymappers::ScopedPhase phase(stats, "draw");
-    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied,
-      Impl->Statistics->GetValidateFrames(), stats);
-  }
-  Impl->Statistics->Set(stats);
+  Impl->Core.Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
 }
 
 void vtkRBFVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
@@ -353,9 +296,9 @@ void vtkRBFVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Sigma: " << this->Sigma << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "Radius: " << this->Radius << "\n";
-  os << indent << "RadiusArrayName: " << (this->RadiusArrayName ? this->RadiusArrayName : "(none)")
+  os << indent << "ScaleArray: " << (this->ScaleArray ? this->ScaleArray : "(none)")
      << "\n";
-  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "ValueArrayName: " << (this->ValueArrayName ? this->ValueArrayName : "(none)")
      << "\n";
   os << indent << "FieldArrayName: " << (this->FieldArrayName ? this->FieldArrayName : "(none)")
@@ -365,6 +308,7 @@ void vtkRBFVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PacketSize: " << this->PacketSize << "\n";
   os << indent << "LeafSize: " << this->LeafSize << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "RegionBounds: (" << this->RegionBounds[0] << ", " << this->RegionBounds[1]
      << ", " << this->RegionBounds[2] << ", " << this->RegionBounds[3] << ", "
      << this->RegionBounds[4] << ", " << this->RegionBounds[5] << ")\n";

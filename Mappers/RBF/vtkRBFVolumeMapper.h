@@ -11,7 +11,7 @@
  * lights and the field's analytic gradient (Knoll et al., "RBF Volume Ray Casting on
  * Multicore and Manycore CPUs", EuroVis 2014).
  *   k_i: the first component of ValueArrayName, or 1 when it is not set.
- *   r_i: RadiusScale * (the first component of RadiusArrayName, or Radius when not set).
+ *   r_i: ScaleFactor * (the first component of ScaleArray, or Radius when not set).
  *
  * Multi-field classification (section 5.5): with FieldArrayName set, the distinct values
  * of that point array (a category, such as an atom type) split the particles into up to
@@ -48,6 +48,12 @@
 
 class vtkPointSet;
 class vtkRayMapperStatistics;
+struct vtkRayMapperView;
+namespace raymappers
+{
+class RenderStatistics;
+struct RBFRenderParameters;
+}
 
 #define VTK_RBF_METHOD_COHERENT 0
 #define VTK_RBF_METHOD_DIRECT 1
@@ -88,15 +94,23 @@ public:
 
   ///@{
   /**
-   * Constant radius (used without a radius array), a radius array (first component) and a
-   * factor on either. Defaults 1, none, 1.
+   * Constant radius (used without a radius array), a radius array ScaleArray (first
+   * component) and a factor ScaleFactor on either (vtkPointGaussianMapper's names).
+   * Defaults 1, none, 1.
    */
   vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
-  vtkSetStringMacro(RadiusArrayName);
-  vtkGetStringMacro(RadiusArrayName);
-  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
-  vtkGetMacro(RadiusScale, double);
+  vtkSetStringMacro(ScaleArray);
+  vtkGetStringMacro(ScaleArray);
+  vtkRayMapperSetClampMacro(ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
+  vtkGetMacro(ScaleFactor, double);
+  ///@}
+
+  ///@{
+  /** @deprecated RadiusArrayName and RadiusScale, the old names of ScaleArray and ScaleFactor
+   * (those of vtkPointGaussianMapper), kept for one release. */
+  vtkRayMapperDeprecatedStringAliasMacro(RadiusArrayName, ScaleArray);
+  vtkRayMapperDeprecatedClampAliasMacro(RadiusScale, ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   ///@}
 
   ///@{
@@ -168,6 +182,11 @@ public:
   double* GetBounds() VTK_SIZEHINT(6) override;
   void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
 
+  ///@{
+  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
+  vtkRayMapperNumberOfThreadsMacro();
+  ///@}
+
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
 
@@ -180,8 +199,8 @@ protected:
   double Sigma = 2.0;
   double SampleDistance = 0.0;
   double Radius = 1.0;
-  char* RadiusArrayName = nullptr;
-  double RadiusScale = 1.0;
+  char* ScaleArray = nullptr;
+  double ScaleFactor = 1.0;
   char* ValueArrayName = nullptr;
   char* FieldArrayName = nullptr;
   double TerminationOpacity = 0.99;
@@ -193,12 +212,23 @@ protected:
   double RegionBounds[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
     -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
 
+  int NumberOfThreads = 0;
+
 private:
   vtkRBFVolumeMapper(const vtkRBFVolumeMapper&) = delete;
   void operator=(const vtkRBFVolumeMapper&) = delete;
 
   /// Rebuilds the particles (and marks the BVH stale) when the input or the arrays changed.
   bool UpdateParticles(vtkPointSet* input);
+  /// The particles, then the BVH over them, rebuilt where their stamps changed.
+  void UpdateAcceleration(vtkPointSet* input, raymappers::RenderStatistics& stats);
+  /// The kernel's parameters: the properties, the model transform, lights and material.
+  raymappers::RBFRenderParameters GatherParameters(vtkRenderer* ren,
+    vtkVolume* vol,
+    const vtkRayMapperView& view);
+
+  /// One render, in the mapper's task arena (Render runs it there).
+  void RenderFrame(vtkRenderer* ren, vtkVolume* vol);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

@@ -4,14 +4,12 @@
 #include "FluidRenderer.h"
 #include "FluidSpans.h"
 #include "Frame.h"
-#include "FrameResample.h"
 #include "RenderStatistics.h"
 #include "SpanVoxelizer.h"
 #include "ViewRays.h"
-#include "vtkRayMapperFrameDrawer.h"
+#include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
-#include "vtkRayMapperStatistics.h"
 
 #include "vtkAlgorithm.h"
 #include "vtkDataArray.h"
@@ -21,46 +19,31 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
-#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkTimerLog.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
+#include <tuple>
+#include <vector>
 
 vtkStandardNewMacro(vtkSPHFluidMapper);
 
 struct vtkSPHFluidMapper::Internals
 {
+  vtkRayMapperCore Core;
   raymappers::FluidParticles Particles;
   raymappers::FluidCells Cells;
-  std::string CellsKey; // the particles' key and the culling settings the cells were built with
   raymappers::FluidSpans Spans;
-  raymappers::Frame Frame;
-  raymappers::Frame Coarse;               // the reduced frame of interactive renders
-  double LastFullFrameSeconds = 0;        // the last full-resolution voxelization and render
-  vtkRayMapperFrameDrawer Drawer;
-  vtkRayMapperRenderHelpers::CameraCheck Camera;
-  vtkNew<vtkRayMapperStatistics> Statistics;
-  std::string BuiltKey; // what the particles were built from
-  vtkMTimeType BuiltInputTime = 0;
-  vtkPointSet* BuiltInput = nullptr;
-  bool HasParticles = false;
-  vtkMTimeType WarnedEmptyInputTime = 0;
-  std::string WarnedBudgetKey;
+  // The particles are built from the points and the radius settings, the culling cells from
+  // the particles and the culling settings.
+  vtkRayMapperStamp<double, double, std::string> ParticlesStamp;
+  vtkRayMapperStamp<bool, double> CellsStamp;
+  // The memory budget, frame size and layer limit last warned about.
+  std::tuple<double, int, int, int> WarnedBudget{ -1.0, 0, 0, 0 };
 };
-
-namespace
-{
-std::string str(const char* s)
-{
-  return s ? s : "";
-}
-}
 
 vtkSPHFluidMapper::vtkSPHFluidMapper()
   : Impl(new Internals)
@@ -69,7 +52,7 @@ vtkSPHFluidMapper::vtkSPHFluidMapper()
 
 vtkSPHFluidMapper::~vtkSPHFluidMapper()
 {
-  this->SetRadiusArrayName(nullptr);
+  this->SetScaleArray(nullptr);
 }
 
 void vtkSPHFluidMapper::SetInputData(vtkPointSet* input)
@@ -85,68 +68,41 @@ int vtkSPHFluidMapper::FillInputPortInformation(int, vtkInformation* info)
 
 vtkRayMapperStatistics* vtkSPHFluidMapper::GetStatistics()
 {
-  return Impl->Statistics;
+  return Impl->Core.GetStatistics();
 }
 
 void vtkSPHFluidMapper::ReleaseGraphicsResources(vtkWindow* win)
 {
-  Impl->Drawer.ReleaseGraphicsResources(win);
+  Impl->Core.ReleaseGraphicsResources(win);
   this->Superclass::ReleaseGraphicsResources(win);
 }
 
 double* vtkSPHFluidMapper::GetBounds()
 {
   // The points' bounds grown by the largest radius, so a camera reset frames the fluid.
-  if (vtkAlgorithm* producer = this->GetInputAlgorithm())
+  vtkPointSet* input = Impl->Core.PointSetBounds(this, this->Bounds, "fluid");
+  if (input)
   {
-    producer->Update();
-  }
-  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
-  if (!input || input->GetNumberOfPoints() == 0)
-  {
-    vtkMath::UninitializeBounds(this->Bounds);
-    if (input && Impl->WarnedEmptyInputTime != input->GetMTime())
-    {
-      Impl->WarnedEmptyInputTime = input->GetMTime();
-      Impl->Statistics->Set(raymappers::RenderStatistics());
-      vtkWarningMacro(<< "The input has no points: no fluid to draw.");
-    }
-    return this->Bounds;
-  }
-  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
-  if (!vtkMath::AreBoundsInitialized(this->Bounds))
-  {
-    return this->Bounds; // no finite point
-  }
-  std::string why;
-  vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
-  const double grow = radii
-    ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->RadiusScale)
-    : this->Radius * this->RadiusScale;
-  if (grow > 0 && std::isfinite(grow))
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      this->Bounds[2 * a] -= grow;
-      this->Bounds[2 * a + 1] += grow;
-    }
+    std::string why;
+    vtkDataArray* radii =
+      vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
+    vtkRayMapperCore::GrowBounds(this->Bounds,
+      radii ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
+            : this->Radius * this->ScaleFactor);
   }
   return this->Bounds;
 }
 
 bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
 {
-  std::ostringstream key;
-  key << this->Radius << '|' << this->RadiusScale << '|' << str(this->RadiusArrayName);
-  if (Impl->HasParticles && Impl->BuiltInput == input &&
-    Impl->BuiltInputTime == input->GetMTime() && Impl->BuiltKey == key.str())
+  if (!Impl->ParticlesStamp.Changed(
+        this, input, { this->Radius, this->ScaleFactor, vtkRayMapperString(this->ScaleArray) }))
   {
     return false;
   }
   std::string why;
   vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->RadiusArrayName, "radius", why);
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
@@ -154,7 +110,7 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
   vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
   const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
   const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
-  const double scale = this->RadiusScale, constant = this->Radius * this->RadiusScale;
+  const double scale = this->ScaleFactor, constant = this->Radius * this->ScaleFactor;
   raymappers::buildFluidParticles(
     static_cast<std::size_t>(input->GetNumberOfPoints()),
     vtkRayMapperRenderHelpers::FiniteCenter(input->GetPoints()),
@@ -173,55 +129,33 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
     vtkWarningMacro(<< Impl->Particles.skippedBadRadius
                     << " particles have a zero, negative, non-finite or huge (above 1e15) radius and are not drawn.");
   }
-  Impl->HasParticles = true;
-  Impl->BuiltInput = input;
-  Impl->BuiltInputTime = input->GetMTime();
-  Impl->BuiltKey = key.str();
+  Impl->CellsStamp.Invalidate();
   return true;
 }
 
-void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+void vtkSPHFluidMapper::UpdateCells(raymappers::RenderStatistics& stats)
 {
-  raymappers::RenderStatistics stats;
-  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
-  if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
+  // Boundary-cell culling (FluidCells.h): once per particle set and culling setting.
+  const bool rebuild = Impl->CellsStamp.Changed(this, nullptr, { this->BoundaryCulling, this->CellSize });
+  if (rebuild)
   {
-    if (input && Impl->WarnedEmptyInputTime != input->GetMTime())
-    {
-      Impl->WarnedEmptyInputTime = input->GetMTime();
-      vtkWarningMacro(<< "The input has no points: no fluid to draw.");
-    }
-    Impl->Statistics->Set(stats);
-    return;
+    raymappers::ScopedPhase phase(stats, "cells");
+    raymappers::buildFluidCells(Impl->Particles, this->CellSize, this->BoundaryCulling, Impl->Cells);
   }
-  bool built = false;
-  {
-    raymappers::ScopedPhase phase(stats, "particles");
-    built = this->UpdateParticles(input);
-  }
-  stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
-  stats.addCounter("particles_built", built ? 1 : 0);
-  {
-    // Boundary-cell culling (FluidCells.h): once per particle set and culling setting.
-    std::ostringstream key;
-    key << Impl->BuiltKey << '|' << this->BoundaryCulling << '|' << this->CellSize;
-    const bool rebuild = built || Impl->CellsKey != key.str();
-    if (rebuild)
-    {
-      raymappers::ScopedPhase phase(stats, "cells");
-      raymappers::buildFluidCells(Impl->Particles, this->CellSize, this->BoundaryCulling, Impl->Cells);
-      Impl->CellsKey = key.str();
-    }
-    const raymappers::FluidCells& cells = Impl->Cells;
-    stats.setEffect("boundary_culling", this->BoundaryCulling);
-    stats.addCounter("cells_built", rebuild ? 1 : 0);
-    stats.addCounter("occupied_cells", static_cast<std::int64_t>(cells.occupiedCells));
-    stats.addCounter("full_cells", static_cast<std::int64_t>(cells.fullCells));
-    stats.addCounter("inner_cells", static_cast<std::int64_t>(cells.innerCells));
-    stats.addCounter("culled_particles", static_cast<std::int64_t>(cells.culledParticles));
-    stats.addCounter("boxes", static_cast<std::int64_t>(cells.boxes.size()));
-  }
+  const raymappers::FluidCells& cells = Impl->Cells;
+  stats.setEffect("boundary_culling", this->BoundaryCulling);
+  stats.addCounter("cells_built", rebuild ? 1 : 0);
+  stats.addCounter("occupied_cells", static_cast<std::int64_t>(cells.occupiedCells));
+  stats.addCounter("full_cells", static_cast<std::int64_t>(cells.fullCells));
+  stats.addCounter("inner_cells", static_cast<std::int64_t>(cells.innerCells));
+  stats.addCounter("culled_particles", static_cast<std::int64_t>(cells.culledParticles));
+  stats.addCounter("boxes", static_cast<std::int64_t>(cells.boxes.size()));
+}
 
+raymappers::FluidRenderParameters vtkSPHFluidMapper::GatherParameters(vtkRenderer* ren,
+  vtkVolume* vol,
+  const vtkRayMapperView& view)
+{
   raymappers::FluidRenderParameters params;
   params.voxelizer.angleResolutionDeg = this->AngleResolution;
   params.voxelizer.maxLayers = this->MaximumLayers;
@@ -243,98 +177,102 @@ void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.aoSamples = this->AmbientOcclusionSamples;
   if (vtkVolumeProperty* property = vol->GetProperty())
   {
-    params.material.ambient = property->GetAmbient();
-    params.material.diffuse = property->GetDiffuse();
-    params.material.specular = property->GetSpecular();
-    params.material.specularPower = property->GetSpecularPower();
+    params.material = vtkRayMapperCore::GatherMaterial(property);
   }
   params.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
-  const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(vol);
-  std::copy(model.modelToWorld, model.modelToWorld + 16, params.modelToWorld);
-  std::copy(model.normalToWorld, model.normalToWorld + 9, params.normalToWorld);
+  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.modelToWorld);
+  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.normalToWorld);
+  return params;
+}
 
-  int width = 0, height = 0;
-  const std::array<double, 16> modelToClip =
-    vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
-  if (!Impl->Camera.Usable(this, modelToClip))
+void vtkSPHFluidMapper::WarnAboutMemoryBudget(const vtkRayMapperView& view,
+  const raymappers::RenderStatistics& stats)
+{
+  // Once while the budget, the frame size and the layer limit stay the same.
+  const std::tuple<double, int, int, int> key{ this->MemoryBudget, view.width, view.height,
+    this->MaximumLayers };
+  if (Impl->WarnedBudget != key)
   {
-    Impl->Statistics->Set(stats);
+    Impl->WarnedBudget = key;
+    vtkWarningMacro(<< "The memory budget of " << this->MemoryBudget
+                    << " MB cannot hold one voxel column of " << stats.counter("layers")
+                    << " layers: nothing drawn. Raise MemoryBudget or lower MaximumLayers.");
+  }
+}
+
+void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+{
+  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
+}
+
+void vtkSPHFluidMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
+{
+  raymappers::RenderStatistics stats;
+  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
+  vtkRayMapperView view;
+  if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
+  {
+    Impl->Core.WarnEmptyInput(this, input, "points", "fluid");
+    Impl->Core.Skip(stats);
     return;
   }
-  // Interactive renders: p x p fewer pixels when the last full frame overran the budget.
-  const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
-  const int p = this->Subsampling > 0
-    ? this->Subsampling
-    : raymappers::interactiveReduction(Impl->LastFullFrameSeconds, this->FrameBudget, rate, 8);
-  stats.addCounter("subsampling", p);
-  const int rw = p > 1 ? raymappers::reducedSize(width, p) : width;
-  const int rh = p > 1 ? raymappers::reducedSize(height, p) : height;
+  bool built = false;
+  {
+    raymappers::ScopedPhase phase(stats, "particles");
+    built = this->UpdateParticles(input);
+  }
+  stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
+  stats.addCounter("particles_built", built ? 1 : 0);
+  this->UpdateCells(stats);
+  if (!Impl->Core.GatherView(this, ren, vol, view))
+  {
+    Impl->Core.Skip(stats);
+    return;
+  }
+  raymappers::FluidRenderParameters params = this->GatherParameters(ren, vol, view);
+  // Interactive renders: rays d pixels apart, the image enlarged.
+  const double d = Impl->Core.BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
+  stats.addCounter("subsampling", static_cast<std::int64_t>(std::ceil(d)));
+  const int rw = vtkRayMapperCore::SampledSize(view.width, d);
+  const int rh = vtkRayMapperCore::SampledSize(view.height, d);
+  const bool reduced = rw != view.width || rh != view.height;
   raymappers::ViewRays rays;
-  if (width <= 0 || height <= 0 || !rays.assign(modelToClip, rw, rh, Impl->Particles.origin))
+  if (view.width <= 0 || view.height <= 0 ||
+    !rays.assign(view.modelToClip, rw, rh, Impl->Particles.origin))
   {
     vtkErrorMacro(<< "The camera's projection is degenerate: nothing drawn.");
-    Impl->Statistics->Set(stats);
+    Impl->Core.Skip(stats);
     return;
   }
   // Opaque geometry drawn before (all of it: volumes come after the opaque pass) ends the
   // fluid. An opaque fluid is depth tested when drawn, a translucent one must stop there.
-  std::vector<float> depth, stop;
-  int dw = 0, dh = 0;
-  {
-    raymappers::ScopedPhase phase(stats, "opaque_depth"); // read back, converted to stop depths
-    if (this->Translucency && vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
-      dw == width && dh == height)
-    {
-      if (p > 1)
-      {
-        depth = raymappers::sampleDepth(depth, width, height, rw, rh);
-      }
-      stop = raymappers::stopDepthsFromWindowDepth(rays, depth.data());
-      params.voxelizer.stopDepth = stop.data();
-    }
-  }
-  stats.setEffect("opaque_depth", params.voxelizer.stopDepth != nullptr);
+  const float* depth = this->Translucency ? Impl->Core.OpaqueDepth(ren, view, rw, rh, stats) : nullptr;
+  const std::vector<float> stop =
+    depth ? raymappers::stopDepthsFromWindowDepth(rays, depth) : std::vector<float>();
+  params.voxelizer.stopDepth = depth ? stop.data() : nullptr;
 
-  const double start = vtkTimerLog::GetUniversalTime();
-  raymappers::Frame& target = p > 1 ? Impl->Coarse : Impl->Frame;
-  if (!raymappers::renderFluid(Impl->Particles, rays, params, Impl->Spans, target, stats))
+  if (!raymappers::renderFluid(Impl->Particles, rays, params, Impl->Spans,
+        reduced ? Impl->Core.Coarse() : Impl->Core.Frame(), stats))
   {
-    std::ostringstream key;
-    key << this->MemoryBudget << '|' << width << 'x' << height << '|' << this->MaximumLayers;
-    if (Impl->WarnedBudgetKey != key.str())
-    {
-      Impl->WarnedBudgetKey = key.str();
-      vtkWarningMacro(<< "The memory budget of " << this->MemoryBudget
-                      << " MB cannot hold one voxel column of " << stats.counter("layers")
-                      << " layers: nothing drawn. Raise MemoryBudget or lower MaximumLayers.");
-    }
+    this->WarnAboutMemoryBudget(view, stats);
   }
-  if (p > 1)
+  const auto mode = this->Translucency ? vtkRayMapperFrameDrawer::Mode::BlendPremultiplied
+                                       : vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth;
+  if (reduced)
   {
-    Impl->Frame.resize(width, height);
-    raymappers::enlarge(Impl->Coarse, Impl->Frame);
-    raymappers::enlargeDepth(Impl->Coarse, Impl->Frame);
+    Impl->Core.ShowReduced(ren, view, mode, true, stats);
+    return;
   }
-  else
-  {
-    Impl->LastFullFrameSeconds = vtkTimerLog::GetUniversalTime() - start;
-  }
-  {
-    raymappers::ScopedPhase phase(stats, "draw");
-    Impl->Drawer.Draw(ren, Impl->Frame,
-      this->Translucency ? vtkRayMapperFrameDrawer::Mode::BlendPremultiplied
-                         : vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth,
-      Impl->Statistics->GetValidateFrames(), stats);
-  }
-  Impl->Statistics->Set(stats);
+  Impl->Core.Show(ren, mode, stats);
 }
 
 void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Radius: " << this->Radius << "\n";
-  os << indent << "RadiusArrayName: " << str(this->RadiusArrayName) << "\n";
-  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "ScaleArray: " << vtkRayMapperString(this->ScaleArray) << "\n";
+  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "AngleResolution: " << this->AngleResolution << "\n";
   os << indent << "MaximumLayers: " << this->MaximumLayers << "\n";
   os << indent << "MaximumSpans: " << this->MaximumSpans << "\n";
@@ -342,8 +280,7 @@ void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GapThreshold: " << this->GapThreshold << "\n";
   os << indent << "BoundaryCulling: " << this->BoundaryCulling << "\n";
   os << indent << "CellSize: " << this->CellSize << "\n";
-  os << indent << "Subsampling: " << this->Subsampling << "\n";
-  os << indent << "FrameBudget: " << this->FrameBudget << "\n";
+  vtkRayMapperSampleDistances::Of(this).Print(os, indent);
   os << indent << "SmoothingRadius: " << this->SmoothingRadius << "\n";
   os << indent << "SmoothingIterations: " << this->SmoothingIterations << "\n";
   os << indent << "Color: " << this->Color[0] << " " << this->Color[1] << " " << this->Color[2]

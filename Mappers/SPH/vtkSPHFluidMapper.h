@@ -4,7 +4,7 @@
  *          refraction and ambient occlusion, from a view-adaptive voxelization.
  *
  * Every point i of the input vtkPointSet (cells are ignored) is a sphere of radius
- * r_i = RadiusScale * (RadiusArrayName, else Radius); the union of the spheres is the fluid.
+ * r_i = ScaleFactor * (ScaleArray, else Radius); the union of the spheres is the fluid.
  * Once per input, boundary-cell culling (BoundaryCulling, CellSize; sections 3.1 and 4.3)
  * finds the cells of a uniform grid that the spheres provably cover and drops the particles
  * of cells whose neighbours are all covered: the covered cells are filled as boxes instead,
@@ -66,6 +66,12 @@
 
 class vtkPointSet;
 class vtkRayMapperStatistics;
+struct vtkRayMapperView;
+namespace raymappers
+{
+class RenderStatistics;
+struct FluidRenderParameters;
+}
 
 class RAYMAPPERSMAPPERS_EXPORT vtkSPHFluidMapper : public vtkAbstractVolumeMapper
 {
@@ -77,13 +83,21 @@ public:
   void SetInputData(vtkPointSet* input);
 
   ///@{
-  /** Constant particle radius (default 1), its point array, and a factor on either (1). */
+  /** Constant particle radius (default 1), its point array ScaleArray, and a factor
+   * ScaleFactor on either (1; vtkPointGaussianMapper's names). */
   vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
-  vtkSetStringMacro(RadiusArrayName);
-  vtkGetStringMacro(RadiusArrayName);
-  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
-  vtkGetMacro(RadiusScale, double);
+  vtkSetStringMacro(ScaleArray);
+  vtkGetStringMacro(ScaleArray);
+  vtkRayMapperSetClampMacro(ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
+  vtkGetMacro(ScaleFactor, double);
+  ///@}
+
+  ///@{
+  /** @deprecated RadiusArrayName and RadiusScale, the old names of ScaleArray and ScaleFactor
+   * (those of vtkPointGaussianMapper), kept for one release. */
+  vtkRayMapperDeprecatedStringAliasMacro(RadiusArrayName, ScaleArray);
+  vtkRayMapperDeprecatedClampAliasMacro(RadiusScale, ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   ///@}
 
   ///@{
@@ -163,24 +177,31 @@ public:
 
   ///@{
   /**
-   * Interactive rendering: with Subsampling 0 (default), during interactive renders (the
-   * render window's DesiredUpdateRate at least 1 frame per second, as an interactor sets it
-   * while the camera moves), when the last full-resolution frame took longer than the frame
-   * budget, the fluid is voxelized and rendered at p x p fewer pixels (p = ceil(sqrt(last
-   * time / budget)), at most 8: the layers follow the coarser pixels, so the grid shrinks by
-   * p^2 or more) and enlarged; still renders give the full image. FrameBudget in seconds; 0
-   * (default): 1 / DesiredUpdateRate. Subsampling 1 to 8 fixes p (1: always the full image).
+   * Interactive rendering with the names of VTK's volume ray casters: the fluid voxelized
+   * and rendered with rays ImageSampleDistance d pixels apart (the layers follow the coarser
+   * pixels, so the grid shrinks by d^2 or more) and enlarged. AutoAdjustSampleDistances
+   * (default on): interactive renders choose d from the last frame's time against
+   * FrameBudget within [MinimumImageSampleDistance 1, MaximumImageSampleDistance 8]; still
+   * renders give the full image. See vtkRayMapperSampleDistanceMacro (vtkRayMapperSetGet.h).
    */
-  vtkRayMapperSetClampMacro(Subsampling, int, 0, 8);
-  vtkGetMacro(Subsampling, int);
-  vtkRayMapperSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(FrameBudget, double);
+  vtkRayMapperSampleDistanceMacro();
+  ///@}
+
+  ///@{
+  /** @deprecated Subsampling p (0: AutoAdjustSampleDistances; 1 to 8: ImageSampleDistance p
+   * with AutoAdjustSampleDistances off), kept for one release. */
+  vtkRayMapperDeprecatedSubsamplingMacro(8);
   ///@}
   /** Statistics of the last render: phase times, counters, effects that ran. */
   vtkRayMapperStatistics* GetStatistics();
 
   double* GetBounds() VTK_SIZEHINT(6) override;
   void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
+
+  ///@{
+  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
+  vtkRayMapperNumberOfThreadsMacro();
+  ///@}
 
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
@@ -191,8 +212,8 @@ protected:
   int FillInputPortInformation(int port, vtkInformation* info) override;
 
   double Radius = 1.0;
-  char* RadiusArrayName = nullptr;
-  double RadiusScale = 1.0;
+  char* ScaleArray = nullptr;
+  double ScaleFactor = 1.0;
   double AngleResolution = 14.0;
   int MaximumLayers = 16384;
   int MaximumSpans = 7;
@@ -200,7 +221,10 @@ protected:
   double GapThreshold = 0.0;
   bool BoundaryCulling = true;
   double CellSize = 0.0;
-  int Subsampling = 0;
+  double ImageSampleDistance = 1.0;
+  vtkTypeBool AutoAdjustSampleDistances = 1;
+  double MinimumImageSampleDistance = 1.0;
+  double MaximumImageSampleDistance = 8.0;
   double FrameBudget = 0.0;
   double SmoothingRadius = 0.0;
   int SmoothingIterations = 20;
@@ -214,6 +238,8 @@ protected:
   double AmbientOcclusionRadius = 0.1;
   int AmbientOcclusionSamples = 16;
 
+  int NumberOfThreads = 0;
+
 private:
   vtkSPHFluidMapper(const vtkSPHFluidMapper&) = delete;
   void operator=(const vtkSPHFluidMapper&) = delete;
@@ -221,6 +247,17 @@ private:
   /// Rebuilds the particles when the input, the radius array or the radius settings changed;
   /// returns whether it did.
   bool UpdateParticles(vtkPointSet* input);
+  /// Rebuilds the boundary-culling cells when the particles or the culling settings changed.
+  void UpdateCells(raymappers::RenderStatistics& stats);
+  /// The kernel's parameters: the properties, the model transform, lights and material.
+  raymappers::FluidRenderParameters GatherParameters(vtkRenderer* ren,
+    vtkVolume* vol,
+    const vtkRayMapperView& view);
+  /// The warning that the memory budget holds no voxel column, once per budget and size.
+  void WarnAboutMemoryBudget(const vtkRayMapperView& view, const raymappers::RenderStatistics& stats);
+
+  /// One render, in the mapper's task arena (Render runs it there).
+  void RenderFrame(vtkRenderer* ren, vtkVolume* vol);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

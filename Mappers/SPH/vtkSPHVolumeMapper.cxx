@@ -1,16 +1,14 @@
 #include "vtkSPHVolumeMapper.h"
 
 #include "Frame.h"
-#include "FrameResample.h"
 #include "PerspectiveGrid.h"
 #include "RenderStatistics.h"
 #include "SPHParticles.h"
 #include "SPHVolumeRenderer.h"
 #include "ViewRays.h"
-#include "vtkRayMapperFrameDrawer.h"
+#include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
-#include "vtkRayMapperStatistics.h"
 
 #include "vtkAlgorithm.h"
 #include "vtkDataArray.h"
@@ -20,42 +18,28 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
-#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkTimerLog.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 vtkStandardNewMacro(vtkSPHVolumeMapper);
 
 struct vtkSPHVolumeMapper::Internals
 {
+  vtkRayMapperCore Core;
   raymappers::SPHParticles Particles;
   raymappers::PerspectiveGrid Grid;
-  raymappers::Frame Frame, Coarse;
-  vtkRayMapperFrameDrawer Drawer;
-  vtkRayMapperRenderHelpers::CameraCheck Camera;
-  vtkNew<vtkRayMapperStatistics> Statistics;
-  std::string BuiltKey; // what the particles were built from
-  vtkMTimeType BuiltInputTime = 0;
-  bool HasParticles = false;
-  double Reduction = 1.0;        // r of equation 3.1
-  double LastFrameSeconds = 0.0; // of the last render
-  vtkMTimeType WarnedEmptyInputTime = 0;
+  // The particles are built from the points, the support factor, the smoothing length and
+  // its scale, the arrays (and the active scalars' name when no value array is set) and the
+  // constant volume.
+  vtkRayMapperStamp<double, double, double, std::string, std::string, std::string, std::string,
+    std::string, std::string, double>
+    ParticlesStamp;
 };
-
-namespace
-{
-std::string str(const char* s)
-{
-  return s ? s : "";
-}
-}
 
 vtkSPHVolumeMapper::vtkSPHVolumeMapper()
   : Impl(new Internals)
@@ -64,7 +48,7 @@ vtkSPHVolumeMapper::vtkSPHVolumeMapper()
 
 vtkSPHVolumeMapper::~vtkSPHVolumeMapper()
 {
-  this->SetSmoothingLengthArrayName(nullptr);
+  this->SetScaleArray(nullptr);
   this->SetValueArrayName(nullptr);
   this->SetVolumeArrayName(nullptr);
   this->SetMassArrayName(nullptr);
@@ -84,79 +68,57 @@ int vtkSPHVolumeMapper::FillInputPortInformation(int, vtkInformation* info)
 
 vtkRayMapperStatistics* vtkSPHVolumeMapper::GetStatistics()
 {
-  return Impl->Statistics;
+  return Impl->Core.GetStatistics();
 }
 
 void vtkSPHVolumeMapper::ReleaseGraphicsResources(vtkWindow* win)
 {
-  Impl->Drawer.ReleaseGraphicsResources(win);
+  Impl->Core.ReleaseGraphicsResources(win);
   this->Superclass::ReleaseGraphicsResources(win);
+}
+
+double vtkSPHVolumeMapper::GetSupportPerSmoothingLength()
+{
+  return this->SupportFactor > 0
+    ? this->SupportFactor
+    : raymappers::kernelSupportPerSmoothingLength(static_cast<raymappers::SPHKernel>(this->Kernel));
 }
 
 double* vtkSPHVolumeMapper::GetBounds()
 {
   // The points' bounds grown by the largest support, so a camera reset frames the field.
-  if (vtkAlgorithm* producer = this->GetInputAlgorithm())
+  vtkPointSet* input = Impl->Core.PointSetBounds(this, this->Bounds, "volume");
+  if (input)
   {
-    producer->Update();
-  }
-  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
-  if (!input || input->GetNumberOfPoints() == 0)
-  {
-    vtkMath::UninitializeBounds(this->Bounds);
-    if (input && Impl->WarnedEmptyInputTime != input->GetMTime())
-    {
-      Impl->WarnedEmptyInputTime = input->GetMTime();
-      Impl->Statistics->Set(raymappers::RenderStatistics());
-      vtkWarningMacro(<< "The input has no points: no volume to draw.");
-    }
-    return this->Bounds;
-  }
-  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
-  if (!vtkMath::AreBoundsInitialized(this->Bounds))
-  {
-    return this->Bounds; // no finite point
-  }
-  std::string why;
-  vtkDataArray* h = vtkRayMapperRenderHelpers::FindPointArray(
-    input, this->SmoothingLengthArrayName, "smoothing length", why);
-  const double factor = this->SupportFactor > 0
-    ? this->SupportFactor
-    : raymappers::kernelSupportPerSmoothingLength(static_cast<raymappers::SPHKernel>(this->Kernel));
-  // The largest support H = factor * scale * h the particles may have.
-  const double grow = h
-    ? vtkRayMapperRenderHelpers::LargestParticleLength(h, factor * this->SmoothingLengthScale)
-    : factor * this->SmoothingLength * this->SmoothingLengthScale;
-  if (grow > 0 && std::isfinite(grow))
-  {
-    for (int a = 0; a < 3; ++a)
-    {
-      this->Bounds[2 * a] -= grow;
-      this->Bounds[2 * a + 1] += grow;
-    }
+    std::string why;
+    vtkDataArray* h = vtkRayMapperRenderHelpers::FindPointArray(
+      input, this->ScaleArray, "smoothing length", why);
+    const double factor = this->GetSupportPerSmoothingLength();
+    // The largest support H = factor * scale * h the particles may have.
+    vtkRayMapperCore::GrowBounds(this->Bounds,
+      h ? vtkRayMapperRenderHelpers::LargestParticleLength(h, factor * this->ScaleFactor)
+        : factor * this->SmoothingLength * this->ScaleFactor);
   }
   return this->Bounds;
 }
 
 void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
 {
-  const double factor = this->SupportFactor > 0
-    ? this->SupportFactor
-    : raymappers::kernelSupportPerSmoothingLength(static_cast<raymappers::SPHKernel>(this->Kernel));
+  const double factor = this->GetSupportPerSmoothingLength();
   vtkDataArray* activeScalars = input->GetPointData()->GetScalars();
-  std::ostringstream key;
-  key << factor << '|' << this->SmoothingLength << '|' << this->SmoothingLengthScale << '|'
-      << str(this->SmoothingLengthArrayName) << '|' << str(this->ValueArrayName) << '|'
-      << (activeScalars && activeScalars->GetName() ? activeScalars->GetName() : "") << '|'
-      << str(this->VolumeArrayName) << '|' << str(this->MassArrayName) << '|'
-      << str(this->DensityArrayName) << '|' << this->Volume;
-  if (Impl->HasParticles && Impl->BuiltInputTime == input->GetMTime() && Impl->BuiltKey == key.str())
+  if (!Impl->ParticlesStamp.Changed(this, input,
+        { factor, this->SmoothingLength, this->ScaleFactor,
+          vtkRayMapperString(this->ScaleArray),
+          vtkRayMapperString(this->ValueArrayName),
+          vtkRayMapperString(activeScalars ? activeScalars->GetName() : nullptr),
+          vtkRayMapperString(this->VolumeArrayName), vtkRayMapperString(this->MassArrayName),
+          vtkRayMapperString(this->DensityArrayName), this->Volume }))
   {
     return;
   }
   std::string why;
   vtkDataArray* h = vtkRayMapperRenderHelpers::FindPointArray(
-    input, this->SmoothingLengthArrayName, "smoothing length", why);
+    input, this->ScaleArray, "smoothing length", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << "; using the constant smoothing length " << this->SmoothingLength << ".");
@@ -200,7 +162,7 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
   const vtkRayMapperRenderHelpers::TupleReader hReader(h), valueReader(values),
     volumeReader(volumes), massReader(masses), densityReader(densities);
-  const double hScale = this->SmoothingLengthScale * factor;
+  const double hScale = this->ScaleFactor * factor;
   const double hConstant = this->SmoothingLength * hScale, vConstant = this->Volume;
   const auto n = static_cast<std::size_t>(input->GetNumberOfPoints());
   raymappers::buildSPHParticles(
@@ -236,35 +198,17 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
     vtkWarningMacro(<< Impl->Particles.skippedBadVolume
                     << " particles have a negative volume and are not drawn.");
   }
-  Impl->HasParticles = true;
-  Impl->BuiltInputTime = input->GetMTime();
-  Impl->BuiltKey = key.str();
 }
 
-void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+raymappers::SPHRenderParameters vtkSPHVolumeMapper::GatherParameters(vtkRenderer* ren,
+  vtkVolume* vol,
+  const vtkRayMapperView& view)
 {
-  raymappers::RenderStatistics stats;
-  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
-  if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
-  {
-    Impl->Statistics->Set(stats);
-    return;
-  }
-  const double start = vtkTimerLog::GetUniversalTime();
-  {
-    raymappers::ScopedPhase phase(stats, "particles");
-    this->UpdateParticles(input);
-  }
-  stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
   const auto kernel = static_cast<raymappers::SPHKernel>(this->Kernel);
-
-  // Parameters, classification, lights.
-  vtkVolumeProperty* property = vol->GetProperty();
-  const raymappers::TransferFunctionTable table =
-    vtkRayMapperRenderHelpers::SampleVolumeProperty(property, 0, 1024);
   raymappers::SPHRenderParameters params;
   params.kernel = kernel;
   params.normalization = static_cast<raymappers::SPHNormalization>(this->Normalization);
+  // w_max of equation 3.16: given, or that of the median particle.
   params.referenceWeightSum = this->ReferenceWeightSum > 0
     ? this->ReferenceWeightSum
     : raymappers::referenceWeightSum(kernel, Impl->Particles.medianVolume, Impl->Particles.medianSupport);
@@ -280,81 +224,74 @@ void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.region = vtkRayMapperRenderHelpers::RegionFromBounds(this->RegionBounds);
   std::copy(this->ContourColor, this->ContourColor + 3, params.contourColor);
   params.contourOpacity = this->ContourOpacity;
-  const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(vol);
-  std::copy(model.modelToWorld, model.modelToWorld + 16, params.modelToWorld);
-  std::copy(model.normalToWorld, model.normalToWorld + 9, params.normalToWorld);
+  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.modelToWorld);
+  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.normalToWorld);
+  vtkVolumeProperty* property = vol->GetProperty();
   params.shade = property->GetShade() != 0;
   if (params.shade)
   {
     params.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
-    params.material.ambient = property->GetAmbient();
-    params.material.diffuse = property->GetDiffuse();
-    params.material.specular = property->GetSpecular();
-    params.material.specularPower = property->GetSpecularPower();
+    params.material = vtkRayMapperCore::GatherMaterial(property);
   }
+  return params;
+}
 
-  // Sampling-rate reduction while the user interacts (equation 3.1).
-  const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
-  const double budget = this->FrameBudget > 0 ? this->FrameBudget : (rate > 0 ? 1.0 / rate : 0);
-  if (rate >= 1.0 && this->MaximumReduction > 1.0)
+void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+{
+  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
+}
+
+void vtkSPHVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
+{
+  raymappers::RenderStatistics stats;
+  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
+  vtkRayMapperView view;
+  if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
   {
-    if (budget > 0 && Impl->LastFrameSeconds > budget)
-    {
-      Impl->Reduction = std::min(Impl->Reduction + 0.25, this->MaximumReduction);
-    }
+    Impl->Core.Skip(stats);
+    return;
   }
-  else
   {
-    Impl->Reduction = 1.0;
+    raymappers::ScopedPhase phase(stats, "particles");
+    this->UpdateParticles(input);
   }
-  const double r = Impl->Reduction;
+  stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
+  const raymappers::TransferFunctionTable table =
+    vtkRayMapperRenderHelpers::SampleVolumeProperty(vol->GetProperty(), 0, 1024);
+  // The sampling reduction r of equation 3.1: the image sample distance.
+  const double r = Impl->Core.BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
+  stats.addCounter("reduction_percent", static_cast<std::int64_t>(std::lround(100 * r)));
+  if (!Impl->Core.GatherView(this, ren, vol, view))
+  {
+    Impl->Core.Skip(stats);
+    return;
+  }
+  raymappers::SPHRenderParameters params = this->GatherParameters(ren, vol, view);
   params.stepFactor = this->StepFactor * r;
   params.samplesPerSupport = this->SamplesPerSupport / r;
-  stats.addCounter("reduction_percent", static_cast<std::int64_t>(std::lround(100 * r)));
-
-  int width = 0, height = 0;
-  const std::array<double, 16> modelToClip =
-    vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
-  if (!Impl->Camera.Usable(this, modelToClip))
-  {
-    Impl->Statistics->Set(stats);
-    return;
-  }
-  std::vector<float> depth;
-  int dw = 0, dh = 0;
-  const bool haveDepth =
-    vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) && dw == width && dh == height;
-  stats.setEffect("opaque_depth", haveDepth);
-  const int rw = r > 1.0 ? std::max(1, static_cast<int>(std::ceil(width / r))) : width;
-  const int rh = r > 1.0 ? std::max(1, static_cast<int>(std::ceil(height / r))) : height;
+  // r times fewer rays along each axis.
+  const int rw = vtkRayMapperCore::SampledSize(view.width, r);
+  const int rh = vtkRayMapperCore::SampledSize(view.height, r);
+  const bool reduced = rw != view.width || rh != view.height;
+  const float* depth = Impl->Core.OpaqueDepth(ren, view, rw, rh, stats);
   raymappers::ViewRays rays;
-  if (width <= 0 || height <= 0 || !rays.assign(modelToClip, rw, rh, Impl->Particles.origin))
+  if (view.width <= 0 || view.height <= 0 ||
+    !rays.assign(view.modelToClip, rw, rh, Impl->Particles.origin))
   {
     vtkErrorMacro(<< "The camera's projection is degenerate: nothing drawn.");
-    Impl->Statistics->Set(stats);
+    Impl->Core.Skip(stats);
     return;
   }
-  if (rw == width && rh == height)
+  raymappers::renderSPH(Impl->Particles, rays, params, table, depth, Impl->Grid,
+    reduced ? Impl->Core.Coarse() : Impl->Core.Frame(), stats);
+  if (reduced)
   {
-    raymappers::renderSPH(Impl->Particles, rays, params, table, haveDepth ? depth.data() : nullptr,
-      Impl->Grid, Impl->Frame, stats);
+    Impl->Core.ShowReduced(ren, view, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, stats);
   }
   else
   {
-    const std::vector<float> coarseDepth =
-      haveDepth ? raymappers::sampleDepth(depth, width, height, rw, rh) : std::vector<float>();
-    raymappers::renderSPH(Impl->Particles, rays, params, table,
-      haveDepth ? coarseDepth.data() : nullptr, Impl->Grid, Impl->Coarse, stats);
-    Impl->Frame.resize(width, height);
-    raymappers::enlarge(Impl->Coarse, Impl->Frame);
+    Impl->Core.Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
   }
-  {
-    raymappers::ScopedPhase phase(stats, "draw");
-    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied,
-      Impl->Statistics->GetValidateFrames(), stats);
-  }
-  Impl->LastFrameSeconds = vtkTimerLog::GetUniversalTime() - start;
-  Impl->Statistics->Set(stats);
 }
 
 void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
@@ -363,12 +300,12 @@ void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Kernel: " << this->Kernel << "\n";
   os << indent << "SupportFactor: " << this->SupportFactor << "\n";
   os << indent << "SmoothingLength: " << this->SmoothingLength << "\n";
-  os << indent << "SmoothingLengthArrayName: " << str(this->SmoothingLengthArrayName) << "\n";
-  os << indent << "SmoothingLengthScale: " << this->SmoothingLengthScale << "\n";
-  os << indent << "ValueArrayName: " << str(this->ValueArrayName) << "\n";
-  os << indent << "VolumeArrayName: " << str(this->VolumeArrayName) << "\n";
-  os << indent << "MassArrayName: " << str(this->MassArrayName) << "\n";
-  os << indent << "DensityArrayName: " << str(this->DensityArrayName) << "\n";
+  os << indent << "ScaleArray: " << vtkRayMapperString(this->ScaleArray) << "\n";
+  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
+  os << indent << "ValueArrayName: " << vtkRayMapperString(this->ValueArrayName) << "\n";
+  os << indent << "VolumeArrayName: " << vtkRayMapperString(this->VolumeArrayName) << "\n";
+  os << indent << "MassArrayName: " << vtkRayMapperString(this->MassArrayName) << "\n";
+  os << indent << "DensityArrayName: " << vtkRayMapperString(this->DensityArrayName) << "\n";
   os << indent << "Volume: " << this->Volume << "\n";
   os << indent << "Normalization: " << this->Normalization << "\n";
   os << indent << "ReferenceWeightSum: " << this->ReferenceWeightSum << "\n";
@@ -382,9 +319,9 @@ void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "StepFactor: " << this->StepFactor << "\n";
   os << indent << "SamplesPerSupport: " << this->SamplesPerSupport << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "SlabDepth: " << this->SlabDepth << "\n";
   os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";
   os << indent << "Jitter: " << this->Jitter << "\n";
-  os << indent << "MaximumReduction: " << this->MaximumReduction << "\n";
-  os << indent << "FrameBudget: " << this->FrameBudget << "\n";
+  vtkRayMapperSampleDistances::Of(this).Print(os, indent);
 }

@@ -11,7 +11,7 @@
  * perspective grid over the view frustum rebuilt every frame (Limper 2012, chapter 3).
  *   Q_i: ValueArrayName (first component), else the active point scalars, else 1.
  *   V_i: VolumeArrayName; else MassArrayName / DensityArrayName; else the constant Volume.
- *   h_i: SmoothingLengthScale * (SmoothingLengthArrayName, else SmoothingLength); the
+ *   h_i: ScaleFactor * (ScaleArray, else SmoothingLength); the
  *        kernel's support is H_i = SupportFactor * h_i (SupportFactor 0: the kernel's own
  *        convention, h for poly6 and 2h for the cubic spline and Wendland C2).
  *
@@ -29,9 +29,10 @@
  *
  * Interaction (section 3.1): while the render window asks for at least one frame per
  * second (an interactor's DesiredUpdateRate during camera moves), the image and the steps
- * are reduced by a factor r that grows by 0.25 per frame (up to MaximumReduction) while the
- * last frame took longer than FrameBudget (0: 1 / DesiredUpdateRate) and stays otherwise; a
- * still render uses r = 1.
+ * are reduced by a factor r, the image sample distance of VTK's volume ray casters: with
+ * AutoAdjustSampleDistances (default) chosen from the last frame's time against FrameBudget
+ * (0: 1 / DesiredUpdateRate) within [MinimumImageSampleDistance 1,
+ * MaximumImageSampleDistance 4]; a still render uses the minimum (vtkRayMapperSetGet.h).
  *
  * Opaque geometry already drawn stops the rays (the depth buffer is read only when the
  * renderer holds some: effect opaque_depth). Bad input never poisons the image:
@@ -56,6 +57,11 @@
 
 class vtkPointSet;
 class vtkRayMapperStatistics;
+struct vtkRayMapperView;
+namespace raymappers
+{
+struct SPHRenderParameters;
+}
 
 #define VTK_SPH_KERNEL_POLY6 0
 #define VTK_SPH_KERNEL_CUBIC_SPLINE 1
@@ -87,13 +93,22 @@ public:
   ///@}
 
   ///@{
-  /** Constant smoothing length (default 1), its array, and a factor on either (1). */
+  /** Constant smoothing length (default 1), its array ScaleArray, and a factor ScaleFactor
+   * on either (1; vtkPointGaussianMapper's names). */
   vtkRayMapperSetClampMacro(SmoothingLength, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingLength, double);
-  vtkSetStringMacro(SmoothingLengthArrayName);
-  vtkGetStringMacro(SmoothingLengthArrayName);
-  vtkRayMapperSetClampMacro(SmoothingLengthScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
-  vtkGetMacro(SmoothingLengthScale, double);
+  vtkSetStringMacro(ScaleArray);
+  vtkGetStringMacro(ScaleArray);
+  vtkRayMapperSetClampMacro(ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
+  vtkGetMacro(ScaleFactor, double);
+  ///@}
+
+  ///@{
+  /** @deprecated SmoothingLengthArrayName and SmoothingLengthScale, the old names of
+   * ScaleArray and ScaleFactor (those of vtkPointGaussianMapper), kept for one release. */
+  vtkRayMapperDeprecatedStringAliasMacro(SmoothingLengthArrayName, ScaleArray);
+  vtkRayMapperDeprecatedClampAliasMacro(
+    SmoothingLengthScale, ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   ///@}
 
   ///@{
@@ -160,12 +175,16 @@ public:
   ///@}
 
   ///@{
-  /** Interactive sampling reduction (equation 3.1): largest factor (default 4; 1: off)
-   * and the frame budget in seconds (0: 1 / the window's DesiredUpdateRate). */
-  vtkRayMapperSetClampMacro(MaximumReduction, double, 1.0, 16.0);
-  vtkGetMacro(MaximumReduction, double);
-  vtkRayMapperSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(FrameBudget, double);
+  /** Interactive sampling reduction (equation 3.1) r = the image sample distance: see
+   * vtkRayMapperSampleDistanceMacro (vtkRayMapperSetGet.h). */
+  vtkRayMapperSampleDistanceMacro();
+  ///@}
+
+  ///@{
+  /** @deprecated MaximumReduction, the old name of MaximumImageSampleDistance, kept for one
+   * release. */
+  vtkRayMapperDeprecatedClampAliasMacro(
+    MaximumReduction, MaximumImageSampleDistance, double, 1.0, 16.0);
   ///@}
 
   ///@{
@@ -185,6 +204,11 @@ public:
   double* GetBounds() VTK_SIZEHINT(6) override;
   void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
 
+  ///@{
+  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
+  vtkRayMapperNumberOfThreadsMacro();
+  ///@}
+
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
 
@@ -196,8 +220,8 @@ protected:
   int Kernel = VTK_SPH_KERNEL_CUBIC_SPLINE;
   double SupportFactor = 0.0;
   double SmoothingLength = 1.0;
-  char* SmoothingLengthArrayName = nullptr;
-  double SmoothingLengthScale = 1.0;
+  char* ScaleArray = nullptr;
+  double ScaleFactor = 1.0;
   char* ValueArrayName = nullptr;
   char* VolumeArrayName = nullptr;
   char* MassArrayName = nullptr;
@@ -214,10 +238,15 @@ protected:
   int SlabDepth = 0;
   double TerminationOpacity = 0.99;
   bool Jitter = false;
-  double MaximumReduction = 4.0;
+  double ImageSampleDistance = 1.0;
+  vtkTypeBool AutoAdjustSampleDistances = 1;
+  double MinimumImageSampleDistance = 1.0;
+  double MaximumImageSampleDistance = 4.0;
   double FrameBudget = 0.0;
   double RegionBounds[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
     -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+
+  int NumberOfThreads = 0;
 
 private:
   vtkSPHVolumeMapper(const vtkSPHVolumeMapper&) = delete;
@@ -225,6 +254,15 @@ private:
 
   /// Rebuilds the particles when the input, the arrays or the particle settings changed.
   void UpdateParticles(vtkPointSet* input);
+  /// Support radius per smoothing length: SupportFactor, or the kernel's convention.
+  double GetSupportPerSmoothingLength();
+  /// The kernel's parameters: the properties, the model transform, lights and material.
+  raymappers::SPHRenderParameters GatherParameters(vtkRenderer* ren,
+    vtkVolume* vol,
+    const vtkRayMapperView& view);
+
+  /// One render, in the mapper's task arena (Render runs it there).
+  void RenderFrame(vtkRenderer* ren, vtkVolume* vol);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

@@ -1,15 +1,13 @@
 #include "vtkZSweepVolumeMapper.h"
 
 #include "Frame.h"
-#include "FrameResample.h"
 #include "OpticalModel.h"
 #include "RenderStatistics.h"
 #include "ZSweepMesh.h"
 #include "ZSweepRenderer.h"
-#include "vtkRayMapperFrameDrawer.h"
+#include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
-#include "vtkRayMapperStatistics.h"
 
 #include "vtkAlgorithm.h"
 #include "vtkCellType.h"
@@ -20,9 +18,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPoints.h"
-#include "vtkRenderWindow.h"
 #include "vtkRenderer.h"
-#include "vtkTimerLog.h"
 #include "vtkUnstructuredGridBase.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -40,25 +36,13 @@ vtkStandardNewMacro(vtkZSweepVolumeMapper);
 
 struct vtkZSweepVolumeMapper::Internals
 {
+  vtkRayMapperCore Core;
   raymappers::ZSweepMesh Mesh;
-  raymappers::Frame Frame;
-  vtkRayMapperFrameDrawer Drawer;
-  vtkRayMapperRenderHelpers::CameraCheck Camera;
-  vtkNew<vtkRayMapperStatistics> Statistics;
-  std::int64_t Builds = 0;
-  double LastFullFrameSeconds = 0; // of the last full-resolution render (0: none yet)
-  raymappers::Frame Coarse;        // the reduced frame of a time-critical render
   raymappers::ZSweepEventOrder Order; // the last frame's event order, the next sort's start
-
-  // What the mesh was built from.
-  bool HasMesh = false;
-  vtkMTimeType BuiltInputTime = 0;
-  vtkDataArray* BuiltScalars = nullptr;
-  vtkMTimeType BuiltScalarsTime = 0;
-  int BuiltCellFlag = -1;
-  bool BuiltSparse = false;
+  // The mesh is built from the grid, the scalar array chosen (and its MTime), whether it is
+  // cell data, and Sparsification.
+  vtkRayMapperStamp<vtkDataArray*, vtkMTimeType, int, bool> MeshStamp;
   vtkMTimeType ReportedNoScalarsTime = 0;
-  vtkMTimeType WarnedEmptyInputTime = 0;
 };
 
 namespace
@@ -327,7 +311,7 @@ vtkZSweepVolumeMapper::~vtkZSweepVolumeMapper() = default;
 
 vtkRayMapperStatistics* vtkZSweepVolumeMapper::GetStatistics()
 {
-  return Impl->Statistics;
+  return Impl->Core.GetStatistics();
 }
 
 double* vtkZSweepVolumeMapper::GetBounds()
@@ -343,22 +327,16 @@ double* vtkZSweepVolumeMapper::GetBounds()
     producer->Update();
   }
   vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
-  double* bounds = this->Bounds;
-  if (input && (input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0) &&
-      Impl->WarnedEmptyInputTime != input->GetMTime())
+  if (input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0)
   {
-    // The renderer culls a volume with empty bounds before it renders: warn here, once per
-    // input change.
-    Impl->WarnedEmptyInputTime = input->GetMTime();
-    Impl->Statistics->Set(raymappers::RenderStatistics());
-    vtkWarningMacro(<< "The input has no cells: no volume to draw.");
+    Impl->Core.WarnEmptyInput(this, input, "cells", "volume");
   }
-  return bounds;
+  return this->Bounds;
 }
 
 void vtkZSweepVolumeMapper::ReleaseGraphicsResources(vtkWindow* win)
 {
-  Impl->Drawer.ReleaseGraphicsResources(win);
+  Impl->Core.ReleaseGraphicsResources(win);
 }
 
 bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
@@ -375,12 +353,11 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
                        "choose an array with SelectScalarArray and SetScalarMode.");
       Impl->ReportedNoScalarsTime = std::max(input->GetMTime(), this->GetMTime());
     }
-    Impl->HasMesh = false;
+    Impl->MeshStamp.Invalidate();
     return false;
   }
-  if (Impl->HasMesh && Impl->BuiltInputTime == input->GetMTime() && Impl->BuiltScalars == scalars &&
-      Impl->BuiltScalarsTime == scalars->GetMTime() && Impl->BuiltCellFlag == cellFlag &&
-      Impl->BuiltSparse == this->Sparsification)
+  if (!Impl->MeshStamp.Changed(
+        this, input, { scalars, scalars->GetMTime(), cellFlag, this->Sparsification }))
   {
     return true;
   }
@@ -393,60 +370,13 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
   vtkRayMapperWarnIfComponentsDiffer(this, scalars, "scalar");
   CopyScalars(scalars, keptCells, input->GetNumberOfPoints(), grid);
   Impl->Mesh.build(grid, this->Sparsification);
-  ++Impl->Builds;
+  Impl->Core.CountBuild();
   WarnAboutSkippedCells(this, skippedTypes, Impl->Mesh.counts(), scalars);
-
-  Impl->HasMesh = true;
-  Impl->BuiltInputTime = input->GetMTime();
-  Impl->BuiltScalars = scalars;
-  Impl->BuiltScalarsTime = scalars->GetMTime();
-  Impl->BuiltCellFlag = cellFlag;
-  Impl->BuiltSparse = this->Sparsification;
   return true;
 }
 
-void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+raymappers::ZSweepParameters vtkZSweepVolumeMapper::GatherParameters() const
 {
-  raymappers::RenderStatistics stats;
-  vtkUnstructuredGridBase* input = this->GetInput();
-  if (!input || input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0)
-  {
-    Impl->Statistics->Set(stats);
-    return;
-  }
-  {
-    raymappers::ScopedPhase phase(stats, "mesh");
-    if (!this->UpdateMesh(input))
-    {
-      Impl->Statistics->Set(stats);
-      return;
-    }
-  }
-  stats.addCounter("builds", Impl->Builds);
-  stats.addCounter("cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsUsed));
-  stats.addCounter("mesh_bytes", static_cast<std::int64_t>(Impl->Mesh.memoryBytes()));
-  stats.addCounter("kept_cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsKept));
-  stats.addCounter("inverted_cells", static_cast<std::int64_t>(Impl->Mesh.counts().inverted));
-
-  vtkVolumeProperty* property = vol->GetProperty();
-  const raymappers::OpticalModel optics =
-    buildOptics(property, Impl->Mesh.scalarMin(), Impl->Mesh.scalarMax());
-
-  const auto model = vtkRayMapperRenderHelpers::GatherModelTransform(vol);
-  int width = 0, height = 0;
-  const std::array<double, 16> modelToClip =
-    vtkRayMapperRenderHelpers::GatherModelToClip(ren, model, width, height);
-  if (!Impl->Camera.Usable(this, modelToClip))
-  {
-    Impl->Statistics->Set(stats);
-    return;
-  }
-  std::vector<float> depth;
-  int dw = 0, dh = 0;
-  const bool haveDepth = vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, depth, dw, dh) &&
-    dw == width && dh == height;
-  stats.setEffect("opaque_depth", haveDepth);
-
   raymappers::ZSweepParameters params;
   params.integrator = this->Integrator == VTK_ZSWEEP_INTEGRATOR_FARIAS
     ? raymappers::ZSweepIntegrator::Farias
@@ -455,50 +385,64 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
   params.tileSize = this->TileSize;
   params.listThreshold = this->ListThreshold;
   params.terminationOpacity = this->TerminationOpacity;
-  // Time-critical rendering: p x p fewer rays when the last full frame overran the budget.
-  // Interactive renders are those VTK asks at least 1 frame per second of (an
-  // interactor's DesiredUpdateRate while the user moves the camera; StillUpdateRate after).
-  const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
-  const int p = this->Subsampling > 0
-    ? this->Subsampling
-    : raymappers::interactiveReduction(Impl->LastFullFrameSeconds, this->FrameBudget, rate, 9);
-  stats.addCounter("subsampling", p);
-  Impl->Frame.resize(width, height);
-  const double start = vtkTimerLog::GetUniversalTime();
-  if (p == 1)
+  return params;
+}
+
+void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+{
+  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
+}
+
+void vtkZSweepVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
+{
+  raymappers::RenderStatistics stats;
+  vtkUnstructuredGridBase* input = this->GetInput();
+  vtkRayMapperView view;
+  if (!input || input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0)
   {
-    raymappers::renderZSweep(Impl->Mesh,
-      optics,
-      modelToClip,
-      params,
-      haveDepth ? depth.data() : nullptr,
-      Impl->Frame,
-      stats,
-      &Impl->Order);
-    Impl->LastFullFrameSeconds = vtkTimerLog::GetUniversalTime() - start;
+    Impl->Core.Skip(stats);
+    return;
   }
-  else
+  bool haveMesh = false;
   {
-    const int cw = raymappers::reducedSize(width, p), ch = raymappers::reducedSize(height, p);
-    Impl->Coarse.resize(cw, ch);
-    const std::vector<float> coarseDepth =
-      haveDepth ? raymappers::sampleDepth(depth, width, height, cw, ch) : std::vector<float>();
-    raymappers::renderZSweep(Impl->Mesh,
-      optics,
-      modelToClip,
-      params,
-      haveDepth ? coarseDepth.data() : nullptr,
-      Impl->Coarse,
-      stats,
-      &Impl->Order);
-    raymappers::enlarge(Impl->Coarse, Impl->Frame);
+    raymappers::ScopedPhase phase(stats, "mesh");
+    haveMesh = this->UpdateMesh(input);
   }
+  if (!haveMesh)
   {
-    raymappers::ScopedPhase phase(stats, "draw");
-    Impl->Drawer.Draw(ren, Impl->Frame, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied,
-      Impl->Statistics->GetValidateFrames(), stats);
+    Impl->Core.Skip(stats);
+    return;
   }
-  Impl->Statistics->Set(stats);
+  stats.addCounter("builds", Impl->Core.GetBuilds());
+  stats.addCounter("cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsUsed));
+  stats.addCounter("mesh_bytes", static_cast<std::int64_t>(Impl->Mesh.memoryBytes()));
+  stats.addCounter("kept_cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsKept));
+  stats.addCounter("inverted_cells", static_cast<std::int64_t>(Impl->Mesh.counts().inverted));
+  const raymappers::OpticalModel optics =
+    buildOptics(vol->GetProperty(), Impl->Mesh.scalarMin(), Impl->Mesh.scalarMax());
+  if (!Impl->Core.GatherView(this, ren, vol, view))
+  {
+    Impl->Core.Skip(stats);
+    return;
+  }
+  // Time-critical rendering: rays d pixels apart, the image enlarged.
+  const double d =
+    Impl->Core.BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
+  stats.addCounter("subsampling", static_cast<std::int64_t>(std::ceil(d)));
+  const int w = vtkRayMapperCore::SampledSize(view.width, d);
+  const int h = vtkRayMapperCore::SampledSize(view.height, d);
+  const bool reduced = w != view.width || h != view.height;
+  const float* depth = Impl->Core.OpaqueDepth(ren, view, w, h, stats);
+  raymappers::Frame& target = reduced ? Impl->Core.Coarse() : Impl->Core.Frame();
+  target.resize(w, h);
+  raymappers::renderZSweep(Impl->Mesh, optics, view.modelToClip, this->GatherParameters(), depth,
+    target, stats, &Impl->Order);
+  if (reduced)
+  {
+    Impl->Core.ShowReduced(ren, view, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, stats);
+    return;
+  }
+  Impl->Core.Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
 }
 
 void vtkZSweepVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
@@ -506,9 +450,9 @@ void vtkZSweepVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Integrator: " << this->Integrator << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "ListThreshold: " << this->ListThreshold << "\n";
   os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";
-  os << indent << "Subsampling: " << this->Subsampling << "\n";
-  os << indent << "FrameBudget: " << this->FrameBudget << "\n";
+  vtkRayMapperSampleDistances::Of(this).Print(os, indent);
   os << indent << "Sparsification: " << this->Sparsification << "\n";
 }

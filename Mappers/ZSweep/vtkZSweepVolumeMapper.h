@@ -49,6 +49,10 @@
 #include <memory> // for std::unique_ptr
 
 class vtkRayMapperStatistics;
+namespace raymappers
+{
+struct ZSweepParameters;
+}
 
 #define VTK_ZSWEEP_INTEGRATOR_EXACT 0
 #define VTK_ZSWEEP_INTEGRATOR_FARIAS 1
@@ -98,18 +102,20 @@ public:
 
   ///@{
   /**
-   * Time-critical rendering (Farias 2001, chapter 3): with Subsampling 0 (default), during
-   * interactive renders (the render window's DesiredUpdateRate at least 1 frame per second,
-   * as an interactor sets it while the camera moves), when the last full-resolution frame
-   * took longer than the frame budget, the mapper renders p x p fewer rays
-   * (p = ceil(sqrt(last time / budget)), at most 9) and enlarges the image; still renders
-   * give the exact image. FrameBudget in seconds; 0 (default): 1 / DesiredUpdateRate.
-   * Subsampling 1 to 9 fixes p (1: always the full image).
+   * Time-critical rendering (Farias 2001, chapter 3) with the names of VTK's
+   * vtkUnstructuredGridVolumeZSweepMapper: rays ImageSampleDistance d pixels apart, the
+   * image enlarged. AutoAdjustSampleDistances (default on): interactive renders choose d
+   * from the last frame's time against FrameBudget within [MinimumImageSampleDistance 1,
+   * MaximumImageSampleDistance 9]; still renders give the exact image (d = the minimum).
+   * See vtkRayMapperSampleDistanceMacro (vtkRayMapperSetGet.h).
    */
-  vtkRayMapperSetClampMacro(Subsampling, int, 0, 9);
-  vtkGetMacro(Subsampling, int);
-  vtkRayMapperSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);
-  vtkGetMacro(FrameBudget, double);
+  vtkRayMapperSampleDistanceMacro();
+  ///@}
+
+  ///@{
+  /** @deprecated Subsampling p (0: AutoAdjustSampleDistances; 1 to 9: ImageSampleDistance p
+   * with AutoAdjustSampleDistances off), kept for one release. */
+  vtkRayMapperDeprecatedSubsamplingMacro(9);
   ///@}
 
   ///@{
@@ -127,7 +133,8 @@ public:
   ///@}
 
   /**
-   * Statistics of the last render (counter "subsampling": the p used).
+   * Statistics of the last render (counter image_sample_distance_percent: 100 d; the
+   * deprecated counter "subsampling": d rounded up).
    */
   vtkRayMapperStatistics* GetStatistics();
 
@@ -135,6 +142,11 @@ public:
   /// renders) also one warning per input change.
   double* GetBounds() VTK_SIZEHINT(6) override;
   void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
+
+  ///@{
+  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
+  vtkRayMapperNumberOfThreadsMacro();
+  ///@}
 
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
@@ -147,9 +159,14 @@ protected:
   int TileSize = 32;
   int ListThreshold = 16;
   double TerminationOpacity = 1.0;
-  int Subsampling = 0;
+  double ImageSampleDistance = 1.0;
+  vtkTypeBool AutoAdjustSampleDistances = 1;
+  double MinimumImageSampleDistance = 1.0;
+  double MaximumImageSampleDistance = 9.0;
   double FrameBudget = 0.0;
   bool Sparsification = false;
+
+  int NumberOfThreads = 0;
 
 private:
   vtkZSweepVolumeMapper(const vtkZSweepVolumeMapper&) = delete;
@@ -159,6 +176,11 @@ private:
   /// changed.
   /// Returns false (with an error) when there is no scalar to render.
   bool UpdateMesh(vtkUnstructuredGridBase* input);
+  /// The kernel's parameters from the properties.
+  raymappers::ZSweepParameters GatherParameters() const;
+
+  /// One render, in the mapper's task arena (Render runs it there).
+  void RenderFrame(vtkRenderer* ren, vtkVolume* vol);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

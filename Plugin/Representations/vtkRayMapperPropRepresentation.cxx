@@ -19,7 +19,6 @@
 #include "vtkRayMapperParticleExchange.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperStatistics.h"
-#include "vtkRayMapperThreads.h"
 #include "vtkOutputWindow.h"
 #include "vtkRenderer.h"
 #include "vtkVolume.h"
@@ -44,7 +43,6 @@ struct vtkRayMapperPropRepresentation::Forwarding
 
 vtkRayMapperPropRepresentation::vtkRayMapperPropRepresentation()
 {
-  vtkRayMapperLimitThreads();
   this->WarnOnlyWhenShown(this);
 }
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The scaling table of distributed rendering: each RayMappers representation rendered by
 pvbatch on 1 rank with 1 thread (RAYMAPPERS_THREADS=1, the serial baseline) and on 1, 2 and
-3 MPI ranks with the plugin's thread choice (vtkRayMapperThreads: the cores divided among
+3 MPI ranks with the plugin's thread choice (vtkRayMapperCore::DefaultNumberOfThreads: the cores divided among
 the ranks of the machine) (Testing/Python/distributed_scene.py: the data split by
 ParaView's kd-tree redistribution, IceT compositing), median wall time of the still renders
 after the first, on rank 0 (so compositing included).

@@ -170,18 +170,25 @@ int TestSPHFluidMapper(int argc, char* argv[])
   // Interactive renders: p x p fewer pixels, enlarged, when the last full frame overran the
   // budget; a still render gives the full picture back.
   {
-    mapper->SetSubsampling(2);
+    mapper->AutoAdjustSampleDistancesOff();
+    mapper->SetImageSampleDistance(2.0);
     const auto reduced = render();
     const double off = MeanDifference(reduced, picture);
-    std::printf("subsampling 2: mean difference to the full picture %.3f\n", off);
-    check(counter("subsampling") == 2 && off > 0 && off < 3.0,
-      "subsampling 2: an approximation of the full picture");
-    mapper->SetSubsampling(0);
+    std::printf("image sample distance 2: mean difference to the full picture %.3f\n", off);
+    check(counter("image_sample_distance_percent") == 200 && off > 0 && off < 3.0,
+      "ImageSampleDistance 2: an approximation of the full picture");
+    mapper->AutoAdjustSampleDistancesOn();
     win->SetDesiredUpdateRate(1e9); // an interactive render with a 1 ns budget
     render();
-    check(counter("subsampling") == 8, "interactive, the last full frame over budget: p = 8");
+    check(counter("image_sample_distance_percent") == 800,
+      "interactive, the last frame over budget: MaximumImageSampleDistance 8");
+    mapper->SetFrameBudget(1e6); // an interactive render with a budget no frame overruns
+    check(render() == picture && counter("image_sample_distance_percent") == 100,
+      "interactive within the budget: MinimumImageSampleDistance, the full picture");
+    mapper->SetFrameBudget(0);
     win->SetDesiredUpdateRate(0.0001); // a still render
-    check(render() == picture && counter("subsampling") == 1, "a still render: the full picture");
+    check(render() == picture && counter("image_sample_distance_percent") == 100,
+      "a still render: the full picture");
   }
 
   // Each effect on alone changes the picture and does its work.

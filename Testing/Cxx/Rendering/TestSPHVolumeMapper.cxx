@@ -156,20 +156,31 @@ int TestSPHVolumeMapper(int argc, char* argv[])
     "the sphere shows");
   ren->RemoveActor(actor);
 
-  // Interaction: a 1 ns budget raises the reduction by 0.25 per frame; a still render
-  // goes back to the full picture.
+  // Interaction: under a 1 ns budget the last frame's time asks for a sample distance far
+  // above the maximum, so the maximum it is (a budget the machine's speed cannot meet);
+  // a still render goes back to the full picture; a fixed distance holds in both.
+  mapper->SetMaximumImageSampleDistance(3.0);
   win->SetDesiredUpdateRate(1e9);
-  render();
-  render();
   const auto coarse = render();
   const auto reduction = stats->GetCounter("reduction_percent");
   std::printf("interactive: reduction %lld%%, difference %.3f\n", static_cast<long long>(reduction),
     MeanDifference(coarse, picture));
-  check(reduction == 175 && MeanDifference(coarse, picture) > 0, "reduced sampling while interacting");
+  check(reduction == 300 && stats->GetCounter("image_sample_distance_percent") == 300 &&
+      MeanDifference(coarse, picture) > 0,
+    "reduced sampling while interacting: MaximumImageSampleDistance");
   win->SetDesiredUpdateRate(0.0001);
   const auto refined = render();
   check(stats->GetCounter("reduction_percent") == 100 && refined == picture,
     "a still render refines to the full picture");
+  mapper->AutoAdjustSampleDistancesOff();
+  mapper->SetImageSampleDistance(2.0);
+  const auto fixed = render();
+  check(stats->GetCounter("image_sample_distance_percent") == 200 && fixed != picture,
+    "AutoAdjustSampleDistances off: ImageSampleDistance in a still render too");
+  mapper->AutoAdjustSampleDistancesOn();
+  mapper->SetMaximumReduction(4.0); // the deprecated alias
+  check(mapper->GetMaximumImageSampleDistance() == 4.0 && render() == picture,
+    "MaximumReduction sets MaximumImageSampleDistance; still renders stay full");
 
   check(rmtest::CompareWithBaseline(win, argc, argv) == EXIT_SUCCESS, "matches the baseline");
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;

@@ -1,0 +1,204 @@
+#include "vtkRayMapperCore.h"
+
+#include "FrameResample.h"
+
+#include "vtkAbstractVolumeMapper.h"
+#include "vtkAlgorithm.h"
+#include "vtkDataObject.h"
+#include "vtkMath.h"
+#include "vtkPointSet.h"
+#include "vtkRenderWindow.h"
+#include "vtkRenderer.h"
+#include "vtkTimerLog.h"
+#include "vtkVolumeProperty.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <thread>
+
+namespace
+{
+int PositiveEnvironment(const char* name)
+{
+  const char* value = std::getenv(name);
+  const int n = value ? std::atoi(value) : 0;
+  return n > 0 ? n : 0;
+}
+}
+
+int vtkRayMapperCore::DefaultNumberOfThreads()
+{
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (const int n = PositiveEnvironment("RAYMAPPERS_THREADS"))
+  {
+    return n;
+  }
+  int local = PositiveEnvironment("OMPI_COMM_WORLD_LOCAL_SIZE");
+  if (!local)
+  {
+    local = PositiveEnvironment("MPI_LOCALNRANKS");
+  }
+  return local > 1 ? std::max(1, cores / local) : cores;
+}
+
+void vtkRayMapperCore::WarnEmptyInput(vtkObject* mapper,
+  vtkDataObject* input,
+  const char* what,
+  const char* thing)
+{
+  if (!input || this->WarnedEmptyInputTime == input->GetMTime())
+  {
+    return;
+  }
+  this->WarnedEmptyInputTime = input->GetMTime();
+  this->Statistics->Set(raymappers::RenderStatistics());
+  vtkWarningWithObjectMacro(mapper, << "The input has no " << what << ": no " << thing << " to draw.");
+}
+
+vtkPointSet* vtkRayMapperCore::PointSetBounds(vtkAbstractVolumeMapper* mapper,
+  double bounds[6],
+  const char* thing)
+{
+  // Bring the input up to date first (as vtkAbstractVolumeMapper::GetBounds does).
+  if (vtkAlgorithm* producer = mapper->GetInputAlgorithm())
+  {
+    producer->Update();
+  }
+  auto* input = vtkPointSet::SafeDownCast(mapper->GetDataSetInput());
+  if (!input || input->GetNumberOfPoints() == 0)
+  {
+    vtkMath::UninitializeBounds(bounds);
+    this->WarnEmptyInput(mapper, input, "points", thing);
+    return nullptr;
+  }
+  vtkRayMapperRenderHelpers::FiniteBounds(input, bounds);
+  return vtkMath::AreBoundsInitialized(bounds) ? input : nullptr;
+}
+
+void vtkRayMapperCore::GrowBounds(double bounds[6], double by)
+{
+  if (!(by > 0) || !std::isfinite(by))
+  {
+    return;
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    bounds[2 * a] -= by;
+    bounds[2 * a + 1] += by;
+  }
+}
+
+bool vtkRayMapperCore::GatherView(vtkObject* mapper, vtkRenderer* ren, vtkProp3D* prop, View& view)
+{
+  view.model = vtkRayMapperRenderHelpers::GatherModelTransform(prop);
+  view.modelToClip =
+    vtkRayMapperRenderHelpers::GatherModelToClip(ren, view.model, view.width, view.height);
+  return this->Camera.Usable(mapper, view.modelToClip);
+}
+
+const float* vtkRayMapperCore::OpaqueDepth(vtkRenderer* ren,
+  const View& view,
+  int width,
+  int height,
+  raymappers::RenderStatistics& stats)
+{
+  bool have = false;
+  {
+    raymappers::ScopedPhase phase(stats, "opaque_depth");
+    int dw = 0, dh = 0;
+    have = vtkRayMapperRenderHelpers::ReadOpaqueDepth(ren, this->Depth, dw, dh) &&
+      dw == view.width && dh == view.height;
+    if (have && (width != view.width || height != view.height))
+    {
+      this->CoarseDepth = raymappers::sampleDepth(this->Depth, dw, dh, width, height);
+    }
+  }
+  stats.setEffect("opaque_depth", have);
+  if (!have)
+  {
+    return nullptr;
+  }
+  return width == view.width && height == view.height ? this->Depth.data()
+                                                      : this->CoarseDepth.data();
+}
+
+void vtkRayMapperSampleDistances::Print(ostream& os, vtkIndent indent) const
+{
+  os << indent << "ImageSampleDistance: " << this->imageSampleDistance << "\n";
+  os << indent << "AutoAdjustSampleDistances: " << this->autoAdjust << "\n";
+  os << indent << "MinimumImageSampleDistance: " << this->minimum << "\n";
+  os << indent << "MaximumImageSampleDistance: " << this->maximum << "\n";
+  os << indent << "FrameBudget: " << this->frameBudget << "\n";
+}
+
+double vtkRayMapperCore::BeginFrame(vtkRenderer* ren,
+  const vtkRayMapperSampleDistances& distances,
+  raymappers::RenderStatistics& stats)
+{
+  double d = distances.imageSampleDistance;
+  if (distances.autoAdjust)
+  {
+    const double rate = ren->GetRenderWindow() ? ren->GetRenderWindow()->GetDesiredUpdateRate() : 0;
+    const double budget =
+      distances.frameBudget > 0 ? distances.frameBudget : (rate > 0 ? 1.0 / rate : 0);
+    d = distances.minimum;
+    if (rate >= 1.0 && budget > 0 && this->LastSeconds > 0)
+    {
+      d = std::clamp(this->LastDistance * std::sqrt(this->LastSeconds / budget),
+        distances.minimum, std::max(distances.minimum, distances.maximum));
+    }
+  }
+  stats.addCounter("image_sample_distance_percent", std::lround(100 * d));
+  this->FrameDistance = d;
+  this->FrameStart = vtkTimerLog::GetUniversalTime();
+  return d;
+}
+
+int vtkRayMapperCore::SampledSize(int full, double d)
+{
+  return d > 1.0 ? std::max(1, static_cast<int>(std::ceil(full / d))) : full;
+}
+
+raymappers::Material vtkRayMapperCore::GatherMaterial(vtkVolumeProperty* property)
+{
+  raymappers::Material material;
+  material.ambient = property->GetAmbient();
+  material.diffuse = property->GetDiffuse();
+  material.specular = property->GetSpecular();
+  material.specularPower = property->GetSpecularPower();
+  return material;
+}
+
+void vtkRayMapperCore::Show(vtkRenderer* ren,
+  vtkRayMapperFrameDrawer::Mode mode,
+  raymappers::RenderStatistics& stats)
+{
+  {
+    raymappers::ScopedPhase phase(stats, "draw");
+    this->Drawer.Draw(ren, this->FullFrame, mode, this->Statistics->GetValidateFrames(), stats);
+  }
+  stats.addCounter("threads", this->Concurrency);
+  this->Statistics->Set(stats);
+  if (this->FrameStart >= 0)
+  {
+    this->LastSeconds = vtkTimerLog::GetUniversalTime() - this->FrameStart;
+    this->LastDistance = this->FrameDistance;
+    this->FrameStart = -1.0;
+  }
+}
+
+void vtkRayMapperCore::ShowReduced(vtkRenderer* ren,
+  const View& view,
+  vtkRayMapperFrameDrawer::Mode mode,
+  bool withDepth,
+  raymappers::RenderStatistics& stats)
+{
+  this->FullFrame.resize(view.width, view.height);
+  raymappers::enlarge(this->CoarseFrame, this->FullFrame);
+  if (withDepth)
+  {
+    raymappers::enlargeDepth(this->CoarseFrame, this->FullFrame);
+  }
+  this->Show(ren, mode, stats);
+}

@@ -1,0 +1,240 @@
+// The render skeleton every RayMappers mapper shares, once: the frame a kernel renders into
+// and the drawer that shows it, the statistics of the last render, the camera check, the
+// mapper's bounds grown by the particles' support, the once-per-input-change warning about
+// an empty input, the model transform, clip matrix, opaque depth and material gathered from
+// the renderer, and rebuild stamps (vtkRayMapperStamp) keyed on the input's MTime and on the
+// parameters a rebuild depends on. An adapter's Render gathers its kernel's parameters,
+// calls its kernel into Frame() and lets the core Show() it.
+#ifndef vtkRayMapperCore_h
+#define vtkRayMapperCore_h
+
+#include "Frame.h"
+#include "Lighting.h"
+#include "RayMappersMappersModule.h" // for export macro
+#include "RenderStatistics.h"
+#include "vtkRayMapperFrameDrawer.h"
+#include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperStatistics.h"
+
+#include "vtkNew.h"
+#include "vtkObject.h"
+
+#include <tbb/task_arena.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <tuple>
+#include <vector>
+
+class vtkAbstractVolumeMapper;
+class vtkDataObject;
+class vtkPointSet;
+class vtkProp3D;
+class vtkRenderer;
+class vtkVolumeProperty;
+class vtkWindow;
+
+/// A string property's value as a key (nullptr: "").
+inline std::string vtkRayMapperString(const char* s)
+{
+  return s ? s : "";
+}
+
+/// What a cache (particles, mesh, accelerator) was built from: the input object and its
+/// MTime, and the values of exactly the parameters the build reads (a std::tuple). The
+/// mapper's MTime is the quick test: while neither it nor the input changed, the key is not
+/// compared; a mapper change that leaves the key alone (a camera-free parameter such as a
+/// transfer function or a step) rebuilds nothing.
+template <typename... Keys>
+class vtkRayMapperStamp
+{
+public:
+  /// Whether the cache must be built again for (mapper, input, key); when it must, the
+  /// state is recorded as built (call Invalidate if the build then fails).
+  bool Changed(vtkObject* mapper, vtkObject* input, const std::tuple<Keys...>& key)
+  {
+    const vtkMTimeType mapperTime = mapper->GetMTime();
+    const vtkMTimeType inputTime = input ? input->GetMTime() : 0;
+    if (this->Built && this->Input == input && this->InputTime == inputTime &&
+      (this->MapperTime == mapperTime || this->Key == key))
+    {
+      this->MapperTime = mapperTime;
+      return false;
+    }
+    this->Built = true;
+    this->Input = input;
+    this->InputTime = inputTime;
+    this->MapperTime = mapperTime;
+    this->Key = key;
+    return true;
+  }
+  /// The next Changed is true (what the cache depends on was rebuilt, or its build failed).
+  void Invalidate() { this->Built = false; }
+
+private:
+  bool Built = false;
+  vtkObject* Input = nullptr;
+  vtkMTimeType InputTime = 0;
+  vtkMTimeType MapperTime = 0;
+  std::tuple<Keys...> Key;
+};
+
+/// The camera of one render in the prop's model coordinates: the model transform, the
+/// model-to-clip matrix of the renderer's tiled viewport and that viewport's size.
+struct vtkRayMapperView
+{
+  vtkRayMapperRenderHelpers::ModelTransform model;
+  std::array<double, 16> modelToClip{};
+  int width = 0;
+  int height = 0;
+};
+
+/// A mapper's time-critical properties (vtkRayMapperSampleDistanceMacro, vtkRayMapperSetGet.h).
+struct vtkRayMapperSampleDistances
+{
+  bool autoAdjust = true;
+  double imageSampleDistance = 1.0;
+  double minimum = 1.0;
+  double maximum = 1.0;
+  double frameBudget = 0.0;
+
+  template <typename Mapper>
+  static vtkRayMapperSampleDistances Of(Mapper* m)
+  {
+    return { m->GetAutoAdjustSampleDistances() != 0, m->GetImageSampleDistance(),
+      m->GetMinimumImageSampleDistance(), m->GetMaximumImageSampleDistance(),
+      m->GetFrameBudget() };
+  }
+  /// The properties as a mapper's PrintSelf prints them.
+  void Print(ostream& os, vtkIndent indent) const;
+};
+
+class RAYMAPPERSMAPPERS_EXPORT vtkRayMapperCore
+{
+public:
+  using View = vtkRayMapperView;
+
+  vtkRayMapperCore() = default;
+  vtkRayMapperCore(const vtkRayMapperCore&) = delete;
+  vtkRayMapperCore& operator=(const vtkRayMapperCore&) = delete;
+
+  vtkRayMapperStatistics* GetStatistics() { return this->Statistics; }
+
+  /// The threads of a mapper whose NumberOfThreads is 0: RAYMAPPERS_THREADS when set (> 0);
+  /// else, under MPI with L ranks on this machine (Open MPI's OMPI_COMM_WORLD_LOCAL_SIZE,
+  /// MPICH's MPI_LOCALNRANKS), the machine's cores divided among them (at least one each), so
+  /// that the ranks do not oversubscribe the cores; else all the cores.
+  static int DefaultNumberOfThreads();
+
+  /// Runs `render` (the builds, the kernel and the draw of one render) in the mapper's own
+  /// tbb::task_arena of `numberOfThreads` threads (0: DefaultNumberOfThreads), so the
+  /// kernels' parallel loops use at most that many. The calling thread runs `render`
+  /// itself (the arena's slot for it is free: no other thread enters a mapper's arena), so
+  /// the OpenGL context stays current. Show records the arena's concurrency in the counter
+  /// "threads".
+  template <typename Render>
+  void Execute(int numberOfThreads, Render&& render)
+  {
+    const int n = numberOfThreads > 0 ? numberOfThreads : DefaultNumberOfThreads();
+    if (!this->Arena || this->ArenaThreads != n)
+    {
+      this->Arena = std::make_unique<tbb::task_arena>(n);
+      this->ArenaThreads = n;
+    }
+    this->Arena->execute(
+      [&]
+      {
+        this->Concurrency = tbb::this_task_arena::max_concurrency();
+        render();
+      });
+  }
+
+  /// The number of cache builds over the mapper's life (the counter "builds"), one more.
+  std::int64_t CountBuild() { return ++this->Builds; }
+  std::int64_t GetBuilds() const { return this->Builds; }
+
+  /// The warning "The input has no <what>: no <thing> to draw." from `mapper`, once per
+  /// change of `input` (the renderer culls a prop with empty bounds before it renders, so
+  /// the bounds are where this is seen); the statistics are emptied with it.
+  void WarnEmptyInput(vtkObject* mapper, vtkDataObject* input, const char* what, const char* thing);
+
+  /// vtkAbstractVolumeMapper::GetBounds of a point-set input, of its finite points: the
+  /// input when it has some (the caller then grows the bounds by the support), nullptr
+  /// with uninitialized bounds (and the empty-input warning) otherwise.
+  vtkPointSet* PointSetBounds(vtkAbstractVolumeMapper* mapper, double bounds[6], const char* thing);
+
+  /// Bounds grown by `by` on every side (nothing when `by` is not a positive finite length).
+  static void GrowBounds(double bounds[6], double by);
+
+  /// The camera of the renderer's tiled viewport for `prop`: false (with the camera
+  /// check's warning, CameraCheck) when it gives no rays.
+  bool GatherView(vtkObject* mapper, vtkRenderer* ren, vtkProp3D* prop, View& view);
+
+  /// The window depth of opaque geometry drawn so far at width x height pixels (sampled at
+  /// the pixels' centres when smaller than the view), or nullptr when there is none to
+  /// read; the phase and the effect "opaque_depth" of `stats`.
+  const float* OpaqueDepth(vtkRenderer* ren,
+    const View& view,
+    int width,
+    int height,
+    raymappers::RenderStatistics& stats);
+
+  /// The material of a volume property (ambient, diffuse, specular, specular power).
+  static raymappers::Material GatherMaterial(vtkVolumeProperty* property);
+
+  /// The time-critical loop: the image sample distance d of this render (rays d pixels
+  /// apart; 1: one ray per pixel), and the start of the frame's clock that Show stops.
+  /// Without AutoAdjustSampleDistances, ImageSampleDistance. With it, a still render uses
+  /// the minimum; an interactive one (the window's DesiredUpdateRate at least 1 frame per
+  /// second, as an interactor sets it while the camera moves) d = d_last sqrt(t_last / budget)
+  /// within [minimum, maximum]: a frame's time goes with its number of rays, d^-2, so that d
+  /// meets the budget. Counter image_sample_distance_percent (100 d).
+  double BeginFrame(vtkRenderer* ren,
+    const vtkRayMapperSampleDistances& distances,
+    raymappers::RenderStatistics& stats);
+
+  /// The number of rays along a side of `full` pixels at sample distance d (at least 1).
+  static int SampledSize(int full, double d);
+
+  /// The frame the kernel renders into: full size, or the coarse one of a reduced render
+  /// (width x height smaller than the view; see ShowReduced).
+  raymappers::Frame& Frame() { return this->FullFrame; }
+  raymappers::Frame& Coarse() { return this->CoarseFrame; }
+
+  /// The frame drawn in `mode` (phase "draw"), then the statistics published.
+  void Show(vtkRenderer* ren, vtkRayMapperFrameDrawer::Mode mode, raymappers::RenderStatistics& stats);
+  /// As Show after a reduced render: the coarse frame enlarged to the view's size first
+  /// (its depth too when `withDepth`).
+  void ShowReduced(vtkRenderer* ren,
+    const View& view,
+    vtkRayMapperFrameDrawer::Mode mode,
+    bool withDepth,
+    raymappers::RenderStatistics& stats);
+  /// A render that draws nothing: the statistics published.
+  void Skip(const raymappers::RenderStatistics& stats) { this->Statistics->Set(stats); }
+
+  void ReleaseGraphicsResources(vtkWindow* win) { this->Drawer.ReleaseGraphicsResources(win); }
+
+private:
+  raymappers::Frame FullFrame;
+  raymappers::Frame CoarseFrame;
+  vtkRayMapperFrameDrawer Drawer;
+  vtkRayMapperRenderHelpers::CameraCheck Camera;
+  vtkNew<vtkRayMapperStatistics> Statistics;
+  std::vector<float> Depth;
+  std::vector<float> CoarseDepth;
+  std::int64_t Builds = 0;
+  vtkMTimeType WarnedEmptyInputTime = 0;
+  std::unique_ptr<tbb::task_arena> Arena;
+  int ArenaThreads = 0;
+  int Concurrency = 0; // of the arena the last render ran in
+  // The time-critical loop's last frame: its start, its distance and its time.
+  double FrameStart = -1.0;
+  double FrameDistance = 1.0;
+  double LastDistance = 1.0;
+  double LastSeconds = 0.0;
+};
+
+#endif
