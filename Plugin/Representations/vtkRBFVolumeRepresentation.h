@@ -79,6 +79,8 @@ public:
   void SetSamplesPerPass(int samples);
   void SetPacketSize(int side);
   void SetLeafSize(int particles);
+  /** The mapper's NumberOfThreads (its own TBB task arena; 0: the default). */
+  void SetNumberOfThreads(int threads);
 
   /**
    * The mapper, for tests and C++ users.

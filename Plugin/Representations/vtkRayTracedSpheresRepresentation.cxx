@@ -120,6 +120,7 @@ void vtkRayTracedSpheresRepresentation::PushRadius(double& radius, double& scale
 // clang-format off
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetAccelerator, int, SetAccelerator)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetPacketSize, int, SetPacketSize)
+vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetNumberOfThreads, int, SetNumberOfThreads)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetLambda, double, SetLambda)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetMacrocellSize, int, SetMacrocellSize)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetAmbientOcclusionSamples, int, SetAmbientOcclusionSamples)

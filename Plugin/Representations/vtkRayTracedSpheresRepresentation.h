@@ -70,6 +70,8 @@ public:
   // Accelerator (forwarded to vtkCGTSphereMapper, see there).
   void SetAccelerator(int accelerator);
   void SetPacketSize(int side);
+  /** The mapper's NumberOfThreads (its own TBB task arena; 0: the default). */
+  void SetNumberOfThreads(int threads);
   void SetLambda(double lambda);
   void SetMacrocellSize(int cells);
   void SetAmbientOcclusionSamples(int samples);

@@ -55,6 +55,7 @@ vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetBoundaryCulling, bool, Se
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetCellSize, double, SetCellSize)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetSubsampling, int, SetSubsampling)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetFrameBudget, double, SetFrameBudget)
+vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetNumberOfThreads, int, SetNumberOfThreads)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetSmoothingRadius, double, SetSmoothingRadius)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetSmoothingIterations, int, SetSmoothingIterations)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetTranslucency, bool, SetTranslucency)

@@ -45,6 +45,8 @@ public:
   void SetCellSize(double size);
   void SetSubsampling(int p);
   void SetFrameBudget(double seconds);
+  /** The mapper's NumberOfThreads (its own TBB task arena; 0: the default). */
+  void SetNumberOfThreads(int threads);
   void SetSmoothingRadius(double radius);
   void SetSmoothingIterations(int iterations);
   void SetFluidColor(double r, double g, double b);

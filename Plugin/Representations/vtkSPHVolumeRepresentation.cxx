@@ -87,6 +87,7 @@ vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetTerminationOpacity, doub
 vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetJitter, bool, SetJitter)
 vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetMaximumReduction, double, SetMaximumReduction)
 vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetFrameBudget, double, SetFrameBudget)
+vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetNumberOfThreads, int, SetNumberOfThreads)
 // clang-format on
 
 void vtkSPHVolumeRepresentation::SetContourColor(double r, double g, double b)

@@ -60,6 +60,8 @@ public:
   void SetJitter(bool on);
   void SetMaximumReduction(double r);
   void SetFrameBudget(double seconds);
+  /** The mapper's NumberOfThreads (its own TBB task arena; 0: the default). */
+  void SetNumberOfThreads(int threads);
 
   /** The mapper, for tests and C++ users. */
   vtkSPHVolumeMapper* GetMapper();

@@ -167,4 +167,5 @@ vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetSparsification, bool,
 vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetTerminationOpacity, double, SetTerminationOpacity)
 vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetSubsampling, int, SetSubsampling)
 vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetFrameBudget, double, SetFrameBudget)
+vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetNumberOfThreads, int, SetNumberOfThreads)
 // clang-format on

@@ -56,6 +56,8 @@ public:
   void SetTerminationOpacity(double opacity);
   void SetSubsampling(int p);
   void SetFrameBudget(double seconds);
+  /** The mapper's NumberOfThreads (its own TBB task arena; 0: the default). */
+  void SetNumberOfThreads(int threads);
 
   vtkZSweepVolumeMapper* GetMapper();
   vtkVolume* GetVolume();

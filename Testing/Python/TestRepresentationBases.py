@@ -15,6 +15,8 @@ Checks:
   "SPH Volume", "SPH Fluid"): a larger Ambient brightens it, a smaller Diffuse darkens it, a
   larger Specular brightens it and a smaller SpecularPower (a wider highlight) brightens it
   (each by more than 0.5 of 255 in the mean);
+- NumberOfThreads (1, 2) reaches each particle type's mapper: its render ran in a task
+  arena of that many threads (the statistics' counter "threads");
 - for the particle volumes (RBF, SPH) the classification reaches the picture too: a red
   DiffuseColor (no color array) leaves green and blue dark, and a larger
   ScalarOpacityUnitDistance (less opacity per length) makes the field dimmer.
@@ -29,14 +31,14 @@ from paraview import servermanager
 from paraview.simple import CreateView, Delete, Hide, LoadPlugin, PVTrivialProducer, Show
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from raymappers_testing import check, finish, prepare_view, screenshot  # noqa: E402
+from raymappers_testing import check, finish, prepare_view, screenshot, statistics  # noqa: E402
 
 SIZE = [96, 72]
 BACKGROUND = [0.0, 0.0, 0.0]
 
 # What each tier of bases holds, written again here (not read from the XML).
 EVERY_REPRESENTATION = ['Input', 'Visibility', 'Position', 'Scale', 'Orientation', 'Origin',
-                        'UserTransform', 'Pickable']
+                        'UserTransform', 'Pickable', 'NumberOfThreads']
 PARTICLE = EVERY_REPRESENTATION + ['Ambient', 'Diffuse', 'Specular', 'SpecularPower']
 PARTICLE_VOLUME = PARTICLE + ['ColorArrayName', 'LookupTable', 'ScalarOpacityFunction',
                               'ScalarOpacityUnitDistance', 'Shade', 'DiffuseColor']
@@ -65,6 +67,13 @@ PARTICLE_TYPES = {
 # How far each type's rendering reaches beyond the points with these settings: a sphere's
 # radius; Sigma (default 2) Gaussian radii; the cubic spline's (the default kernel's) support
 # 2h (Limper 2012: h is half the support of M4); a fluid sphere's radius.
+# The composite representations expose each type's NumberOfThreads under its own name, and
+# its statistics (counter "threads": the concurrency of the arena the render ran in).
+THREADS = {'Ray-Traced Spheres': ('SpheresNumberOfThreads', 'SpheresRenderStatistics'),
+           'RBF Volume': ('RBFNumberOfThreads', 'RBFRenderStatistics'),
+           'SPH Volume': ('SPHNumberOfThreads', 'SPHRenderStatistics'),
+           'SPH Fluid': ('SPHFluidNumberOfThreads', 'SPHFluidRenderStatistics')}
+
 MARGINS = {'Ray-Traced Spheres': 0.35, 'RBF Volume': 2.0 * 0.35, 'SPH Volume': 2.0 * 0.6,
            'SPH Fluid': 0.35}
 
@@ -148,6 +157,18 @@ def check_classification(view, rep, kind, stem):
           % (kind, red.mean(), thinner.mean()))
 
 
+def check_threads(view, rep, kind, stem):
+    """NumberOfThreads reaches the type's mapper: its render runs in an arena of that many
+    threads."""
+    prop, stats = THREADS[kind]
+    for threads in (1, 2):
+        rep.SetPropertyWithName(prop, threads)
+        screenshot(view, '%s-threads-%d.png' % (stem, threads), SIZE)
+        seen = statistics(rep, stats).get('threads')
+        check(seen == threads, '%s: %s %d renders on %s thread(s)' % (kind, prop, threads, seen))
+    rep.SetPropertyWithName(prop, 0)
+
+
 def check_particle_types(view, producer, out_dir):
     for kind, settings in PARTICLE_TYPES.items():
         rep = Show(producer, view)
@@ -160,6 +181,7 @@ def check_particle_types(view, producer, out_dir):
         check_margin(view, kind)
         stem = os.path.join(out_dir, 'TestRepresentationBases-' + kind.replace(' ', ''))
         check_material(view, rep, kind, stem)
+        check_threads(view, rep, kind, stem)
         if kind in ('RBF Volume', 'SPH Volume'):
             check_classification(view, rep, kind, stem)
         Hide(producer, view)
