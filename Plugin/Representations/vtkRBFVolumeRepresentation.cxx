@@ -99,4 +99,5 @@ vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetMethod, int, SetMethod)
 vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetSamplesPerPass, int, SetSamplesPerPass)
 vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetPacketSize, int, SetPacketSize)
 vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetLeafSize, int, SetLeafSize)
+vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetNumberOfThreads, int, SetNumberOfThreads)
 // clang-format on

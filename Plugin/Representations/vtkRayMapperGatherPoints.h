@@ -33,17 +33,17 @@ double vtkRayMapperLargestRadius(vtkPolyData* points,
   double radius,
   double scale);
 
-/// Hands a particle radius setting to a mapper with SetRadius, SetRadiusScale and
-/// SetRadiusArrayName (null: no array) and returns in `radius` and `scale` what the mapper
+/// Hands a particle radius setting to a mapper with SetRadius, SetScaleFactor and
+/// SetScaleArray (null: no array; vtkPointGaussianMapper's names) and returns in `radius` and `scale` what the mapper
 /// kept (it rejects NaN and clamps).
 template<typename MapperType>
 void vtkRayMapperPushRadius(MapperType* mapper, double& radius, double& scale, const char* array)
 {
   mapper->SetRadius(radius);
-  mapper->SetRadiusScale(scale);
+  mapper->SetScaleFactor(scale);
   radius = mapper->GetRadius();
-  scale = mapper->GetRadiusScale();
-  mapper->SetRadiusArrayName(array);
+  scale = mapper->GetScaleFactor();
+  mapper->SetScaleArray(array);
 }
 
 #endif

@@ -45,10 +45,10 @@ vtkSPHVolumeMapper* vtkSPHVolumeRepresentation::GetMapper()
 void vtkSPHVolumeRepresentation::PushRadius(double& radius, double& scale, const char* radiusArray)
 {
   this->Mapper->SetSmoothingLength(radius);
-  this->Mapper->SetSmoothingLengthScale(scale);
+  this->Mapper->SetScaleFactor(scale);
   radius = this->Mapper->GetSmoothingLength();
-  scale = this->Mapper->GetSmoothingLengthScale();
-  this->Mapper->SetSmoothingLengthArrayName(radiusArray);
+  scale = this->Mapper->GetScaleFactor();
+  this->Mapper->SetScaleArray(radiusArray);
 }
 
 double vtkSPHVolumeRepresentation::GetParticleReach()
@@ -85,7 +85,7 @@ vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetTileSize, int, SetTileSi
 vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetSlabDepth, int, SetSlabDepth)
 vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetTerminationOpacity, double, SetTerminationOpacity)
 vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetJitter, bool, SetJitter)
-vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetMaximumReduction, double, SetMaximumReduction)
+vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetMaximumImageSampleDistance, double, SetMaximumImageSampleDistance)
 vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetFrameBudget, double, SetFrameBudget)
 vtkRayMapperForwardMacro(vtkSPHVolumeRepresentation, SetNumberOfThreads, int, SetNumberOfThreads)
 // clang-format on

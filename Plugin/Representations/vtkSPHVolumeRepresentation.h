@@ -58,7 +58,7 @@ public:
   void SetSlabDepth(int samples);
   void SetTerminationOpacity(double opacity);
   void SetJitter(bool on);
-  void SetMaximumReduction(double r);
+  void SetMaximumImageSampleDistance(double d);
   void SetFrameBudget(double seconds);
   /** The mapper's NumberOfThreads (its own TBB task arena; 0: the default). */
   void SetNumberOfThreads(int threads);

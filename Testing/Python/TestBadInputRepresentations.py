@@ -447,7 +447,7 @@ SPECS = {
             ('DiffuseColor', {'ColorArrayName': ['POINTS', '']}, [NAN, 0.5, 0.5], None,
              'not a number', (0, '')),
             ('Lambda', {}, -5.0, 0.01, 'Lambda -5 is outside [0.01, 100]', (0, '')),
-            ('RadiusScale', {}, 1e300, 1e15, 'RadiusScale 1e+300 is outside', (0, '')),
+            ('RadiusScale', {}, 1e300, 1e15, 'ScaleFactor 1e+300 is outside', (0, '')),
             ('Specular', {}, 7.0, 1.0, 'Specular 7 is outside [0, 1]', (0, '')),
             ('ShadowLightIntensity', {'ShadowRays': 2}, -3.0, 0.0,
              'ShadowLightIntensity -3 is outside', (0, '')),
@@ -525,7 +525,7 @@ SPECS = {
             ('Specular', {}, NAN, None, NOT_A_NUMBER, (0, '')),
             ('SPHFluidDensity', {}, 1e300, 1e15, 'Density 1e+300 is outside', (0, '')),
             ('SPHFluidRefractiveIndex', {}, 100.0, 10.0, 'RefractiveIndex 100 is outside', (0, '')),
-            ('SPHFluidRadiusScale', {}, -1.0, 0.0, 'RadiusScale -1 is outside',
+            ('SPHFluidRadiusScale', {}, -1.0, 0.0, 'ScaleFactor -1 is outside',
              (1, 'have a zero, negative, non-finite or huge')),
         ]),
     'zsweep': dict(
