@@ -77,27 +77,17 @@ public:
 
   ///@{
   /**
-   * Name of a point array giving each sphere's radius (vtkPointGaussianMapper's name) (its first component, so the
-   * 3-component "radius" of vtkPDBReader works as is). nullptr (default) means the
-   * constant Radius for all.
+   * ScaleArray: a point array giving each sphere's radius (its first component, so the
+   * 3-component "radius" of vtkPDBReader works as is); nullptr (default) means the constant
+   * Radius for all. ScaleFactor: a factor applied to every radius (constant or from the
+   * array), default 1. vtkPointGaussianMapper's names.
    */
-  vtkSetStringMacro(ScaleArray);
-  vtkGetStringMacro(ScaleArray);
+  vtkRayMapperScaleMacro();
   ///@}
 
   ///@{
-  /**
-   * Factor applied to every radius (constant or from the array). Default 1.
-   */
-  vtkRayMapperSetClampMacro(ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
-  vtkGetMacro(ScaleFactor, double);
-  ///@}
-
-  ///@{
-  /** @deprecated RadiusArrayName and RadiusScale, the old names of ScaleArray and ScaleFactor
-   * (those of vtkPointGaussianMapper), kept for one release. */
-  vtkRayMapperDeprecatedStringAliasMacro(RadiusArrayName, ScaleArray);
-  vtkRayMapperDeprecatedClampAliasMacro(RadiusScale, ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
+  /** @deprecated RadiusArrayName and RadiusScale (vtkRayMapperDeprecatedRadiusNamesMacro). */
+  vtkRayMapperDeprecatedRadiusNamesMacro();
   ///@}
 
   ///@{

@@ -212,4 +212,19 @@ bool AcceptVector(vtkObject* self, const char* name, T (&value)[N], T min, T max
   virtual void Set##oldName(const char* _arg) { this->Set##newName(_arg); }                        \
   virtual char* Get##oldName() { return this->Get##newName(); }
 
+/// ScaleArray (the point array of the particles' sizes, its first component) and ScaleFactor
+/// (a factor on every size, 0 to 1e15), vtkPointGaussianMapper's names, declared the same way
+/// in each particle mapper (which declares the members).
+#define vtkRayMapperScaleMacro()                                                                  \
+  vtkSetStringMacro(ScaleArray);                                                                   \
+  vtkGetStringMacro(ScaleArray);                                                                   \
+  vtkRayMapperSetClampMacro(ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);                   \
+  vtkGetMacro(ScaleFactor, double)
+
+/// @deprecated RadiusArrayName and RadiusScale, the old names of ScaleArray and ScaleFactor
+/// of the sphere, RBF and fluid mappers, kept for one release.
+#define vtkRayMapperDeprecatedRadiusNamesMacro()                                                  \
+  vtkRayMapperDeprecatedStringAliasMacro(RadiusArrayName, ScaleArray);                             \
+  vtkRayMapperDeprecatedClampAliasMacro(RadiusScale, ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX)
+
 #endif

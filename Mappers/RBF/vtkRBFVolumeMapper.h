@@ -100,17 +100,12 @@ public:
    */
   vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
-  vtkSetStringMacro(ScaleArray);
-  vtkGetStringMacro(ScaleArray);
-  vtkRayMapperSetClampMacro(ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
-  vtkGetMacro(ScaleFactor, double);
+  vtkRayMapperScaleMacro();
   ///@}
 
   ///@{
-  /** @deprecated RadiusArrayName and RadiusScale, the old names of ScaleArray and ScaleFactor
-   * (those of vtkPointGaussianMapper), kept for one release. */
-  vtkRayMapperDeprecatedStringAliasMacro(RadiusArrayName, ScaleArray);
-  vtkRayMapperDeprecatedClampAliasMacro(RadiusScale, ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
+  /** @deprecated RadiusArrayName and RadiusScale (vtkRayMapperDeprecatedRadiusNamesMacro). */
+  vtkRayMapperDeprecatedRadiusNamesMacro();
   ///@}
 
   ///@{

@@ -97,10 +97,7 @@ public:
    * on either (1; vtkPointGaussianMapper's names). */
   vtkRayMapperSetClampMacro(SmoothingLength, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingLength, double);
-  vtkSetStringMacro(ScaleArray);
-  vtkGetStringMacro(ScaleArray);
-  vtkRayMapperSetClampMacro(ScaleFactor, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
-  vtkGetMacro(ScaleFactor, double);
+  vtkRayMapperScaleMacro();
   ///@}
 
   ///@{
