@@ -28,7 +28,7 @@ vtkSPHBoundaryParticles::vtkSPHBoundaryParticles() = default;
 
 vtkSPHBoundaryParticles::~vtkSPHBoundaryParticles()
 {
-  this->SetRadiusArrayName(nullptr);
+  this->SetScaleArray(nullptr);
 }
 
 int vtkSPHBoundaryParticles::FillInputPortInformation(int, vtkInformation* info)
@@ -60,12 +60,12 @@ int vtkSPHBoundaryParticles::RequestData(
     vtkWarningMacro(<< "The input has no points: the output is empty.");
   }
   vtkDataArray* radii = nullptr;
-  if (n > 0 && this->RadiusArrayName && this->RadiusArrayName[0])
+  if (n > 0 && this->ScaleArray && this->ScaleArray[0])
   {
-    radii = input->GetPointData()->GetArray(this->RadiusArrayName);
+    radii = input->GetPointData()->GetArray(this->ScaleArray);
     if (!radii)
     {
-      vtkWarningMacro(<< "radius array '" << this->RadiusArrayName
+      vtkWarningMacro(<< "radius array '" << this->ScaleArray
                       << "' is not a point array of the input; using the constant radius "
                       << this->Radius << ".");
     }
@@ -83,7 +83,7 @@ int vtkSPHBoundaryParticles::RequestData(
     double p[3];
     points->GetPoint(i, p);
     const raymappers::Vec3d c(p[0], p[1], p[2]);
-    const double ri = (radii ? radii->GetComponent(i, 0) : this->Radius) * this->RadiusScale;
+    const double ri = (radii ? radii->GetComponent(i, 0) : this->Radius) * this->ScaleFactor;
     if (tally.admit(c, true, ri) > 0.f)
     {
       ids.push_back(i);
@@ -148,8 +148,8 @@ void vtkSPHBoundaryParticles::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Radius: " << this->Radius << "\n";
-  os << indent << "RadiusArrayName: " << (this->RadiusArrayName ? this->RadiusArrayName : "")
+  os << indent << "ScaleArray: " << (this->ScaleArray ? this->ScaleArray : "")
      << "\n";
-  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "CellSize: " << this->CellSize << "\n";
 }

@@ -3,8 +3,8 @@
  * @brief   The particles of a fluid that lie in its boundary cells (Zirr and Dachsbacher
  *          2015, section 3.1): those of full inner cells of a uniform grid are dropped.
  *
- * Every point of the input vtkPointSet is a sphere of radius r_i = RadiusScale *
- * (RadiusArrayName, else Radius). A uniform grid of cells of size CellSize (0: twice the
+ * Every point of the input vtkPointSet is a sphere of radius r_i = ScaleFactor *
+ * (ScaleArray, else Radius). A uniform grid of cells of size CellSize (0: twice the
  * largest radius; at least the largest radius) sorts the spheres; a cell is full when its box
  * is proven covered by the spheres of its 3 x 3 x 3 block of cells, inner when it and its 26
  * neighbours are full (kernel FluidCells.h, the test vtkSPHFluidMapper culls with). The output
@@ -41,11 +41,11 @@ public:
   /** Constant particle radius (1), its point array, a factor on either (1). */
   vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
-  vtkSetStringMacro(RadiusArrayName);
-  vtkGetStringMacro(RadiusArrayName);
-  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
-  vtkGetMacro(RadiusScale, double);
+  vtkRayMapperScaleMacro();
   ///@}
+
+  /** @deprecated RadiusArrayName and RadiusScale (vtkRayMapperDeprecatedRadiusNamesMacro). */
+  vtkRayMapperDeprecatedRadiusNamesMacro();
 
   ///@{
   /** The culling grid's cell size in world units (0: twice the largest radius). */
@@ -60,8 +60,8 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double Radius = 1.0;
-  char* RadiusArrayName = nullptr;
-  double RadiusScale = 1.0;
+  char* ScaleArray = nullptr;
+  double ScaleFactor = 1.0;
   double CellSize = 0.0;
 
 private:

@@ -108,13 +108,13 @@ raymappers::Vec3d ReadParticles(vtkSPHVoxelizer* self,
     vtkWarningWithObjectMacro(self, << "The input has no points: the image has no spans.");
   }
   vtkDataArray* radii = nullptr;
-  if (n > 0 && self->GetRadiusArrayName() && self->GetRadiusArrayName()[0])
+  if (n > 0 && self->GetScaleArray() && self->GetScaleArray()[0])
   {
-    radii = input->GetPointData()->GetArray(self->GetRadiusArrayName());
+    radii = input->GetPointData()->GetArray(self->GetScaleArray());
     if (!radii)
     {
       vtkWarningWithObjectMacro(self,
-        << "radius array '" << self->GetRadiusArrayName()
+        << "radius array '" << self->GetScaleArray()
         << "' is not a point array of the input; using the constant radius " << self->GetRadius()
         << ".");
     }
@@ -130,7 +130,7 @@ raymappers::Vec3d ReadParticles(vtkSPHVoxelizer* self,
       double p[3];
       points->GetPoint(i, p);
       centers[i] = raymappers::Vec3d(p[0], p[1], p[2]);
-      r[i] = (radii ? component(radii, i, 0) : self->GetRadius()) * self->GetRadiusScale();
+      r[i] = (radii ? component(radii, i, 0) : self->GetRadius()) * self->GetScaleFactor();
     }
     raymappers::buildFluidParticles(
       static_cast<std::size_t>(n),
@@ -364,7 +364,7 @@ vtkSPHVoxelizer::vtkSPHVoxelizer()
 
 vtkSPHVoxelizer::~vtkSPHVoxelizer()
 {
-  this->SetRadiusArrayName(nullptr);
+  this->SetScaleArray(nullptr);
 }
 
 void vtkSPHVoxelizer::SetCamera(vtkCamera* camera)
@@ -538,9 +538,9 @@ void vtkSPHVoxelizer::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Radius: " << this->Radius << "\n";
-  os << indent << "RadiusArrayName: " << (this->RadiusArrayName ? this->RadiusArrayName : "")
+  os << indent << "ScaleArray: " << (this->ScaleArray ? this->ScaleArray : "")
      << "\n";
-  os << indent << "RadiusScale: " << this->RadiusScale << "\n";
+  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "AngleResolution: " << this->AngleResolution << "\n";
   os << indent << "MaximumLayers: " << this->MaximumLayers << "\n";
   os << indent << "MaximumSpans: " << this->MaximumSpans << "\n";

@@ -4,7 +4,7 @@
  *          an image: per pixel the depth spans of the fluid, their surface links and normals.
  *
  * Input: a vtkPointSet whose points are the particles, spheres of radius
- * r_i = RadiusScale * (RadiusArrayName, else Radius). Output: a vtkImageData of
+ * r_i = ScaleFactor * (ScaleArray, else Radius). Output: a vtkImageData of
  * ImageSize[0] x ImageSize[1] x 1 points (spacing 1, origin 0; point (i, j) is pixel (i, j)
  * of the view, row 0 at the bottom), voxelized for a camera exactly as vtkSPHFluidMapper
  * does for a render of that size (same kernels: SpanVoxelizer.h, SurfaceLinks.h), with the
@@ -77,11 +77,11 @@ public:
   /** Constant particle radius (default 1), its point array, and a factor on either (1). */
   vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
-  vtkSetStringMacro(RadiusArrayName);
-  vtkGetStringMacro(RadiusArrayName);
-  vtkRayMapperSetClampMacro(RadiusScale, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
-  vtkGetMacro(RadiusScale, double);
+  vtkRayMapperScaleMacro();
   ///@}
+
+  /** @deprecated RadiusArrayName and RadiusScale (vtkRayMapperDeprecatedRadiusNamesMacro). */
+  vtkRayMapperDeprecatedRadiusNamesMacro();
 
   ///@{
   /** As vtkSPHFluidMapper: angle resolution (14 degrees), layers (16384), spans (7),
@@ -151,8 +151,8 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double Radius = 1.0;
-  char* RadiusArrayName = nullptr;
-  double RadiusScale = 1.0;
+  char* ScaleArray = nullptr;
+  double ScaleFactor = 1.0;
   double AngleResolution = 14.0;
   int MaximumLayers = 16384;
   int MaximumSpans = 7;

@@ -660,7 +660,7 @@ def run_filters():
         ('CameraPosition', [0.6, NAN, 6.5], None, 'not a number'),
         ('MaximumSpans', 100, 63, 'MaximumSpans 100 is outside [1, 63]'),
         ('AngleResolution', 0.0, 0.01, 'AngleResolution 0 is outside'),
-        ('RadiusScale', 1e300, 1e15, 'RadiusScale 1e+300 is outside')])
+        ('RadiusScale', 1e300, 1e15, 'ScaleFactor 1e+300 is outside')])
     for reset in (0, 1):
         what = 'SPH Voxelizer: the eye at the focal point, Reset Camera %s' % ('on' if reset else 'off')
         # (A new focal point each time: vtkCamera moves its focal point 1e-20 away from an

@@ -131,8 +131,8 @@ int main()
   block->GetPointData()->AddArray(radius);
   block->GetPoints()->SetPoint(7, std::numeric_limits<double>::quiet_NaN(), 0, 0);
   block->Modified();
-  filter->SetRadiusArrayName("r");
-  filter->SetRadiusScale(1.04);
+  filter->SetScaleArray("r");
+  filter->SetScaleFactor(1.04);
   filter->Update();
   vtkDataArray* kept = filter->GetOutput()->GetPointData()->GetArray("id");
   bool badGone = kept != nullptr;

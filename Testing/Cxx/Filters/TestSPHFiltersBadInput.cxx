@@ -200,7 +200,7 @@ void RadiusCases(Filter* filter, vtkPolyData* clean, double radius, const char* 
 {
   const std::string who = name;
   filter->SetInputData(clean);
-  filter->SetRadiusArrayName("r");
+  filter->SetScaleArray("r");
   const auto reference = Run(filter);
   Warned(0, "", who + ": the clean block");
 
@@ -209,21 +209,21 @@ void RadiusCases(Filter* filter, vtkPolyData* clean, double radius, const char* 
   Warned(2, "particles have", who + ": bad particles (positions; radii)");
 
   filter->SetInputData(clean);
-  filter->SetRadiusArrayName("ir");
-  filter->SetRadiusScale(radius);
+  filter->SetScaleArray("ir");
+  filter->SetScaleFactor(radius);
   Check(SameOutput(Run(filter), reference), who + ": an integer radius array");
   Warned(0, "", who + ": an integer radius array");
-  filter->SetRadiusScale(1);
-  filter->SetRadiusArrayName("r3");
+  filter->SetScaleFactor(1);
+  filter->SetScaleArray("r3");
   Check(SameOutput(Run(filter), reference), who + ": a 3-component radius array: the first");
   Warned(1, "radius array 'r3' has 3 components that differ: the first is used",
     who + ": a 3-component radius array");
 
-  filter->SetRadiusArrayName("no-such-radius");
+  filter->SetScaleArray("no-such-radius");
   filter->SetRadius(radius);
   Check(SameOutput(Run(filter), reference), who + ": a missing radius array: the constant");
   Warned(1, "radius array 'no-such-radius' is not a point array", who + ": a missing array");
-  filter->SetRadiusArrayName("r");
+  filter->SetScaleArray("r");
 
   vtkNew<vtkPolyData> empty;
   empty->SetPoints(vtkNew<vtkPoints>());

@@ -71,7 +71,7 @@ int main()
   auto one = Spheres({ { 0, 0, 0, 1.0 } });
   vtkNew<vtkSPHVoxelizer> vox;
   vox->SetInputData(one);
-  vox->SetRadiusArrayName("r");
+  vox->SetScaleArray("r");
   vox->SetImageSize(61, 61);
   vox->SetCameraPosition(0, 0, 5);
   vox->SetCameraFocalPoint(0, 0, 0);
@@ -166,7 +166,7 @@ int main()
   auto two = Spheres({ { 0, 0, 0.8, 0.5 }, { 0, 0, -0.8, 0.5 } });
   vtkNew<vtkSPHVoxelizer> vox2;
   vox2->SetInputData(two);
-  vox2->SetRadiusArrayName("r");
+  vox2->SetScaleArray("r");
   vox2->SetImageSize(41, 41);
   vox2->SetCameraPosition(0, 0, 5);
   vox2->Update();
