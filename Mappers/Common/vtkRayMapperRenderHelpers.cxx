@@ -8,6 +8,8 @@
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationIntegerKey.h"
 #include "vtkLight.h"
 #include "vtkLightCollection.h"
 #include "vtkMath.h"
@@ -286,6 +288,15 @@ raymappers::Vec3d FiniteCenter(vtkPoints* points)
            : raymappers::Vec3d();
 }
 
+vtkInformationIntegerKey* WRITES_DEPTH()
+{
+  // Created once, as vtkInformationKeyMacro creates VTK's keys (registered with VTK's key
+  // lookup by the constructor).
+  static vtkInformationIntegerKey* key =
+    new vtkInformationIntegerKey("WRITES_DEPTH", "vtkRayMapperRenderHelpers");
+  return key;
+}
+
 bool HasOpaqueGeometry(vtkRenderer* ren)
 {
   if (ren->GetPreserveDepthBuffer())
@@ -305,7 +316,8 @@ bool HasOpaqueGeometry(vtkRenderer* ren)
     }
     if (auto* volume = vtkVolume::SafeDownCast(prop))
     {
-      if (volume->GetMapper() && volume->GetMapper()->IsA("vtkSPHFluidMapper"))
+      vtkAbstractVolumeMapper* mapper = volume->GetMapper();
+      if (mapper && mapper->GetInformation()->Get(WRITES_DEPTH()) == 1)
       {
         return true;
       }

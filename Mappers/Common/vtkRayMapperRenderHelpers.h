@@ -18,6 +18,7 @@
 #include <vector>
 
 class vtkDataSet;
+class vtkInformationIntegerKey;
 class vtkObject;
 class vtkPoints;
 class vtkProp3D;
@@ -115,9 +116,14 @@ private:
 /// The renderer's switched-on lights in world space.
 RAYMAPPERSMAPPERS_EXPORT std::vector<raymappers::Light> GatherLights(vtkRenderer* ren);
 
+/// The key a volume mapper sets to 1 in its algorithm information (GetInformation()) when
+/// it writes depth like opaque geometry (vtkSPHFluidMapper's surfaces): volumes that come
+/// after it must then read the depth buffer.
+RAYMAPPERSMAPPERS_EXPORT vtkInformationIntegerKey* WRITES_DEPTH();
+
 /// Whether the renderer may hold opaque geometry in the depth buffer: a visible prop that is
-/// neither a volume nor a 2D overlay and has opaque geometry, a volume of vtkSPHFluidMapper
-/// (its surface writes depth), or a preserved depth buffer.
+/// neither a volume nor a 2D overlay and has opaque geometry, a volume whose mapper says it
+/// writes depth (WRITES_DEPTH), or a preserved depth buffer.
 RAYMAPPERSMAPPERS_EXPORT bool HasOpaqueGeometry(vtkRenderer* ren);
 
 /// Window depth of what has been drawn so far in the renderer's tiled viewport, row 0 at

@@ -48,6 +48,8 @@ struct vtkSPHFluidMapper::Internals
 vtkSPHFluidMapper::vtkSPHFluidMapper()
   : Impl(new Internals)
 {
+  // The fluid's surfaces write depth: volumes drawn after it stop there.
+  this->GetInformation()->Set(vtkRayMapperRenderHelpers::WRITES_DEPTH(), 1);
 }
 
 vtkSPHFluidMapper::~vtkSPHFluidMapper()
