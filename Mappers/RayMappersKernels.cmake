@@ -1,7 +1,9 @@
 # The kernels of every method: plain C++17 with std, Embree and TBB only (no VTK header),
-# built as one static library that the VTK module links privately and the kernel unit
-# tests link directly. They live beside their vtk* adapters, one folder per method.
-add_library(RayMappersKernels STATIC
+# built as one shared library that the VTK modules RayMappers::Mappers and
+# RayMappers::Filters link privately and the kernel unit tests link directly: linked once, so
+# a process that loads both modules holds one copy of each kernel. They live beside their
+# vtk* adapters, one folder per method.
+add_library(RayMappersKernels SHARED
   ${CMAKE_CURRENT_LIST_DIR}/Common/FrameValidation.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/RayCamera.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/RenderStatistics.cxx
@@ -42,3 +44,6 @@ if (RAYMAPPERS_NATIVE)
   target_compile_options(RayMappersKernels PRIVATE -march=native)
 endif ()
 set_target_properties(RayMappersKernels PROPERTIES POSITION_INDEPENDENT_CODE ON)
+# Beside the VTK modules' libraries: the plugin's libraries find it two folders up
+# (paraview-plugins/RayMappers/ -> lib/).
+install(TARGETS RayMappersKernels LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}")
