@@ -1,0 +1,63 @@
+#include "vtkRayMapperParticleVolumeMapper.h"
+
+#include "vtkRayMapperCore.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkInformation.h"
+#include "vtkPointSet.h"
+
+vtkRayMapperParticleVolumeMapper::vtkRayMapperParticleVolumeMapper(const char* drawn)
+  : Core(new vtkRayMapperCore)
+  , Drawn(drawn)
+{
+}
+
+vtkRayMapperParticleVolumeMapper::~vtkRayMapperParticleVolumeMapper()
+{
+  this->SetScaleArray(nullptr);
+}
+
+void vtkRayMapperParticleVolumeMapper::SetInputData(vtkPointSet* input)
+{
+  this->SetInputDataInternal(0, input);
+}
+
+int vtkRayMapperParticleVolumeMapper::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
+  return 1;
+}
+
+vtkRayMapperStatistics* vtkRayMapperParticleVolumeMapper::GetStatistics()
+{
+  return this->Core->GetStatistics();
+}
+
+void vtkRayMapperParticleVolumeMapper::ReleaseGraphicsResources(vtkWindow* win)
+{
+  this->Core->ReleaseGraphicsResources(win);
+  this->Superclass::ReleaseGraphicsResources(win);
+}
+
+double* vtkRayMapperParticleVolumeMapper::GetBounds()
+{
+  vtkPointSet* input = this->Core->PointSetBounds(this, this->Bounds, this->Drawn);
+  if (input)
+  {
+    vtkRayMapperCore::GrowBounds(this->Bounds, this->GetSupportRadius(input));
+  }
+  return this->Bounds;
+}
+
+void vtkRayMapperParticleVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
+{
+  this->Core->Execute(this->NumberOfThreads, [&] { this->RenderVolume(ren, vol); });
+}
+
+void vtkRayMapperParticleVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ScaleArray: " << vtkRayMapperString(this->ScaleArray) << "\n";
+  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
+  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+}
