@@ -5,6 +5,9 @@
 #include "vtkAlgorithm.h"
 #include "vtkInformation.h"
 #include "vtkPointSet.h"
+#include "vtkVolumeProperty.h"
+
+#include <algorithm>
 
 vtkRayMapperParticleVolumeMapper::vtkRayMapperParticleVolumeMapper(const char* drawn)
   : Core(new vtkRayMapperCore)
@@ -52,6 +55,35 @@ double* vtkRayMapperParticleVolumeMapper::GetBounds()
 void vtkRayMapperParticleVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
   this->Core->Execute(this->NumberOfThreads, [&] { this->RenderVolume(ren, vol); });
+}
+
+void vtkRayMapperParticleVolumeMapper::WarnSkipped(std::size_t count, const char* what)
+{
+  if (count > 0)
+  {
+    vtkWarningMacro(<< count << " " << what << " and are not drawn.");
+  }
+}
+
+void vtkRayMapperParticleVolumeMapper::CopyModelTransform(
+  const vtkRayMapperView& view, double modelToWorld[16], double normalToWorld[9])
+{
+  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, modelToWorld);
+  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, normalToWorld);
+}
+
+bool vtkRayMapperParticleVolumeMapper::GatherShading(vtkRenderer* ren,
+  vtkVolumeProperty* property,
+  std::vector<raymappers::Light>& lights,
+  raymappers::Material& material)
+{
+  if (property->GetShade() == 0)
+  {
+    return false;
+  }
+  lights = vtkRayMapperRenderHelpers::GatherLights(ren);
+  material = vtkRayMapperCore::GatherMaterial(property);
+  return true;
 }
 
 void vtkRayMapperParticleVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)

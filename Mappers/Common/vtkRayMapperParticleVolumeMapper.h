@@ -17,11 +17,20 @@
 #include "vtkAbstractVolumeMapper.h"
 #include "vtkRayMapperSetGet.h" // for vtkRayMapperScaleMacro
 
-#include <memory> // for std::unique_ptr
+#include <cstddef> // for std::size_t
+#include <memory>  // for std::unique_ptr
+#include <vector>  // for std::vector
 
 class vtkPointSet;
 class vtkRayMapperCore;
 class vtkRayMapperStatistics;
+class vtkVolumeProperty;
+struct vtkRayMapperView;
+namespace raymappers
+{
+struct Light;
+struct Material;
+}
 
 class RAYMAPPERSMAPPERS_EXPORT vtkRayMapperParticleVolumeMapper : public vtkAbstractVolumeMapper
 {
@@ -72,6 +81,18 @@ protected:
   virtual double GetSupportRadius(vtkPointSet* input) = 0;
   /// The body of one render, run inside the mapper's task arena.
   virtual void RenderVolume(vtkRenderer* ren, vtkVolume* vol) = 0;
+
+  /// The warning "<count> <what> and are not drawn." when a build skipped `count` particles.
+  void WarnSkipped(std::size_t count, const char* what);
+  /// The model transform of `view` (points and normals to world) into a kernel's parameters.
+  static void CopyModelTransform(
+    const vtkRayMapperView& view, double modelToWorld[16], double normalToWorld[9]);
+  /// The volume property's Shade flag; when on, the renderer's lights and the property's
+  /// material too.
+  static bool GatherShading(vtkRenderer* ren,
+    vtkVolumeProperty* property,
+    std::vector<raymappers::Light>& lights,
+    raymappers::Material& material);
 
   char* ScaleArray = nullptr;
   double ScaleFactor = 1.0;

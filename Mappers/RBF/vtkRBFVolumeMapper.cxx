@@ -145,16 +145,10 @@ bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
       return it == fieldOf.end() ? 0 : it->second;
     },
     Impl->Particles);
-  if (Impl->Particles.skippedNonFinite > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedNonFinite
-                    << " points have NaN or infinite coordinates or values and are not drawn.");
-  }
-  if (Impl->Particles.skippedBadRadius > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedBadRadius
-                    << " particles have a zero, negative, non-finite or huge (above 1e15) radius and are not drawn.");
-  }
+  this->WarnSkipped(
+    Impl->Particles.skippedNonFinite, "points have NaN or infinite coordinates or values");
+  this->WarnSkipped(Impl->Particles.skippedBadRadius,
+    "particles have a zero, negative, non-finite or huge (above 1e15) radius");
   double sum = 0;
   for (const float r : Impl->Particles.radii)
   {
@@ -203,15 +197,8 @@ raymappers::RBFRenderParameters vtkRBFVolumeMapper::GatherParameters(vtkRenderer
   params.tileSize = this->TileSize;
   params.direct = this->Method == VTK_RBF_METHOD_DIRECT;
   params.region = vtkRayMapperRenderHelpers::RegionFromBounds(this->RegionBounds);
-  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.modelToWorld);
-  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.normalToWorld);
-  vtkVolumeProperty* property = vol->GetProperty();
-  params.shade = property->GetShade() != 0;
-  if (params.shade)
-  {
-    params.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
-    params.material = vtkRayMapperCore::GatherMaterial(property);
-  }
+  CopyModelTransform(view, params.modelToWorld, params.normalToWorld);
+  params.shade = GatherShading(ren, vol->GetProperty(), params.lights, params.material);
   return params;
 }
 

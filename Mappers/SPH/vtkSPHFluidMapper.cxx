@@ -86,16 +86,10 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
     },
     [&](std::size_t i) { return radii ? radiusReader.get(i, 0) * scale : constant; },
     Impl->Particles);
-  if (Impl->Particles.skippedNonFinite > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedNonFinite
-                    << " particles have NaN or infinite coordinates and are not drawn.");
-  }
-  if (Impl->Particles.skippedBadRadius > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedBadRadius
-                    << " particles have a zero, negative, non-finite or huge (above 1e15) radius and are not drawn.");
-  }
+  this->WarnSkipped(
+    Impl->Particles.skippedNonFinite, "particles have NaN or infinite coordinates");
+  this->WarnSkipped(Impl->Particles.skippedBadRadius,
+    "particles have a zero, negative, non-finite or huge (above 1e15) radius");
   Impl->CellsStamp.Invalidate();
   return true;
 }
@@ -147,8 +141,7 @@ raymappers::FluidRenderParameters vtkSPHFluidMapper::GatherParameters(vtkRendere
     params.material = vtkRayMapperCore::GatherMaterial(property);
   }
   params.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
-  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.modelToWorld);
-  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.normalToWorld);
+  CopyModelTransform(view, params.modelToWorld, params.normalToWorld);
   return params;
 }
 

@@ -151,21 +151,11 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
       return masses ? massReader.get(i, 0) / densityReader.get(i, 0) : vConstant;
     },
     Impl->Particles);
-  if (Impl->Particles.skippedNonFinite > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedNonFinite
-                    << " particles have NaN or infinite coordinates, quantities or volumes and are not drawn.");
-  }
-  if (Impl->Particles.skippedBadSupport > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedBadSupport
-                    << " particles have a zero, negative, non-finite or huge (above 1e15) smoothing length and are not drawn.");
-  }
-  if (Impl->Particles.skippedBadVolume > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedBadVolume
-                    << " particles have a negative volume and are not drawn.");
-  }
+  this->WarnSkipped(Impl->Particles.skippedNonFinite,
+    "particles have NaN or infinite coordinates, quantities or volumes");
+  this->WarnSkipped(Impl->Particles.skippedBadSupport,
+    "particles have a zero, negative, non-finite or huge (above 1e15) smoothing length");
+  this->WarnSkipped(Impl->Particles.skippedBadVolume, "particles have a negative volume");
 }
 
 raymappers::SPHRenderParameters vtkSPHVolumeMapper::GatherParameters(vtkRenderer* ren,
@@ -192,15 +182,8 @@ raymappers::SPHRenderParameters vtkSPHVolumeMapper::GatherParameters(vtkRenderer
   params.region = vtkRayMapperRenderHelpers::RegionFromBounds(this->RegionBounds);
   std::copy(this->ContourColor, this->ContourColor + 3, params.contourColor);
   params.contourOpacity = this->ContourOpacity;
-  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.modelToWorld);
-  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.normalToWorld);
-  vtkVolumeProperty* property = vol->GetProperty();
-  params.shade = property->GetShade() != 0;
-  if (params.shade)
-  {
-    params.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
-    params.material = vtkRayMapperCore::GatherMaterial(property);
-  }
+  CopyModelTransform(view, params.modelToWorld, params.normalToWorld);
+  params.shade = GatherShading(ren, vol->GetProperty(), params.lights, params.material);
   return params;
 }
 
