@@ -9,9 +9,7 @@
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
 
-#include "vtkAlgorithm.h"
 #include "vtkDataArray.h"
-#include "vtkInformation.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -31,7 +29,6 @@ vtkStandardNewMacro(vtkRBFVolumeMapper);
 
 struct vtkRBFVolumeMapper::Internals
 {
-  vtkRayMapperCore Core;
   raymappers::RBFParticles Particles;
   raymappers::ParticleBVH BVH;
   double MeanRadius = 0.0;
@@ -42,55 +39,27 @@ struct vtkRBFVolumeMapper::Internals
 };
 
 vtkRBFVolumeMapper::vtkRBFVolumeMapper()
-  : Impl(new Internals)
+  : Superclass("volume")
+  , Impl(new Internals)
 {
 }
 
 vtkRBFVolumeMapper::~vtkRBFVolumeMapper()
 {
-  this->SetScaleArray(nullptr);
   this->SetValueArrayName(nullptr);
   this->SetFieldArrayName(nullptr);
 }
 
-void vtkRBFVolumeMapper::SetInputData(vtkPointSet* input)
+double vtkRBFVolumeMapper::GetSupportRadius(vtkPointSet* input)
 {
-  this->SetInputDataInternal(0, input);
-}
-
-int vtkRBFVolumeMapper::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
-  return 1;
-}
-
-vtkRayMapperStatistics* vtkRBFVolumeMapper::GetStatistics()
-{
-  return Impl->Core.GetStatistics();
-}
-
-void vtkRBFVolumeMapper::ReleaseGraphicsResources(vtkWindow* win)
-{
-  Impl->Core.ReleaseGraphicsResources(win);
-  this->Superclass::ReleaseGraphicsResources(win);
-}
-
-double* vtkRBFVolumeMapper::GetBounds()
-{
-  // The points' bounds grown by the largest support, Sigma * r_max, so a camera reset
-  // frames the whole field.
-  vtkPointSet* input = Impl->Core.PointSetBounds(this, this->Bounds, "volume");
-  if (input)
-  {
-    std::string why;
-    vtkDataArray* radii =
-      vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
-    const double rMax = radii
-      ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
-      : this->Radius * this->ScaleFactor;
-    vtkRayMapperCore::GrowBounds(this->Bounds, this->Sigma * rMax);
-  }
-  return this->Bounds;
+  // Sigma * r_max: each Gaussian is truncated at Sigma radii.
+  std::string why;
+  vtkDataArray* radii =
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
+  const double rMax = radii
+    ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
+    : this->Radius * this->ScaleFactor;
+  return this->Sigma * rMax;
 }
 
 bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
@@ -176,16 +145,10 @@ bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
       return it == fieldOf.end() ? 0 : it->second;
     },
     Impl->Particles);
-  if (Impl->Particles.skippedNonFinite > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedNonFinite
-                    << " points have NaN or infinite coordinates or values and are not drawn.");
-  }
-  if (Impl->Particles.skippedBadRadius > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedBadRadius
-                    << " particles have a zero, negative, non-finite or huge (above 1e15) radius and are not drawn.");
-  }
+  this->WarnSkipped(
+    Impl->Particles.skippedNonFinite, "points have NaN or infinite coordinates or values");
+  this->WarnSkipped(Impl->Particles.skippedBadRadius,
+    "particles have a zero, negative, non-finite or huge (above 1e15) radius");
   double sum = 0;
   for (const float r : Impl->Particles.radii)
   {
@@ -209,10 +172,10 @@ void vtkRBFVolumeMapper::UpdateAcceleration(vtkPointSet* input, raymappers::Rend
   {
     raymappers::ScopedPhase phase(stats, "bvh_build");
     Impl->BVH.build(Impl->Particles, this->LeafSize);
-    Impl->Core.CountBuild();
+    this->Core->CountBuild();
     stats.addCounter("builds_this_render", 1);
   }
-  stats.addCounter("builds", Impl->Core.GetBuilds());
+  stats.addCounter("builds", this->Core->GetBuilds());
   stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
   stats.addCounter("bvh_nodes", static_cast<std::int64_t>(Impl->BVH.nodes().size()));
   stats.addCounter("bvh_bytes", static_cast<std::int64_t>(Impl->BVH.memoryBytes()));
@@ -234,31 +197,19 @@ raymappers::RBFRenderParameters vtkRBFVolumeMapper::GatherParameters(vtkRenderer
   params.tileSize = this->TileSize;
   params.direct = this->Method == VTK_RBF_METHOD_DIRECT;
   params.region = vtkRayMapperRenderHelpers::RegionFromBounds(this->RegionBounds);
-  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.modelToWorld);
-  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.normalToWorld);
-  vtkVolumeProperty* property = vol->GetProperty();
-  params.shade = property->GetShade() != 0;
-  if (params.shade)
-  {
-    params.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
-    params.material = vtkRayMapperCore::GatherMaterial(property);
-  }
+  CopyModelTransform(view, params.modelToWorld, params.normalToWorld);
+  params.shade = GatherShading(ren, vol->GetProperty(), params.lights, params.material);
   return params;
 }
 
-void vtkRBFVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
-{
-  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
-}
-
-void vtkRBFVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
+void vtkRBFVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol)
 {
   raymappers::RenderStatistics stats;
   auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
   vtkRayMapperCore::View view;
   if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
   {
-    Impl->Core.Skip(stats);
+    this->Core->Skip(stats);
     return;
   }
   this->UpdateAcceleration(input, stats);
@@ -268,13 +219,13 @@ void vtkRBFVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
   {
     tables.push_back(vtkRayMapperRenderHelpers::SampleVolumeProperty(vol->GetProperty(), m, 1024));
   }
-  if (!Impl->Core.GatherView(this, ren, vol, view))
+  if (!this->Core->GatherView(this, ren, vol, view))
   {
-    Impl->Core.Skip(stats);
+    this->Core->Skip(stats);
     return;
   }
   const raymappers::RBFRenderParameters params = this->GatherParameters(ren, vol, view);
-  const float* depth = Impl->Core.OpaqueDepth(ren, view, view.width, view.height, stats);
+  const float* depth = this->Core->OpaqueDepth(ren, view, view.width, view.height, stats);
   {
     raymappers::ScopedPhase phase(stats, "trace");
     raymappers::renderRBF(Impl->Particles,
@@ -283,10 +234,10 @@ void vtkRBFVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
       params,
       tables,
       depth,
-      Impl->Core.Frame(),
+      this->Core->Frame(),
       stats);
   }
-  Impl->Core.Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
+  this->Core->Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
 }
 
 void vtkRBFVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
@@ -296,9 +247,6 @@ void vtkRBFVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Sigma: " << this->Sigma << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "Radius: " << this->Radius << "\n";
-  os << indent << "ScaleArray: " << (this->ScaleArray ? this->ScaleArray : "(none)")
-     << "\n";
-  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "ValueArrayName: " << (this->ValueArrayName ? this->ValueArrayName : "(none)")
      << "\n";
   os << indent << "FieldArrayName: " << (this->FieldArrayName ? this->FieldArrayName : "(none)")
@@ -308,7 +256,6 @@ void vtkRBFVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "PacketSize: " << this->PacketSize << "\n";
   os << indent << "LeafSize: " << this->LeafSize << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "RegionBounds: (" << this->RegionBounds[0] << ", " << this->RegionBounds[1]
      << ", " << this->RegionBounds[2] << ", " << this->RegionBounds[3] << ", "
      << this->RegionBounds[4] << ", " << this->RegionBounds[5] << ")\n";

@@ -41,13 +41,12 @@
 #define vtkRBFVolumeMapper_h
 
 #include "RayMappersMappersModule.h" // for export macro
-#include "vtkAbstractVolumeMapper.h"
+#include "vtkRayMapperParticleVolumeMapper.h"
 #include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 
 #include <memory> // for std::unique_ptr
 
 class vtkPointSet;
-class vtkRayMapperStatistics;
 struct vtkRayMapperView;
 namespace raymappers
 {
@@ -58,14 +57,12 @@ struct RBFRenderParameters;
 #define VTK_RBF_METHOD_COHERENT 0
 #define VTK_RBF_METHOD_DIRECT 1
 
-class RAYMAPPERSMAPPERS_EXPORT vtkRBFVolumeMapper : public vtkAbstractVolumeMapper
+class RAYMAPPERSMAPPERS_EXPORT vtkRBFVolumeMapper : public vtkRayMapperParticleVolumeMapper
 {
 public:
   static vtkRBFVolumeMapper* New();
-  vtkTypeMacro(vtkRBFVolumeMapper, vtkAbstractVolumeMapper);
+  vtkTypeMacro(vtkRBFVolumeMapper, vtkRayMapperParticleVolumeMapper);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  void SetInputData(vtkPointSet* input);
 
   ///@{
   /**
@@ -100,7 +97,6 @@ public:
    */
   vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
-  vtkRayMapperScaleMacro();
   ///@}
 
   ///@{
@@ -169,33 +165,19 @@ public:
   vtkGetVector6Macro(RegionBounds, double);
   ///@}
 
-  /**
-   * Statistics of the last render: phase times, counters, effects that ran.
-   */
-  vtkRayMapperStatistics* GetStatistics();
-
-  double* GetBounds() VTK_SIZEHINT(6) override;
-  void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
-
-  ///@{
-  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
-  vtkRayMapperNumberOfThreadsMacro();
-  ///@}
-
-  void Render(vtkRenderer* ren, vtkVolume* vol) override;
-  void ReleaseGraphicsResources(vtkWindow* win) override;
-
 protected:
   vtkRBFVolumeMapper();
   ~vtkRBFVolumeMapper() override;
-  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  /// The largest support of a particle (the bounds' growth).
+  double GetSupportRadius(vtkPointSet* input) override;
+  /// One render, in the mapper's task arena (Render runs it there).
+  void RenderVolume(vtkRenderer* ren, vtkVolume* vol) override;
 
   double Kappa = 1.0;
   double Sigma = 2.0;
   double SampleDistance = 0.0;
   double Radius = 1.0;
-  char* ScaleArray = nullptr;
-  double ScaleFactor = 1.0;
   char* ValueArrayName = nullptr;
   char* FieldArrayName = nullptr;
   double TerminationOpacity = 0.99;
@@ -206,8 +188,6 @@ protected:
   int Method = VTK_RBF_METHOD_COHERENT;
   double RegionBounds[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
     -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
-
-  int NumberOfThreads = 0;
 
 private:
   vtkRBFVolumeMapper(const vtkRBFVolumeMapper&) = delete;
@@ -221,9 +201,6 @@ private:
   raymappers::RBFRenderParameters GatherParameters(vtkRenderer* ren,
     vtkVolume* vol,
     const vtkRayMapperView& view);
-
-  /// One render, in the mapper's task arena (Render runs it there).
-  void RenderFrame(vtkRenderer* ren, vtkVolume* vol);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

@@ -11,9 +11,7 @@
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
 
-#include "vtkAlgorithm.h"
 #include "vtkDataArray.h"
-#include "vtkInformation.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -33,7 +31,6 @@ vtkStandardNewMacro(vtkSPHFluidMapper);
 
 struct vtkSPHFluidMapper::Internals
 {
-  vtkRayMapperCore Core;
   raymappers::FluidParticles Particles;
   raymappers::FluidCells Cells;
   raymappers::FluidSpans Spans;
@@ -46,53 +43,23 @@ struct vtkSPHFluidMapper::Internals
 };
 
 vtkSPHFluidMapper::vtkSPHFluidMapper()
-  : Impl(new Internals)
+  : Superclass("fluid")
+  , Impl(new Internals)
 {
   // The fluid's surfaces write depth: volumes drawn after it stop there.
   this->GetInformation()->Set(vtkRayMapperRenderHelpers::WRITES_DEPTH(), 1);
 }
 
-vtkSPHFluidMapper::~vtkSPHFluidMapper()
-{
-  this->SetScaleArray(nullptr);
-}
+vtkSPHFluidMapper::~vtkSPHFluidMapper() = default;
 
-void vtkSPHFluidMapper::SetInputData(vtkPointSet* input)
+double vtkSPHFluidMapper::GetSupportRadius(vtkPointSet* input)
 {
-  this->SetInputDataInternal(0, input);
-}
-
-int vtkSPHFluidMapper::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
-  return 1;
-}
-
-vtkRayMapperStatistics* vtkSPHFluidMapper::GetStatistics()
-{
-  return Impl->Core.GetStatistics();
-}
-
-void vtkSPHFluidMapper::ReleaseGraphicsResources(vtkWindow* win)
-{
-  Impl->Core.ReleaseGraphicsResources(win);
-  this->Superclass::ReleaseGraphicsResources(win);
-}
-
-double* vtkSPHFluidMapper::GetBounds()
-{
-  // The points' bounds grown by the largest radius, so a camera reset frames the fluid.
-  vtkPointSet* input = Impl->Core.PointSetBounds(this, this->Bounds, "fluid");
-  if (input)
-  {
-    std::string why;
-    vtkDataArray* radii =
-      vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
-    vtkRayMapperCore::GrowBounds(this->Bounds,
-      radii ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
-            : this->Radius * this->ScaleFactor);
-  }
-  return this->Bounds;
+  // The largest sphere radius: the fluid is the union of the spheres.
+  std::string why;
+  vtkDataArray* radii =
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
+  return radii ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
+               : this->Radius * this->ScaleFactor;
 }
 
 bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
@@ -121,16 +88,10 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
     },
     [&](std::size_t i) { return radii ? radiusReader.get(i, 0) * scale : constant; },
     Impl->Particles);
-  if (Impl->Particles.skippedNonFinite > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedNonFinite
-                    << " particles have NaN or infinite coordinates and are not drawn.");
-  }
-  if (Impl->Particles.skippedBadRadius > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedBadRadius
-                    << " particles have a zero, negative, non-finite or huge (above 1e15) radius and are not drawn.");
-  }
+  this->WarnSkipped(
+    Impl->Particles.skippedNonFinite, "particles have NaN or infinite coordinates");
+  this->WarnSkipped(Impl->Particles.skippedBadRadius,
+    "particles have a zero, negative, non-finite or huge (above 1e15) radius");
   Impl->CellsStamp.Invalidate();
   return true;
 }
@@ -182,8 +143,7 @@ raymappers::FluidRenderParameters vtkSPHFluidMapper::GatherParameters(vtkRendere
     params.material = vtkRayMapperCore::GatherMaterial(property);
   }
   params.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
-  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.modelToWorld);
-  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.normalToWorld);
+  CopyModelTransform(view, params.modelToWorld, params.normalToWorld);
   return params;
 }
 
@@ -202,20 +162,15 @@ void vtkSPHFluidMapper::WarnAboutMemoryBudget(const vtkRayMapperView& view,
   }
 }
 
-void vtkSPHFluidMapper::Render(vtkRenderer* ren, vtkVolume* vol)
-{
-  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
-}
-
-void vtkSPHFluidMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
+void vtkSPHFluidMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol)
 {
   raymappers::RenderStatistics stats;
   auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
   vtkRayMapperView view;
   if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
   {
-    Impl->Core.WarnEmptyInput(this, input, "points", "fluid");
-    Impl->Core.Skip(stats);
+    this->Core->WarnEmptyInput(this, input, "points", "fluid");
+    this->Core->Skip(stats);
     return;
   }
   bool built = false;
@@ -226,14 +181,14 @@ void vtkSPHFluidMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
   stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
   stats.addCounter("particles_built", built ? 1 : 0);
   this->UpdateCells(stats);
-  if (!Impl->Core.GatherView(this, ren, vol, view))
+  if (!this->Core->GatherView(this, ren, vol, view))
   {
-    Impl->Core.Skip(stats);
+    this->Core->Skip(stats);
     return;
   }
   raymappers::FluidRenderParameters params = this->GatherParameters(ren, vol, view);
   // Interactive renders: rays d pixels apart, the image enlarged.
-  const double d = Impl->Core.BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
+  const double d = this->Core->BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
   stats.addCounter("subsampling", static_cast<std::int64_t>(std::ceil(d)));
   const int rw = vtkRayMapperCore::SampledSize(view.width, d);
   const int rh = vtkRayMapperCore::SampledSize(view.height, d);
@@ -243,18 +198,18 @@ void vtkSPHFluidMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
     !rays.assign(view.modelToClip, rw, rh, Impl->Particles.origin))
   {
     vtkErrorMacro(<< "The camera's projection is degenerate: nothing drawn.");
-    Impl->Core.Skip(stats);
+    this->Core->Skip(stats);
     return;
   }
   // Opaque geometry drawn before (all of it: volumes come after the opaque pass) ends the
   // fluid. An opaque fluid is depth tested when drawn, a translucent one must stop there.
-  const float* depth = this->Translucency ? Impl->Core.OpaqueDepth(ren, view, rw, rh, stats) : nullptr;
+  const float* depth = this->Translucency ? this->Core->OpaqueDepth(ren, view, rw, rh, stats) : nullptr;
   const std::vector<float> stop =
     depth ? raymappers::stopDepthsFromWindowDepth(rays, depth) : std::vector<float>();
   params.voxelizer.stopDepth = depth ? stop.data() : nullptr;
 
   if (!raymappers::renderFluid(Impl->Particles, rays, params, Impl->Spans,
-        reduced ? Impl->Core.Coarse() : Impl->Core.Frame(), stats))
+        reduced ? this->Core->Coarse() : this->Core->Frame(), stats))
   {
     this->WarnAboutMemoryBudget(view, stats);
   }
@@ -262,19 +217,16 @@ void vtkSPHFluidMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
                                        : vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth;
   if (reduced)
   {
-    Impl->Core.ShowReduced(ren, view, mode, true, stats);
+    this->Core->ShowReduced(ren, view, mode, true, stats);
     return;
   }
-  Impl->Core.Show(ren, mode, stats);
+  this->Core->Show(ren, mode, stats);
 }
 
 void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Radius: " << this->Radius << "\n";
-  os << indent << "ScaleArray: " << vtkRayMapperString(this->ScaleArray) << "\n";
-  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "AngleResolution: " << this->AngleResolution << "\n";
   os << indent << "MaximumLayers: " << this->MaximumLayers << "\n";
   os << indent << "MaximumSpans: " << this->MaximumSpans << "\n";

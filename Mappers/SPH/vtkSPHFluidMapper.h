@@ -59,13 +59,12 @@
 #define vtkSPHFluidMapper_h
 
 #include "RayMappersMappersModule.h" // for export macro
-#include "vtkAbstractVolumeMapper.h"
+#include "vtkRayMapperParticleVolumeMapper.h"
 #include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 
 #include <memory> // for std::unique_ptr
 
 class vtkPointSet;
-class vtkRayMapperStatistics;
 struct vtkRayMapperView;
 namespace raymappers
 {
@@ -73,21 +72,18 @@ class RenderStatistics;
 struct FluidRenderParameters;
 }
 
-class RAYMAPPERSMAPPERS_EXPORT vtkSPHFluidMapper : public vtkAbstractVolumeMapper
+class RAYMAPPERSMAPPERS_EXPORT vtkSPHFluidMapper : public vtkRayMapperParticleVolumeMapper
 {
 public:
   static vtkSPHFluidMapper* New();
-  vtkTypeMacro(vtkSPHFluidMapper, vtkAbstractVolumeMapper);
+  vtkTypeMacro(vtkSPHFluidMapper, vtkRayMapperParticleVolumeMapper);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  void SetInputData(vtkPointSet* input);
 
   ///@{
   /** Constant particle radius (default 1), its point array ScaleArray, and a factor
    * ScaleFactor on either (1; vtkPointGaussianMapper's names). */
   vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
-  vtkRayMapperScaleMacro();
   ///@}
 
   ///@{
@@ -187,28 +183,17 @@ public:
    * with AutoAdjustSampleDistances off), kept for one release. */
   vtkRayMapperDeprecatedSubsamplingMacro(8);
   ///@}
-  /** Statistics of the last render: phase times, counters, effects that ran. */
-  vtkRayMapperStatistics* GetStatistics();
-
-  double* GetBounds() VTK_SIZEHINT(6) override;
-  void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
-
-  ///@{
-  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
-  vtkRayMapperNumberOfThreadsMacro();
-  ///@}
-
-  void Render(vtkRenderer* ren, vtkVolume* vol) override;
-  void ReleaseGraphicsResources(vtkWindow* win) override;
 
 protected:
   vtkSPHFluidMapper();
   ~vtkSPHFluidMapper() override;
-  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  /// The largest support of a particle (the bounds' growth).
+  double GetSupportRadius(vtkPointSet* input) override;
+  /// One render, in the mapper's task arena (Render runs it there).
+  void RenderVolume(vtkRenderer* ren, vtkVolume* vol) override;
 
   double Radius = 1.0;
-  char* ScaleArray = nullptr;
-  double ScaleFactor = 1.0;
   double AngleResolution = 14.0;
   int MaximumLayers = 16384;
   int MaximumSpans = 7;
@@ -233,8 +218,6 @@ protected:
   double AmbientOcclusionRadius = 0.1;
   int AmbientOcclusionSamples = 16;
 
-  int NumberOfThreads = 0;
-
 private:
   vtkSPHFluidMapper(const vtkSPHFluidMapper&) = delete;
   void operator=(const vtkSPHFluidMapper&) = delete;
@@ -250,9 +233,6 @@ private:
     const vtkRayMapperView& view);
   /// The warning that the memory budget holds no voxel column, once per budget and size.
   void WarnAboutMemoryBudget(const vtkRayMapperView& view, const raymappers::RenderStatistics& stats);
-
-  /// One render, in the mapper's task arena (Render runs it there).
-  void RenderFrame(vtkRenderer* ren, vtkVolume* vol);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

@@ -10,9 +10,7 @@
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
 
-#include "vtkAlgorithm.h"
 #include "vtkDataArray.h"
-#include "vtkInformation.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -30,7 +28,6 @@ vtkStandardNewMacro(vtkSPHVolumeMapper);
 
 struct vtkSPHVolumeMapper::Internals
 {
-  vtkRayMapperCore Core;
   raymappers::SPHParticles Particles;
   raymappers::PerspectiveGrid Grid;
   // The particles are built from the points, the support factor, the smoothing length and
@@ -42,39 +39,17 @@ struct vtkSPHVolumeMapper::Internals
 };
 
 vtkSPHVolumeMapper::vtkSPHVolumeMapper()
-  : Impl(new Internals)
+  : Superclass("volume")
+  , Impl(new Internals)
 {
 }
 
 vtkSPHVolumeMapper::~vtkSPHVolumeMapper()
 {
-  this->SetScaleArray(nullptr);
   this->SetValueArrayName(nullptr);
   this->SetVolumeArrayName(nullptr);
   this->SetMassArrayName(nullptr);
   this->SetDensityArrayName(nullptr);
-}
-
-void vtkSPHVolumeMapper::SetInputData(vtkPointSet* input)
-{
-  this->SetInputDataInternal(0, input);
-}
-
-int vtkSPHVolumeMapper::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPointSet");
-  return 1;
-}
-
-vtkRayMapperStatistics* vtkSPHVolumeMapper::GetStatistics()
-{
-  return Impl->Core.GetStatistics();
-}
-
-void vtkSPHVolumeMapper::ReleaseGraphicsResources(vtkWindow* win)
-{
-  Impl->Core.ReleaseGraphicsResources(win);
-  this->Superclass::ReleaseGraphicsResources(win);
 }
 
 double vtkSPHVolumeMapper::GetSupportPerSmoothingLength()
@@ -84,22 +59,15 @@ double vtkSPHVolumeMapper::GetSupportPerSmoothingLength()
     : raymappers::kernelSupportPerSmoothingLength(static_cast<raymappers::SPHKernel>(this->Kernel));
 }
 
-double* vtkSPHVolumeMapper::GetBounds()
+double vtkSPHVolumeMapper::GetSupportRadius(vtkPointSet* input)
 {
-  // The points' bounds grown by the largest support, so a camera reset frames the field.
-  vtkPointSet* input = Impl->Core.PointSetBounds(this, this->Bounds, "volume");
-  if (input)
-  {
-    std::string why;
-    vtkDataArray* h = vtkRayMapperRenderHelpers::FindPointArray(
-      input, this->ScaleArray, "smoothing length", why);
-    const double factor = this->GetSupportPerSmoothingLength();
-    // The largest support H = factor * scale * h the particles may have.
-    vtkRayMapperCore::GrowBounds(this->Bounds,
-      h ? vtkRayMapperRenderHelpers::LargestParticleLength(h, factor * this->ScaleFactor)
-        : factor * this->SmoothingLength * this->ScaleFactor);
-  }
-  return this->Bounds;
+  // The largest support H = factor * scale * h the particles may have.
+  std::string why;
+  vtkDataArray* h =
+    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "smoothing length", why);
+  const double factor = this->GetSupportPerSmoothingLength();
+  return h ? vtkRayMapperRenderHelpers::LargestParticleLength(h, factor * this->ScaleFactor)
+           : factor * this->SmoothingLength * this->ScaleFactor;
 }
 
 void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
@@ -183,21 +151,11 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
       return masses ? massReader.get(i, 0) / densityReader.get(i, 0) : vConstant;
     },
     Impl->Particles);
-  if (Impl->Particles.skippedNonFinite > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedNonFinite
-                    << " particles have NaN or infinite coordinates, quantities or volumes and are not drawn.");
-  }
-  if (Impl->Particles.skippedBadSupport > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedBadSupport
-                    << " particles have a zero, negative, non-finite or huge (above 1e15) smoothing length and are not drawn.");
-  }
-  if (Impl->Particles.skippedBadVolume > 0)
-  {
-    vtkWarningMacro(<< Impl->Particles.skippedBadVolume
-                    << " particles have a negative volume and are not drawn.");
-  }
+  this->WarnSkipped(Impl->Particles.skippedNonFinite,
+    "particles have NaN or infinite coordinates, quantities or volumes");
+  this->WarnSkipped(Impl->Particles.skippedBadSupport,
+    "particles have a zero, negative, non-finite or huge (above 1e15) smoothing length");
+  this->WarnSkipped(Impl->Particles.skippedBadVolume, "particles have a negative volume");
 }
 
 raymappers::SPHRenderParameters vtkSPHVolumeMapper::GatherParameters(vtkRenderer* ren,
@@ -224,31 +182,19 @@ raymappers::SPHRenderParameters vtkSPHVolumeMapper::GatherParameters(vtkRenderer
   params.region = vtkRayMapperRenderHelpers::RegionFromBounds(this->RegionBounds);
   std::copy(this->ContourColor, this->ContourColor + 3, params.contourColor);
   params.contourOpacity = this->ContourOpacity;
-  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.modelToWorld);
-  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.normalToWorld);
-  vtkVolumeProperty* property = vol->GetProperty();
-  params.shade = property->GetShade() != 0;
-  if (params.shade)
-  {
-    params.lights = vtkRayMapperRenderHelpers::GatherLights(ren);
-    params.material = vtkRayMapperCore::GatherMaterial(property);
-  }
+  CopyModelTransform(view, params.modelToWorld, params.normalToWorld);
+  params.shade = GatherShading(ren, vol->GetProperty(), params.lights, params.material);
   return params;
 }
 
-void vtkSPHVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
-{
-  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
-}
-
-void vtkSPHVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
+void vtkSPHVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol)
 {
   raymappers::RenderStatistics stats;
   auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
   vtkRayMapperView view;
   if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
   {
-    Impl->Core.Skip(stats);
+    this->Core->Skip(stats);
     return;
   }
   {
@@ -259,11 +205,11 @@ void vtkSPHVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
   const raymappers::TransferFunctionTable table =
     vtkRayMapperRenderHelpers::SampleVolumeProperty(vol->GetProperty(), 0, 1024);
   // The sampling reduction r of equation 3.1: the image sample distance.
-  const double r = Impl->Core.BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
+  const double r = this->Core->BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
   stats.addCounter("reduction_percent", static_cast<std::int64_t>(std::lround(100 * r)));
-  if (!Impl->Core.GatherView(this, ren, vol, view))
+  if (!this->Core->GatherView(this, ren, vol, view))
   {
-    Impl->Core.Skip(stats);
+    this->Core->Skip(stats);
     return;
   }
   raymappers::SPHRenderParameters params = this->GatherParameters(ren, vol, view);
@@ -273,24 +219,24 @@ void vtkSPHVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
   const int rw = vtkRayMapperCore::SampledSize(view.width, r);
   const int rh = vtkRayMapperCore::SampledSize(view.height, r);
   const bool reduced = rw != view.width || rh != view.height;
-  const float* depth = Impl->Core.OpaqueDepth(ren, view, rw, rh, stats);
+  const float* depth = this->Core->OpaqueDepth(ren, view, rw, rh, stats);
   raymappers::ViewRays rays;
   if (view.width <= 0 || view.height <= 0 ||
     !rays.assign(view.modelToClip, rw, rh, Impl->Particles.origin))
   {
     vtkErrorMacro(<< "The camera's projection is degenerate: nothing drawn.");
-    Impl->Core.Skip(stats);
+    this->Core->Skip(stats);
     return;
   }
   raymappers::renderSPH(Impl->Particles, rays, params, table, depth, Impl->Grid,
-    reduced ? Impl->Core.Coarse() : Impl->Core.Frame(), stats);
+    reduced ? this->Core->Coarse() : this->Core->Frame(), stats);
   if (reduced)
   {
-    Impl->Core.ShowReduced(ren, view, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, stats);
+    this->Core->ShowReduced(ren, view, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, stats);
   }
   else
   {
-    Impl->Core.Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
+    this->Core->Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
   }
 }
 
@@ -300,8 +246,6 @@ void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Kernel: " << this->Kernel << "\n";
   os << indent << "SupportFactor: " << this->SupportFactor << "\n";
   os << indent << "SmoothingLength: " << this->SmoothingLength << "\n";
-  os << indent << "ScaleArray: " << vtkRayMapperString(this->ScaleArray) << "\n";
-  os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "ValueArrayName: " << vtkRayMapperString(this->ValueArrayName) << "\n";
   os << indent << "VolumeArrayName: " << vtkRayMapperString(this->VolumeArrayName) << "\n";
   os << indent << "MassArrayName: " << vtkRayMapperString(this->MassArrayName) << "\n";
@@ -319,7 +263,6 @@ void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "StepFactor: " << this->StepFactor << "\n";
   os << indent << "SamplesPerSupport: " << this->SamplesPerSupport << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
-  os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "SlabDepth: " << this->SlabDepth << "\n";
   os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";
   os << indent << "Jitter: " << this->Jitter << "\n";

@@ -50,13 +50,12 @@
 #define vtkSPHVolumeMapper_h
 
 #include "RayMappersMappersModule.h" // for export macro
-#include "vtkAbstractVolumeMapper.h"
+#include "vtkRayMapperParticleVolumeMapper.h"
 #include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 
 #include <memory> // for std::unique_ptr
 
 class vtkPointSet;
-class vtkRayMapperStatistics;
 struct vtkRayMapperView;
 namespace raymappers
 {
@@ -71,14 +70,12 @@ struct SPHRenderParameters;
 #define VTK_SPH_UNNORMALIZED 1
 #define VTK_SPH_PSEUDO_NORMALIZED 2
 
-class RAYMAPPERSMAPPERS_EXPORT vtkSPHVolumeMapper : public vtkAbstractVolumeMapper
+class RAYMAPPERSMAPPERS_EXPORT vtkSPHVolumeMapper : public vtkRayMapperParticleVolumeMapper
 {
 public:
   static vtkSPHVolumeMapper* New();
-  vtkTypeMacro(vtkSPHVolumeMapper, vtkAbstractVolumeMapper);
+  vtkTypeMacro(vtkSPHVolumeMapper, vtkRayMapperParticleVolumeMapper);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  void SetInputData(vtkPointSet* input);
 
   ///@{
   /** The smoothing kernel (default VTK_SPH_KERNEL_CUBIC_SPLINE). */
@@ -97,7 +94,6 @@ public:
    * on either (1; vtkPointGaussianMapper's names). */
   vtkRayMapperSetClampMacro(SmoothingLength, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingLength, double);
-  vtkRayMapperScaleMacro();
   ///@}
 
   ///@{
@@ -195,30 +191,18 @@ public:
   vtkGetVector6Macro(RegionBounds, double);
   ///@}
 
-  /** Statistics of the last render: phase times, counters, effects that ran. */
-  vtkRayMapperStatistics* GetStatistics();
-
-  double* GetBounds() VTK_SIZEHINT(6) override;
-  void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
-
-  ///@{
-  /** NumberOfThreads (vtkRayMapperNumberOfThreadsMacro, vtkRayMapperSetGet.h). */
-  vtkRayMapperNumberOfThreadsMacro();
-  ///@}
-
-  void Render(vtkRenderer* ren, vtkVolume* vol) override;
-  void ReleaseGraphicsResources(vtkWindow* win) override;
-
 protected:
   vtkSPHVolumeMapper();
   ~vtkSPHVolumeMapper() override;
-  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  /// The largest support of a particle (the bounds' growth).
+  double GetSupportRadius(vtkPointSet* input) override;
+  /// One render, in the mapper's task arena (Render runs it there).
+  void RenderVolume(vtkRenderer* ren, vtkVolume* vol) override;
 
   int Kernel = VTK_SPH_KERNEL_CUBIC_SPLINE;
   double SupportFactor = 0.0;
   double SmoothingLength = 1.0;
-  char* ScaleArray = nullptr;
-  double ScaleFactor = 1.0;
   char* ValueArrayName = nullptr;
   char* VolumeArrayName = nullptr;
   char* MassArrayName = nullptr;
@@ -243,8 +227,6 @@ protected:
   double RegionBounds[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
     -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
 
-  int NumberOfThreads = 0;
-
 private:
   vtkSPHVolumeMapper(const vtkSPHVolumeMapper&) = delete;
   void operator=(const vtkSPHVolumeMapper&) = delete;
@@ -257,9 +239,6 @@ private:
   raymappers::SPHRenderParameters GatherParameters(vtkRenderer* ren,
     vtkVolume* vol,
     const vtkRayMapperView& view);
-
-  /// One render, in the mapper's task arena (Render runs it there).
-  void RenderFrame(vtkRenderer* ren, vtkVolume* vol);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;
