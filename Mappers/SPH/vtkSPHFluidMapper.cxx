@@ -12,6 +12,7 @@
 #include "vtkRayMapperScalarArray.h"
 
 #include "vtkDataArray.h"
+#include "vtkInformation.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
