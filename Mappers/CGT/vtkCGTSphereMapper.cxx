@@ -311,13 +311,8 @@ void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
 
 void vtkCGTSphereMapper::BuildSpheres(vtkPolyData* input, const SphereColors& colorOf)
 {
-  std::string why;
-  vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
-  if (!why.empty())
-  {
-    vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
-  }
+  vtkDataArray* radii = vtkRayMapperRenderHelpers::FindScaleArray(
+    this, input, this->ScaleArray, "radius", this->Radius);
   vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
   vtkPoints* points = input->GetPoints();
   const double scale = this->ScaleFactor;

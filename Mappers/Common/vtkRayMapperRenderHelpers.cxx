@@ -204,6 +204,21 @@ vtkDataArray* FindPointArray(vtkDataSet* input,
   return array;
 }
 
+vtkDataArray* FindScaleArray(vtkObject* self,
+  vtkDataSet* input,
+  const char* name,
+  const char* role,
+  double constant)
+{
+  std::string why;
+  vtkDataArray* array = FindPointArray(input, name, role, why);
+  if (!why.empty())
+  {
+    vtkWarningWithObjectMacro(self, << why << "; using the constant " << role << " " << constant << ".");
+  }
+  return array;
+}
+
 void FiniteBounds(vtkDataSet* data, double bounds[6])
 {
   vtkMath::UninitializeBounds(bounds);

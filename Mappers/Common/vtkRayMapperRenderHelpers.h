@@ -58,6 +58,15 @@ RAYMAPPERSMAPPERS_EXPORT vtkDataArray* FindPointArray(vtkDataSet* input,
   const char* role,
   std::string& why);
 
+/// The particles' size array (a mapper's ScaleArray): FindPointArray of `name` as `role`
+/// ("radius", "smoothing length"); when it is named but missing, the warning
+/// "<why>; using the constant <role> <constant>." from `self`, and nullptr.
+RAYMAPPERSMAPPERS_EXPORT vtkDataArray* FindScaleArray(vtkObject* self,
+  vtkDataSet* input,
+  const char* name,
+  const char* role,
+  double constant);
+
 /// Centre of the bounds of the finite points (the origin of a kernel's float coordinates);
 /// (0, 0, 0) when there is none.
 RAYMAPPERSMAPPERS_EXPORT raymappers::Vec3d FiniteCenter(vtkPoints* points);

@@ -70,14 +70,9 @@ bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
   {
     return false;
   }
+  vtkDataArray* radii = vtkRayMapperRenderHelpers::FindScaleArray(
+    this, input, this->ScaleArray, "radius", this->Radius);
   std::string why;
-  vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
-  if (!why.empty())
-  {
-    vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
-    why.clear();
-  }
   vtkDataArray* values =
     vtkRayMapperRenderHelpers::FindPointArray(input, this->ValueArrayName, "value", why);
   if (!why.empty())

@@ -70,13 +70,8 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
   {
     return false;
   }
-  std::string why;
-  vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
-  if (!why.empty())
-  {
-    vtkWarningMacro(<< why << "; using the constant radius " << this->Radius << ".");
-  }
+  vtkDataArray* radii = vtkRayMapperRenderHelpers::FindScaleArray(
+    this, input, this->ScaleArray, "radius", this->Radius);
   vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
   const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
   const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);

@@ -84,14 +84,9 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   {
     return;
   }
+  vtkDataArray* h = vtkRayMapperRenderHelpers::FindScaleArray(
+    this, input, this->ScaleArray, "smoothing length", this->SmoothingLength);
   std::string why;
-  vtkDataArray* h = vtkRayMapperRenderHelpers::FindPointArray(
-    input, this->ScaleArray, "smoothing length", why);
-  if (!why.empty())
-  {
-    vtkWarningMacro(<< why << "; using the constant smoothing length " << this->SmoothingLength << ".");
-    why.clear();
-  }
   vtkDataArray* values = vtkRayMapperRenderHelpers::FindPointArray(input, this->ValueArrayName, "value", why);
   if (!why.empty())
   {

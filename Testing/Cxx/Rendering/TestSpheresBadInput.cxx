@@ -127,7 +127,8 @@ void ArrayKinds(Viewer& reference, const RGBImage& expected, vtkPolyData* clean)
     reference.Mapper->SetRadius(0.2);
     reference.Mapper->SetRadiusArrayName("no_such_array");
     log.SameImage(reference.Show(clean), withConstant, "missing radius array");
-    log.Warned(1, "'no_such_array' is not a point array", "missing radius array");
+    log.Warned(1, "'no_such_array' is not a point array of the input; using the constant radius 0.2.",
+      "missing radius array");
     log.ValidFrame("missing radius array");
     reference.Mapper->SetRadius(1.0);
   }
