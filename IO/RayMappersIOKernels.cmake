@@ -3,8 +3,7 @@
 # (Testing/Cxx/Kernels) link directly. They live beside their vtk* readers.
 add_library(RayMappersIOKernels STATIC
   ${CMAKE_CURRENT_LIST_DIR}/LAMMPS/LammpsDumpParser.cxx)
-target_include_directories(RayMappersIOKernels PUBLIC
-  ${CMAKE_CURRENT_LIST_DIR}/LAMMPS)
+target_include_directories(RayMappersIOKernels PUBLIC "$<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>")
 target_compile_features(RayMappersIOKernels PUBLIC cxx_std_17)
 target_compile_options(RayMappersIOKernels PRIVATE ${RAYMAPPERS_WARNINGS})
 set_target_properties(RayMappersIOKernels PROPERTIES

@@ -29,12 +29,9 @@ add_library(RayMappersKernels SHARED
   ${CMAKE_CURRENT_LIST_DIR}/SPH/SpanVoxelizer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/SurfaceLinks.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidRenderer.cxx)
-target_include_directories(RayMappersKernels PUBLIC
-  ${CMAKE_CURRENT_LIST_DIR}/Common
-  ${CMAKE_CURRENT_LIST_DIR}/CGT
-  ${CMAKE_CURRENT_LIST_DIR}/RBF
-  ${CMAKE_CURRENT_LIST_DIR}/ZSweep
-  ${CMAKE_CURRENT_LIST_DIR}/SPH)
+# Includes are path-prefixed from the source root ("Mappers/CGT/SphereSet.h"), so a kernel
+# header's name says its method and no bare "Frame.h" reaches a consumer.
+target_include_directories(RayMappersKernels PUBLIC "$<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>")
 target_link_libraries(RayMappersKernels PUBLIC embree TBB::tbb)
 # -fopenmp-simd: the `#pragma omp simd` loops over a packet's rays. -fno-math-errno: a
 # std::sqrt that may set errno is a call the vectorizer cannot put in SIMD lanes (no kernel

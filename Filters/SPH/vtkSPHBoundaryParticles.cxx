@@ -1,8 +1,8 @@
 #include "vtkSPHBoundaryParticles.h"
 
-#include "FluidCells.h"
-#include "FluidParticles.h"
-#include "ParticleInput.h"
+#include "Mappers/SPH/FluidCells.h"
+#include "Mappers/SPH/FluidParticles.h"
+#include "Mappers/Common/ParticleInput.h"
 
 #include "vtkRayMapperScalarArray.h"
 #include "vtkCellArray.h"

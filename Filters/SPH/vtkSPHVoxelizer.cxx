@@ -1,13 +1,14 @@
 #include "vtkSPHVoxelizer.h"
 
-#include "FluidParticles.h"
-#include "FluidSpans.h"
-#include "RenderStatistics.h"
-#include "SpanVoxelizer.h"
-#include "SurfaceLinks.h"
-#include "RayCamera.h"
-#include "ViewRays.h"
+#include "Mappers/SPH/FluidParticles.h"
+#include "Mappers/SPH/FluidSpans.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/SPH/SpanVoxelizer.h"
+#include "Mappers/SPH/SurfaceLinks.h"
+#include "Mappers/Common/RayCamera.h"
+#include "Mappers/SPH/ViewRays.h"
 
+#include "vtkRayMapperPointArrays.h"
 #include "vtkRayMapperScalarArray.h"
 #include "vtkCamera.h"
 #include "vtkDataArray.h"
@@ -36,45 +37,6 @@ vtkStandardNewMacro(vtkSPHVoxelizer);
 
 namespace
 {
-/// A component of a point array as double, safely for any array type (single-threaded).
-double component(vtkDataArray* a, vtkIdType i, int c)
-{
-  return a->GetComponent(i, c);
-}
-
-/// The centre of the bounds of the finite points; (0, 0, 0) when there is none.
-raymappers::Vec3d finiteCenter(vtkPoints* points, double bounds[6])
-{
-  double lo[3] = { std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-    std::numeric_limits<double>::infinity() };
-  double hi[3] = { -lo[0], -lo[1], -lo[2] };
-  for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
-  {
-    double p[3];
-    points->GetPoint(i, p);
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-    {
-      continue;
-    }
-    for (int a = 0; a < 3; ++a)
-    {
-      lo[a] = std::min(lo[a], p[a]);
-      hi[a] = std::max(hi[a], p[a]);
-    }
-  }
-  if (!(lo[0] <= hi[0]))
-  {
-    std::fill(bounds, bounds + 6, 0.0);
-    return raymappers::Vec3d();
-  }
-  for (int a = 0; a < 3; ++a)
-  {
-    bounds[2 * a] = lo[a];
-    bounds[2 * a + 1] = hi[a];
-  }
-  return raymappers::Vec3d(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));
-}
-
 template<typename ArrayT>
 vtkSmartPointer<ArrayT> makeArray(const char* name, int components, vtkIdType tuples)
 {
@@ -107,20 +69,17 @@ raymappers::Vec3d ReadParticles(vtkSPHVoxelizer* self,
   {
     vtkWarningWithObjectMacro(self, << "The input has no points: the image has no spans.");
   }
-  vtkDataArray* radii = nullptr;
-  if (n > 0 && self->GetScaleArray() && self->GetScaleArray()[0])
-  {
-    radii = input->GetPointData()->GetArray(self->GetScaleArray());
-    if (!radii)
-    {
-      vtkWarningWithObjectMacro(self,
-        << "radius array '" << self->GetScaleArray()
-        << "' is not a point array of the input; using the constant radius " << self->GetRadius()
-        << ".");
-    }
-  }
+  vtkDataArray* radii = n > 0 ? vtkRayMapperPointArrays::FindScaleArray(
+                                  self, input, self->GetScaleArray(), "radius", self->GetRadius())
+                              : nullptr;
   vtkRayMapperWarnIfComponentsDiffer(self, radii, "radius");
-  const raymappers::Vec3d origin = n > 0 ? finiteCenter(points, bounds) : raymappers::Vec3d();
+  vtkRayMapperPointArrays::FiniteBounds(input, bounds);
+  if (!vtkMath::AreBoundsInitialized(bounds))
+  {
+    std::fill(bounds, bounds + 6, 0.0);
+  }
+  const raymappers::Vec3d origin(0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
+    0.5 * (bounds[4] + bounds[5]));
   {
     // Read single-threaded (vtkDataArray access), then build.
     std::vector<raymappers::Vec3d> centers(static_cast<std::size_t>(n));
@@ -130,7 +89,7 @@ raymappers::Vec3d ReadParticles(vtkSPHVoxelizer* self,
       double p[3];
       points->GetPoint(i, p);
       centers[i] = raymappers::Vec3d(p[0], p[1], p[2]);
-      r[i] = (radii ? component(radii, i, 0) : self->GetRadius()) * self->GetScaleFactor();
+      r[i] = (radii ? radii->GetComponent(i, 0) : self->GetRadius()) * self->GetScaleFactor();
     }
     raymappers::buildFluidParticles(
       static_cast<std::size_t>(n),

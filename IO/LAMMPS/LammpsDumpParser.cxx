@@ -3,7 +3,7 @@
 // per header section, the atom block's extent counted, not parsed). ReadFrame reads one
 // snapshot (ReadSnapshot: the coordinate columns, every column's role, the atom lines into
 // arrays, scaled to Cartesian coordinates, sorted by id).
-#include "LammpsDumpParser.h"
+#include "IO/LAMMPS/LammpsDumpParser.h"
 
 #include <algorithm>
 #include <charconv>

@@ -3,7 +3,7 @@
 // snapshot into vtkPolyData, maps VTK's time requests to snapshots and reports problems.
 #include "vtkLAMMPSDumpReader.h"
 
-#include "LammpsDumpParser.h"
+#include "IO/LAMMPS/LammpsDumpParser.h"
 
 #include "vtkCellArray.h"
 #include "vtkDataObject.h"

@@ -1,4 +1,4 @@
-#include "CoherentGrid.h"
+#include "Mappers/CGT/CoherentGrid.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -15,7 +15,7 @@
 #ifndef RayMappers_CoherentGrid_h
 #define RayMappers_CoherentGrid_h
 
-#include "SphereSet.h"
+#include "Mappers/CGT/SphereSet.h"
 
 #include <array>
 #include <cstdint>

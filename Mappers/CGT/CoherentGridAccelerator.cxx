@@ -1,5 +1,5 @@
-#include "CoherentGridAccelerator.h"
-#include "RaySphereLanes.h"
+#include "Mappers/CGT/CoherentGridAccelerator.h"
+#include "Mappers/CGT/RaySphereLanes.h"
 
 #include <algorithm>
 #include <cmath>

@@ -10,9 +10,9 @@
 #ifndef RayMappers_CoherentGridAccelerator_h
 #define RayMappers_CoherentGridAccelerator_h
 
-#include "CoherentGrid.h"
-#include "SimdPath.h"
-#include "SphereAccelerator.h"
+#include "Mappers/CGT/CoherentGrid.h"
+#include "Mappers/CGT/SimdPath.h"
+#include "Mappers/CGT/SphereAccelerator.h"
 
 namespace raymappers
 {

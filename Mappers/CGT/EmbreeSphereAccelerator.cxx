@@ -1,4 +1,4 @@
-#include "EmbreeSphereAccelerator.h"
+#include "Mappers/CGT/EmbreeSphereAccelerator.h"
 
 #include <stdexcept>
 #include <string>

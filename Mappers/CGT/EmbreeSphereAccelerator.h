@@ -3,8 +3,8 @@
 #ifndef RayMappers_EmbreeSphereAccelerator_h
 #define RayMappers_EmbreeSphereAccelerator_h
 
-#include "SphereAccelerator.h"
-#include "SphereSet.h"
+#include "Mappers/CGT/SphereAccelerator.h"
+#include "Mappers/CGT/SphereSet.h"
 
 #include <embree3/rtcore.h>
 

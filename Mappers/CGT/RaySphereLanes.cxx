@@ -1,5 +1,5 @@
-#include "RaySphereLanes.h" // RAYMAPPERS_X86_SIMD
-#include "SimdPath.h"
+#include "Mappers/CGT/RaySphereLanes.h" // RAYMAPPERS_X86_SIMD
+#include "Mappers/CGT/SimdPath.h"
 
 namespace raymappers
 {

@@ -15,9 +15,9 @@
 #ifndef RayMappers_RaySphereLanes_h
 #define RayMappers_RaySphereLanes_h
 
-#include "SimdLanes.h"
-#include "SimdPath.h"
-#include "SphereAccelerator.h"
+#include "Mappers/Common/SimdLanes.h"
+#include "Mappers/CGT/SimdPath.h"
+#include "Mappers/CGT/SphereAccelerator.h"
 
 #include <algorithm>
 #include <cmath>

@@ -4,8 +4,8 @@
 #ifndef RayMappers_SphereAccelerator_h
 #define RayMappers_SphereAccelerator_h
 
-#include "RayCamera.h"
-#include "SphereSet.h"
+#include "Mappers/Common/RayCamera.h"
+#include "Mappers/CGT/SphereSet.h"
 
 #include <cmath>
 #include <cstdint>

@@ -1,6 +1,6 @@
-#include "SphereRenderer.h"
+#include "Mappers/CGT/SphereRenderer.h"
 
-#include "TileScheduler.h"
+#include "Mappers/Common/TileScheduler.h"
 
 #include <algorithm>
 #include <atomic>

@@ -4,12 +4,12 @@
 #ifndef RayMappers_SphereRenderer_h
 #define RayMappers_SphereRenderer_h
 
-#include "Frame.h"
-#include "Lighting.h"
-#include "RayCamera.h"
-#include "RenderStatistics.h"
-#include "SphereAccelerator.h"
-#include "SphereSet.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/Common/Lighting.h"
+#include "Mappers/Common/RayCamera.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/CGT/SphereAccelerator.h"
+#include "Mappers/CGT/SphereSet.h"
 
 #include <vector>
 

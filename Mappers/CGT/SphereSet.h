@@ -4,8 +4,8 @@
 #ifndef RayMappers_SphereSet_h
 #define RayMappers_SphereSet_h
 
-#include "ParticleInput.h"
-#include "Vec3.h"
+#include "Mappers/Common/ParticleInput.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

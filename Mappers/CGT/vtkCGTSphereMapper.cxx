@@ -1,11 +1,12 @@
 #include "vtkCGTSphereMapper.h"
+#include "vtkRayMapperPointArrays.h"
 
-#include "CoherentGridAccelerator.h"
-#include "EmbreeSphereAccelerator.h"
-#include "Frame.h"
-#include "RenderStatistics.h"
-#include "SphereRenderer.h"
-#include "SphereSet.h"
+#include "Mappers/CGT/CoherentGridAccelerator.h"
+#include "Mappers/CGT/EmbreeSphereAccelerator.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/CGT/SphereRenderer.h"
+#include "Mappers/CGT/SphereSet.h"
 #include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
@@ -173,7 +174,7 @@ void vtkCGTSphereMapper::ReleaseGraphicsResources(vtkWindow* win)
 void vtkCGTSphereMapper::ComputeBounds()
 {
   vtkPolyData* input = this->GetInput();
-  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
+  vtkRayMapperPointArrays::FiniteBounds(input, this->Bounds);
   if (input && input->GetNumberOfPoints() == 0)
   {
     Impl->Core.WarnEmptyInput(this, input, "points", "sphere");
@@ -184,9 +185,9 @@ void vtkCGTSphereMapper::ComputeBounds()
   }
   std::string why;
   vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
+    vtkRayMapperPointArrays::FindPointArray(input, this->ScaleArray, "radius", why);
   vtkRayMapperCore::GrowBounds(this->Bounds,
-    radii ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
+    radii ? vtkRayMapperPointArrays::LargestParticleLength(radii, this->ScaleFactor)
           : this->Radius * this->ScaleFactor);
 }
 
@@ -311,7 +312,7 @@ void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
 
 void vtkCGTSphereMapper::BuildSpheres(vtkPolyData* input, const SphereColors& colorOf)
 {
-  vtkDataArray* radii = vtkRayMapperRenderHelpers::FindScaleArray(
+  vtkDataArray* radii = vtkRayMapperPointArrays::FindScaleArray(
     this, input, this->ScaleArray, "radius", this->Radius);
   vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
   vtkPoints* points = input->GetPoints();
@@ -319,11 +320,11 @@ void vtkCGTSphereMapper::BuildSpheres(vtkPolyData* input, const SphereColors& co
   const double constantRadius = this->Radius * scale;
   // Float and double arrays (nearly all data) are read directly, others through the
   // generic vtkDataArray interface.
-  const vtkRayMapperRenderHelpers::TupleReader pointReader(points->GetData());
-  const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
+  const vtkRayMapperPointArrays::TupleReader pointReader(points->GetData());
+  const vtkRayMapperPointArrays::TupleReader radiusReader(radii);
   raymappers::buildSphereSet(
     static_cast<std::size_t>(input->GetNumberOfPoints()),
-    vtkRayMapperRenderHelpers::FiniteCenter(points),
+    raymappers::Vec3d(vtkRayMapperPointArrays::FiniteCenter(points)),
     [&](std::size_t i) {
       return raymappers::Vec3d(pointReader.get(i, 0), pointReader.get(i, 1), pointReader.get(i, 2));
     },

@@ -4,7 +4,7 @@
 #ifndef RayMappers_FrameResample_h
 #define RayMappers_FrameResample_h
 
-#include "Frame.h"
+#include "Mappers/Common/Frame.h"
 
 #include <algorithm>
 #include <cmath>

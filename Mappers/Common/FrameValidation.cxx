@@ -1,4 +1,4 @@
-#include "FrameValidation.h"
+#include "Mappers/Common/FrameValidation.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>

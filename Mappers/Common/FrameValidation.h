@@ -5,7 +5,7 @@
 #ifndef RayMappers_FrameValidation_h
 #define RayMappers_FrameValidation_h
 
-#include "Frame.h"
+#include "Mappers/Common/Frame.h"
 
 #include <cstdint>
 

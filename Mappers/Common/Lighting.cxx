@@ -1,4 +1,4 @@
-#include "Lighting.h"
+#include "Mappers/Common/Lighting.h"
 
 #include <algorithm>
 #include <cmath>

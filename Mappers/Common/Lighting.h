@@ -10,7 +10,7 @@
 #ifndef RayMappers_Lighting_h
 #define RayMappers_Lighting_h
 
-#include "Vec3.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <vector>
 

@@ -5,8 +5,8 @@
 #ifndef RayMappers_ParticleInput_h
 #define RayMappers_ParticleInput_h
 
-#include "Limits.h"
-#include "Vec3.h"
+#include "Mappers/Common/Limits.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>

@@ -1,4 +1,4 @@
-#include "RayCamera.h"
+#include "Mappers/Common/RayCamera.h"
 
 #include <cmath>
 #include <utility>

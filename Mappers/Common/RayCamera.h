@@ -11,7 +11,7 @@
 #ifndef RayMappers_RayCamera_h
 #define RayMappers_RayCamera_h
 
-#include "Vec3.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <array>
 #include <string>

@@ -9,7 +9,7 @@
 #ifndef RayMappers_RegionBox_h
 #define RayMappers_RegionBox_h
 
-#include "Vec3.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "TransferFunctionTable.h"
+#include "Mappers/Common/TransferFunctionTable.h"
 
 #include <algorithm>
 #include <cmath>

@@ -4,6 +4,7 @@
 #define RayMappers_Vec3_h
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace raymappers
@@ -25,6 +26,12 @@ struct Vec3
     : x(static_cast<T>(o.x))
     , y(static_cast<T>(o.y))
     , z(static_cast<T>(o.z))
+  {
+  }
+  explicit constexpr Vec3(const std::array<T, 3>& a)
+    : x(a[0])
+    , y(a[1])
+    , z(a[2])
   {
   }
   T& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }

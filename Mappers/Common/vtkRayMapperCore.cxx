@@ -1,6 +1,9 @@
 #include "vtkRayMapperCore.h"
+#include "vtkRayMapperPointArrays.h"
 
-#include "FrameResample.h"
+#include "Mappers/Common/FrameResample.h"
+#include "Mappers/Common/Limits.h"
+#include "vtkRayMapperSetGet.h"
 
 #include "vtkAbstractVolumeMapper.h"
 #include "vtkAlgorithm.h"
@@ -16,6 +19,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <thread>
+
+// The property macros' bound (a public header, which cannot include a kernel's) is the
+// kernels' limit.
+static_assert(VTK_RAYMAPPER_LENGTH_MAX == raymappers::MaxLength,
+  "vtkRayMapperSetGet.h and Mappers/Common/Limits.h disagree on the largest length");
 
 namespace
 {
@@ -72,7 +80,7 @@ vtkPointSet* vtkRayMapperCore::PointSetBounds(vtkAbstractVolumeMapper* mapper,
     this->WarnEmptyInput(mapper, input, "points", thing);
     return nullptr;
   }
-  vtkRayMapperRenderHelpers::FiniteBounds(input, bounds);
+  vtkRayMapperPointArrays::FiniteBounds(input, bounds);
   return vtkMath::AreBoundsInitialized(bounds) ? input : nullptr;
 }
 

@@ -8,10 +8,10 @@
 #ifndef vtkRayMapperCore_h
 #define vtkRayMapperCore_h
 
-#include "Frame.h"
-#include "Lighting.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/Common/Lighting.h"
 #include "RayMappersMappersModule.h" // for export macro
-#include "RenderStatistics.h"
+#include "Mappers/Common/RenderStatistics.h"
 #include "vtkRayMapperFrameDrawer.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperStatistics.h"

@@ -1,6 +1,6 @@
 #include "vtkRayMapperFrameDrawer.h"
 
-#include "FrameValidation.h"
+#include "Mappers/Common/FrameValidation.h"
 
 #include "vtkOpenGLQuadHelper.h"
 #include "vtkOpenGLRenderUtilities.h"

@@ -13,9 +13,9 @@
 #ifndef vtkRayMapperFrameDrawer_h
 #define vtkRayMapperFrameDrawer_h
 
-#include "Frame.h"
+#include "Mappers/Common/Frame.h"
 #include "RayMappersMappersModule.h" // for export macro
-#include "RenderStatistics.h"
+#include "Mappers/Common/RenderStatistics.h"
 
 #include <memory>
 

@@ -1,6 +1,6 @@
 #include "vtkRayMapperStatistics.h"
 
-#include "RenderStatistics.h"
+#include "Mappers/Common/RenderStatistics.h"
 
 #include "vtkObjectFactory.h"
 

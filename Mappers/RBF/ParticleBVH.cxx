@@ -1,4 +1,4 @@
-#include "ParticleBVH.h"
+#include "Mappers/RBF/ParticleBVH.h"
 
 #include <embree3/rtcore.h>
 

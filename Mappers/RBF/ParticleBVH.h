@@ -11,7 +11,7 @@
 #ifndef RayMappers_ParticleBVH_h
 #define RayMappers_ParticleBVH_h
 
-#include "RBFParticles.h"
+#include "Mappers/RBF/RBFParticles.h"
 
 #include <cstdint>
 #include <vector>

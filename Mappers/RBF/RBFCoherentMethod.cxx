@@ -9,11 +9,11 @@
 //
 // Every SIMD loop reads its scalars from locals or by-value parameters: read through a
 // reference, GCC would load them from memory in every lane.
-#include "RBFMethods.h"
+#include "Mappers/RBF/RBFMethods.h"
 
-#include "FastExp.h"
-#include "SimdLanes.h"
-#include "TileScheduler.h"
+#include "Mappers/RBF/FastExp.h"
+#include "Mappers/Common/SimdLanes.h"
+#include "Mappers/Common/TileScheduler.h"
 
 #include <limits>
 

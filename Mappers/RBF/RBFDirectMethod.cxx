@@ -1,9 +1,9 @@
 // The direct method of RBF volume rendering (Knoll et al. 2014, section 3.3, the
 // reference): every sample of every ray gathers the particles whose support holds it, one
 // BVH point query per sample, then is classified and blended front to back.
-#include "RBFMethods.h"
+#include "Mappers/RBF/RBFMethods.h"
 
-#include "TileScheduler.h"
+#include "Mappers/Common/TileScheduler.h"
 
 namespace raymappers
 {

@@ -8,7 +8,7 @@
 #ifndef RayMappers_RBFMethods_h
 #define RayMappers_RBFMethods_h
 
-#include "RBFVolumeRenderer.h"
+#include "Mappers/RBF/RBFVolumeRenderer.h"
 
 #include <algorithm>
 #include <array>

@@ -9,8 +9,8 @@
 #ifndef RayMappers_RBFParticles_h
 #define RayMappers_RBFParticles_h
 
-#include "ParticleInput.h"
-#include "Vec3.h"
+#include "Mappers/Common/ParticleInput.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <algorithm>
 #include <cmath>

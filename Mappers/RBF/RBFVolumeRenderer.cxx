@@ -1,6 +1,6 @@
-#include "RBFVolumeRenderer.h"
+#include "Mappers/RBF/RBFVolumeRenderer.h"
 
-#include "RBFMethods.h"
+#include "Mappers/RBF/RBFMethods.h"
 
 #include <algorithm>
 #include <cmath>

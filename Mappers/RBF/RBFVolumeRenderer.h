@@ -25,14 +25,14 @@
 #ifndef RayMappers_RBFVolumeRenderer_h
 #define RayMappers_RBFVolumeRenderer_h
 
-#include "Frame.h"
-#include "Lighting.h"
-#include "ParticleBVH.h"
-#include "RBFParticles.h"
-#include "RayCamera.h"
-#include "RegionBox.h"
-#include "RenderStatistics.h"
-#include "TransferFunctionTable.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/Common/Lighting.h"
+#include "Mappers/RBF/ParticleBVH.h"
+#include "Mappers/RBF/RBFParticles.h"
+#include "Mappers/Common/RayCamera.h"
+#include "Mappers/Common/RegionBox.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/Common/TransferFunctionTable.h"
 
 #include <vector>
 

@@ -1,10 +1,11 @@
 #include "vtkRBFVolumeMapper.h"
+#include "vtkRayMapperPointArrays.h"
 
-#include "Frame.h"
-#include "ParticleBVH.h"
-#include "RBFParticles.h"
-#include "RBFVolumeRenderer.h"
-#include "RenderStatistics.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/RBF/ParticleBVH.h"
+#include "Mappers/RBF/RBFParticles.h"
+#include "Mappers/RBF/RBFVolumeRenderer.h"
+#include "Mappers/Common/RenderStatistics.h"
 #include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
@@ -55,9 +56,9 @@ double vtkRBFVolumeMapper::GetSupportRadius(vtkPointSet* input)
   // Sigma * r_max: each Gaussian is truncated at Sigma radii.
   std::string why;
   vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
+    vtkRayMapperPointArrays::FindPointArray(input, this->ScaleArray, "radius", why);
   const double rMax = radii
-    ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
+    ? vtkRayMapperPointArrays::LargestParticleLength(radii, this->ScaleFactor)
     : this->Radius * this->ScaleFactor;
   return this->Sigma * rMax;
 }
@@ -70,18 +71,18 @@ bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
   {
     return false;
   }
-  vtkDataArray* radii = vtkRayMapperRenderHelpers::FindScaleArray(
+  vtkDataArray* radii = vtkRayMapperPointArrays::FindScaleArray(
     this, input, this->ScaleArray, "radius", this->Radius);
   std::string why;
   vtkDataArray* values =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->ValueArrayName, "value", why);
+    vtkRayMapperPointArrays::FindPointArray(input, this->ValueArrayName, "value", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << "; every particle has the value 1.");
     why.clear();
   }
   vtkDataArray* categories =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->FieldArrayName, "field", why);
+    vtkRayMapperPointArrays::FindPointArray(input, this->FieldArrayName, "field", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << "; all particles form one field.");
@@ -117,13 +118,13 @@ bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
   const int numFields =
     categories ? std::clamp(static_cast<int>(fieldOf.size()), 1, raymappers::MaxRBFFields) : 1;
 
-  const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
-  const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
-  const vtkRayMapperRenderHelpers::TupleReader valueReader(values);
+  const vtkRayMapperPointArrays::TupleReader pointReader(input->GetPoints()->GetData());
+  const vtkRayMapperPointArrays::TupleReader radiusReader(radii);
+  const vtkRayMapperPointArrays::TupleReader valueReader(values);
   const double scale = this->ScaleFactor, constantRadius = this->Radius * scale;
   raymappers::buildRBFParticles(
     n,
-    vtkRayMapperRenderHelpers::FiniteCenter(input->GetPoints()),
+    raymappers::Vec3d(vtkRayMapperPointArrays::FiniteCenter(input->GetPoints())),
     numFields,
     [&](std::size_t i) {
       return raymappers::Vec3d(pointReader.get(i, 0), pointReader.get(i, 1), pointReader.get(i, 2));

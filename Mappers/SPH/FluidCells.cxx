@@ -1,4 +1,4 @@
-#include "FluidCells.h"
+#include "Mappers/SPH/FluidCells.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -29,8 +29,8 @@
 #ifndef RayMappers_FluidCells_h
 #define RayMappers_FluidCells_h
 
-#include "FluidParticles.h"
-#include "Vec3.h"
+#include "Mappers/SPH/FluidParticles.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <cstddef>
 #include <cstdint>

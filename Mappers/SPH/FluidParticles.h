@@ -6,8 +6,8 @@
 #ifndef RayMappers_FluidParticles_h
 #define RayMappers_FluidParticles_h
 
-#include "ParticleInput.h"
-#include "Vec3.h"
+#include "Mappers/Common/ParticleInput.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <vector>
 

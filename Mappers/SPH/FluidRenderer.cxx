@@ -1,7 +1,7 @@
-#include "FluidRenderer.h"
+#include "Mappers/SPH/FluidRenderer.h"
 
-#include "SurfaceLinks.h"
-#include "Tallies.h"
+#include "Mappers/SPH/SurfaceLinks.h"
+#include "Mappers/SPH/Tallies.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>

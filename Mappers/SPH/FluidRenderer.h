@@ -36,13 +36,13 @@
 #ifndef RayMappers_FluidRenderer_h
 #define RayMappers_FluidRenderer_h
 
-#include "FluidParticles.h"
-#include "FluidSpans.h"
-#include "Frame.h"
-#include "Lighting.h"
-#include "RenderStatistics.h"
-#include "SpanVoxelizer.h"
-#include "ViewRays.h"
+#include "Mappers/SPH/FluidParticles.h"
+#include "Mappers/SPH/FluidSpans.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/Common/Lighting.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/SPH/SpanVoxelizer.h"
+#include "Mappers/SPH/ViewRays.h"
 
 #include <vector>
 

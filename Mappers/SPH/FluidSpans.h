@@ -15,8 +15,8 @@
 #ifndef RayMappers_FluidSpans_h
 #define RayMappers_FluidSpans_h
 
-#include "Vec3.h"
-#include "VoxelDepthLayers.h"
+#include "Mappers/Common/Vec3.h"
+#include "Mappers/SPH/VoxelDepthLayers.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "PerspectiveGrid.h"
+#include "Mappers/SPH/PerspectiveGrid.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

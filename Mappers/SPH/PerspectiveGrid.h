@@ -31,8 +31,8 @@
 #ifndef RayMappers_PerspectiveGrid_h
 #define RayMappers_PerspectiveGrid_h
 
-#include "SPHParticles.h"
-#include "ViewRays.h"
+#include "Mappers/SPH/SPHParticles.h"
+#include "Mappers/SPH/ViewRays.h"
 
 #include <cmath>
 #include <cstdint>

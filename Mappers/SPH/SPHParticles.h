@@ -9,8 +9,8 @@
 #ifndef RayMappers_SPHParticles_h
 #define RayMappers_SPHParticles_h
 
-#include "ParticleInput.h"
-#include "Vec3.h"
+#include "Mappers/Common/ParticleInput.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <algorithm>
 #include <cmath>

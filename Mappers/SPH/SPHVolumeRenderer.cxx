@@ -1,6 +1,6 @@
-#include "SPHVolumeRenderer.h"
+#include "Mappers/SPH/SPHVolumeRenderer.h"
 
-#include "Tallies.h"
+#include "Mappers/SPH/Tallies.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

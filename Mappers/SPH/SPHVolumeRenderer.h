@@ -39,15 +39,15 @@
 #ifndef RayMappers_SPHVolumeRenderer_h
 #define RayMappers_SPHVolumeRenderer_h
 
-#include "Frame.h"
-#include "Lighting.h"
-#include "PerspectiveGrid.h"
-#include "RegionBox.h"
-#include "RenderStatistics.h"
-#include "SPHKernels.h"
-#include "SPHParticles.h"
-#include "TransferFunctionTable.h"
-#include "ViewRays.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/Common/Lighting.h"
+#include "Mappers/SPH/PerspectiveGrid.h"
+#include "Mappers/Common/RegionBox.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/SPH/SPHKernels.h"
+#include "Mappers/SPH/SPHParticles.h"
+#include "Mappers/Common/TransferFunctionTable.h"
+#include "Mappers/SPH/ViewRays.h"
 
 #include <vector>
 

@@ -1,6 +1,6 @@
-#include "SpanVoxelizer.h"
+#include "Mappers/SPH/SpanVoxelizer.h"
 
-#include "Tallies.h"
+#include "Mappers/SPH/Tallies.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>

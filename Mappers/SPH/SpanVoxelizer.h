@@ -40,11 +40,11 @@
 #ifndef RayMappers_SpanVoxelizer_h
 #define RayMappers_SpanVoxelizer_h
 
-#include "FluidCells.h"
-#include "FluidParticles.h"
-#include "FluidSpans.h"
-#include "RenderStatistics.h"
-#include "ViewRays.h"
+#include "Mappers/SPH/FluidCells.h"
+#include "Mappers/SPH/FluidParticles.h"
+#include "Mappers/SPH/FluidSpans.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/SPH/ViewRays.h"
 
 #include <cstddef>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "SurfaceLinks.h"
+#include "Mappers/SPH/SurfaceLinks.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>

@@ -33,9 +33,9 @@
 #ifndef RayMappers_SurfaceLinks_h
 #define RayMappers_SurfaceLinks_h
 
-#include "FluidSpans.h"
-#include "RenderStatistics.h"
-#include "ViewRays.h"
+#include "Mappers/SPH/FluidSpans.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/SPH/ViewRays.h"
 
 #include <cstdint>
 #include <vector>

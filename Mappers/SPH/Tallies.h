@@ -3,7 +3,7 @@
 #ifndef RayMappers_Tallies_h
 #define RayMappers_Tallies_h
 
-#include "RenderStatistics.h"
+#include "Mappers/Common/RenderStatistics.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -1,4 +1,4 @@
-#include "ViewRays.h"
+#include "Mappers/SPH/ViewRays.h"
 
 #include <algorithm>
 #include <cmath>

@@ -16,7 +16,7 @@
 #ifndef RayMappers_ViewRays_h
 #define RayMappers_ViewRays_h
 
-#include "Vec3.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <array>
 

@@ -1,12 +1,13 @@
 #include "vtkSPHFluidMapper.h"
+#include "vtkRayMapperPointArrays.h"
 
-#include "FluidParticles.h"
-#include "FluidRenderer.h"
-#include "FluidSpans.h"
-#include "Frame.h"
-#include "RenderStatistics.h"
-#include "SpanVoxelizer.h"
-#include "ViewRays.h"
+#include "Mappers/SPH/FluidParticles.h"
+#include "Mappers/SPH/FluidRenderer.h"
+#include "Mappers/SPH/FluidSpans.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/SPH/SpanVoxelizer.h"
+#include "Mappers/SPH/ViewRays.h"
 #include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
@@ -58,8 +59,8 @@ double vtkSPHFluidMapper::GetSupportRadius(vtkPointSet* input)
   // The largest sphere radius: the fluid is the union of the spheres.
   std::string why;
   vtkDataArray* radii =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "radius", why);
-  return radii ? vtkRayMapperRenderHelpers::LargestParticleLength(radii, this->ScaleFactor)
+    vtkRayMapperPointArrays::FindPointArray(input, this->ScaleArray, "radius", why);
+  return radii ? vtkRayMapperPointArrays::LargestParticleLength(radii, this->ScaleFactor)
                : this->Radius * this->ScaleFactor;
 }
 
@@ -70,15 +71,15 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
   {
     return false;
   }
-  vtkDataArray* radii = vtkRayMapperRenderHelpers::FindScaleArray(
+  vtkDataArray* radii = vtkRayMapperPointArrays::FindScaleArray(
     this, input, this->ScaleArray, "radius", this->Radius);
   vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
-  const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
-  const vtkRayMapperRenderHelpers::TupleReader radiusReader(radii);
+  const vtkRayMapperPointArrays::TupleReader pointReader(input->GetPoints()->GetData());
+  const vtkRayMapperPointArrays::TupleReader radiusReader(radii);
   const double scale = this->ScaleFactor, constant = this->Radius * this->ScaleFactor;
   raymappers::buildFluidParticles(
     static_cast<std::size_t>(input->GetNumberOfPoints()),
-    vtkRayMapperRenderHelpers::FiniteCenter(input->GetPoints()),
+    raymappers::Vec3d(vtkRayMapperPointArrays::FiniteCenter(input->GetPoints())),
     [&](std::size_t i) {
       return raymappers::Vec3d(pointReader.get(i, 0), pointReader.get(i, 1), pointReader.get(i, 2));
     },

@@ -1,11 +1,12 @@
 #include "vtkSPHVolumeMapper.h"
+#include "vtkRayMapperPointArrays.h"
 
-#include "Frame.h"
-#include "PerspectiveGrid.h"
-#include "RenderStatistics.h"
-#include "SPHParticles.h"
-#include "SPHVolumeRenderer.h"
-#include "ViewRays.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/SPH/PerspectiveGrid.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/SPH/SPHParticles.h"
+#include "Mappers/SPH/SPHVolumeRenderer.h"
+#include "Mappers/SPH/ViewRays.h"
 #include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
@@ -64,9 +65,9 @@ double vtkSPHVolumeMapper::GetSupportRadius(vtkPointSet* input)
   // The largest support H = factor * scale * h the particles may have.
   std::string why;
   vtkDataArray* h =
-    vtkRayMapperRenderHelpers::FindPointArray(input, this->ScaleArray, "smoothing length", why);
+    vtkRayMapperPointArrays::FindPointArray(input, this->ScaleArray, "smoothing length", why);
   const double factor = this->GetSupportPerSmoothingLength();
-  return h ? vtkRayMapperRenderHelpers::LargestParticleLength(h, factor * this->ScaleFactor)
+  return h ? vtkRayMapperPointArrays::LargestParticleLength(h, factor * this->ScaleFactor)
            : factor * this->SmoothingLength * this->ScaleFactor;
 }
 
@@ -84,10 +85,10 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   {
     return;
   }
-  vtkDataArray* h = vtkRayMapperRenderHelpers::FindScaleArray(
+  vtkDataArray* h = vtkRayMapperPointArrays::FindScaleArray(
     this, input, this->ScaleArray, "smoothing length", this->SmoothingLength);
   std::string why;
-  vtkDataArray* values = vtkRayMapperRenderHelpers::FindPointArray(input, this->ValueArrayName, "value", why);
+  vtkDataArray* values = vtkRayMapperPointArrays::FindPointArray(input, this->ValueArrayName, "value", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << "; showing the active point scalars.");
@@ -97,7 +98,7 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   {
     values = activeScalars;
   }
-  vtkDataArray* volumes = vtkRayMapperRenderHelpers::FindPointArray(input, this->VolumeArrayName, "volume", why);
+  vtkDataArray* volumes = vtkRayMapperPointArrays::FindPointArray(input, this->VolumeArrayName, "volume", why);
   if (!why.empty())
   {
     vtkWarningMacro(<< why << ".");
@@ -107,8 +108,8 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   vtkDataArray* densities = nullptr;
   if (!volumes)
   {
-    masses = vtkRayMapperRenderHelpers::FindPointArray(input, this->MassArrayName, "mass", why);
-    densities = vtkRayMapperRenderHelpers::FindPointArray(input, this->DensityArrayName, "density", why);
+    masses = vtkRayMapperPointArrays::FindPointArray(input, this->MassArrayName, "mass", why);
+    densities = vtkRayMapperPointArrays::FindPointArray(input, this->DensityArrayName, "density", why);
     if (!why.empty() || (!masses != !densities))
     {
       vtkWarningMacro(<< (why.empty() ? std::string("mass and density arrays go together") : why)
@@ -122,15 +123,15 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   vtkRayMapperWarnIfComponentsDiffer(this, masses, "mass");
   vtkRayMapperWarnIfComponentsDiffer(this, densities, "density");
 
-  const vtkRayMapperRenderHelpers::TupleReader pointReader(input->GetPoints()->GetData());
-  const vtkRayMapperRenderHelpers::TupleReader hReader(h), valueReader(values),
+  const vtkRayMapperPointArrays::TupleReader pointReader(input->GetPoints()->GetData());
+  const vtkRayMapperPointArrays::TupleReader hReader(h), valueReader(values),
     volumeReader(volumes), massReader(masses), densityReader(densities);
   const double hScale = this->ScaleFactor * factor;
   const double hConstant = this->SmoothingLength * hScale, vConstant = this->Volume;
   const auto n = static_cast<std::size_t>(input->GetNumberOfPoints());
   raymappers::buildSPHParticles(
     n,
-    vtkRayMapperRenderHelpers::FiniteCenter(input->GetPoints()),
+    raymappers::Vec3d(vtkRayMapperPointArrays::FiniteCenter(input->GetPoints())),
     [&](std::size_t i) {
       return raymappers::Vec3d(pointReader.get(i, 0), pointReader.get(i, 1), pointReader.get(i, 2));
     },

@@ -87,6 +87,12 @@ public:
   /** Support radius per smoothing length; 0 (default): the kernel's convention. */
   vtkRayMapperSetClampMacro(SupportFactor, double, 0.0, 100.0);
   vtkGetMacro(SupportFactor, double);
+  /**
+   * The support radius per smoothing length, H_i / h_i: SupportFactor when it is positive,
+   * else the Kernel's own convention (1 for poly6, whose h is its support; 2 for the cubic
+   * spline and Wendland C2).
+   */
+  double GetSupportPerSmoothingLength();
   ///@}
 
   ///@{
@@ -233,8 +239,6 @@ private:
 
   /// Rebuilds the particles when the input, the arrays or the particle settings changed.
   void UpdateParticles(vtkPointSet* input);
-  /// Support radius per smoothing length: SupportFactor, or the kernel's convention.
-  double GetSupportPerSmoothingLength();
   /// The kernel's parameters: the properties, the model transform, lights and material.
   raymappers::SPHRenderParameters GatherParameters(vtkRenderer* ren,
     vtkVolume* vol,

@@ -1,4 +1,4 @@
-#include "OpticalModel.h"
+#include "Mappers/ZSweep/OpticalModel.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "ZSweepMesh.h"
+#include "Mappers/ZSweep/ZSweepMesh.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>

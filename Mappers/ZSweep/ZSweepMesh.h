@@ -55,7 +55,7 @@
 #ifndef RayMappers_ZSweepMesh_h
 #define RayMappers_ZSweepMesh_h
 
-#include "Vec3.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <cstdint>
 #include <limits>

@@ -1,4 +1,4 @@
-#include "ZSweepNearPlane.h"
+#include "Mappers/ZSweep/ZSweepNearPlane.h"
 
 #include <algorithm>
 #include <cmath>

@@ -15,7 +15,7 @@
 #ifndef RayMappers_ZSweepNearPlane_h
 #define RayMappers_ZSweepNearPlane_h
 
-#include "ZSweepMesh.h"
+#include "Mappers/ZSweep/ZSweepMesh.h"
 
 #include <array>
 #include <cstdint>

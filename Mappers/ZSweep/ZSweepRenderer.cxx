@@ -1,7 +1,7 @@
-#include "ZSweepRenderer.h"
+#include "Mappers/ZSweep/ZSweepRenderer.h"
 
-#include "RayCamera.h"
-#include "ZSweepNearPlane.h"
+#include "Mappers/Common/RayCamera.h"
+#include "Mappers/ZSweep/ZSweepNearPlane.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>

@@ -37,10 +37,10 @@
 #ifndef RayMappers_ZSweepRenderer_h
 #define RayMappers_ZSweepRenderer_h
 
-#include "Frame.h"
-#include "OpticalModel.h"
-#include "RenderStatistics.h"
-#include "ZSweepMesh.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/ZSweep/OpticalModel.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/ZSweep/ZSweepMesh.h"
 
 #include <array>
 #include <cstdint>

@@ -1,10 +1,11 @@
 #include "vtkZSweepVolumeMapper.h"
+#include "vtkRayMapperPointArrays.h"
 
-#include "Frame.h"
-#include "OpticalModel.h"
-#include "RenderStatistics.h"
-#include "ZSweepMesh.h"
-#include "ZSweepRenderer.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/ZSweep/OpticalModel.h"
+#include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/ZSweep/ZSweepMesh.h"
+#include "Mappers/ZSweep/ZSweepRenderer.h"
 #include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
@@ -231,7 +232,7 @@ void CopyScalars(vtkDataArray* scalars,
   vtkIdType numPoints,
   raymappers::ZSweepGrid& grid)
 {
-  const vtkRayMapperRenderHelpers::TupleReader reader(scalars);
+  const vtkRayMapperPointArrays::TupleReader reader(scalars);
   if (grid.cellScalars)
   {
     grid.scalars.resize(keptCells.size());
@@ -326,7 +327,7 @@ double* vtkZSweepVolumeMapper::GetBounds()
   {
     producer->Update();
   }
-  vtkRayMapperRenderHelpers::FiniteBounds(input, this->Bounds);
+  vtkRayMapperPointArrays::FiniteBounds(input, this->Bounds);
   if (input->GetNumberOfCells() == 0 || input->GetNumberOfPoints() == 0)
   {
     Impl->Core.WarnEmptyInput(this, input, "cells", "volume");

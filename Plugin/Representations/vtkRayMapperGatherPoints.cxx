@@ -1,6 +1,6 @@
 #include "vtkRayMapperGatherPoints.h"
+#include "vtkRayMapperPointArrays.h"
 
-#include "vtkRayMapperRenderHelpers.h"
 
 #include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
@@ -170,7 +170,7 @@ double vtkRayMapperLargestRadius(vtkPolyData* points,
   {
     // The largest radius a particle is drawn with (huge ones are skipped), so that one
     // skipped radius of 1e300 does not make the view's bounds huge.
-    return vtkRayMapperRenderHelpers::LargestParticleLength(array, std::fabs(scale));
+    return vtkRayMapperPointArrays::LargestParticleLength(array, std::fabs(scale));
   }
   const double r = std::fabs(radius * scale);
   return std::isfinite(r) ? r : 0.0;

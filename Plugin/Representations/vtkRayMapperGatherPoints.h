@@ -26,7 +26,7 @@ vtkSmartPointer<vtkPolyData> vtkRayMapperDeliveredPoints(vtkDataObject* piece);
 
 /// The largest particle radius: |scale| times the largest value of the point array
 /// `radiusArray` (first component) of `points` that gives a radius the mappers draw (in
-/// (0, 1e15]: vtkRayMapperRenderHelpers::LargestParticleLength), or |scale| times `radius`
+/// (0, 1e15]: vtkRayMapperPointArrays::LargestParticleLength), or |scale| times `radius`
 /// when the array is null or empty; 0 when not finite.
 double vtkRayMapperLargestRadius(vtkPolyData* points,
   const char* radiusArray,

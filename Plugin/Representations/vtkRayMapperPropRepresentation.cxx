@@ -1,4 +1,5 @@
 #include "vtkRayMapperPropRepresentation.h"
+#include "vtkRayMapperPointArrays.h"
 
 #include "vtkAbstractVolumeMapper.h"
 #include "vtkCallbackCommand.h"
@@ -17,7 +18,6 @@
 #include "vtkProp3D.h"
 #include "vtkRayMapperGatherPoints.h"
 #include "vtkRayMapperParticleExchange.h"
-#include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperStatistics.h"
 #include "vtkOutputWindow.h"
 #include "vtkRenderer.h"
@@ -136,7 +136,7 @@ int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey*
     if (vtkDataSet* data = processed)
     {
       vtkPVView::SetPiece(inInfo, this, data);
-      vtkRayMapperRenderHelpers::FiniteBounds(data, bounds);
+      vtkRayMapperPointArrays::FiniteBounds(data, bounds);
       if (vtkMath::AreBoundsInitialized(bounds))
       {
         const double margin = this->GetBoundsMargin();

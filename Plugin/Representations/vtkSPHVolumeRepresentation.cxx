@@ -1,6 +1,5 @@
 #include "vtkSPHVolumeRepresentation.h"
 
-#include "SPHKernels.h"
 #include "vtkObjectFactory.h"
 #include "vtkRayMapperForward.h"
 #include "vtkRayMapperStatistics.h"
@@ -53,11 +52,7 @@ void vtkSPHVolumeRepresentation::PushRadius(double& radius, double& scale, const
 
 double vtkSPHVolumeRepresentation::GetParticleReach()
 {
-  // The support radius H = SupportFactor * h, or the kernel's own multiple of h.
-  return this->Mapper->GetSupportFactor() > 0
-           ? this->Mapper->GetSupportFactor()
-           : raymappers::kernelSupportPerSmoothingLength(
-               static_cast<raymappers::SPHKernel>(this->Mapper->GetKernel()));
+  return this->Mapper->GetSupportPerSmoothingLength();
 }
 
 void vtkSPHVolumeRepresentation::SetRegion(const double bounds[6])

@@ -3,7 +3,7 @@
 #ifndef RayMappers_Test_CameraFixtures_h
 #define RayMappers_Test_CameraFixtures_h
 
-#include "Vec3.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <array>
 

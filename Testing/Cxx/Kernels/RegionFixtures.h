@@ -4,8 +4,8 @@
 #ifndef RayMappers_Test_RegionFixtures_h
 #define RayMappers_Test_RegionFixtures_h
 
-#include "Frame.h"
-#include "RegionBox.h"
+#include "Mappers/Common/Frame.h"
+#include "Mappers/Common/RegionBox.h"
 
 #include <array>
 

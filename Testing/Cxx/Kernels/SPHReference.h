@@ -10,7 +10,7 @@
 #ifndef RayMappers_Test_SPHReference_h
 #define RayMappers_Test_SPHReference_h
 
-#include "SPHVolumeRenderer.h"
+#include "Mappers/SPH/SPHVolumeRenderer.h"
 
 #include <algorithm>
 #include <cmath>

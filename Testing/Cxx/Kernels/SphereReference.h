@@ -3,8 +3,8 @@
 #ifndef RayMappers_Test_SphereReference_h
 #define RayMappers_Test_SphereReference_h
 
-#include "RayCamera.h"
-#include "SphereSet.h"
+#include "Mappers/Common/RayCamera.h"
+#include "Mappers/CGT/SphereSet.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,10 @@
 // The coherent grid traversal against a brute-force reference (every sphere at every
 // pixel, in double) and against Embree, on random scenes and on the method's hard cases.
 #include "CameraFixtures.h"
-#include "CoherentGridAccelerator.h"
-#include "EmbreeSphereAccelerator.h"
+#include "Mappers/CGT/CoherentGridAccelerator.h"
+#include "Mappers/CGT/EmbreeSphereAccelerator.h"
 #include "SphereReference.h"
-#include "SphereRenderer.h"
+#include "Mappers/CGT/SphereRenderer.h"
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>

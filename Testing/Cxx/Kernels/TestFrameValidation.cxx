@@ -1,7 +1,7 @@
 // The frame check of vtkRayMapperStatistics::ValidateFrames (FrameValidation.h): every kind
 // of bad value planted in a valid frame is counted exactly once, and a valid frame (empty
 // pixels, opaque and translucent premultiplied colours, depths at 0 and 1) counts nothing.
-#include "FrameValidation.h"
+#include "Mappers/Common/FrameValidation.h"
 
 #include <gtest/gtest.h>
 

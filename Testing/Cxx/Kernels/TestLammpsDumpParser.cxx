@@ -1,7 +1,7 @@
 // Unit tests of raymappers::lammps::DumpParser (IO/LAMMPS), the plain C++ kernel of
 // vtkLAMMPSDumpReader. Each test writes a small dump by hand into a temporary folder, so the
 // expected values follow from the text of the test.
-#include "LammpsDumpParser.h"
+#include "IO/LAMMPS/LammpsDumpParser.h"
 
 #include <gtest/gtest.h>
 

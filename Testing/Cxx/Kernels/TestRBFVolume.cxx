@@ -2,9 +2,9 @@
 // brute-force reference: a per-pixel ray march in double precision that sums every
 // particle at every sample (no BVH, no packets, std::exp in double).
 #include "CameraFixtures.h"
-#include "FastExp.h"
-#include "ParticleBVH.h"
-#include "RBFVolumeRenderer.h"
+#include "Mappers/RBF/FastExp.h"
+#include "Mappers/RBF/ParticleBVH.h"
+#include "Mappers/RBF/RBFVolumeRenderer.h"
 #include "RegionFixtures.h"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // Primary rays and depth mapping against closed-form projections.
 #include "CameraFixtures.h"
-#include "RayCamera.h"
+#include "Mappers/Common/RayCamera.h"
 
 #include <gtest/gtest.h>
 

@@ -8,10 +8,10 @@
 // configuration, so each path runs on any CPU that has its instructions (and is skipped on
 // one that has not).
 #include "CameraFixtures.h"
-#include "CoherentGridAccelerator.h"
-#include "EmbreeSphereAccelerator.h"
+#include "Mappers/CGT/CoherentGridAccelerator.h"
+#include "Mappers/CGT/EmbreeSphereAccelerator.h"
 #include "SphereReference.h"
-#include "SphereRenderer.h"
+#include "Mappers/CGT/SphereRenderer.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "RenderStatistics.h"
+#include "Mappers/Common/RenderStatistics.h"
 
 #include <gtest/gtest.h>
 

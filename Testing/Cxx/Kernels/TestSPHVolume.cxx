@@ -3,7 +3,7 @@
 #include "CameraFixtures.h"
 #include "RegionFixtures.h"
 #include "SPHReference.h"
-#include "SPHVolumeRenderer.h"
+#include "Mappers/SPH/SPHVolumeRenderer.h"
 
 #include <gtest/gtest.h>
 

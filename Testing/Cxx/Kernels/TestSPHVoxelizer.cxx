@@ -2,10 +2,10 @@
 // intersections, gap bridging, exact absorption beyond the stored spans, the memory budget,
 // and its hard cases.
 #include "CameraFixtures.h"
-#include "FluidCells.h"
-#include "FluidRenderer.h"
-#include "SpanVoxelizer.h"
-#include "SurfaceLinks.h"
+#include "Mappers/SPH/FluidCells.h"
+#include "Mappers/SPH/FluidRenderer.h"
+#include "Mappers/SPH/SpanVoxelizer.h"
+#include "Mappers/SPH/SurfaceLinks.h"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // The sphere glyph kernel against closed-form hits and a brute-force reference renderer
 // that tests every sphere at every pixel in double precision.
 #include "CameraFixtures.h"
-#include "EmbreeSphereAccelerator.h"
+#include "Mappers/CGT/EmbreeSphereAccelerator.h"
 #include "SphereReference.h"
-#include "SphereRenderer.h"
-#include "SphereSet.h"
+#include "Mappers/CGT/SphereRenderer.h"
+#include "Mappers/CGT/SphereSet.h"
 
 #include <gtest/gtest.h>
 

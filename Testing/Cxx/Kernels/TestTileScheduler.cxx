@@ -1,5 +1,5 @@
 // Every pixel is visited once, whatever the tile size.
-#include "TileScheduler.h"
+#include "Mappers/Common/TileScheduler.h"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Transfer-function tables against closed-form values.
-#include "TransferFunctionTable.h"
+#include "Mappers/Common/TransferFunctionTable.h"
 
 #include <gtest/gtest.h>
 

@@ -6,11 +6,11 @@
 // convex, zero-volume cells); the native hexahedra against the trilinear reference of
 // TrilinearReference.h, and that reference's own checks.
 #include "CameraFixtures.h"
-#include "OpticalModel.h"
+#include "Mappers/ZSweep/OpticalModel.h"
 #include "TrilinearReference.h"
 #include "UnstructuredReference.h"
-#include "ZSweepMesh.h"
-#include "ZSweepRenderer.h"
+#include "Mappers/ZSweep/ZSweepMesh.h"
+#include "Mappers/ZSweep/ZSweepRenderer.h"
 
 #include <gtest/gtest.h>
 

@@ -38,7 +38,7 @@
 #define RayMappers_Test_TrilinearReference_h
 
 #include "UnstructuredReference.h"
-#include "Vec3.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <algorithm>
 #include <array>

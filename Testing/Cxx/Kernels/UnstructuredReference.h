@@ -16,7 +16,7 @@
 #ifndef RayMappers_Test_UnstructuredReference_h
 #define RayMappers_Test_UnstructuredReference_h
 
-#include "Vec3.h"
+#include "Mappers/Common/Vec3.h"
 
 #include <algorithm>
 #include <array>

@@ -6,7 +6,7 @@
 // the array, not per render). Arrays whose components are all equal, such as vtkPDBReader's
 // 3-component "radius", read the same with any component and give no warning.
 //
-// Header-only (VTK's common core only), shared by RayMappers::Mappers and ::Filters.
+// Header-only (VTK's common core only), in the private module RayMappers::Core.
 #ifndef vtkRayMapperScalarArray_h
 #define vtkRayMapperScalarArray_h
 

@@ -14,20 +14,22 @@
 // prefixes the text, observers of its WarningEvent see it, and ParaView's output window
 // shows it for a value set from pvpython, whatever the XML domains allow).
 //
-// Header-only (vtkObject, vtkSetGet.h and the kernels' Limits.h), so RayMappers::Filters uses it without
-// linking RayMappers::Mappers, and VTK's wrappers expand the macros as they expand VTK's own.
+// Header-only (vtkObject and vtkSetGet.h) in the private module RayMappers::Core that the
+// mappers, the filters and the representations share; VTK's wrappers expand the macros as
+// they expand VTK's own.
 #ifndef vtkRayMapperSetGet_h
 #define vtkRayMapperSetGet_h
 
-#include "Limits.h" // for raymappers::MaxLength
 #include "vtkObject.h"
 #include "vtkSetGet.h"
 
 #include <cmath>
 #include <type_traits>
 
-/// The largest length or factor on lengths a property may have (Limits.h says why).
-#define VTK_RAYMAPPER_LENGTH_MAX raymappers::MaxLength
+/// The largest length or factor on lengths a property may have: the kernels'
+/// raymappers::MaxLength (Mappers/Common/Limits.h says why; vtkRayMapperCore.cxx asserts
+/// at compile time that the two are equal, since a public header cannot include a kernel's).
+#define VTK_RAYMAPPER_LENGTH_MAX 1e15
 
 namespace vtkRayMapperSetGet
 {
