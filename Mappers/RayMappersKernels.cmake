@@ -22,7 +22,8 @@ add_library(RayMappersKernels SHARED
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepMesh.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepNearPlane.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/SPH/ViewRays.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/Common/ViewRays.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/Common/View.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/PerspectiveGrid.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidCells.cxx

@@ -355,17 +355,16 @@ struct SphereCounters
 };
 }
 
-void renderSpheres(const SphereSet& spheres,
-  const SphereAccelerator& accel,
-  int packetSide,
-  const RayCamera& camera,
-  const SphereShading& shading,
-  int tileSize,
+void renderSpheres(const SphereScene& scene,
+  const View& view,
+  const SphereRenderParameters& params,
   Frame& frame,
   RenderStatistics& stats)
 {
-  const int width = camera.width();
-  const int height = camera.height();
+  const SphereAccelerator& accel = scene.accel;
+  const SphereShading& shading = params.shading;
+  const int width = view.width();
+  const int height = view.height();
   frame.resize(width, height);
   const bool lit = !shading.lights.empty() || shading.shadowSide > 0;
   stats.setEffect("shading", lit);
@@ -393,12 +392,12 @@ void renderSpheres(const SphereSet& spheres,
   {
     return;
   }
-  SphereFrame f{ spheres,
+  SphereFrame f{ scene.spheres,
     accel,
-    camera,
+    view.camera(),
     shading,
     frame,
-    std::clamp(packetSide, 1, MaxPacketSide),
+    std::clamp(params.packetSide, 1, MaxPacketSide),
     lit,
     shadowSide,
     ao ? aoSamples : 0,
@@ -417,7 +416,7 @@ void renderSpheres(const SphereSet& spheres,
     ScopedPhase phase(stats, "trace");
     forEachTile(width,
       height,
-      tileSize,
+      params.tileSize,
       [&](const Tile& tile)
       {
         SphereCounts counts;

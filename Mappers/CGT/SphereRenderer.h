@@ -8,6 +8,7 @@
 #include "Mappers/Common/Lighting.h"
 #include "Mappers/Common/RayCamera.h"
 #include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/Common/View.h"
 #include "Mappers/CGT/SphereAccelerator.h"
 #include "Mappers/CGT/SphereSet.h"
 
@@ -47,16 +48,28 @@ Vec3d shadowTarget(const SphereShading& shading, int a, int b, std::uint32_t pix
 /// occlusion of a hit is the fraction of these rays that meet a sphere within the radius.
 Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel);
 
-/// Renders the spheres seen by `camera` into `frame` (resized to the camera's grid), in
-/// packets of packetSide x packetSide rays (clamped to [1, MaxPacketSide]).
+/// What the spheres' renderer draws: the spheres and an accelerator built over them.
+struct SphereScene
+{
+  const SphereSet& spheres;
+  const SphereAccelerator& accel;
+};
+
+/// How it draws them: the shading, rays traced in packets of packetSide x packetSide
+/// (clamped to [1, MaxPacketSide]) and scheduled in tiles of tileSize x tileSize pixels.
+struct SphereRenderParameters
+{
+  SphereShading shading;
+  int packetSide = 8;
+  int tileSize = 32;
+};
+
+/// Renders the spheres seen by the view's camera into `frame` (resized to the view's grid).
 /// Counters: rays, packets, hits, cells, culled, sphere_tests, range_culled, ao_rays,
 /// shadow_rays. Effects: shading, specular, range_culling, ambient_occlusion, soft_shadows.
-void renderSpheres(const SphereSet& spheres,
-  const SphereAccelerator& accel,
-  int packetSide,
-  const RayCamera& camera,
-  const SphereShading& shading,
-  int tileSize,
+void renderSpheres(const SphereScene& scene,
+  const View& view,
+  const SphereRenderParameters& params,
   Frame& frame,
   RenderStatistics& stats);
 

@@ -250,23 +250,20 @@ void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)
     Impl->Core.Skip(stats);
     return;
   }
-  raymappers::SphereShading shading;
-  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, shading.modelToWorld);
-  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, shading.normalToWorld);
-  this->GatherShading(ren, actor, view.model, shading);
+  raymappers::SphereRenderParameters params;
+  std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.shading.modelToWorld);
+  std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.shading.normalToWorld);
+  this->GatherShading(ren, actor, view.model, params.shading);
+  params.packetSide = grid ? this->PacketSize : 4;
+  params.tileSize = this->TileSize;
   // 3. Trace, 4. show.
   raymappers::SphereAccelerator& accelerator =
     grid ? static_cast<raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
   this->SetRangeFilter(accelerator);
-  raymappers::renderSpheres(Impl->Spheres,
-    accelerator,
-    grid ? this->PacketSize : 4,
-    raymappers::RayCamera(view.modelToClip, view.width, view.height, Impl->Spheres.origin),
-    shading,
-    this->TileSize,
-    Impl->Core.Frame(),
-    stats);
-  Impl->Core.Show(ren, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth, stats);
+  raymappers::renderSpheres({ Impl->Spheres, accelerator },
+    Impl->Core.KernelView(ren, view, 1.0, Impl->Spheres.origin, false, stats), params,
+    Impl->Core.Target(), stats);
+  Impl->Core.Present(ren, view, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth, false, stats);
 }
 
 void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,

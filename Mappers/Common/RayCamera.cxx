@@ -100,7 +100,8 @@ RayCamera::RayCamera(const std::array<double, 16>& modelToClip,
   int width,
   int height,
   const Vec3d& origin)
-  : Width(width)
+  : ModelToClip(modelToClip)
+  , Width(width)
   , Height(height)
   , Origin(origin)
 {

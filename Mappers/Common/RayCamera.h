@@ -53,10 +53,14 @@ public:
   /// render: the matrix then already holds the tile's window shift). `origin`: the point
   /// subtracted from model coordinates before they become float.
   RayCamera(const std::array<double, 16>& modelToClip, int width, int height, const Vec3d& origin);
+  /// No rays (a 0 x 0 grid), until assigned a camera.
+  RayCamera() = default;
 
   int width() const { return Width; }
   int height() const { return Height; }
   const Vec3d& origin() const { return Origin; }
+  /// The model (not origin-relative) to clip matrix the camera was made from.
+  const std::array<double, 16>& modelToClip() const { return ModelToClip; }
   bool isParallel() const { return Parallel; }
 
   /// The ray through the point (px, py) of the pixel grid; pixel (i, j) has its centre at
@@ -96,15 +100,16 @@ public:
   Vec3d unproject(double xn, double yn, double zn) const;
 
 private:
-  std::array<double, 16> M;    // origin-relative model -> clip
-  std::array<double, 16> Minv; // clip -> origin-relative model
-  PlanePoints Planes;
+  std::array<double, 16> ModelToClip{};
+  std::array<double, 16> M{};    // origin-relative model -> clip
+  std::array<double, 16> Minv{}; // clip -> origin-relative model
+  PlanePoints Planes{};
   // The rays' common point (perspective: the eye, clip coordinates (0, 0, 1, 0) up to a
   // factor) or common direction (parallel), origin-relative.
   Vec3d Eye, ViewDirection;
-  int Width, Height;
+  int Width = 0, Height = 0;
   Vec3d Origin;
-  bool Parallel;
+  bool Parallel = false;
 };
 
 /// Inverse of a row-major 4x4 matrix (Gauss-Jordan with partial pivoting); returns false

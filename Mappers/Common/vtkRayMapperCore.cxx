@@ -131,6 +131,30 @@ const float* vtkRayMapperCore::OpaqueDepth(vtkRenderer* ren,
                                                       : this->CoarseDepth.data();
 }
 
+raymappers::View vtkRayMapperCore::KernelView(vtkRenderer* ren,
+  const View& view,
+  double d,
+  const raymappers::Vec3d& origin,
+  bool withOpaqueDepth,
+  raymappers::RenderStatistics& stats)
+{
+  const int width = SampledSize(view.width, d);
+  const int height = SampledSize(view.height, d);
+  this->Reduced = width != view.width || height != view.height;
+  const float* depth = withOpaqueDepth ? this->OpaqueDepth(ren, view, width, height, stats) : nullptr;
+  return raymappers::View(view.modelToClip, width, height, origin, depth);
+}
+
+bool vtkRayMapperCore::HasDepthRays(vtkObject* mapper, const raymappers::View& kernelView)
+{
+  if (kernelView.width() > 0 && kernelView.height() > 0 && kernelView.hasDepthRays())
+  {
+    return true;
+  }
+  vtkErrorWithObjectMacro(mapper, << "The camera's projection is degenerate: nothing drawn.");
+  return false;
+}
+
 void vtkRayMapperSampleDistances::Print(ostream& os, vtkIndent indent) const
 {
   os << indent << "ImageSampleDistance: " << this->imageSampleDistance << "\n";
@@ -196,12 +220,17 @@ void vtkRayMapperCore::Show(vtkRenderer* ren,
   }
 }
 
-void vtkRayMapperCore::ShowReduced(vtkRenderer* ren,
+void vtkRayMapperCore::Present(vtkRenderer* ren,
   const View& view,
   vtkRayMapperFrameDrawer::Mode mode,
   bool withDepth,
   raymappers::RenderStatistics& stats)
 {
+  if (!this->Reduced)
+  {
+    this->Show(ren, mode, stats);
+    return;
+  }
   this->FullFrame.resize(view.width, view.height);
   raymappers::enlarge(this->CoarseFrame, this->FullFrame);
   if (withDepth)

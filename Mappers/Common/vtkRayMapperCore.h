@@ -12,6 +12,7 @@
 #include "Mappers/Common/Lighting.h"
 #include "RayMappersMappersModule.h" // for export macro
 #include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/Common/View.h"
 #include "vtkRayMapperFrameDrawer.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperStatistics.h"
@@ -172,14 +173,22 @@ public:
   /// check's warning, CameraCheck) when it gives no rays.
   bool GatherView(vtkObject* mapper, vtkRenderer* ren, vtkProp3D* prop, View& view);
 
-  /// The window depth of opaque geometry drawn so far at width x height pixels (sampled at
-  /// the pixels' centres when smaller than the view), or nullptr when there is none to
-  /// read; the phase and the effect "opaque_depth" of `stats`.
-  const float* OpaqueDepth(vtkRenderer* ren,
+  /// The kernels' view of this render (raymappers::View): the gathered camera with rays d
+  /// pixels apart (SampledSize of the viewport's size; d <= 1: one per pixel), float
+  /// coordinates relative to `origin`, and when `withOpaqueDepth` the window depth of opaque
+  /// geometry drawn so far at that size (sampled at the pixels' centres when smaller; none
+  /// when there is nothing to read; the phase and the effect "opaque_depth" of `stats`).
+  /// A view smaller than the viewport makes this a reduced render: Target() is then the
+  /// coarse frame and Present enlarges it.
+  raymappers::View KernelView(vtkRenderer* ren,
     const View& view,
-    int width,
-    int height,
+    double d,
+    const raymappers::Vec3d& origin,
+    bool withOpaqueDepth,
     raymappers::RenderStatistics& stats);
+  /// Whether the kernel view has rays by view depth (the SPH methods need them); false with
+  /// the error "The camera's projection is degenerate: nothing drawn." from `mapper`.
+  static bool HasDepthRays(vtkObject* mapper, const raymappers::View& kernelView);
 
   /// The material of a volume property (ambient, diffuse, specular, specular power).
   static raymappers::Material GatherMaterial(vtkVolumeProperty* property);
@@ -198,16 +207,14 @@ public:
   /// The number of rays along a side of `full` pixels at sample distance d (at least 1).
   static int SampledSize(int full, double d);
 
-  /// The frame the kernel renders into: full size, or the coarse one of a reduced render
-  /// (width x height smaller than the view; see ShowReduced).
-  raymappers::Frame& Frame() { return this->FullFrame; }
-  raymappers::Frame& Coarse() { return this->CoarseFrame; }
+  /// The frame the kernel renders the last KernelView into: full size, or the coarse one of
+  /// a reduced render.
+  raymappers::Frame& Target() { return this->Reduced ? this->CoarseFrame : this->FullFrame; }
 
-  /// The frame drawn in `mode` (phase "draw"), then the statistics published.
-  void Show(vtkRenderer* ren, vtkRayMapperFrameDrawer::Mode mode, raymappers::RenderStatistics& stats);
-  /// As Show after a reduced render: the coarse frame enlarged to the view's size first
-  /// (its depth too when `withDepth`).
-  void ShowReduced(vtkRenderer* ren,
+  /// The frame drawn in `mode` (phase "draw"), then the statistics published; after a
+  /// reduced render the coarse frame is enlarged to the view's size first (its depth too
+  /// when `withDepth`).
+  void Present(vtkRenderer* ren,
     const View& view,
     vtkRayMapperFrameDrawer::Mode mode,
     bool withDepth,
@@ -218,6 +225,13 @@ public:
   void ReleaseGraphicsResources(vtkWindow* win) { this->Drawer.ReleaseGraphicsResources(win); }
 
 private:
+  const float* OpaqueDepth(vtkRenderer* ren,
+    const View& view,
+    int width,
+    int height,
+    raymappers::RenderStatistics& stats);
+  void Show(vtkRenderer* ren, vtkRayMapperFrameDrawer::Mode mode, raymappers::RenderStatistics& stats);
+
   raymappers::Frame FullFrame;
   raymappers::Frame CoarseFrame;
   vtkRayMapperFrameDrawer Drawer;
@@ -225,6 +239,7 @@ private:
   vtkNew<vtkRayMapperStatistics> Statistics;
   std::vector<float> Depth;
   std::vector<float> CoarseDepth;
+  bool Reduced = false; // the last KernelView is smaller than the viewport
   std::int64_t Builds = 0;
   vtkMTimeType WarnedEmptyInputTime = 0;
   std::unique_ptr<tbb::task_arena> Arena;

@@ -123,17 +123,16 @@ void Classifier::blend(const float* phi,
 
 } // namespace rbf
 
-void renderRBF(const RBFParticles& particles,
-  const ParticleBVH& bvh,
-  const RayCamera& camera,
+void renderRBF(const RBFScene& scene,
+  const View& view,
   const RBFRenderParameters& params,
-  const std::vector<TransferFunctionTable>& fields,
-  const float* opaqueDepth,
   Frame& frame,
   RenderStatistics& stats)
 {
+  const RBFParticles& particles = scene.particles;
+  const std::vector<TransferFunctionTable>& fields = scene.fields;
   // Every pixel's colour is written below (or cleared here); the depth stays 1.
-  frame.reshape(camera.width(), camera.height());
+  frame.reshape(view.width(), view.height());
   for (const char* name : rbf::RBFCounterNames)
   {
     stats.declareCounter(name);
@@ -143,7 +142,7 @@ void renderRBF(const RBFParticles& particles,
   stats.setEffect("multi_field", numFields > 1);
   stats.setEffect("early_termination", params.terminationOpacity < 1.0);
   const double dt = params.sampleDistance;
-  if (bvh.empty() || fields.empty() || !(dt > 0) || !std::isfinite(dt))
+  if (scene.bvh.empty() || fields.empty() || !(dt > 0) || !std::isfinite(dt))
   {
     std::fill(frame.rgba.begin(), frame.rgba.end(), 0.f);
     return;
@@ -154,12 +153,12 @@ void renderRBF(const RBFParticles& particles,
   stats.setEffect("empty_space_skipping", emptyIsClear);
   const rbf::Classifier classifier{ &tables, &params, particles.origin, numFields, emptyIsClear };
   const rbf::RBFFrameInputs in{ particles,
-    bvh.nodes(),
-    camera,
+    scene.bvh.nodes(),
+    view.camera(),
     params,
     tables,
     classifier,
-    opaqueDepth,
+    view.opaqueDepth(),
     frame,
     static_cast<float>(dt),
     static_cast<float>(params.kappa),

@@ -33,6 +33,7 @@
 #include "Mappers/Common/RegionBox.h"
 #include "Mappers/Common/RenderStatistics.h"
 #include "Mappers/Common/TransferFunctionTable.h"
+#include "Mappers/Common/View.h"
 
 #include <vector>
 
@@ -62,21 +63,25 @@ struct RBFRenderParameters
   RegionBox region;
 };
 
-/// Renders the particles seen by `camera` into `frame` (premultiplied RGBA, every pixel
-/// written; its depth is left as it is: a volume writes no depth). `fields[m]` classifies
-/// field m (missing fields use the last table). `opaqueDepth`, when not null, holds the
-/// window depth of opaque geometry per pixel (camera grid, row 0 at the bottom): rays stop
-/// there.
+/// What the RBF renderer draws: the particles, their BVH, and the classification of their
+/// fields (`fields[m]` classifies field m; missing fields use the last table).
+struct RBFScene
+{
+  const RBFParticles& particles;
+  const ParticleBVH& bvh;
+  const std::vector<TransferFunctionTable>& fields;
+};
+
+/// Renders the particles seen by the view's camera into `frame` (premultiplied RGBA, every
+/// pixel written; its depth is left as it is: a volume writes no depth). Rays stop at the
+/// view's opaque depth.
 /// Counters: rays, packets, culled_packets (packets whose frustum misses the data: no ray set
 /// up), staggered_blocks (SIMD blocks of rays integrated each from its own first sample),
 /// passes, samples, node_visits, deposits, terminated_rays.
 /// Effects: shading, multi_field, early_termination, empty_space_skipping.
-void renderRBF(const RBFParticles& particles,
-  const ParticleBVH& bvh,
-  const RayCamera& camera,
+void renderRBF(const RBFScene& scene,
+  const View& view,
   const RBFRenderParameters& params,
-  const std::vector<TransferFunctionTable>& fields,
-  const float* opaqueDepth,
   Frame& frame,
   RenderStatistics& stats);
 

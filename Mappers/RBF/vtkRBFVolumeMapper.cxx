@@ -221,19 +221,14 @@ void vtkRBFVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol)
     return;
   }
   const raymappers::RBFRenderParameters params = this->GatherParameters(ren, vol, view);
-  const float* depth = this->Core->OpaqueDepth(ren, view, view.width, view.height, stats);
+  const raymappers::View kernelView =
+    this->Core->KernelView(ren, view, 1.0, Impl->Particles.origin, true, stats);
   {
     raymappers::ScopedPhase phase(stats, "trace");
-    raymappers::renderRBF(Impl->Particles,
-      Impl->BVH,
-      raymappers::RayCamera(view.modelToClip, view.width, view.height, Impl->Particles.origin),
-      params,
-      tables,
-      depth,
-      this->Core->Frame(),
-      stats);
+    raymappers::renderRBF(
+      { Impl->Particles, Impl->BVH, tables }, kernelView, params, this->Core->Target(), stats);
   }
-  this->Core->Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
+  this->Core->Present(ren, view, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, stats);
 }
 
 void vtkRBFVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)

@@ -602,16 +602,27 @@ void renderFluidSpans(const FluidSpans& spans,
     Tallies, [&](auto add) { tallies.combine_each(add); }, stats);
 }
 
-bool renderFluid(const FluidParticles& particles,
-  const ViewRays& rays,
+bool renderFluid(const FluidScene& scene,
+  const View& view,
   const FluidRenderParameters& params,
-  FluidSpans& spans,
   Frame& frame,
   RenderStatistics& stats)
 {
+  const FluidParticles& particles = scene.particles;
+  FluidSpans& spans = scene.spans;
+  const ViewRays& rays = view.depthRays();
   stats.addCounter("particles_skipped",
     static_cast<std::int64_t>(particles.skippedNonFinite + particles.skippedBadRadius));
-  if (!voxelizeFluid(particles, rays, params.voxelizer, spans, stats))
+  // Opaque geometry drawn before ends the fluid: its window depths as depths along the rays.
+  VoxelizerParameters voxelizer = params.voxelizer;
+  const std::vector<float> stop = view.opaqueDepth()
+                                    ? stopDepthsFromWindowDepth(rays, view.opaqueDepth())
+                                    : std::vector<float>();
+  if (view.opaqueDepth())
+  {
+    voxelizer.stopDepth = stop.data();
+  }
+  if (!voxelizeFluid(particles, rays, voxelizer, spans, stats))
   {
     frame.resize(rays.width(), rays.height());
     return false;

@@ -42,7 +42,7 @@
 #include "Mappers/Common/Lighting.h"
 #include "Mappers/Common/RenderStatistics.h"
 #include "Mappers/SPH/SpanVoxelizer.h"
-#include "Mappers/SPH/ViewRays.h"
+#include "Mappers/Common/View.h"
 
 #include <vector>
 
@@ -81,14 +81,22 @@ void renderFluidSpans(const FluidSpans& spans,
   Frame& frame,
   RenderStatistics& stats);
 
-/// The whole frame: voxelizeFluid, connectSurfaces, findNeighbourhoods, smoothSurfaces,
-/// computeNormals and renderFluidSpans, with their phases and counters (and
-/// particles_skipped from the input). Returns false when the voxelization does not fit the memory budget (the frame is
-/// then empty).
-bool renderFluid(const FluidParticles& particles,
-  const ViewRays& rays,
+/// What the fluid renderer draws: the particles, and the spans they are voxelized into for
+/// each view (rebuilt by renderFluid, kept for their memory).
+struct FluidScene
+{
+  const FluidParticles& particles;
+  FluidSpans& spans;
+};
+
+/// The whole frame along the view's depth rays: voxelizeFluid, connectSurfaces,
+/// findNeighbourhoods, smoothSurfaces, computeNormals and renderFluidSpans, with their
+/// phases and counters (and particles_skipped from the input). The view's opaque depth, when
+/// it has one, ends the fluid there (VoxelizerParameters::stopDepth). Returns false when the
+/// voxelization does not fit the memory budget (the frame is then empty).
+bool renderFluid(const FluidScene& scene,
+  const View& view,
   const FluidRenderParameters& params,
-  FluidSpans& spans,
   Frame& frame,
   RenderStatistics& stats);
 

@@ -32,7 +32,7 @@
 #define RayMappers_PerspectiveGrid_h
 
 #include "Mappers/SPH/SPHParticles.h"
-#include "Mappers/SPH/ViewRays.h"
+#include "Mappers/Common/ViewRays.h"
 
 #include <cmath>
 #include <cstdint>

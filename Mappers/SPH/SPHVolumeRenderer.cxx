@@ -890,15 +890,17 @@ double referenceWeightSum(SPHKernel kernel, double volume, double support, int n
   return neighbours * volume * kernelValue(kernel, 0.5 * support, support);
 }
 
-void renderSPH(const SPHParticles& particles,
-  const ViewRays& rays,
+void renderSPH(const SPHScene& scene,
+  const View& view,
   const SPHRenderParameters& params,
-  const TransferFunctionTable& table,
-  const float* opaqueDepth,
-  PerspectiveGrid& grid,
   Frame& frame,
   RenderStatistics& stats)
 {
+  const SPHParticles& particles = scene.particles;
+  const TransferFunctionTable& table = scene.table;
+  PerspectiveGrid& grid = scene.grid;
+  const ViewRays& rays = view.depthRays();
+  const float* opaqueDepth = view.opaqueDepth();
   declareStatistics(params, opaqueDepth != nullptr, stats);
   frame.resize(rays.width(), rays.height());
   if (particles.size() == 0 || table.empty() || !buildGrid(particles, rays, params, grid, stats))

@@ -47,7 +47,7 @@
 #include "Mappers/SPH/SPHKernels.h"
 #include "Mappers/SPH/SPHParticles.h"
 #include "Mappers/Common/TransferFunctionTable.h"
-#include "Mappers/SPH/ViewRays.h"
+#include "Mappers/Common/View.h"
 
 #include <vector>
 
@@ -92,20 +92,27 @@ double referenceWeightSum(SPHKernel kernel, double volume, double support, int n
 /// The jitter offset in [0, 1) of pixel (px, py)'s samples (a fixed 32 x 32 pattern).
 float sphJitterOffset(int px, int py);
 
+/// What the SPH renderer draws: the particles, their classification, and the perspective
+/// grid they are binned into for each view (section 3.4; rebuilt by renderSPH, kept for its
+/// memory).
+struct SPHScene
+{
+  const SPHParticles& particles;
+  const TransferFunctionTable& table;
+  PerspectiveGrid& grid;
+};
+
 /// Renders the particles into `frame` (premultiplied RGBA; depth stays at the far plane:
-/// a volume writes no depth), rebuilding `grid` for the view. `opaqueDepth`, when not null,
-/// holds the window depth of opaque geometry per pixel (row 0 at the bottom).
+/// a volume writes no depth) along the view's depth rays, rebuilding the scene's grid for
+/// the view; rays stop at the view's opaque depth.
 /// Phases: grid, raycast. Counters: particles_in_view, grid_cells, depth_cells,
 /// samples_per_cell, grid_references, grid_bytes, bundles, cells_visited, cells_leaped,
 /// samples, kernel_evaluations, weight_sums, gradient_evaluations, shaded_samples,
 /// contour_samples, terminated_rays. Effects: normalization, gradient_shading,
 /// contour_shading, jitter, early_termination, opaque_geometry.
-void renderSPH(const SPHParticles& particles,
-  const ViewRays& rays,
+void renderSPH(const SPHScene& scene,
+  const View& view,
   const SPHRenderParameters& params,
-  const TransferFunctionTable& table,
-  const float* opaqueDepth,
-  PerspectiveGrid& grid,
   Frame& frame,
   RenderStatistics& stats);
 

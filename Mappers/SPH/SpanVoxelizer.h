@@ -44,7 +44,7 @@
 #include "Mappers/SPH/FluidParticles.h"
 #include "Mappers/SPH/FluidSpans.h"
 #include "Mappers/Common/RenderStatistics.h"
-#include "Mappers/SPH/ViewRays.h"
+#include "Mappers/Common/ViewRays.h"
 
 #include <cstddef>
 #include <vector>

@@ -35,7 +35,7 @@
 
 #include "Mappers/SPH/FluidSpans.h"
 #include "Mappers/Common/RenderStatistics.h"
-#include "Mappers/SPH/ViewRays.h"
+#include "Mappers/Common/ViewRays.h"
 
 #include <cstdint>
 #include <vector>

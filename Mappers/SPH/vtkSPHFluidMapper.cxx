@@ -7,7 +7,7 @@
 #include "Mappers/Common/Frame.h"
 #include "Mappers/Common/RenderStatistics.h"
 #include "Mappers/SPH/SpanVoxelizer.h"
-#include "Mappers/SPH/ViewRays.h"
+#include "Mappers/Common/ViewRays.h"
 #include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
@@ -183,41 +183,27 @@ void vtkSPHFluidMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol)
     this->Core->Skip(stats);
     return;
   }
-  raymappers::FluidRenderParameters params = this->GatherParameters(ren, vol, view);
+  const raymappers::FluidRenderParameters params = this->GatherParameters(ren, vol, view);
   // Interactive renders: rays d pixels apart, the image enlarged.
   const double d = this->Core->BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
   stats.addCounter("subsampling", static_cast<std::int64_t>(std::ceil(d)));
-  const int rw = vtkRayMapperCore::SampledSize(view.width, d);
-  const int rh = vtkRayMapperCore::SampledSize(view.height, d);
-  const bool reduced = rw != view.width || rh != view.height;
-  raymappers::ViewRays rays;
-  if (view.width <= 0 || view.height <= 0 ||
-    !rays.assign(view.modelToClip, rw, rh, Impl->Particles.origin))
+  // Opaque geometry drawn before (all of it: volumes come after the opaque pass) ends the
+  // fluid. An opaque fluid is depth tested when drawn, a translucent one must stop there.
+  const raymappers::View kernelView =
+    this->Core->KernelView(ren, view, d, Impl->Particles.origin, this->Translucency, stats);
+  if (!vtkRayMapperCore::HasDepthRays(this, kernelView))
   {
-    vtkErrorMacro(<< "The camera's projection is degenerate: nothing drawn.");
     this->Core->Skip(stats);
     return;
   }
-  // Opaque geometry drawn before (all of it: volumes come after the opaque pass) ends the
-  // fluid. An opaque fluid is depth tested when drawn, a translucent one must stop there.
-  const float* depth = this->Translucency ? this->Core->OpaqueDepth(ren, view, rw, rh, stats) : nullptr;
-  const std::vector<float> stop =
-    depth ? raymappers::stopDepthsFromWindowDepth(rays, depth) : std::vector<float>();
-  params.voxelizer.stopDepth = depth ? stop.data() : nullptr;
-
-  if (!raymappers::renderFluid(Impl->Particles, rays, params, Impl->Spans,
-        reduced ? this->Core->Coarse() : this->Core->Frame(), stats))
+  if (!raymappers::renderFluid(
+        { Impl->Particles, Impl->Spans }, kernelView, params, this->Core->Target(), stats))
   {
     this->WarnAboutMemoryBudget(view, stats);
   }
   const auto mode = this->Translucency ? vtkRayMapperFrameDrawer::Mode::BlendPremultiplied
                                        : vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth;
-  if (reduced)
-  {
-    this->Core->ShowReduced(ren, view, mode, true, stats);
-    return;
-  }
-  this->Core->Show(ren, mode, stats);
+  this->Core->Present(ren, view, mode, true, stats);
 }
 
 void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)

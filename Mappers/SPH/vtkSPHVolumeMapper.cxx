@@ -6,7 +6,7 @@
 #include "Mappers/Common/RenderStatistics.h"
 #include "Mappers/SPH/SPHParticles.h"
 #include "Mappers/SPH/SPHVolumeRenderer.h"
-#include "Mappers/SPH/ViewRays.h"
+#include "Mappers/Common/ViewRays.h"
 #include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
@@ -212,28 +212,16 @@ void vtkSPHVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol)
   params.stepFactor = this->StepFactor * r;
   params.samplesPerSupport = this->SamplesPerSupport / r;
   // r times fewer rays along each axis.
-  const int rw = vtkRayMapperCore::SampledSize(view.width, r);
-  const int rh = vtkRayMapperCore::SampledSize(view.height, r);
-  const bool reduced = rw != view.width || rh != view.height;
-  const float* depth = this->Core->OpaqueDepth(ren, view, rw, rh, stats);
-  raymappers::ViewRays rays;
-  if (view.width <= 0 || view.height <= 0 ||
-    !rays.assign(view.modelToClip, rw, rh, Impl->Particles.origin))
+  const raymappers::View kernelView =
+    this->Core->KernelView(ren, view, r, Impl->Particles.origin, true, stats);
+  if (!vtkRayMapperCore::HasDepthRays(this, kernelView))
   {
-    vtkErrorMacro(<< "The camera's projection is degenerate: nothing drawn.");
     this->Core->Skip(stats);
     return;
   }
-  raymappers::renderSPH(Impl->Particles, rays, params, table, depth, Impl->Grid,
-    reduced ? this->Core->Coarse() : this->Core->Frame(), stats);
-  if (reduced)
-  {
-    this->Core->ShowReduced(ren, view, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, stats);
-  }
-  else
-  {
-    this->Core->Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
-  }
+  raymappers::renderSPH(
+    { Impl->Particles, table, Impl->Grid }, kernelView, params, this->Core->Target(), stats);
+  this->Core->Present(ren, view, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, stats);
 }
 
 void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)

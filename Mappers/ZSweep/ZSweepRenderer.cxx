@@ -221,16 +221,6 @@ const std::vector<ZSweepTriangle>& frameTriangles(
   return mesh.triangles(decoded);
 }
 
-// Origin-relative model -> clip: M T(origin).
-std::array<double, 16> originRelative(std::array<double, 16> M, const Vec3d& o)
-{
-  for (int r = 0; r < 4; ++r)
-  {
-    M[4 * r + 3] += M[4 * r] * o.x + M[4 * r + 1] * o.y + M[4 * r + 2] * o.z;
-  }
-  return M;
-}
-
 // 1. The vertices projected: window x, y (pixels) and depth, and 1/w for the
 // perspective-correct scalars; valid: in front of the eye and not before the near plane.
 void projectVertices(const std::vector<Vec3d>& points,
@@ -964,18 +954,16 @@ SweepCounters sweepTiles(const SweepInput& in, Frame& frame)
 }
 } // namespace
 
-void renderZSweep(const ZSweepMesh& mesh,
-  const OpticalModel& optics,
-  const std::array<double, 16>& modelToClip,
+void renderZSweep(const ZSweepScene& scene,
+  const View& view,
   const ZSweepParameters& params,
-  const float* opaqueDepth,
   Frame& frame,
-  RenderStatistics& stats,
-  ZSweepEventOrder* previousOrder)
+  RenderStatistics& stats)
 {
-  const int W = frame.width, H = frame.height;
-  std::fill(frame.rgba.begin(), frame.rgba.end(), 0.f);
-  std::fill(frame.depth.begin(), frame.depth.end(), 1.f);
+  const ZSweepMesh& mesh = scene.mesh;
+  const OpticalModel& optics = scene.optics;
+  const int W = view.width(), H = view.height();
+  frame.resize(W, H);
   const bool cellData = mesh.cellScalars();
   stats.setEffect("cell_data", cellData);
   stats.setEffect("early_termination", params.terminationOpacity < 1.0);
@@ -986,8 +974,8 @@ void renderZSweep(const ZSweepMesh& mesh,
   }
   std::vector<ZSweepTriangle> decoded;
   const std::vector<ZSweepTriangle>& triangles = frameTriangles(mesh, decoded, stats);
-  const RayCamera camera(modelToClip, W, H, mesh.origin());
-  const std::array<double, 16> M = originRelative(modelToClip, mesh.origin());
+  const RayCamera& camera = view.camera();
+  const std::array<double, 16>& M = view.originRelativeClip();
 
   std::vector<ProjectedVertex> proj(mesh.points().size());
   {
@@ -1002,7 +990,8 @@ void renderZSweep(const ZSweepMesh& mesh,
     findEvents(triangles, proj, mesh.points(), camera, W, H, events);
   }
   std::vector<std::uint32_t> localOrder;
-  std::vector<std::uint32_t>& order = previousOrder ? previousOrder->triangles : localOrder;
+  std::vector<std::uint32_t>& order =
+    scene.previousOrder ? scene.previousOrder->triangles : localOrder;
   std::array<std::int64_t, 2> sorting;
   {
     ScopedPhase phase(stats, "order");
@@ -1032,7 +1021,7 @@ void renderZSweep(const ZSweepMesh& mesh,
   // Ties: crossings closer than this along a ray are one crossing (a shared vertex or edge).
   const double tieT = 1e-9 * std::max(mesh.extent(), 1e-300);
   const SweepInput in{ triangles, proj, mesh.scalars(), events, bins, near, optics, camera,
-    opaqueDepth, params, grid, W, H, cellData, tieT,
+    view.opaqueDepth(), params, grid, W, H, cellData, tieT,
     std::clamp(params.terminationOpacity, 0.0, 1.0) };
   SweepCounters counts;
   {

@@ -40,6 +40,7 @@
 #include "Mappers/Common/Frame.h"
 #include "Mappers/ZSweep/OpticalModel.h"
 #include "Mappers/Common/RenderStatistics.h"
+#include "Mappers/Common/View.h"
 #include "Mappers/ZSweep/ZSweepMesh.h"
 
 #include <array>
@@ -65,23 +66,28 @@ struct ZSweepEventOrder
   std::vector<std::uint32_t> triangles;
 };
 
-/// Renders `mesh` classified by `optics` into `frame` (premultiplied RGBA; the depth stays at
-/// the far plane). `modelToClip`: row-major 4x4 model (not origin-relative) to OpenGL clip
-/// coordinates; `opaqueDepth`, when not null, the window depth of opaque geometry per pixel
-/// (rows from the bottom). Counters: triangles, binned_triangles, entries, flushes,
+/// What ZSweep draws: the mesh, classified by `optics`, and the event order of its
+/// triangles from the previous frame (`previousOrder`, when not null, is read and replaced
+/// by this frame's).
+struct ZSweepScene
+{
+  const ZSweepMesh& mesh;
+  const OpticalModel& optics;
+  ZSweepEventOrder* previousOrder = nullptr;
+};
+
+/// Renders the scene into `frame` (resized to the view's grid; premultiplied RGBA, the
+/// depth stays at the far plane). The view's origin must be the mesh's (its float
+/// coordinates are relative to it); the sweep stops at the view's opaque depth. Counters: triangles, binned_triangles, entries, flushes,
 /// k_growths, segments, transparent_segments, near_plane_triangles (clipped faces and
 /// caps), open_caps, max_list, tie_groups, decoded_triangles (0 for a dense mesh),
 /// order_moves (the insertion sort's moves from `previousOrder`), order_sorts (1 when the
-/// frame took a full sort instead). `previousOrder`, when not null, is read and replaced by
-/// this frame's event order. Effects: cell_data, early_termination, sparse_mesh.
-void renderZSweep(const ZSweepMesh& mesh,
-  const OpticalModel& optics,
-  const std::array<double, 16>& modelToClip,
+/// frame took a full sort instead). Effects: cell_data, early_termination, sparse_mesh.
+void renderZSweep(const ZSweepScene& scene,
+  const View& view,
   const ZSweepParameters& params,
-  const float* opaqueDepth,
   Frame& frame,
-  RenderStatistics& stats,
-  ZSweepEventOrder* previousOrder = nullptr);
+  RenderStatistics& stats);
 
 } // namespace raymappers
 

@@ -430,20 +430,11 @@ void vtkZSweepVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
   const double d =
     Impl->Core.BeginFrame(ren, vtkRayMapperSampleDistances::Of(this), stats);
   stats.addCounter("subsampling", static_cast<std::int64_t>(std::ceil(d)));
-  const int w = vtkRayMapperCore::SampledSize(view.width, d);
-  const int h = vtkRayMapperCore::SampledSize(view.height, d);
-  const bool reduced = w != view.width || h != view.height;
-  const float* depth = Impl->Core.OpaqueDepth(ren, view, w, h, stats);
-  raymappers::Frame& target = reduced ? Impl->Core.Coarse() : Impl->Core.Frame();
-  target.resize(w, h);
-  raymappers::renderZSweep(Impl->Mesh, optics, view.modelToClip, this->GatherParameters(), depth,
-    target, stats, &Impl->Order);
-  if (reduced)
-  {
-    Impl->Core.ShowReduced(ren, view, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, stats);
-    return;
-  }
-  Impl->Core.Show(ren, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, stats);
+  const raymappers::View kernelView =
+    Impl->Core.KernelView(ren, view, d, Impl->Mesh.origin(), true, stats);
+  raymappers::renderZSweep({ Impl->Mesh, optics, &Impl->Order }, kernelView,
+    this->GatherParameters(), Impl->Core.Target(), stats);
+  Impl->Core.Present(ren, view, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, stats);
 }
 
 void vtkZSweepVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)

@@ -109,7 +109,7 @@
 // rows is printed.
 #include "BenchRun.h"
 #include "SPHSuite.h"
-#include "Mappers/SPH/ViewRays.h"
+#include "Mappers/Common/ViewRays.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperStatistics.h"
 #include "vtkSPHFluidMapper.h"

@@ -3,7 +3,10 @@
 #ifndef RayMappers_Test_CameraFixtures_h
 #define RayMappers_Test_CameraFixtures_h
 
+#include "Mappers/Common/RayCamera.h"
 #include "Mappers/Common/Vec3.h"
+#include "Mappers/Common/View.h"
+#include "Mappers/Common/ViewRays.h"
 
 #include <array>
 
@@ -90,6 +93,17 @@ inline Mat4 tileTransform(int s, int a, int b)
     1 };
 }
 
+
+/// The kernels' View of a test's camera (either parameterization: both hold the matrix,
+/// the grid and the origin they were made from) with opaque geometry at `opaqueDepth`.
+inline View viewOf(const RayCamera& c, const float* opaqueDepth = nullptr)
+{
+  return View(c.modelToClip(), c.width(), c.height(), c.origin(), opaqueDepth);
+}
+inline View viewOf(const ViewRays& r, const float* opaqueDepth = nullptr)
+{
+  return View(r.modelToClip(), r.width(), r.height(), r.origin(), opaqueDepth);
+}
 }
 
 #endif

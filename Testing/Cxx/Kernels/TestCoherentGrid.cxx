@@ -55,7 +55,7 @@ Rendered renderGrid(SphereSet& s,
   params.lambda = lambda;
   grid.build(s, params);
   Rendered out;
-  renderSpheres(s, grid, packet, cam, SphereShading{}, 32, out.frame, out.stats);
+  renderSpheres({ s, grid }, viewOf(cam), { SphereShading{}, packet, 32 }, out.frame, out.stats);
   return out;
 }
 
@@ -101,7 +101,7 @@ void renderWith(int which,
     bvh.build(s);
   }
   const SphereAccelerator& accel = which == 0 ? static_cast<const SphereAccelerator&>(grid) : bvh;
-  renderSpheres(s, accel, 8, cam, shading, 16, f, stats);
+  renderSpheres({ s, accel }, viewOf(cam), { shading, 8, 16 }, f, stats);
 }
 
 Rendered renderEmbree(const SphereSet& s, const RayCamera& cam)
@@ -109,7 +109,7 @@ Rendered renderEmbree(const SphereSet& s, const RayCamera& cam)
   EmbreeSphereAccelerator bvh;
   bvh.build(s);
   Rendered out;
-  renderSpheres(s, bvh, 4, cam, SphereShading{}, 32, out.frame, out.stats);
+  renderSpheres({ s, bvh }, viewOf(cam), { SphereShading{}, 4, 32 }, out.frame, out.stats);
   return out;
 }
 
@@ -597,7 +597,7 @@ void expectGrazingAgreement(Tracer& tracer,
   lit.material.specularPower = 20;
   Frame frame;
   RenderStatistics stats;
-  renderSpheres(s, accel, side, cam, lit, 32, frame, stats);
+  renderSpheres({ s, accel }, viewOf(cam), { lit, side, 32 }, frame, stats);
   const Traced traced = traceAll(accel, cam, side);
   int nonFinite = 0, renderDiffers = 0, outside = 0, tOff = 0;
   for (std::size_t p = 0; p < ref.size(); ++p)
@@ -983,8 +983,8 @@ TEST(CoherentGridHardCases, ZeroRadiiMixedInAreSkipped)
     EXPECT_EQ(a.size(), b.size());
     Frame fa, fb;
     RenderStatistics sa, sb;
-    renderSpheres(a, tracer->build(a), 8, cam, lit, 32, fa, sa);
-    renderSpheres(b, tracer->build(b), 8, cam, lit, 32, fb, sb);
+    renderSpheres({ a, tracer->build(a) }, viewOf(cam), { lit, 8, 32 }, fa, sa);
+    renderSpheres({ b, tracer->build(b) }, viewOf(cam), { lit, 8, 32 }, fb, sb);
     EXPECT_TRUE(
       std::all_of(fa.rgba.begin(), fa.rgba.end(), [](float v) { return std::isfinite(v); }))
       << tracer->name();
@@ -1019,7 +1019,7 @@ Timed buildAndTrace(SphereSet s, const RayCamera& cam)
       grid.build(s, CoherentGridParameters{});
       Frame f;
       RenderStatistics stats;
-      renderSpheres(s, grid, 8, cam, SphereShading{}, 32, f, stats);
+      renderSpheres({ s, grid }, viewOf(cam), { SphereShading{}, 8, 32 }, f, stats);
       clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
       out = { (t1.tv_sec - t0.tv_sec) * 1e3 + (t1.tv_nsec - t0.tv_nsec) * 1e-6,
         stats.counter("cells"),
@@ -1167,7 +1167,7 @@ TEST(CoherentGridHardCases, ManySpheresInOneCell)
     EXPECT_EQ(grid.grid().dims(), (std::array<int, 3>{ 1, 1, 1 })) << "crowd " << crowd;
     Frame f;
     RenderStatistics stats;
-    renderSpheres(s, grid, 8, cam, SphereShading{}, 32, f, stats);
+    renderSpheres({ s, grid }, viewOf(cam), { SphereShading{}, 8, 32 }, f, stats);
     const SphereSet front =
       crowd == 1 ? makeSet({ p[n / 3] }, { 0.9 }, {}) : makeSet({ p[0] }, { 0.5 }, {});
     int wrong = 0, checked = 0;
@@ -1285,7 +1285,7 @@ TEST(ParameterRangeCulling, BothAcceleratorsDrawExactlyTheSpheresInRange)
   grid.build(forGrid, CoherentGridParameters{});
   grid.setRangeFilter(filter);
   Rendered g;
-  renderSpheres(forGrid, grid, 8, cam, SphereShading{}, 32, g.frame, g.stats);
+  renderSpheres({ forGrid, grid }, viewOf(cam), { SphereShading{}, 8, 32 }, g.frame, g.stats);
   expectExact(reference, cam, g.frame, "grid with ranges");
   EXPECT_TRUE(g.stats.effect("range_culling"));
   EXPECT_GT(g.stats.counter("range_culled"), 0);
@@ -1295,13 +1295,13 @@ TEST(ParameterRangeCulling, BothAcceleratorsDrawExactlyTheSpheresInRange)
   bvh.build(forEmbree);
   bvh.setRangeFilter(filter);
   Rendered e;
-  renderSpheres(forEmbree, bvh, 4, cam, SphereShading{}, 32, e.frame, e.stats);
+  renderSpheres({ forEmbree, bvh }, viewOf(cam), { SphereShading{}, 4, 32 }, e.frame, e.stats);
   expectExact(reference, cam, e.frame, "embree with ranges");
 
   // No range: nothing culled, the effect is off, and every sphere is drawn again.
   grid.setRangeFilter(RangeFilter{});
   Rendered all;
-  renderSpheres(forGrid, grid, 8, cam, SphereShading{}, 32, all.frame, all.stats);
+  renderSpheres({ forGrid, grid }, viewOf(cam), { SphereShading{}, 8, 32 }, all.frame, all.stats);
   EXPECT_FALSE(all.stats.effect("range_culling"));
   EXPECT_EQ(all.stats.counter("range_culled"), 0);
   expectExact(forGrid, cam, all.frame, "grid without ranges");
@@ -1375,7 +1375,7 @@ TEST(AmbientOcclusion, OffCostsNothing)
   const RayCamera cam = perspectiveCamera({ 1, 2, 9 }, { 0, 0, 0 }, {}, 32, 32);
   Frame f;
   RenderStatistics stats;
-  renderSpheres(s, grid, 8, cam, SphereShading{}, 16, f, stats);
+  renderSpheres({ s, grid }, viewOf(cam), { SphereShading{}, 8, 16 }, f, stats);
   EXPECT_FALSE(stats.effect("ambient_occlusion"));
   EXPECT_EQ(stats.counter("ao_rays"), 0);
 }
@@ -1465,7 +1465,7 @@ TEST(SoftShadows, OffCostsNothing)
   RenderStatistics stats;
   SphereShading lit;
   lit.lights.push_back(Light{});
-  renderSpheres(s, grid, 8, cam, lit, 16, f, stats);
+  renderSpheres({ s, grid }, viewOf(cam), { lit, 8, 16 }, f, stats);
   EXPECT_FALSE(stats.effect("soft_shadows"));
   EXPECT_EQ(stats.counter("shadow_rays"), 0);
 }

@@ -102,7 +102,7 @@ Rendered render(const Input& in,
   ParticleBVH bvh;
   bvh.build(s, leafSize);
   Rendered out;
-  renderRBF(s, bvh, cam, params, tf, nullptr, out.frame, out.stats);
+  renderRBF({ s, bvh, tf }, viewOf(cam), params, out.frame, out.stats);
   return out;
 }
 
@@ -403,8 +403,8 @@ TEST(RBFVolume, AReusedFrameIsWhollyRewritten)
     params.direct = direct;
     Frame fresh, reused = stale();
     RenderStatistics a, b;
-    renderRBF(s, bvh, cam, params, tf, nullptr, fresh, a);
-    renderRBF(s, bvh, cam, params, tf, nullptr, reused, b);
+    renderRBF({ s, bvh, tf }, viewOf(cam), params, fresh, a);
+    renderRBF({ s, bvh, tf }, viewOf(cam), params, reused, b);
     EXPECT_GT(coverage(fresh), 5.0);
     EXPECT_EQ(maxDifference(reused, fresh), 0.0) << (direct ? "direct" : "coherent");
     if (!direct)
@@ -417,7 +417,7 @@ TEST(RBFVolume, AReusedFrameIsWhollyRewritten)
   emptyBVH.build(none, 8);
   Frame reused = stale();
   RenderStatistics stats;
-  renderRBF(none, emptyBVH, cam, RBFRenderParameters{}, tf, nullptr, reused, stats);
+  renderRBF({ none, emptyBVH, tf }, viewOf(cam), RBFRenderParameters{}, reused, stats);
   EXPECT_EQ(coverage(reused), 0.0);
 }
 
@@ -787,7 +787,7 @@ TEST(RBFVolumeHardCases, EmptyInputAndOpaqueGeometry)
   std::vector<float> depth(cam.width() * cam.height(), 0.0f);
   Frame f;
   RenderStatistics stats;
-  renderRBF(s, bvh, cam, params, tf, depth.data(), f, stats);
+  renderRBF({ s, bvh, tf }, viewOf(cam, depth.data()), params, f, stats);
   EXPECT_EQ(coverage(f), 0.0);
 }
 

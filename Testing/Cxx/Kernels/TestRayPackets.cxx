@@ -381,7 +381,7 @@ TEST_P(EveryEmbreeIsa, RendersTheGridsImage)
     const std::unique_ptr<SphereAccelerator> accel =
       makeAccelerator(which == 0 ? Accelerators[0] : GetParam(), s);
     RenderStatistics stats;
-    renderSpheres(s, *accel, 4, cam, shading, 16, frames[which], stats);
+    renderSpheres({ s, *accel }, viewOf(cam), { shading, 4, 16 }, frames[which], stats);
     EXPECT_GT(stats.counter("shadow_rays"), 0);
     EXPECT_GT(stats.counter("ao_rays"), 0);
   }

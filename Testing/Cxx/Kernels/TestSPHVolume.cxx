@@ -173,7 +173,7 @@ TEST(SPH, SingleParticleLineIntegralMatchesTheKernelsClosedForm)
     PerspectiveGrid grid;
     Frame frame;
     RenderStatistics stats;
-    renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+    renderSPH({ P, tf, grid }, viewOf(rays), params, frame, stats);
     const double through = k == SPHKernel::Poly6 ? 32.0 / 35 : (k == SPHKernel::CubicSpline ? 0.75 : 2.0 / 3);
     const double expected = 1 - std::exp(-kappa * Q * V * c / (H * H) * through);
     EXPECT_NEAR(frame.rgba[4 * frame.index(N / 2, N / 2) + 3], expected, 1e-3) << int(k);
@@ -218,7 +218,7 @@ TEST(SPH, NormalizedFieldOfAUniformLatticeEqualsItsValue)
     PerspectiveGrid grid;
     Frame frame;
     RenderStatistics stats;
-    renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+    renderSPH({ P, tf, grid }, viewOf(rays), params, frame, stats);
     int covered = 0;
     for (int p = 0; p < 48 * 48; ++p)
     {
@@ -280,7 +280,7 @@ TEST(SPH, MatchesTheBruteForceReferenceInEveryMode)
     PerspectiveGrid grid;
     Frame frame;
     RenderStatistics stats;
-    renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+    renderSPH({ P, tf, grid }, viewOf(rays), params, frame, stats);
     const std::vector<double> ref = renderReference(P, rays, grid.steps(), params, tf, nullptr);
     double sumAlpha = 0;
     for (std::size_t i = 3; i < ref.size(); i += 4)
@@ -309,7 +309,7 @@ TEST(SPH, CameraInsideTheFluidAndParticlesCutByTheNearPlane)
   PerspectiveGrid grid;
   Frame frame;
   RenderStatistics stats;
-  renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+  renderSPH({ P, tf, grid }, viewOf(rays), params, frame, stats);
   EXPECT_GE(grid.steps().zeta0, rays.nearZeta() - 1e-9);
   const std::vector<double> ref = renderReference(P, rays, grid.steps(), params, tf, nullptr);
   EXPECT_TRUE(allFinite(frame));
@@ -337,10 +337,10 @@ TEST(SPH, OpaqueGeometryStopsTheRays)
   PerspectiveGrid grid;
   Frame frame, open;
   RenderStatistics stats;
-  renderSPH(P, rays, params, tf, depth.data(), grid, frame, stats);
+  renderSPH({ P, tf, grid }, viewOf(rays, depth.data()), params, frame, stats);
   const std::vector<double> ref = renderReference(P, rays, grid.steps(), params, tf, depth.data());
   EXPECT_LT(maxDifference(frame, ref), 2e-3);
-  renderSPH(P, rays, params, tf, nullptr, grid, open, stats);
+  renderSPH({ P, tf, grid }, viewOf(rays), params, open, stats);
   double left = 0, leftOpen = 0;
   for (int j = 0; j < 32; ++j)
     for (int i = 0; i < 16; ++i)
@@ -370,7 +370,7 @@ TEST(SPH, RegionsCompositeToTheWholeImage)
     PerspectiveGrid grid;
     Frame whole;
     RenderStatistics stats;
-    renderSPH(P, rays, params, tf, nullptr, grid, whole, stats);
+    renderSPH({ P, tf, grid }, viewOf(rays), params, whole, stats);
 
     Frame composite;
     composite.resize(32, 32);
@@ -379,7 +379,7 @@ TEST(SPH, RegionsCompositeToTheWholeImage)
     {
       params.region = region;
       Frame part;
-      renderSPH(P, rays, params, tf, nullptr, grid, part, stats);
+      renderSPH({ P, tf, grid }, viewOf(rays), params, part, stats);
       blendBehind(composite, part);
     }
     std::vector<double> ref(whole.rgba.begin(), whole.rgba.end());
@@ -415,7 +415,7 @@ TEST(SPH, OpacityCorrectionMakesTheStepIrrelevantInAHomogeneousMedium)
     params.terminationOpacity = 1.0;
     PerspectiveGrid grid;
     RenderStatistics stats;
-    renderSPH(P, rays, params, tf, nullptr, grid, frames[f], stats);
+    renderSPH({ P, tf, grid }, viewOf(rays), params, frames[f], stats);
   }
   // The middle pixel's ray crosses the whole lattice (about 0.7 + 2 x 0.21 long).
   EXPECT_GT(frames[1].rgba[4 * frames[1].index(32, 32) + 3], 0.5f);
@@ -456,8 +456,8 @@ TEST(SPH, BadParticlesAreSkippedAndCounted)
   PerspectiveGrid grid;
   Frame a, b;
   RenderStatistics stats;
-  renderSPH(P, rays, params, tf, nullptr, grid, a, stats);
-  renderSPH(Pgood, rays, params, tf, nullptr, grid, b, stats);
+  renderSPH({ P, tf, grid }, viewOf(rays), params, a, stats);
+  renderSPH({ Pgood, tf, grid }, viewOf(rays), params, b, stats);
   EXPECT_EQ(a.rgba, b.rgba);
 }
 
@@ -470,12 +470,12 @@ TEST(SPH, EmptyInputAndParticlesOutOfViewGiveAnEmptyFrame)
   RenderStatistics stats;
   const SPHParticles none = makeParticles({});
   const ViewRays rays = perspectiveRays({ 0, 0, 4 }, { 0, 0, 0 }, Vec3d(), 16, 16);
-  renderSPH(none, rays, params, tf, nullptr, grid, frame, stats);
+  renderSPH({ none, tf, grid }, viewOf(rays), params, frame, stats);
   EXPECT_EQ(frame.width, 16);
   for (const float v : frame.rgba)
     EXPECT_EQ(v, 0.f);
   const SPHParticles behind = makeParticles({ { { 0, 0, 9 }, 0.5, 1, 1 } });
-  renderSPH(behind, rays, params, tf, nullptr, grid, frame, stats);
+  renderSPH({ behind, tf, grid }, viewOf(rays), params, frame, stats);
   EXPECT_EQ(stats.counter("particles_in_view"), 0);
   for (const float v : frame.rgba)
     EXPECT_EQ(v, 0.f);
@@ -505,7 +505,7 @@ TEST(SPH, FootprintsBeyondIntRangeUnderATinyViewAngleStayOutOfView)
   Frame frame;
   RenderStatistics stats;
   const SPHParticles P = makeParticles({ { { 0.5, 0, 0 }, 0.1, 1, 1 }, { { 0, 0, 0 }, 0.1, 1, 1 } });
-  renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+  renderSPH({ P, tf, grid }, viewOf(rays), params, frame, stats);
   EXPECT_EQ(stats.counter("particles_in_view"), 1);
   for (const float v : frame.rgba)
   {
@@ -524,7 +524,7 @@ TEST(SPH, AnEffectThatIsOffCostsNothing)
   params.normalization = SPHNormalization::Unnormalized;
   params.tileSize = 4;
   RenderStatistics plain;
-  renderSPH(P, rays, params, tf, nullptr, grid, frame, plain);
+  renderSPH({ P, tf, grid }, viewOf(rays), params, frame, plain);
   EXPECT_GT(plain.counter("kernel_evaluations"), 0);
   EXPECT_EQ(plain.counter("weight_sums"), 0);
   EXPECT_EQ(plain.counter("gradient_evaluations"), 0);
@@ -539,7 +539,7 @@ TEST(SPH, AnEffectThatIsOffCostsNothing)
   params.lights = { Light() };
   params.contour = true;
   RenderStatistics all;
-  renderSPH(P, rays, params, tf, nullptr, grid, frame, all);
+  renderSPH({ P, tf, grid }, viewOf(rays), params, frame, all);
   EXPECT_EQ(all.counter("weight_sums"), all.counter("kernel_evaluations"));
   EXPECT_EQ(all.counter("gradient_evaluations"), all.counter("kernel_evaluations"));
   EXPECT_GT(all.counter("shaded_samples"), 0);
@@ -559,7 +559,7 @@ TEST(SPH, ParallelProjectionTakesUniformSteps)
   PerspectiveGrid grid;
   Frame frame;
   RenderStatistics stats;
-  renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+  renderSPH({ P, tf, grid }, viewOf(rays), params, frame, stats);
   EXPECT_FALSE(grid.steps().logarithmic);
   const std::vector<double> ref = renderReference(P, rays, grid.steps(), params, tf, nullptr);
   EXPECT_LT(maxDifference(frame, ref), 2e-3);
@@ -579,8 +579,8 @@ TEST(SPH, TheFieldStepFollowsTheSupportNotTheResolution)
   PerspectiveGrid grid;
   Frame reference, frame;
   RenderStatistics a, b;
-  renderSPH(P, rays, fine, tf, nullptr, grid, reference, a);
-  renderSPH(P, rays, bounded, tf, nullptr, grid, frame, b);
+  renderSPH({ P, tf, grid }, viewOf(rays), fine, reference, a);
+  renderSPH({ P, tf, grid }, viewOf(rays), bounded, frame, b);
   // The step at the particles' far end is the longest inside them.
   double farEnd = 0;
   for (std::size_t i = 0; i < P.size(); ++i)
@@ -671,7 +671,7 @@ TEST(SPHHardCases, WeightSumVanishingAtTheFreeSurface)
       PerspectiveGrid grid;
       Frame frame;
       RenderStatistics stats;
-      renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+      renderSPH({ P, tf, grid }, viewOf(rays), params, frame, stats);
       EXPECT_TRUE(allFinite(frame));
       int blue = 0;
       double coverage = 0;
@@ -729,7 +729,7 @@ TEST(SPHHardCases, SmoothingLengthsOverThreeDecades)
     PerspectiveGrid grid;
     Frame frame;
     RenderStatistics stats;
-    renderSPH(P, *rays, params, tf, nullptr, grid, frame, stats);
+    renderSPH({ P, tf, grid }, viewOf(*rays), params, frame, stats);
     const DepthSteps& steps = grid.steps();
     int small = 0; // pixels whose ray meets a support below 0.002
     for (int py = 0; py < 48; ++py)
@@ -786,7 +786,7 @@ TEST(SPHHardCases, CameraInsideTheFluidLosesNothingInFront)
     PerspectiveGrid grid;
     Frame frame;
     RenderStatistics stats;
-    renderSPH(P, rays, params, tf, nullptr, grid, frame, stats);
+    renderSPH({ P, tf, grid }, viewOf(rays), params, frame, stats);
     EXPECT_TRUE(allFinite(frame));
     const DepthSteps& steps = grid.steps();
     EXPECT_NEAR(steps.zeta0, rays.nearZeta(), 1e-9);

@@ -716,7 +716,7 @@ TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSeve
   FluidSpans spans;
   Frame seven, all;
   RenderStatistics stats;
-  ASSERT_TRUE(renderFluid(P, rays, fp, spans, seven, stats));
+  ASSERT_TRUE(renderFluid({ P, spans }, viewOf(rays), fp, seven, stats));
   EXPECT_GT(stats.counter("spans_hidden"), 0);
   EXPECT_TRUE(stats.effect("translucency"));
   EXPECT_FALSE(stats.effect("refraction"));
@@ -732,7 +732,7 @@ TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSeve
   fp.voxelizer.maxSpans = 63;
   FluidSpans allSpans;
   stats.clear();
-  ASSERT_TRUE(renderFluid(P, rays, fp, allSpans, all, stats));
+  ASSERT_TRUE(renderFluid({ P, allSpans }, viewOf(rays), fp, all, stats));
   EXPECT_EQ(stats.counter("spans_hidden"), 0);
   const Vec3d kappa = fp.absorptionColor * fp.density;
   int deep = 0;
@@ -773,7 +773,7 @@ TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSeve
   const Sphere corner{ { 1.4, 1.0, 0 }, 0.9 };
   const ViewRays wide = perspectiveRays({ 0, 0, 3 }, { 0, 0, 0 }, W, H, 0.1, 100, 90);
   Frame frame;
-  ASSERT_TRUE(renderFluid(makeParticles({ corner }), wide, fp, allSpans, frame, stats));
+  ASSERT_TRUE(renderFluid({ makeParticles({ corner }), allSpans }, viewOf(wide), fp, frame, stats));
   int tested = 0;
   for (int j = 0; j < H; ++j)
   {
@@ -810,7 +810,7 @@ TEST(SPHVoxelizer, OpaqueFrontSurfaceIsLitWithTheSphereNormalAtItsDepth)
   FluidSpans spans;
   Frame frame;
   RenderStatistics stats;
-  ASSERT_TRUE(renderFluid(makeParticles({ s }), rays, fp, spans, frame, stats));
+  ASSERT_TRUE(renderFluid({ makeParticles({ s }), spans }, viewOf(rays), fp, frame, stats));
   double sumError = 0, maxError = 0;
   EXPECT_FALSE(stats.effect("translucency"));
   EXPECT_EQ(stats.counter("translucent_pixels"), 0);
@@ -876,7 +876,7 @@ TEST(SPHVoxelizer, RefractionAndTotalInternalReflectionNeverCreateEnergy)
     FluidSpans spans;
     Frame frame;
     RenderStatistics stats;
-    ASSERT_TRUE(renderFluid(P, *view, fp, spans, frame, stats));
+    ASSERT_TRUE(renderFluid({ P, spans }, viewOf(*view), fp, frame, stats));
     EXPECT_TRUE(stats.effect("refraction"));
     EXPECT_EQ(stats.counter("refraction_paths"), stats.counter("shaded_pixels"));
     EXPECT_GT(stats.counter("tir_events"), 0) << eta;
@@ -903,7 +903,7 @@ TEST(SPHVoxelizer, RefractionAndTotalInternalReflectionNeverCreateEnergy)
     FluidSpans spans;
     Frame frame;
     RenderStatistics stats;
-    ASSERT_TRUE(renderFluid(P, rays, fp, spans, frame, stats));
+    ASSERT_TRUE(renderFluid({ P, spans }, viewOf(rays), fp, frame, stats));
     EXPECT_FALSE(stats.effect("refraction"));
     EXPECT_EQ(stats.counter("march_columns"), 0);
     EXPECT_EQ(stats.counter("surface_events"), 0);
@@ -925,13 +925,13 @@ TEST(SPHVoxelizer, AmbientOcclusionDarkensOnlyWhereFluidIsNearAndCostsNothingWhe
   FluidSpans spans;
   Frame off, on;
   RenderStatistics stats;
-  ASSERT_TRUE(renderFluid(P, rays, fp, spans, off, stats));
+  ASSERT_TRUE(renderFluid({ P, spans }, viewOf(rays), fp, off, stats));
   EXPECT_FALSE(stats.effect("ambient_occlusion"));
   EXPECT_EQ(stats.counter("ao_samples"), 0);
   EXPECT_EQ(stats.phase("ao"), 0.0);
   fp.ambientOcclusion = true;
   stats.clear();
-  ASSERT_TRUE(renderFluid(P, rays, fp, spans, on, stats));
+  ASSERT_TRUE(renderFluid({ P, spans }, viewOf(rays), fp, on, stats));
   EXPECT_TRUE(stats.effect("ambient_occlusion"));
   EXPECT_EQ(stats.counter("ao_samples"), 32 * stats.counter("shaded_pixels"));
   // The pixel of each sphere's front centre, and one just beside the contact.
@@ -982,7 +982,7 @@ TEST(SPHVoxelizer, RenderingHardCasesEmptyInsideAndNonFinite)
   RenderStatistics stats;
   // Empty input: an empty frame at the far plane.
   const ViewRays rays = perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, 32, 24);
-  ASSERT_TRUE(renderFluid(makeParticles({}), rays, fp, spans, frame, stats));
+  ASSERT_TRUE(renderFluid({ makeParticles({}), spans }, viewOf(rays), fp, frame, stats));
   EXPECT_TRUE(std::all_of(frame.rgba.begin(), frame.rgba.end(), [](float v) { return v == 0.f; }));
   EXPECT_TRUE(
     std::all_of(frame.depth.begin(), frame.depth.end(), [](float v) { return v == 1.f; }));
@@ -990,12 +990,7 @@ TEST(SPHVoxelizer, RenderingHardCasesEmptyInsideAndNonFinite)
   // The camera inside the fluid: every pixel sees fluid, nothing is NaN.
   const ViewRays inside = perspectiveRays({ 0.2, 0.1, 0.3 }, { 0, 0, -3 }, 32, 24, 0.05, 50, 60);
   stats.clear();
-  ASSERT_TRUE(renderFluid(makeParticles({ { { 0, 0, 0 }, 2.0 }, { { 0, 0, -3.5 }, 0.5 } }),
-    inside,
-    fp,
-    spans,
-    frame,
-    stats));
+  ASSERT_TRUE(renderFluid({ makeParticles({ { { 0, 0, 0 }, 2.0 }, { { 0, 0, -3.5 }, 0.5 } }), spans }, viewOf(inside), fp, frame, stats));
   ASSERT_TRUE(frameFinite(frame));
   EXPECT_EQ(stats.counter("shaded_pixels"), 32 * 24);
   for (std::size_t p = 0; p < frame.depth.size(); ++p)
@@ -1007,12 +1002,7 @@ TEST(SPHVoxelizer, RenderingHardCasesEmptyInsideAndNonFinite)
   const double nan = std::numeric_limits<double>::quiet_NaN();
   stats.clear();
   ASSERT_TRUE(
-    renderFluid(makeParticles({ { { nan, 0, 0 }, 1 }, { { 0, 0, 0 }, 1 }, { { 0, nan, 0 }, 1 } }),
-      rays,
-      fp,
-      spans,
-      frame,
-      stats));
+    renderFluid({ makeParticles({ { { nan, 0, 0 }, 1 }, { { 0, 0, 0 }, 1 }, { { 0, nan, 0 }, 1 } }), spans }, viewOf(rays), fp, frame, stats));
   EXPECT_EQ(stats.counter("particles_skipped"), 2);
   EXPECT_GT(stats.counter("shaded_pixels"), 50);
   EXPECT_TRUE(frameFinite(frame));
@@ -1315,7 +1305,7 @@ TEST(SPHVoxelizer, BubbleIsASpanPerWall)
   FluidRenderParameters fp = litFluid();
   Frame frame;
   stats.clear();
-  ASSERT_TRUE(renderFluid(makeParticles(shell), rays, fp, spans, frame, stats));
+  ASSERT_TRUE(renderFluid({ makeParticles(shell), spans }, viewOf(rays), fp, frame, stats));
   EXPECT_TRUE(frameFinite(frame));
   int checked = 0;
   for (int j = 0; j < H; ++j)
@@ -1393,7 +1383,7 @@ TEST(SPHVoxelizer, CameraInsideAParticleFluid)
   fp.ambientOcclusion = true;
   Frame frame;
   stats.clear();
-  ASSERT_TRUE(renderFluid(makeParticles(block), rays, fp, spans, frame, stats));
+  ASSERT_TRUE(renderFluid({ makeParticles(block), spans }, viewOf(rays), fp, frame, stats));
   EXPECT_TRUE(frameFinite(frame));
   for (std::size_t p = 0; p < frame.depth.size(); ++p)
   {

@@ -78,7 +78,7 @@ TEST(SphereRenderer, MatchesBruteForceReference)
   SphereShading flat; // no lights: the sphere's own colour
   Frame frame;
   RenderStatistics stats;
-  renderSpheres(scene.spheres, accel, 4, camera, flat, 16, frame, stats);
+  renderSpheres({ scene.spheres, accel }, viewOf(camera), { flat, 4, 16 }, frame, stats);
   EXPECT_EQ(stats.counter("rays"), 100 * 80);
   EXPECT_FALSE(stats.effect("shading"));
 
@@ -129,8 +129,8 @@ TEST(SphereRenderer, AnyTileSizeGivesTheSameImage)
   shading.material.specularPower = 20;
   Frame a, b;
   RenderStatistics sa, sb;
-  renderSpheres(scene.spheres, accel, 4, camera, shading, 4, a, sa);
-  renderSpheres(scene.spheres, accel, 4, camera, shading, 64, b, sb);
+  renderSpheres({ scene.spheres, accel }, viewOf(camera), { shading, 4, 4 }, a, sa);
+  renderSpheres({ scene.spheres, accel }, viewOf(camera), { shading, 4, 64 }, b, sb);
   EXPECT_EQ(a.rgba, b.rgba);
   EXPECT_EQ(a.depth, b.depth);
   EXPECT_TRUE(sa.effect("shading"));
@@ -161,7 +161,7 @@ TEST(SphereRenderer, LambertShadingOfAHeadOnSphere)
   shading.material.diffuse = 0.75;
   Frame f;
   RenderStatistics stats;
-  renderSpheres(s, accel, 4, camera, shading, 32, f, stats);
+  renderSpheres({ s, accel }, viewOf(camera), { shading, 4, 32 }, f, stats);
   // pixel (32, 32) has its centre at x = y = 2 * (0.5/32) = 1/32 off the axis
   const double x = 1.0 / 32, nz = std::sqrt(1 - 2 * x * x);
   const std::size_t k = f.index(32, 32);
@@ -201,7 +201,7 @@ TEST(SphereRenderer, EmptySetGivesAnEmptyFrame)
     multiply(perspective(30, 1, 1, 10), lookAt({ 0, 0, 5 }, { 0, 0, 0 }, { 0, 1, 0 })), 16, 16, {});
   Frame f;
   RenderStatistics stats;
-  renderSpheres(s, accel, 4, camera, SphereShading{}, 8, f, stats);
+  renderSpheres({ s, accel }, viewOf(camera), { SphereShading{}, 4, 8 }, f, stats);
   EXPECT_EQ(f.rgba.size(), 16u * 16u * 4u);
   for (float v : f.rgba)
   {

@@ -272,7 +272,7 @@ Image sweep(const ZSweepGrid& g,
   mesh.build(g, sparse);
   Image im;
   im.frame.resize(cam.width, cam.height);
-  renderZSweep(mesh, opticsOf(tf), cam.matrix(), params, nullptr, im.frame, im.stats);
+  renderZSweep({ mesh, opticsOf(tf) }, View(cam.matrix(), cam.width, cam.height, mesh.origin()), params, im.frame, im.stats);
   return im;
 }
 
@@ -905,8 +905,7 @@ TEST(ZSweepImage, TheEventOrderKeptBetweenFramesChangesNoPicture)
   auto render = [&](const TestCamera& cam, ZSweepEventOrder* kept) {
     Image im;
     im.frame.resize(cam.width, cam.height);
-    renderZSweep(mesh, opticsOf(tf), cam.matrix(), ZSweepParameters(), nullptr, im.frame,
-      im.stats, kept);
+    renderZSweep({ mesh, opticsOf(tf), kept }, View(cam.matrix(), cam.width, cam.height, mesh.origin()), ZSweepParameters(), im.frame, im.stats);
     return im;
   };
   TestCamera cam;

@@ -94,8 +94,15 @@ public:
   /// pixel coordinates are ((x / w + 1) W / 2, (y / w + 1) H / 2), the window depth
   /// (z / w + 1) / 2.
   std::array<double, 4> clip(const Vec3d& p) const;
+  /// The model (not origin-relative) to clip matrix and the origin the rays were made from.
+  const std::array<double, 16>& modelToClip() const { return ModelToClip; }
+  const Vec3d& origin() const { return Origin; }
+  /// The origin-relative model-to-clip matrix (row-major) that clip() applies.
+  const std::array<double, 16>& originRelativeClip() const { return M; }
 
 private:
+  std::array<double, 16> ModelToClip{};
+  Vec3d Origin;
   std::array<double, 16> M{}; // origin-relative model -> clip
   bool Perspective = true;
   int Width = 0, Height = 0;

@@ -1,4 +1,4 @@
-#include "Mappers/SPH/ViewRays.h"
+#include "Mappers/Common/ViewRays.h"
 
 #include <algorithm>
 #include <cmath>
@@ -34,6 +34,8 @@ bool ViewRays::assign(const std::array<double, 16>& modelToClip,
 {
   Width = width;
   Height = height;
+  ModelToClip = modelToClip;
+  Origin = origin;
   // Origin-relative: p_model = p + origin, so each row's constant term absorbs r . origin.
   M = modelToClip;
   for (int r = 0; r < 4; ++r)
