@@ -6,8 +6,9 @@
 #include "Mappers/SPH/SpanVoxelizer.h"
 #include "Mappers/SPH/SurfaceLinks.h"
 #include "Mappers/Common/RayCamera.h"
-#include "Mappers/SPH/ViewRays.h"
+#include "Mappers/Common/View.h"
 
+#include "vtkRayMapperCameraMatrix.h"
 #include "vtkRayMapperPointArrays.h"
 #include "vtkRayMapperScalarArray.h"
 #include "vtkCamera.h"
@@ -19,7 +20,6 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
-#include "vtkMatrix4x4.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
@@ -464,17 +464,13 @@ int vtkSPHVoxelizer::RequestData(vtkInformation*, vtkInformationVector** inputVe
     H,
     this->ResetCamera,
     this->ResetCamera || !this->CameraGiven);
-  vtkMatrix4x4* m =
-    camera->GetCompositeProjectionTransformMatrix(static_cast<double>(W) / H, -1, 1);
-  std::array<double, 16> modelToClip;
-  for (int i = 0; i < 16; ++i)
-  {
-    modelToClip[i] = m->GetElement(i / 4, i % 4);
-  }
-  raymappers::ViewRays rays;
+  const std::array<double, 16> modelToClip =
+    vtkRayMapperWorldToClip(camera, static_cast<double>(W) / H);
+  const raymappers::View view(modelToClip, W, H, origin);
+  const raymappers::ViewRays& rays = view.depthRays();
   raymappers::FluidSpans spans;
   const std::string degenerate = raymappers::degenerateProjection(modelToClip);
-  bool ok = degenerate.empty() && rays.assign(modelToClip, W, H, origin);
+  bool ok = degenerate.empty() && view.hasDepthRays();
   if (!ok)
   {
     vtkWarningMacro(<< "The camera is degenerate: "

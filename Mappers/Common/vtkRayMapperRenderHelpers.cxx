@@ -1,5 +1,7 @@
 #include "vtkRayMapperRenderHelpers.h"
 
+#include "vtkRayMapperCameraMatrix.h"
+
 #include "vtkAbstractVolumeMapper.h"
 #include "vtkObject.h"
 #include "vtkActor2D.h"
@@ -95,11 +97,7 @@ std::array<double, 16> GatherModelToClip(vtkRenderer* ren,
   else
   {
     const double aspect = height > 0 ? static_cast<double>(width) / height : 1.0;
-    vtkMatrix4x4* m = ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(aspect, -1, 1);
-    for (int i = 0; i < 16; ++i)
-    {
-      worldToClip[i] = m->GetElement(i / 4, i % 4);
-    }
+    worldToClip = vtkRayMapperWorldToClip(ren->GetActiveCamera(), aspect);
   }
   std::array<double, 16> modelToClip{};
   for (int r = 0; r < 4; ++r)
