@@ -113,17 +113,7 @@ void buildSphereSet(std::size_t n,
   out.skippedNonFinite = tally.nonFinite;
   out.skippedBadRadius = tally.badRadius;
   out.maxRadius = tally.maxRadius;
-  if (tally.skipped() > 0)
-  {
-    // (Entry i is read before any write reaches it: writes go to kept <= i.)
-    compactStable(
-      n,
-      [&](std::size_t i) { return out.radii[i] > 0.f; },
-      out.centers,
-      out.radii,
-      out.colors,
-      out.sourceIds);
-  }
+  dropSkipped(tally, out.radii, out.centers, out.radii, out.colors, out.sourceIds);
 }
 
 /// Sets `count` attributes per sphere from value(sourceId, a), in parallel.

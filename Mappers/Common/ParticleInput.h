@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <vector>
 
 namespace raymappers
 {
@@ -91,6 +92,19 @@ void compactStable(std::size_t n, Keep keep, Vectors&... vectors)
     }
   }
   (vectors.resize(kept), ...);
+}
+
+/// Drops the particles a tally skipped (ParticleTally::admit gave them radius 0) from every
+/// vector, the others kept in input order; `radii`, one of `vectors`, tells which (entry i
+/// is read before any write reaches it: writes go to kept <= i).
+template<typename... Vectors>
+void dropSkipped(const ParticleTally& tally, const std::vector<float>& radii, Vectors&... vectors)
+{
+  if (tally.skipped() > 0)
+  {
+    compactStable(
+      radii.size(), [&](std::size_t i) { return radii[i] > 0.f; }, vectors...);
+  }
 }
 
 } // namespace raymappers

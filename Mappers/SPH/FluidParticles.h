@@ -49,8 +49,7 @@ void buildFluidParticles(std::size_t n,
   out.skippedNonFinite = tally.nonFinite;
   out.skippedBadRadius = tally.badRadius;
   out.maxRadius = tally.maxRadius;
-  compactStable(
-    n, [&](std::size_t i) { return out.radius[i] > 0.f; }, out.centers, out.radius);
+  dropSkipped(tally, out.radius, out.centers, out.radius);
 }
 
 } // namespace raymappers
