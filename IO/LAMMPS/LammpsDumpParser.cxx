@@ -1,7 +1,7 @@
 // LammpsDumpParser: see the header for the file format and the behaviour on bad input.
-// Open checks the file (CheckFile), then indexes its snapshots (SnapshotIndexer: one function
-// per header section, the atom block's extent counted, not parsed). ReadFrame reads one
-// snapshot (ReadSnapshot: the coordinate columns, every column's role, the atom lines into
+// open() checks the file (checkFile), then indexes its snapshots (SnapshotIndexer: one function
+// per header section, the atom block's extent counted, not parsed). readFrame reads one
+// snapshot (readSnapshot: the coordinate columns, every column's role, the atom lines into
 // arrays, scaled to Cartesian coordinates, sorted by id).
 #include "IO/LAMMPS/LammpsDumpParser.h"
 
@@ -26,11 +26,11 @@ namespace lammps
 namespace
 {
 
-// Thrown inside the parser and turned into GetError() text at the public functions, so the
+// Thrown inside the parser and turned into error() text at the public functions, so the
 // many "expected X at line L" checks stay one line each.
 struct ParseError
 {
-  std::string Message;
+  std::string message;
 };
 
 // A line longer than this is not a dump line: the file is binary or corrupt. Bounds the
@@ -43,7 +43,7 @@ constexpr std::size_t MaxLineBytes = std::size_t(64) << 20;
 class LineReader
 {
 public:
-  bool Open(const std::string& fileName, std::uint64_t offset, std::uint64_t linesBefore)
+  bool open(const std::string& fileName, std::uint64_t offset, std::uint64_t linesBefore)
   {
     this->In.open(fileName, std::ios::binary);
     if (!this->In)
@@ -65,7 +65,7 @@ public:
   }
 
   /// Next line without its "\n" or "\r\n". False at the end of the file.
-  bool Next(std::string_view& line)
+  bool next(std::string_view& line)
   {
     std::size_t scanned = this->Pos;
     for (;;)
@@ -79,21 +79,21 @@ public:
         this->Pos += len + 1;
         ++this->Line;
         this->LastUnterminated = false;
-        StripCR(line);
+        stripCR(line);
         return true;
       }
       const std::size_t keep = this->End - this->Pos;
-      if (!this->Fill())
+      if (!this->fill())
       {
         if (this->Pos < this->End)
         {
           // Last line of the file without a newline.
           line = std::string_view(this->Buffer.data() + this->Pos, this->End - this->Pos);
           this->LastUnterminated = true;
-          this->LastLineOffset = this->Offset();
+          this->LastLineOffset = this->offset();
           this->Pos = this->End;
           ++this->Line;
-          StripCR(line);
+          stripCR(line);
           return true;
         }
         return false;
@@ -104,26 +104,26 @@ public:
 
   /// Skips up to n lines; returns how many were skipped. Fewer at the end of the file, or
   /// before a line that starts with "ITEM:" (a snapshot with fewer atom lines than it
-  /// announced: the next section's header is not an atom line); AtHeader() then says so and
-  /// Next() returns that line. A final line without a newline counts; LastLineUnterminated()
+  /// announced: the next section's header is not an atom line); atHeader() then says so and
+  /// next() returns that line. A final line without a newline counts; lastLineUnterminated()
   /// then says so.
-  std::uint64_t SkipLines(std::uint64_t n)
+  std::uint64_t skipLines(std::uint64_t n)
   {
     const std::uint64_t first = this->Line;
     this->LastUnterminated = false;
     this->StoppedAtHeader = false;
     while (this->Line - first < n && !this->StoppedAtHeader)
     {
-      this->ScanLines(first + n);
+      this->scanLines(first + n);
       // Fill keeps the unfinished line, so a line longer than MaxLineBytes stops here.
-      if (this->Line - first == n || this->StoppedAtHeader || this->Fill())
+      if (this->Line - first == n || this->StoppedAtHeader || this->fill())
       {
         continue;
       }
       if (this->Pos < this->End)
       {
         this->LastUnterminated = true;
-        this->LastLineOffset = this->Offset();
+        this->LastLineOffset = this->offset();
         this->Pos = this->End;
         ++this->Line;
       }
@@ -133,15 +133,15 @@ public:
   }
 
   /// Byte offset of the next unread byte.
-  std::uint64_t Offset() const { return this->BufferOffset + this->Pos; }
+  std::uint64_t offset() const { return this->BufferOffset + this->Pos; }
   /// Line number of the line most recently returned or skipped (1-based).
-  std::uint64_t LineNumber() const { return this->Line; }
-  bool LastLineUnterminated() const { return this->LastUnterminated; }
-  bool AtHeader() const { return this->StoppedAtHeader; }
-  std::uint64_t GetLastLineOffset() const { return this->LastLineOffset; }
+  std::uint64_t lineNumber() const { return this->Line; }
+  bool lastLineUnterminated() const { return this->LastUnterminated; }
+  bool atHeader() const { return this->StoppedAtHeader; }
+  std::uint64_t lastLineOffset() const { return this->LastLineOffset; }
 
 private:
-  static void StripCR(std::string_view& line)
+  static void stripCR(std::string_view& line)
   {
     if (!line.empty() && line.back() == '\r')
     {
@@ -153,7 +153,7 @@ private:
   // with "ITEM:" (LAMMPS writes headers at the start of a line). A header cut by the end of
   // the buffer has no newline in it, so the scan stops there and sees the whole tag after
   // Fill, which keeps the unfinished line.
-  void ScanLines(std::uint64_t last)
+  void scanLines(std::uint64_t last)
   {
     constexpr char tag[] = "ITEM:";
     constexpr std::ptrdiff_t tagSize = sizeof(tag) - 1;
@@ -182,7 +182,7 @@ private:
 
   // Moves the unread bytes to the front of the buffer (growing it if a line fills it) and
   // reads more. False when nothing more could be read.
-  bool Fill()
+  bool fill()
   {
     if (this->Eof)
     {
@@ -233,34 +233,34 @@ private:
   std::uint64_t LastLineOffset = 0;
 };
 
-bool IsSpace(char c)
+bool isSpace(char c)
 {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
 
-std::string_view Trim(std::string_view s)
+std::string_view trim(std::string_view s)
 {
-  while (!s.empty() && IsSpace(s.front()))
+  while (!s.empty() && isSpace(s.front()))
   {
     s.remove_prefix(1);
   }
-  while (!s.empty() && IsSpace(s.back()))
+  while (!s.empty() && isSpace(s.back()))
   {
     s.remove_suffix(1);
   }
   return s;
 }
 
-bool StartsWith(std::string_view s, std::string_view prefix)
+bool startsWith(std::string_view s, std::string_view prefix)
 {
   return s.size() >= prefix.size() && s.compare(0, prefix.size(), prefix) == 0;
 }
 
 /// Next whitespace-separated token of rest (advanced past it). False if none is left.
-bool NextToken(std::string_view& rest, std::string_view& token)
+bool nextToken(std::string_view& rest, std::string_view& token)
 {
   std::size_t i = 0;
-  while (i < rest.size() && IsSpace(rest[i]))
+  while (i < rest.size() && isSpace(rest[i]))
   {
     ++i;
   }
@@ -270,7 +270,7 @@ bool NextToken(std::string_view& rest, std::string_view& token)
     return false;
   }
   std::size_t j = i;
-  while (j < rest.size() && !IsSpace(rest[j]))
+  while (j < rest.size() && !isSpace(rest[j]))
   {
     ++j;
   }
@@ -279,11 +279,11 @@ bool NextToken(std::string_view& rest, std::string_view& token)
   return true;
 }
 
-std::vector<std::string_view> Tokens(std::string_view s)
+std::vector<std::string_view> splitTokens(std::string_view s)
 {
   std::vector<std::string_view> out;
   std::string_view token;
-  while (NextToken(s, token))
+  while (nextToken(s, token))
   {
     out.push_back(token);
   }
@@ -291,7 +291,7 @@ std::vector<std::string_view> Tokens(std::string_view s)
 }
 
 /// A token shortened for an error message.
-std::string Quote(std::string_view s)
+std::string quote(std::string_view s)
 {
   constexpr std::size_t maxChars = 60;
   std::string out;
@@ -313,7 +313,7 @@ std::string Quote(std::string_view s)
 /// Parses a whole token as a double, locale-independently (std::from_chars). Accepts what
 /// printf writes, including "nan", "-nan", "inf", and a leading '+'. Values beyond the double
 /// range become +-inf or +-0, as strtod would give.
-bool ParseDouble(std::string_view t, double& v)
+bool parseDouble(std::string_view t, double& v)
 {
   if (!t.empty() && t.front() == '+')
   {
@@ -347,7 +347,7 @@ bool ParseDouble(std::string_view t, double& v)
 
 /// Parses a whole token as an integer; also accepts an integral floating value ("3.0",
 /// "1e3"), which a dump_modify format may produce.
-bool ParseInt64(std::string_view t, std::int64_t& v)
+bool parseInt64(std::string_view t, std::int64_t& v)
 {
   if (!t.empty() && t.front() == '+')
   {
@@ -364,7 +364,7 @@ bool ParseInt64(std::string_view t, std::int64_t& v)
     return true;
   }
   double d = 0.0;
-  if (ParseDouble(t, d) && std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 9.2e18)
+  if (parseDouble(t, d) && std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 9.2e18)
   {
     v = static_cast<std::int64_t>(d);
     return true;
@@ -372,12 +372,12 @@ bool ParseInt64(std::string_view t, std::int64_t& v)
   return false;
 }
 
-std::string Where(std::uint64_t line)
+std::string where(std::uint64_t line)
 {
   return "line " + std::to_string(line);
 }
 
-std::string JoinNames(const std::vector<std::string>& names)
+std::string joinNames(const std::vector<std::string>& names)
 {
   std::string out;
   for (const std::string& n : names)
@@ -388,14 +388,14 @@ std::string JoinNames(const std::vector<std::string>& names)
   return out;
 }
 
-std::string DescribeFrame(std::size_t index, const DumpFrameInfo& info)
+std::string describeFrame(std::size_t index, const DumpFrameInfo& info)
 {
-  return "snapshot " + std::to_string(index + 1) + " (timestep " + std::to_string(info.Timestep) +
-         ", line " + std::to_string(info.HeaderLine) + ")";
+  return "snapshot " + std::to_string(index + 1) + " (timestep " + std::to_string(info.timestep) +
+         ", line " + std::to_string(info.headerLine) + ")";
 }
 
 /// Explains why the start of a file does not look like a text dump, or "" if it does.
-std::string SniffNotADump(const std::string& fileName, const std::string& head)
+std::string sniffNotADump(const std::string& fileName, const std::string& head)
 {
   const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(head[i]); };
   if (head.size() >= 2 && byte(0) == 0x1f && byte(1) == 0x8b)
@@ -413,10 +413,10 @@ std::string SniffNotADump(const std::string& fileName, const std::string& head)
   while (!rest.empty())
   {
     const std::size_t nl = rest.find('\n');
-    const std::string_view line = Trim(rest.substr(0, nl));
+    const std::string_view line = trim(rest.substr(0, nl));
     if (!line.empty())
     {
-      if (StartsWith(line, "ITEM:"))
+      if (startsWith(line, "ITEM:"))
       {
         return std::string();
       }
@@ -426,7 +426,7 @@ std::string SniffNotADump(const std::string& fileName, const std::string& head)
                "' is a binary file, not a text dump (a binary dump written to "
                "*.bin is converted to text with LAMMPS's binary2txt tool)";
       }
-      return "'" + fileName + "' is not a LAMMPS text dump: its first line " + Quote(line) +
+      return "'" + fileName + "' is not a LAMMPS text dump: its first line " + quote(line) +
              " does not start with 'ITEM:' (a data file, an xyz dump, or a dump written with "
              "dump_modify header no cannot be read)";
     }
@@ -439,7 +439,7 @@ std::string SniffNotADump(const std::string& fileName, const std::string& head)
   return std::string(); // blank start: the index reports what it finds
 }
 
-std::string ReadHead(const std::string& fileName, std::size_t bytes)
+std::string readHead(const std::string& fileName, std::size_t bytes)
 {
   std::ifstream in(fileName, std::ios::binary);
   std::string head(bytes, '\0');
@@ -448,7 +448,7 @@ std::string ReadHead(const std::string& fileName, std::size_t bytes)
   return head;
 }
 
-long long FileTimeOf(const std::string& fileName)
+long long fileTimeOf(const std::string& fileName)
 {
   std::error_code ec;
   const auto t = std::filesystem::last_write_time(fileName, ec);
@@ -459,70 +459,70 @@ long long FileTimeOf(const std::string& fileName)
 /// origin" a general one, the other words are the boundary flags (none, or one per axis).
 struct BoxHeader
 {
-  bool Tilted = false;
-  bool General = false;
-  std::vector<std::string> Flags;
+  bool tilted = false;
+  bool general = false;
+  std::vector<std::string> flags;
 };
 
 /// The numbers of the three lines under the header, up to 4 per line.
 struct BoxLines
 {
   double V[3][4] = {};
-  int Counts[3] = { 0, 0, 0 };
+  int counts[3] = { 0, 0, 0 };
 };
 
 /// Reads the words after "ITEM: BOX BOUNDS" (on line `headerLine`).
-BoxHeader ParseBoxHeader(std::string_view flagsText, std::uint64_t headerLine)
+BoxHeader parseBoxHeader(std::string_view flagsText, std::uint64_t headerLine)
 {
   BoxHeader header;
-  for (std::string_view token : Tokens(flagsText))
+  for (std::string_view token : splitTokens(flagsText))
   {
     if (token == "xy" || token == "xz" || token == "yz")
     {
-      header.Tilted = true;
+      header.tilted = true;
     }
     else if (token == "abc" || token == "origin")
     {
-      header.General = true;
+      header.general = true;
     }
     else
     {
-      header.Flags.emplace_back(token);
+      header.flags.emplace_back(token);
     }
   }
-  if (!header.Flags.empty() && header.Flags.size() != 3)
+  if (!header.flags.empty() && header.flags.size() != 3)
   {
-    throw ParseError{ Where(headerLine) +
+    throw ParseError{ where(headerLine) +
                       ": expected 3 boundary flags (e.g. 'pp pp pp') after "
                       "'ITEM: BOX BOUNDS', found " +
-                      Quote(flagsText) };
+                      quote(flagsText) };
   }
   return header;
 }
 
 /// Reads the numbers of the three lines after the header, at most 4 per line.
-BoxLines ReadBoxLines(LineReader& reader, std::uint64_t headerLine)
+BoxLines readBoxLines(LineReader& reader, std::uint64_t headerLine)
 {
   BoxLines lines;
   for (int axis = 0; axis < 3; ++axis)
   {
     std::string_view line;
-    if (!reader.Next(line))
+    if (!reader.next(line))
     {
       throw ParseError{ "the file ends inside the BOX BOUNDS section that starts at " +
-                        Where(headerLine) };
+                        where(headerLine) };
     }
     std::string_view rest = line;
     std::string_view token;
-    int& count = lines.Counts[axis];
-    while (NextToken(rest, token))
+    int& count = lines.counts[axis];
+    while (nextToken(rest, token))
     {
-      if (count == 4 || !ParseDouble(token, lines.V[axis][count]))
+      if (count == 4 || !parseDouble(token, lines.V[axis][count]))
       {
-        throw ParseError{ Where(reader.LineNumber()) +
+        throw ParseError{ where(reader.lineNumber()) +
                           ": expected 2 to 4 numbers for a box "
                           "bound, found " +
-                          Quote(line) };
+                          quote(line) };
       }
       ++count;
     }
@@ -532,16 +532,16 @@ BoxLines ReadBoxLines(LineReader& reader, std::uint64_t headerLine)
 
 /// Each line must have the count the header announces: 4 for "abc origin", 3 for a tilted
 /// box, else 2 (3 is also accepted: old LAMMPS versions wrote tilts without "xy xz yz").
-void CheckBoxLineCounts(const BoxHeader& header, const BoxLines& lines, std::uint64_t headerLine)
+void checkBoxLineCounts(const BoxHeader& header, const BoxLines& lines, std::uint64_t headerLine)
 {
-  const int expected = header.General ? 4 : (header.Tilted ? 3 : 2);
+  const int expected = header.general ? 4 : (header.tilted ? 3 : 2);
   for (int axis = 0; axis < 3; ++axis)
   {
-    const int count = lines.Counts[axis];
-    const bool ok = count == expected || (!header.General && !header.Tilted && count == 3);
+    const int count = lines.counts[axis];
+    const bool ok = count == expected || (!header.general && !header.tilted && count == 3);
     if (!ok)
     {
-      throw ParseError{ Where(headerLine + 1 + axis) + ": expected " + std::to_string(expected) +
+      throw ParseError{ where(headerLine + 1 + axis) + ": expected " + std::to_string(expected) +
                         " numbers for this box bound, found " + std::to_string(count) };
     }
   }
@@ -549,20 +549,20 @@ void CheckBoxLineCounts(const BoxHeader& header, const BoxLines& lines, std::uin
 
 /// A general triclinic box from its lines "Ax Ay Az xorigin", "Bx By Bz yorigin",
 /// "Cx Cy Cz zorigin".
-void SetGeneralTriclinicBox(const double v[3][4], DumpBox& box)
+void setGeneralTriclinicBox(const double v[3][4], DumpBox& box)
 {
-  box.Kind = DumpBox::Shape::GeneralTriclinic;
+  box.kind = DumpBox::Shape::GeneralTriclinic;
   for (int k = 0; k < 3; ++k)
   {
     box.A[k] = v[0][k];
     box.B[k] = v[1][k];
     box.C[k] = v[2][k];
-    box.Origin[k] = v[k][3];
+    box.origin[k] = v[k][3];
   }
 }
 
 /// An orthogonal or restricted triclinic box from its lines "lo hi [tilt]".
-void SetRestrictedBox(const double v[3][4], bool tilted, DumpBox& box)
+void setRestrictedBox(const double v[3][4], bool tilted, DumpBox& box)
 {
   const double xy = tilted ? v[0][2] : 0.0;
   const double xz = tilted ? v[1][2] : 0.0;
@@ -575,13 +575,13 @@ void SetRestrictedBox(const double v[3][4], bool tilted, DumpBox& box)
   const double yhi = v[1][1] - std::max(0.0, yz);
   const double zlo = v[2][0];
   const double zhi = v[2][1];
-  box.Kind = tilted ? DumpBox::Shape::Triclinic : DumpBox::Shape::Orthogonal;
-  box.Tilt[0] = xy;
-  box.Tilt[1] = xz;
-  box.Tilt[2] = yz;
-  box.Origin[0] = xlo;
-  box.Origin[1] = ylo;
-  box.Origin[2] = zlo;
+  box.kind = tilted ? DumpBox::Shape::Triclinic : DumpBox::Shape::Orthogonal;
+  box.tilt[0] = xy;
+  box.tilt[1] = xz;
+  box.tilt[2] = yz;
+  box.origin[0] = xlo;
+  box.origin[1] = ylo;
+  box.origin[2] = zlo;
   // Restricted triclinic edge vectors: A = (lx,0,0), B = (xy,ly,0), C = (xz,yz,lz).
   box.A[0] = xhi - xlo;
   box.A[1] = 0.0;
@@ -595,25 +595,25 @@ void SetRestrictedBox(const double v[3][4], bool tilted, DumpBox& box)
 }
 
 /// Parses the three lines under "ITEM: BOX BOUNDS <flags>".
-void ParseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
+void parseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
 {
-  const std::uint64_t headerLine = reader.LineNumber();
-  const BoxHeader header = ParseBoxHeader(flagsText, headerLine);
-  const BoxLines lines = ReadBoxLines(reader, headerLine);
-  CheckBoxLineCounts(header, lines, headerLine);
+  const std::uint64_t headerLine = reader.lineNumber();
+  const BoxHeader header = parseBoxHeader(flagsText, headerLine);
+  const BoxLines lines = readBoxLines(reader, headerLine);
+  checkBoxLineCounts(header, lines, headerLine);
   box = DumpBox();
-  box.Present = true;
-  for (int axis = 0; axis < static_cast<int>(header.Flags.size()); ++axis)
+  box.present = true;
+  for (int axis = 0; axis < static_cast<int>(header.flags.size()); ++axis)
   {
-    box.Boundary[axis] = header.Flags[axis];
+    box.boundary[axis] = header.flags[axis];
   }
-  if (header.General)
+  if (header.general)
   {
-    SetGeneralTriclinicBox(lines.V, box);
+    setGeneralTriclinicBox(lines.V, box);
   }
   else
   {
-    SetRestrictedBox(lines.V, header.Tilted || lines.Counts[0] == 3, box);
+    setRestrictedBox(lines.V, header.tilted || lines.counts[0] == 3, box);
   }
 }
 
@@ -622,19 +622,19 @@ void ParseBox(std::string_view flagsText, LineReader& reader, DumpBox& box)
 /// (a count of 5e9 in a file of a few GB fails here, not after scanning it). A sharper bound
 /// from the number of columns would reject snapshots whose only fault is a short line,
 /// which the reading of that snapshot reports.
-std::string AtomCountBeyondFile(std::uint64_t count, std::uint64_t bytes, std::uint64_t line)
+std::string atomCountBeyondFile(std::uint64_t count, std::uint64_t bytes, std::uint64_t line)
 {
   if (count <= bytes)
   {
     return std::string();
   }
   return "NUMBER OF ATOMS is " + std::to_string(count) + ", but the " + std::to_string(bytes) +
-         " bytes after " + Where(line) + " hold at most " + std::to_string(bytes) +
+         " bytes after " + where(line) + " hold at most " + std::to_string(bytes) +
          " lines: the file is truncated or the count is wrong";
 }
 
 /// The last line of a file, from its offset (at most 64 KiB, more than any atom line).
-std::string ReadLastLine(const std::string& fileName, std::uint64_t offset)
+std::string readLastLine(const std::string& fileName, std::uint64_t offset)
 {
   std::ifstream in(fileName, std::ios::binary);
   in.seekg(static_cast<std::streamoff>(offset));
@@ -645,20 +645,20 @@ std::string ReadLastLine(const std::string& fileName, std::uint64_t offset)
 }
 
 /// True if an atom line has one value per column, each well formed.
-bool IsCompleteAtomLine(const std::vector<std::string_view>& values,
+bool isCompleteAtomLine(const std::vector<std::string_view>& values,
   const std::vector<std::string>& names)
 {
   bool complete = values.size() == names.size();
   for (std::size_t c = 0; complete && c < values.size(); ++c)
   {
     double number;
-    complete = names[c] == "element" || names[c] == "typelabel" || ParseDouble(values[c], number);
+    complete = names[c] == "element" || names[c] == "typelabel" || parseDouble(values[c], number);
   }
   return complete;
 }
 
 /// "" if the sorted ids are unique, else how many repeat, with the first few.
-std::string DescribeRepeatedIds(const std::vector<std::int64_t>& ids)
+std::string describeRepeatedIds(const std::vector<std::int64_t>& ids)
 {
   constexpr std::size_t examplesShown = 3;
   std::size_t repeated = 0;
@@ -691,7 +691,7 @@ std::string DescribeRepeatedIds(const std::vector<std::int64_t>& ids)
 }
 
 /// Legacy "dump atom" files had "ITEM: ATOMS" without names; the columns were fixed.
-bool LegacyAtomColumns(std::size_t count, std::vector<std::string>& names)
+bool legacyAtomColumns(std::size_t count, std::vector<std::string>& names)
 {
   if (count == 5)
   {
@@ -709,7 +709,7 @@ bool LegacyAtomColumns(std::size_t count, std::vector<std::string>& names)
 /// Why a file cannot be indexed, found before any of its lines is read, or "" if it can be:
 /// no name, missing, a directory, unreadable, empty, or not a text dump by its first bytes.
 /// Opens `reader` at the start of the file on the way.
-std::string CheckFile(const std::string& fileName, std::uintmax_t fileSize, LineReader& reader)
+std::string checkFile(const std::string& fileName, std::uintmax_t fileSize, LineReader& reader)
 {
   std::error_code ec;
   if (fileName.empty())
@@ -724,7 +724,7 @@ std::string CheckFile(const std::string& fileName, std::uintmax_t fileSize, Line
   {
     return "cannot open '" + fileName + "': it is a directory";
   }
-  if (!reader.Open(fileName, 0, 0))
+  if (!reader.open(fileName, 0, 0))
   {
     return "cannot open '" + fileName + "' for reading: " + std::strerror(errno);
   }
@@ -732,19 +732,19 @@ std::string CheckFile(const std::string& fileName, std::uintmax_t fileSize, Line
   {
     return "'" + fileName + "' is empty";
   }
-  return SniffNotADump(fileName, ReadHead(fileName, 4096));
+  return sniffNotADump(fileName, readHead(fileName, 4096));
 }
 
 /// Throws "line L: expected <what>, found '<value>'" unless ok.
-void ExpectValue(bool ok, std::uint64_t line, const char* what, std::string_view value)
+void expectValue(bool ok, std::uint64_t line, const char* what, std::string_view value)
 {
   if (!ok)
   {
-    throw ParseError{ Where(line) + ": expected " + what + ", found " + Quote(value) };
+    throw ParseError{ where(line) + ": expected " + what + ", found " + quote(value) };
   }
 }
 
-/// The index of a dump (DumpParser::Open): reads every snapshot's header sections (UNITS,
+/// The index of a dump (DumpParser::open): reads every snapshot's header sections (UNITS,
 /// TIME, TIMESTEP, NUMBER OF ATOMS, BOX BOUNDS, ATOMS with the column names) and skips its
 /// atom lines by counting them. A problem throws ParseError, except a snapshot cut short
 /// after complete ones (a simulation still writing, or killed), which ends the index with a
@@ -766,19 +766,19 @@ public:
   }
 
   /// Indexes the file from the reader's position to its end (or to a truncated snapshot).
-  void Run()
+  void run()
   {
     std::string_view line;
     bool more = true;
-    while (more && this->Reader.Next(line))
+    while (more && this->Reader.next(line))
     {
-      more = this->IndexLine(line);
+      more = this->indexLine(line);
     }
     if (more && this->InHeader && (this->HasTimestep || this->HasCount))
     {
-      this->Truncated("the file ends in the header of the snapshot at " +
-                      Where(this->Pending.HeaderLine) + " (timestep " +
-                      std::to_string(this->Pending.Timestep) + ")");
+      this->truncated("the file ends in the header of the snapshot at " +
+                      where(this->Pending.headerLine) + " (timestep " +
+                      std::to_string(this->Pending.timestep) + ")");
     }
     if (this->Frames.empty())
     {
@@ -788,71 +788,71 @@ public:
 
 private:
   /// A line between atom blocks: blank, or an "ITEM:" header.
-  bool IndexLine(std::string_view line)
+  bool indexLine(std::string_view line)
   {
-    const std::string_view text = Trim(line);
-    const std::uint64_t lineNumber = this->Reader.LineNumber();
+    const std::string_view text = trim(line);
+    const std::uint64_t lineNumber = this->Reader.lineNumber();
     if (text.empty())
     {
       return true; // tolerated between sections
     }
     if (text.find('\0') != std::string_view::npos)
     {
-      throw ParseError{ Where(lineNumber) +
+      throw ParseError{ where(lineNumber) +
                         " holds NUL bytes: binary data, not text (a crash can leave zeros at "
                         "the end of a file)" };
     }
-    if (this->Reader.LastLineUnterminated())
+    if (this->Reader.lastLineUnterminated())
     {
       // LAMMPS ends every line with a newline: a header line without one was cut short.
-      return this->Truncated(
-        "the file ends in the middle of " + Where(lineNumber) + " (" + Quote(text) + ")");
+      return this->truncated(
+        "the file ends in the middle of " + where(lineNumber) + " (" + quote(text) + ")");
     }
-    if (!StartsWith(text, "ITEM:"))
+    if (!startsWith(text, "ITEM:"))
     {
-      throw ParseError{ Where(lineNumber) + ": expected an 'ITEM:' header, found " + Quote(text) +
+      throw ParseError{ where(lineNumber) + ": expected an 'ITEM:' header, found " + quote(text) +
                         (!this->InHeader && !this->Frames.empty()
                             ? " (are there more atom lines than NUMBER OF ATOMS says?)"
                             : "") };
     }
-    return this->ReadSection(Trim(text.substr(5)), text, lineNumber);
+    return this->readSection(trim(text.substr(5)), text, lineNumber);
   }
 
   /// The section an "ITEM: <item>" header (the whole line: text) starts.
-  bool ReadSection(std::string_view item, std::string_view text, std::uint64_t lineNumber)
+  bool readSection(std::string_view item, std::string_view text, std::uint64_t lineNumber)
   {
     if (item == "UNITS" || item == "TIME" || item == "TIMESTEP" || item == "NUMBER OF ATOMS")
     {
-      return this->ReadValueItem(item, lineNumber);
+      return this->readValueItem(item, lineNumber);
     }
-    if (StartsWith(item, "BOX BOUNDS"))
+    if (startsWith(item, "BOX BOUNDS"))
     {
-      return this->ReadBox(item, lineNumber);
+      return this->readBox(item, lineNumber);
     }
-    if (item == "ATOMS" || StartsWith(item, "ATOMS ") || StartsWith(item, "ATOMS\t"))
+    if (item == "ATOMS" || startsWith(item, "ATOMS ") || startsWith(item, "ATOMS\t"))
     {
-      return this->ReadAtoms(item, lineNumber);
+      return this->readAtoms(item, lineNumber);
     }
-    if (item == "NUMBER OF ENTRIES" || StartsWith(item, "ENTRIES"))
+    if (item == "NUMBER OF ENTRIES" || startsWith(item, "ENTRIES"))
     {
       throw ParseError{
-        Where(lineNumber) + ": " + Quote(text) +
+        where(lineNumber) + ": " + quote(text) +
         " belongs to a 'dump local' file (per-bond or per-pair values), not to a per-atom "
         "dump"
       };
     }
-    if (StartsWith(item, "DIMENSION") || StartsWith(item, "GRID"))
+    if (startsWith(item, "DIMENSION") || startsWith(item, "GRID"))
     {
-      throw ParseError{ Where(lineNumber) + ": " + Quote(text) +
+      throw ParseError{ where(lineNumber) + ": " + quote(text) +
                         " belongs to a 'dump grid' file, not to a per-atom dump" };
     }
-    throw ParseError{ Where(lineNumber) + ": unknown section " + Quote(text) +
+    throw ParseError{ where(lineNumber) + ": unknown section " + quote(text) +
                       " (expected TIMESTEP, NUMBER OF ATOMS, BOX BOUNDS, ATOMS, TIME or UNITS)" };
   }
 
   /// A snapshot that stops short: an error if no snapshot is complete, else a warning and
   /// the end of the index (the complete snapshots stay). Returns false: indexing stops.
-  bool Truncated(const std::string& message)
+  bool truncated(const std::string& message)
   {
     if (this->Frames.empty())
     {
@@ -864,65 +864,65 @@ private:
   }
 
   /// UNITS, TIME and TIMESTEP may start a snapshot; a second TIMESTEP before ATOMS is damage.
-  void BeginHeader(std::uint64_t line)
+  void beginHeader(std::uint64_t line)
   {
     if (this->HasTimestep)
     {
-      throw ParseError{ Where(line) + ": a new snapshot starts, but the one at " +
-                        Where(this->Pending.HeaderLine) + " (timestep " +
-                        std::to_string(this->Pending.Timestep) + ") has no 'ITEM: ATOMS' section" };
+      throw ParseError{ where(line) + ": a new snapshot starts, but the one at " +
+                        where(this->Pending.headerLine) + " (timestep " +
+                        std::to_string(this->Pending.timestep) + ") has no 'ITEM: ATOMS' section" };
     }
     if (!this->InHeader)
     {
       this->InHeader = true;
       this->Pending = DumpFrameInfo();
-      this->Pending.HeaderLine = line;
-      this->Pending.Units = this->Units;
+      this->Pending.headerLine = line;
+      this->Pending.units = this->Units;
     }
   }
 
   /// The items whose value is the one line under them: UNITS (dump_modify units yes, written
   /// once and carried to later snapshots), TIME (dump_modify time yes), TIMESTEP, NUMBER OF
   /// ATOMS. False if the file ends before the value.
-  bool ReadValueItem(std::string_view item, std::uint64_t lineNumber)
+  bool readValueItem(std::string_view item, std::uint64_t lineNumber)
   {
     const bool count = item == "NUMBER OF ATOMS";
     if (count && !this->HasTimestep)
     {
-      throw ParseError{ Where(lineNumber) + ": 'ITEM: NUMBER OF ATOMS' before 'ITEM: "
+      throw ParseError{ where(lineNumber) + ": 'ITEM: NUMBER OF ATOMS' before 'ITEM: "
                                             "TIMESTEP'" };
     }
     if (!count)
     {
-      this->BeginHeader(lineNumber);
+      this->beginHeader(lineNumber);
     }
     std::string_view line;
-    if (!this->Reader.Next(line))
+    if (!this->Reader.next(line))
     {
-      return this->Truncated("the file ends after 'ITEM: " + std::string(item) + "' at " +
-                             Where(this->Reader.LineNumber()));
+      return this->truncated("the file ends after 'ITEM: " + std::string(item) + "' at " +
+                             where(this->Reader.lineNumber()));
     }
-    const std::string_view value = Trim(line);
+    const std::string_view value = trim(line);
     DumpFrameInfo& pending = this->Pending;
     if (item == "UNITS")
     {
       this->Units = std::string(value);
-      pending.Units = this->Units;
+      pending.units = this->Units;
     }
     else if (item == "TIME")
     {
-      ExpectValue(ParseDouble(value, pending.Time), lineNumber + 1, "the simulation time", value);
-      pending.HasTime = true;
+      expectValue(parseDouble(value, pending.time), lineNumber + 1, "the simulation time", value);
+      pending.hasTime = true;
     }
     else if (item == "TIMESTEP")
     {
-      ExpectValue(
-        ParseInt64(value, pending.Timestep), lineNumber + 1, "an integer timestep", value);
+      expectValue(
+        parseInt64(value, pending.timestep), lineNumber + 1, "an integer timestep", value);
       this->HasTimestep = true;
     }
     else
     {
-      ExpectValue(ParseInt64(value, pending.NumberOfAtoms) && pending.NumberOfAtoms >= 0,
+      expectValue(parseInt64(value, pending.numberOfAtoms) && pending.numberOfAtoms >= 0,
         lineNumber + 1,
         "a number of atoms >= 0",
         value);
@@ -933,21 +933,21 @@ private:
 
   /// "ITEM: BOX BOUNDS <flags>" and its three lines; a file that ends inside them cuts the
   /// snapshot short.
-  bool ReadBox(std::string_view item, std::uint64_t lineNumber)
+  bool readBox(std::string_view item, std::uint64_t lineNumber)
   {
     if (!this->HasTimestep)
     {
-      throw ParseError{ Where(lineNumber) + ": 'ITEM: BOX BOUNDS' before 'ITEM: TIMESTEP'" };
+      throw ParseError{ where(lineNumber) + ": 'ITEM: BOX BOUNDS' before 'ITEM: TIMESTEP'" };
     }
     try
     {
-      ParseBox(item.substr(10), this->Reader, this->Pending.Box);
+      parseBox(item.substr(10), this->Reader, this->Pending.box);
     }
     catch (const ParseError& e)
     {
-      if (StartsWith(e.Message, "the file ends"))
+      if (startsWith(e.message, "the file ends"))
       {
-        return this->Truncated(e.Message);
+        return this->truncated(e.message);
       }
       throw;
     }
@@ -956,47 +956,47 @@ private:
 
   /// "ITEM: ATOMS <names>": the column names, then the extent of the atom block, which
   /// completes the snapshot.
-  bool ReadAtoms(std::string_view item, std::uint64_t lineNumber)
+  bool readAtoms(std::string_view item, std::uint64_t lineNumber)
   {
     if (!this->HasTimestep || !this->HasCount)
     {
-      throw ParseError{ Where(lineNumber) + ": 'ITEM: ATOMS' before " +
+      throw ParseError{ where(lineNumber) + ": 'ITEM: ATOMS' before " +
                         (this->HasTimestep ? "'ITEM: NUMBER OF ATOMS'" : "'ITEM: TIMESTEP'") };
     }
-    for (std::string_view name : Tokens(item.substr(5)))
+    for (std::string_view name : splitTokens(item.substr(5)))
     {
-      this->Pending.ColumnNames.emplace_back(name);
+      this->Pending.columnNames.emplace_back(name);
     }
-    this->Pending.AtomsOffset = this->Reader.Offset();
-    this->Pending.AtomsLine = lineNumber + 1;
-    const std::uint64_t count = static_cast<std::uint64_t>(this->Pending.NumberOfAtoms);
-    const std::uint64_t found = this->InferLegacyColumns(count, lineNumber);
-    const std::string beyond = AtomCountBeyondFile(count,
-      this->FileSize - std::min(this->FileSize, std::uintmax_t(this->Pending.AtomsOffset)),
+    this->Pending.atomsOffset = this->Reader.offset();
+    this->Pending.atomsLine = lineNumber + 1;
+    const std::uint64_t count = static_cast<std::uint64_t>(this->Pending.numberOfAtoms);
+    const std::uint64_t found = this->inferLegacyColumns(count, lineNumber);
+    const std::string beyond = atomCountBeyondFile(count,
+      this->FileSize - std::min(this->FileSize, std::uintmax_t(this->Pending.atomsOffset)),
       lineNumber);
     if (!beyond.empty())
     {
-      return this->Truncated(DescribeFrame(this->Frames.size(), this->Pending) + ": " + beyond);
+      return this->truncated(describeFrame(this->Frames.size(), this->Pending) + ": " + beyond);
     }
-    const std::uint64_t complete = this->SkipAtomLines(count, found);
-    if (complete != count && this->Reader.AtHeader())
+    const std::uint64_t complete = this->skipAtomLines(count, found);
+    if (complete != count && this->Reader.atHeader())
     {
-      return this->DropShortSnapshot(complete, count);
+      return this->dropShortSnapshot(complete, count);
     }
     if (complete != count)
     {
-      return this->Truncated(DescribeFrame(this->Frames.size(), this->Pending) +
+      return this->truncated(describeFrame(this->Frames.size(), this->Pending) +
                              " is truncated: it has " + std::to_string(count) +
                              " atoms, the file ends after " + std::to_string(complete) +
                              " complete atom lines");
     }
     this->Frames.push_back(this->Pending);
-    this->EndSnapshot();
+    this->endSnapshot();
     return true;
   }
 
   /// The next snapshot's header items start afresh.
-  void EndSnapshot()
+  void endSnapshot()
   {
     this->InHeader = false;
     this->HasTimestep = false;
@@ -1006,40 +1006,40 @@ private:
   /// An atom block that an "ITEM:" header ends before NUMBER OF ATOMS lines: which atoms
   /// are missing cannot be told, so the snapshot is dropped with a warning, and indexing goes
   /// on at that header (the snapshots after it are intact).
-  bool DropShortSnapshot(std::uint64_t complete, std::uint64_t count)
+  bool dropShortSnapshot(std::uint64_t complete, std::uint64_t count)
   {
     this->Warnings.push_back(
-      "'" + this->FileName + "': " + DescribeFrame(this->Frames.size(), this->Pending) +
+      "'" + this->FileName + "': " + describeFrame(this->Frames.size(), this->Pending) +
       " has only " + std::to_string(complete) + " of its " + std::to_string(count) +
-      " atom lines before the 'ITEM:' header at " + Where(this->Reader.LineNumber() + 1) +
+      " atom lines before the 'ITEM:' header at " + where(this->Reader.lineNumber() + 1) +
       "; this incomplete snapshot is ignored");
-    this->EndSnapshot();
+    this->endSnapshot();
     return true;
   }
 
   /// Old "dump atom" output has "ITEM: ATOMS" without names: the fixed columns follow from
   /// the first atom line's number of values. Returns the atom lines read (0 or 1).
-  std::uint64_t InferLegacyColumns(std::uint64_t count, std::uint64_t lineNumber)
+  std::uint64_t inferLegacyColumns(std::uint64_t count, std::uint64_t lineNumber)
   {
-    std::vector<std::string>& names = this->Pending.ColumnNames;
+    std::vector<std::string>& names = this->Pending.columnNames;
     if (!names.empty())
     {
       return 0;
     }
     if (count == 0)
     {
-      LegacyAtomColumns(5, names);
+      legacyAtomColumns(5, names);
       return 0;
     }
     std::string_view first;
-    if (!this->Reader.Next(first))
+    if (!this->Reader.next(first))
     {
       return 0; // the file ends here: the count of the atom lines says so
     }
-    const std::size_t values = Tokens(first).size();
-    if (!LegacyAtomColumns(values, names))
+    const std::size_t values = splitTokens(first).size();
+    if (!legacyAtomColumns(values, names))
     {
-      throw ParseError{ Where(lineNumber) + ": 'ITEM: ATOMS' has no column names, and " +
+      throw ParseError{ where(lineNumber) + ": 'ITEM: ATOMS' has no column names, and " +
                         std::to_string(values) +
                         " values per line do not match the old 'dump atom' layout" };
     }
@@ -1047,10 +1047,10 @@ private:
   }
 
   /// Skips the atom block after its first `found` lines; returns its complete atom lines.
-  std::uint64_t SkipAtomLines(std::uint64_t count, std::uint64_t found)
+  std::uint64_t skipAtomLines(std::uint64_t count, std::uint64_t found)
   {
-    found += this->Reader.SkipLines(count - found);
-    if (!this->Reader.LastLineUnterminated())
+    found += this->Reader.skipLines(count - found);
+    if (!this->Reader.lastLineUnterminated())
     {
       return found;
     }
@@ -1058,16 +1058,16 @@ private:
     // killed while writing) or written by hand. As the last atom line it is kept if it has
     // all its values, well formed, but its last value may have lost digits; otherwise it is
     // not a complete line.
-    const std::string last = ReadLastLine(this->FileName, this->Reader.GetLastLineOffset());
-    const std::vector<std::string_view> values = Tokens(last);
-    if (found != count || !IsCompleteAtomLine(values, this->Pending.ColumnNames))
+    const std::string last = readLastLine(this->FileName, this->Reader.lastLineOffset());
+    const std::vector<std::string_view> values = splitTokens(last);
+    if (found != count || !isCompleteAtomLine(values, this->Pending.columnNames))
     {
       return found - 1;
     }
     this->Warnings.push_back("'" + this->FileName + "': the file ends without a newline in " +
-                             Where(this->Reader.LineNumber()) + ", the last atom line of " +
-                             DescribeFrame(this->Frames.size(), this->Pending) +
-                             ": it is kept, but its last value " + Quote(values.back()) +
+                             where(this->Reader.lineNumber()) + ", the last atom line of " +
+                             describeFrame(this->Frames.size(), this->Pending) +
+                             ": it is kept, but its last value " + quote(values.back()) +
                              " may have been cut short");
     return found;
   }
@@ -1099,26 +1099,26 @@ enum class Role
 /// TextColumns, or the component k of a position column.
 struct ColumnPlan
 {
-  std::vector<Role> Roles;
-  std::vector<int> Slots;
-  std::vector<std::string> ArrayNames;
+  std::vector<Role> roles;
+  std::vector<int> slots;
+  std::vector<std::string> arrayNames;
 };
 
 /// Index of the first column named `name`, or -1.
-std::ptrdiff_t ColumnIndex(const std::vector<std::string>& names, const char* name)
+std::ptrdiff_t columnIndex(const std::vector<std::string>& names, const char* name)
 {
   const auto it = std::find(names.begin(), names.end(), name);
   return it == names.end() ? -1 : it - names.begin();
 }
 
 /// Chooses the coordinate triple: x y z, else xu yu zu, else xs ys zs, else xsu ysu zsu.
-/// Sets frame.Positions and frame.PositionColumns, and the triple's columns.
-void ChoosePositions(const DumpFrameInfo& info, DumpFrame& frame, std::ptrdiff_t columns[3])
+/// Sets frame.positions and frame.positionColumns, and the triple's columns.
+void choosePositions(const DumpFrameInfo& info, DumpFrame& frame, std::ptrdiff_t columns[3])
 {
   struct Family
   {
-    PositionSource Source;
-    const char* Names[3];
+    PositionSource source;
+    const char* names[3];
   };
   const Family families[] = {
     { PositionSource::Wrapped, { "x", "y", "z" } },
@@ -1133,32 +1133,32 @@ void ChoosePositions(const DumpFrameInfo& info, DumpFrame& frame, std::ptrdiff_t
     int have = 0;
     for (int k = 0; k < 3; ++k)
     {
-      c[k] = ColumnIndex(info.ColumnNames, family.Names[k]);
+      c[k] = columnIndex(info.columnNames, family.names[k]);
       have += c[k] >= 0 ? 1 : 0;
     }
     if (have == 3)
     {
-      frame.Positions = family.Source;
+      frame.positions = family.source;
       for (int k = 0; k < 3; ++k)
       {
         columns[k] = c[k];
-        frame.PositionColumns[k] = family.Names[k];
+        frame.positionColumns[k] = family.names[k];
       }
       return;
     }
     if (have > 0 && partial.empty())
     {
-      partial = std::string(" (it has only part of ") + family.Names[0] + " " + family.Names[1] +
-                " " + family.Names[2] + ")";
+      partial = std::string(" (it has only part of ") + family.names[0] + " " + family.names[1] +
+                " " + family.names[2] + ")";
     }
   }
-  throw ParseError{ "no atom coordinates: the columns are '" + JoinNames(info.ColumnNames) +
+  throw ParseError{ "no atom coordinates: the columns are '" + joinNames(info.columnNames) +
                     "', one of x y z, xu yu zu, xs ys zs or xsu ysu zsu is needed" + partial };
 }
 
 /// Roles from the column names; repeated names get a suffix so arrays stay distinct. The
 /// kinds of the ordinary columns (number or text) are decided by the first atom line.
-ColumnPlan PlanColumns(const std::vector<std::string>& names, const std::ptrdiff_t positions[3])
+ColumnPlan planColumns(const std::vector<std::string>& names, const std::ptrdiff_t positions[3])
 {
   const std::size_t columnCount = names.size();
   ColumnPlan plan{ std::vector<Role>(columnCount, Role::Number),
@@ -1168,52 +1168,52 @@ ColumnPlan PlanColumns(const std::vector<std::string>& names, const std::ptrdiff
   for (std::size_t c = 0; c < columnCount; ++c)
   {
     const int seen = seenNames[names[c]]++;
-    plan.ArrayNames[c] = seen ? names[c] + "_" + std::to_string(seen + 1) : names[c];
+    plan.arrayNames[c] = seen ? names[c] + "_" + std::to_string(seen + 1) : names[c];
     if (seen)
     {
       continue; // a repeated id/type/position column is kept as an ordinary array
     }
     if (names[c] == "id")
     {
-      plan.Roles[c] = Role::Id;
+      plan.roles[c] = Role::Id;
     }
     else if (names[c] == "type")
     {
-      plan.Roles[c] = Role::Type;
+      plan.roles[c] = Role::Type;
     }
     else if (names[c] == "element" || names[c] == "typelabel")
     {
-      plan.Roles[c] = Role::Text;
+      plan.roles[c] = Role::Text;
     }
   }
   for (int k = 0; k < 3; ++k)
   {
-    plan.Roles[positions[k]] = Role::Position;
-    plan.Slots[positions[k]] = k;
+    plan.roles[positions[k]] = Role::Position;
+    plan.slots[positions[k]] = k;
   }
   return plan;
 }
 
 /// The arrays of positions, ids and types for `count` atoms.
-void AllocateFrame(std::size_t count, const std::vector<std::string>& names, DumpFrame& frame)
+void allocateFrame(std::size_t count, const std::vector<std::string>& names, DumpFrame& frame)
 {
-  frame.NumberOfAtoms = count;
-  frame.Points.assign(3 * count, 0.0);
-  frame.HasIds = ColumnIndex(names, "id") >= 0;
-  frame.HasTypes = ColumnIndex(names, "type") >= 0;
-  if (frame.HasIds)
+  frame.numberOfAtoms = count;
+  frame.points.assign(3 * count, 0.0);
+  frame.hasIds = columnIndex(names, "id") >= 0;
+  frame.hasTypes = columnIndex(names, "type") >= 0;
+  if (frame.hasIds)
   {
-    frame.Ids.resize(count);
+    frame.ids.resize(count);
   }
-  if (frame.HasTypes)
+  if (frame.hasTypes)
   {
-    frame.Types.resize(count);
+    frame.types.resize(count);
   }
 }
 
 /// The values of an atom line into tokens, which has one per column; throws if the line
 /// has more or fewer.
-void SplitAtomLine(std::string_view line,
+void splitAtomLine(std::string_view line,
   std::uint64_t lineNumber,
   const std::vector<std::string>& names,
   std::vector<std::string_view>& tokens)
@@ -1222,7 +1222,7 @@ void SplitAtomLine(std::string_view line,
   std::string_view rest = line;
   std::size_t found = 0;
   std::string_view token;
-  while (found <= columnCount && NextToken(rest, token))
+  while (found <= columnCount && nextToken(rest, token))
   {
     if (found < columnCount)
     {
@@ -1232,52 +1232,52 @@ void SplitAtomLine(std::string_view line,
   }
   if (found != columnCount)
   {
-    throw ParseError{ Where(lineNumber) + ": expected " + std::to_string(columnCount) +
-                      " values (" + JoinNames(names) + "), found " +
-                      std::to_string(Tokens(line).size()) };
+    throw ParseError{ where(lineNumber) + ": expected " + std::to_string(columnCount) +
+                      " values (" + joinNames(names) + "), found " +
+                      std::to_string(splitTokens(line).size()) };
   }
 }
 
 /// Decides each remaining column's kind from its first value (the first atom line's
 /// tokens): numbers become double arrays, anything else (names, labels) text arrays; and
 /// makes the arrays for `count` atoms.
-void ChooseColumnKinds(const std::vector<std::string_view>& tokens,
+void chooseColumnKinds(const std::vector<std::string_view>& tokens,
   std::size_t count,
   ColumnPlan& plan,
   DumpFrame& frame)
 {
   for (std::size_t c = 0; c < tokens.size(); ++c)
   {
-    Role& role = plan.Roles[c];
+    Role& role = plan.roles[c];
     double probe;
     std::int64_t integer;
-    if (role == Role::Number && !ParseDouble(tokens[c], probe))
+    if (role == Role::Number && !parseDouble(tokens[c], probe))
     {
       role = Role::Text;
     }
-    if (role == Role::Type && !ParseInt64(tokens[c], integer))
+    if (role == Role::Type && !parseInt64(tokens[c], integer))
     {
       // Type labels written in place of numeric types ("C1", "Ow"): keep them as text.
       role = Role::Text;
-      frame.HasTypes = false;
-      frame.Types.clear();
+      frame.hasTypes = false;
+      frame.types.clear();
     }
     if (role == Role::Number)
     {
-      plan.Slots[c] = static_cast<int>(frame.Columns.size());
-      frame.Columns.push_back({ plan.ArrayNames[c], std::vector<double>(count) });
+      plan.slots[c] = static_cast<int>(frame.columns.size());
+      frame.columns.push_back({ plan.arrayNames[c], std::vector<double>(count) });
     }
     else if (role == Role::Text)
     {
-      plan.Slots[c] = static_cast<int>(frame.TextColumns.size());
-      frame.TextColumns.push_back({ plan.ArrayNames[c], std::vector<std::string>(count) });
+      plan.slots[c] = static_cast<int>(frame.textColumns.size());
+      frame.textColumns.push_back({ plan.arrayNames[c], std::vector<std::string>(count) });
     }
   }
 }
 
 /// Converts atom a's values (tokens, of line lineNumber) into the frame's arrays; throws at
 /// the first value that is not what its column holds.
-void StoreAtomValues(const std::vector<std::string_view>& tokens,
+void storeAtomValues(const std::vector<std::string_view>& tokens,
   std::size_t a,
   std::uint64_t lineNumber,
   const std::vector<std::string>& names,
@@ -1287,113 +1287,113 @@ void StoreAtomValues(const std::vector<std::string_view>& tokens,
   for (std::size_t c = 0; c < tokens.size(); ++c)
   {
     const std::string_view t = tokens[c];
-    const int slot = plan.Slots[c];
+    const int slot = plan.slots[c];
     bool ok = true;
-    switch (plan.Roles[c])
+    switch (plan.roles[c])
     {
       case Role::Id:
-        ok = ParseInt64(t, frame.Ids[a]);
+        ok = parseInt64(t, frame.ids[a]);
         break;
       case Role::Type:
       {
         std::int64_t type = 0;
-        ok = ParseInt64(t, type) && type >= std::numeric_limits<std::int32_t>::min() &&
+        ok = parseInt64(t, type) && type >= std::numeric_limits<std::int32_t>::min() &&
              type <= std::numeric_limits<std::int32_t>::max();
-        frame.Types[a] = static_cast<std::int32_t>(type);
+        frame.types[a] = static_cast<std::int32_t>(type);
         break;
       }
       case Role::Position:
-        ok = ParseDouble(t, frame.Points[3 * a + slot]);
+        ok = parseDouble(t, frame.points[3 * a + slot]);
         break;
       case Role::Number:
-        ok = ParseDouble(t, frame.Columns[slot].Values[a]);
+        ok = parseDouble(t, frame.columns[slot].values[a]);
         break;
       case Role::Text:
-        frame.TextColumns[slot].Values[a] = std::string(t);
+        frame.textColumns[slot].values[a] = std::string(t);
         break;
     }
     if (!ok)
     {
-      const bool integer = plan.Roles[c] == Role::Id || plan.Roles[c] == Role::Type;
-      throw ParseError{ Where(lineNumber) + ", column '" + names[c] + "': " + Quote(t) +
+      const bool integer = plan.roles[c] == Role::Id || plan.roles[c] == Role::Type;
+      throw ParseError{ where(lineNumber) + ", column '" + names[c] + "': " + quote(t) +
                         " is not " + (integer ? "an integer" : "a number") };
     }
   }
 }
 
 /// Reads the snapshot's atom lines into the frame's arrays (allocated for them).
-void ReadAtomLines(const std::string& fileName,
+void readAtomLines(const std::string& fileName,
   const DumpFrameInfo& info,
   ColumnPlan& plan,
   DumpFrame& frame)
 {
-  const std::size_t count = frame.NumberOfAtoms;
+  const std::size_t count = frame.numberOfAtoms;
   LineReader reader;
-  if (count > 0 && !reader.Open(fileName, info.AtomsOffset, info.AtomsLine - 1))
+  if (count > 0 && !reader.open(fileName, info.atomsOffset, info.atomsLine - 1))
   {
     throw ParseError{ "cannot open the file again: " + std::string(std::strerror(errno)) };
   }
-  std::vector<std::string_view> tokens(info.ColumnNames.size());
+  std::vector<std::string_view> tokens(info.columnNames.size());
   std::string_view line;
   for (std::size_t a = 0; a < count; ++a)
   {
-    if (!reader.Next(line))
+    if (!reader.next(line))
     {
       throw ParseError{ "the file ends after " + std::to_string(a) + " of " +
                         std::to_string(count) +
                         " atom lines (did it change since it was opened?)" };
     }
-    SplitAtomLine(line, reader.LineNumber(), info.ColumnNames, tokens);
+    splitAtomLine(line, reader.lineNumber(), info.columnNames, tokens);
     if (a == 0)
     {
-      ChooseColumnKinds(tokens, count, plan, frame);
+      chooseColumnKinds(tokens, count, plan, frame);
     }
-    StoreAtomValues(tokens, a, reader.LineNumber(), info.ColumnNames, plan, frame);
+    storeAtomValues(tokens, a, reader.lineNumber(), info.columnNames, plan, frame);
   }
 }
 
 /// No atom line to look at: every ordinary column becomes an empty numeric array, so a
 /// snapshot where all atoms left still has the same arrays as the others.
-void AddEmptyColumns(const ColumnPlan& plan, DumpFrame& frame)
+void addEmptyColumns(const ColumnPlan& plan, DumpFrame& frame)
 {
-  for (std::size_t c = 0; c < plan.Roles.size(); ++c)
+  for (std::size_t c = 0; c < plan.roles.size(); ++c)
   {
-    if (plan.Roles[c] == Role::Number)
+    if (plan.roles[c] == Role::Number)
     {
-      frame.Columns.push_back({ plan.ArrayNames[c], std::vector<double>() });
+      frame.columns.push_back({ plan.arrayNames[c], std::vector<double>() });
     }
-    else if (plan.Roles[c] == Role::Text)
+    else if (plan.roles[c] == Role::Text)
     {
-      frame.TextColumns.push_back({ plan.ArrayNames[c], std::vector<std::string>() });
+      frame.textColumns.push_back({ plan.arrayNames[c], std::vector<std::string>() });
     }
   }
 }
 
 /// Scaled coordinates s to Cartesian: r = origin + s0 A + s1 B + s2 C.
-void ConvertScaledPositions(const DumpBox& box, DumpFrame& frame)
+void convertScaledPositions(const DumpBox& box, DumpFrame& frame)
 {
-  for (std::size_t a = 0; a < frame.NumberOfAtoms; ++a)
+  for (std::size_t a = 0; a < frame.numberOfAtoms; ++a)
   {
-    const double s[3] = { frame.Points[3 * a], frame.Points[3 * a + 1], frame.Points[3 * a + 2] };
-    box.ScaledToCartesian(s, &frame.Points[3 * a]);
+    const double s[3] = { frame.points[3 * a], frame.points[3 * a + 1], frame.points[3 * a + 2] };
+    box.scaledToCartesian(s, &frame.points[3 * a]);
   }
 }
 
 /// LAMMPS writes atoms in the order processors own them; sorting by id keeps an atom's
 /// index from one snapshot to the next (when no atom is lost or created). Atoms with the same
 /// id keep their file order (stable sort).
-void SortById(DumpFrame& frame)
+void sortById(DumpFrame& frame)
 {
-  if (!frame.HasIds || std::is_sorted(frame.Ids.begin(), frame.Ids.end()))
+  if (!frame.hasIds || std::is_sorted(frame.ids.begin(), frame.ids.end()))
   {
     return;
   }
-  const std::size_t count = frame.NumberOfAtoms;
+  const std::size_t count = frame.numberOfAtoms;
   std::vector<std::size_t> order(count);
   std::iota(order.begin(), order.end(), std::size_t(0));
   std::stable_sort(order.begin(),
     order.end(),
-    [&](std::size_t i, std::size_t j) { return frame.Ids[i] < frame.Ids[j]; });
+    [&](std::size_t i, std::size_t j) { return frame.ids[i] < frame.ids[j]; });
   auto permute = [&](auto& values, std::size_t components)
   {
     auto sorted = values;
@@ -1406,66 +1406,66 @@ void SortById(DumpFrame& frame)
     }
     values.swap(sorted);
   };
-  permute(frame.Ids, 1);
-  permute(frame.Points, 3);
-  if (frame.HasTypes)
+  permute(frame.ids, 1);
+  permute(frame.points, 3);
+  if (frame.hasTypes)
   {
-    permute(frame.Types, 1);
+    permute(frame.types, 1);
   }
-  for (DumpColumn& column : frame.Columns)
+  for (DumpColumn& column : frame.columns)
   {
-    permute(column.Values, 1);
+    permute(column.values, 1);
   }
-  for (DumpTextColumn& column : frame.TextColumns)
+  for (DumpTextColumn& column : frame.textColumns)
   {
-    permute(column.Values, 1);
+    permute(column.values, 1);
   }
 }
 
 /// Reads the atoms of the snapshot `info` into frame: chooses the coordinates and every
 /// column's role, reads the atom lines, converts scaled coordinates, sorts by id.
-void ReadSnapshot(const std::string& fileName, const DumpFrameInfo& info, DumpFrame& frame)
+void readSnapshot(const std::string& fileName, const DumpFrameInfo& info, DumpFrame& frame)
 {
   std::ptrdiff_t positions[3] = { -1, -1, -1 };
-  ChoosePositions(info, frame, positions);
+  choosePositions(info, frame, positions);
   const bool scaled =
-    frame.Positions == PositionSource::Scaled || frame.Positions == PositionSource::ScaledUnwrapped;
-  if (scaled && !info.Box.Present)
+    frame.positions == PositionSource::Scaled || frame.positions == PositionSource::ScaledUnwrapped;
+  if (scaled && !info.box.present)
   {
-    throw ParseError{ "scaled coordinates (" + frame.PositionColumns[0] +
+    throw ParseError{ "scaled coordinates (" + frame.positionColumns[0] +
                       " ...) need the box, and the snapshot has no 'ITEM: BOX BOUNDS'" };
   }
-  ColumnPlan plan = PlanColumns(info.ColumnNames, positions);
-  AllocateFrame(static_cast<std::size_t>(info.NumberOfAtoms), info.ColumnNames, frame);
-  ReadAtomLines(fileName, info, plan, frame);
-  if (frame.NumberOfAtoms == 0)
+  ColumnPlan plan = planColumns(info.columnNames, positions);
+  allocateFrame(static_cast<std::size_t>(info.numberOfAtoms), info.columnNames, frame);
+  readAtomLines(fileName, info, plan, frame);
+  if (frame.numberOfAtoms == 0)
   {
-    AddEmptyColumns(plan, frame);
+    addEmptyColumns(plan, frame);
   }
   if (scaled)
   {
-    ConvertScaledPositions(info.Box, frame);
+    convertScaledPositions(info.box, frame);
   }
-  SortById(frame);
+  sortById(frame);
 }
 
 } // namespace
 
 //------------------------------------------------------------------------------
-bool DumpBox::IsPeriodic(int axis) const
+bool DumpBox::isPeriodic(int axis) const
 {
-  return axis >= 0 && axis < 3 && this->Boundary[axis] == "pp";
+  return axis >= 0 && axis < 3 && this->boundary[axis] == "pp";
 }
 
-void DumpBox::ScaledToCartesian(const double s[3], double r[3]) const
+void DumpBox::scaledToCartesian(const double s[3], double r[3]) const
 {
   for (int k = 0; k < 3; ++k)
   {
-    r[k] = this->Origin[k] + s[0] * this->A[k] + s[1] * this->B[k] + s[2] * this->C[k];
+    r[k] = this->origin[k] + s[0] * this->A[k] + s[1] * this->B[k] + s[2] * this->C[k];
   }
 }
 
-void DumpBox::GetBounds(double bounds[6]) const
+void DumpBox::bounds(double bounds[6]) const
 {
   for (int k = 0; k < 3; ++k)
   {
@@ -1478,7 +1478,7 @@ void DumpBox::GetBounds(double bounds[6]) const
       double(corner & 1), double((corner >> 1) & 1), double((corner >> 2) & 1)
     };
     double r[3];
-    this->ScaledToCartesian(s, r);
+    this->scaledToCartesian(s, r);
     for (int k = 0; k < 3; ++k)
     {
       bounds[2 * k] = std::min(bounds[2 * k], r[k]);
@@ -1487,56 +1487,56 @@ void DumpBox::GetBounds(double bounds[6]) const
   }
 }
 
-void DumpFrame::Clear()
+void DumpFrame::clear()
 {
   *this = DumpFrame();
 }
 
 //------------------------------------------------------------------------------
-TimeTable BuildTimeTable(const std::vector<DumpFrameInfo>& frames)
+TimeTable buildTimeTable(const std::vector<DumpFrameInfo>& frames)
 {
   std::vector<std::size_t> order(frames.size());
   std::iota(order.begin(), order.end(), std::size_t(0));
   std::stable_sort(order.begin(),
     order.end(),
-    [&](std::size_t a, std::size_t b) { return frames[a].Timestep < frames[b].Timestep; });
+    [&](std::size_t a, std::size_t b) { return frames[a].timestep < frames[b].timestep; });
   TimeTable table;
   for (std::size_t i : order)
   {
-    const double t = static_cast<double>(frames[i].Timestep);
-    if (!table.Times.empty() && table.Times.back() == t)
+    const double t = static_cast<double>(frames[i].timestep);
+    if (!table.times.empty() && table.times.back() == t)
     {
-      table.Frames.back() = i; // same timestep again: the later snapshot wins
+      table.frames.back() = i; // same timestep again: the later snapshot wins
     }
     else
     {
-      table.Times.push_back(t);
-      table.Frames.push_back(i);
+      table.times.push_back(t);
+      table.frames.push_back(i);
     }
   }
   return table;
 }
 
-std::size_t TimeTable::FrameForTime(double t) const
+std::size_t TimeTable::frameForTime(double t) const
 {
-  if (this->Times.empty() || std::isnan(t))
+  if (this->times.empty() || std::isnan(t))
   {
-    return this->Frames.empty() ? 0 : this->Frames.front();
+    return this->frames.empty() ? 0 : this->frames.front();
   }
   const double tolerance = 1e-9 * std::max(1.0, std::fabs(t));
-  const auto it = std::upper_bound(this->Times.begin(), this->Times.end(), t + tolerance);
-  const std::size_t index = it == this->Times.begin() ? 0 : (it - this->Times.begin()) - 1;
-  return this->Frames[index];
+  const auto it = std::upper_bound(this->times.begin(), this->times.end(), t + tolerance);
+  const std::size_t index = it == this->times.begin() ? 0 : (it - this->times.begin()) - 1;
+  return this->frames[index];
 }
 
 //------------------------------------------------------------------------------
-bool DumpParser::Fail(const std::string& message)
+bool DumpParser::fail(const std::string& message)
 {
   this->Error = message;
   return false;
 }
 
-void DumpParser::Close()
+void DumpParser::close()
 {
   this->FileName.clear();
   this->Error.clear();
@@ -1546,48 +1546,48 @@ void DumpParser::Close()
   this->FileTime = 0;
 }
 
-bool DumpParser::IsStale() const
+bool DumpParser::isStale() const
 {
   if (this->FileName.empty())
   {
     return false;
   }
-  // A file that is missing (size -1) stays missing until it appears: Open failed for it and
+  // A file that is missing (size -1) stays missing until it appears: open() failed for it and
   // would fail the same way again.
   std::error_code ec;
   return std::filesystem::file_size(this->FileName, ec) != this->FileSize ||
-         FileTimeOf(this->FileName) != this->FileTime;
+         fileTimeOf(this->FileName) != this->FileTime;
 }
 
-bool DumpParser::LooksLikeDump(const std::string& fileName)
+bool DumpParser::looksLikeDump(const std::string& fileName)
 {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(fileName, ec))
   {
     return false;
   }
-  const std::string head = ReadHead(fileName, 4096);
-  return !head.empty() && SniffNotADump(fileName, head).empty() &&
+  const std::string head = readHead(fileName, 4096);
+  return !head.empty() && sniffNotADump(fileName, head).empty() &&
          head.find("ITEM:") != std::string::npos;
 }
 
-bool DumpParser::Open(const std::string& fileName)
+bool DumpParser::open(const std::string& fileName)
 {
-  this->Close();
+  this->close();
   this->FileName = fileName;
   try
   {
     // What IsStale compares with: the size is -1 for a missing file or a directory.
     std::error_code ec;
     this->FileSize = std::filesystem::file_size(fileName, ec);
-    this->FileTime = FileTimeOf(fileName);
+    this->FileTime = fileTimeOf(fileName);
     LineReader reader;
-    const std::string unreadable = CheckFile(fileName, this->FileSize, reader);
+    const std::string unreadable = checkFile(fileName, this->FileSize, reader);
     if (!unreadable.empty())
     {
-      return this->Fail(unreadable);
+      return this->fail(unreadable);
     }
-    SnapshotIndexer(fileName, this->FileSize, reader, this->Frames, this->Warnings).Run();
+    SnapshotIndexer(fileName, this->FileSize, reader, this->Frames, this->Warnings).run();
   }
   catch (const ParseError& e)
   {
@@ -1595,62 +1595,62 @@ bool DumpParser::Open(const std::string& fileName)
     {
       // Damage after complete snapshots: keep those (the index of anything after the damage
       // cannot be trusted) and say where the file stops being readable.
-      this->Warnings.push_back("'" + fileName + "': " + e.Message + "; the rest of the file (" +
+      this->Warnings.push_back("'" + fileName + "': " + e.message + "; the rest of the file (" +
                                "after snapshot " + std::to_string(this->Frames.size()) +
                                ") is ignored");
       return true;
     }
     this->Frames.clear();
-    return this->Fail("'" + fileName + "': " + e.Message);
+    return this->fail("'" + fileName + "': " + e.message);
   }
   catch (const std::bad_alloc&)
   {
     this->Frames.clear();
-    return this->Fail("'" + fileName + "': out of memory while indexing the file");
+    return this->fail("'" + fileName + "': out of memory while indexing the file");
   }
   catch (const std::exception& e)
   {
     this->Frames.clear();
-    return this->Fail("'" + fileName + "': " + e.what());
+    return this->fail("'" + fileName + "': " + e.what());
   }
   return true;
 }
 
-bool DumpParser::ReadFrame(std::size_t index, DumpFrame& frame)
+bool DumpParser::readFrame(std::size_t index, DumpFrame& frame)
 {
-  frame.Clear();
+  frame.clear();
   if (index >= this->Frames.size())
   {
-    return this->Fail("snapshot " + std::to_string(index + 1) + " requested, the file has " +
+    return this->fail("snapshot " + std::to_string(index + 1) + " requested, the file has " +
                       std::to_string(this->Frames.size()));
   }
   const DumpFrameInfo& info = this->Frames[index];
-  frame.Info = info;
-  const std::string where = "'" + this->FileName + "', " + DescribeFrame(index, info);
+  frame.info = info;
+  const std::string where = "'" + this->FileName + "', " + describeFrame(index, info);
   try
   {
-    ReadSnapshot(this->FileName, info, frame);
-    const std::string repeated = frame.HasIds ? DescribeRepeatedIds(frame.Ids) : std::string();
+    readSnapshot(this->FileName, info, frame);
+    const std::string repeated = frame.hasIds ? describeRepeatedIds(frame.ids) : std::string();
     if (!repeated.empty())
     {
-      frame.Warnings.push_back(where + ": " + repeated);
+      frame.warnings.push_back(where + ": " + repeated);
     }
   }
   catch (const ParseError& e)
   {
-    frame.Clear();
-    return this->Fail(where + ": " + e.Message);
+    frame.clear();
+    return this->fail(where + ": " + e.message);
   }
   catch (const std::bad_alloc&)
   {
-    frame.Clear();
-    return this->Fail(where + ": out of memory for " + std::to_string(info.NumberOfAtoms) +
-                      " atoms x " + std::to_string(info.ColumnNames.size()) + " columns");
+    frame.clear();
+    return this->fail(where + ": out of memory for " + std::to_string(info.numberOfAtoms) +
+                      " atoms x " + std::to_string(info.columnNames.size()) + " columns");
   }
   catch (const std::exception& e)
   {
-    frame.Clear();
-    return this->Fail(where + ": " + e.what());
+    frame.clear();
+    return this->fail(where + ": " + e.what());
   }
   return true;
 }

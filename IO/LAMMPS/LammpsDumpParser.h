@@ -62,38 +62,38 @@ struct DumpBox
     GeneralTriclinic, ///< "BOX BOUNDS abc origin pp pp pp"
   };
 
-  bool Present = false; ///< false when the snapshot had no BOX BOUNDS section
-  Shape Kind = Shape::Orthogonal;
-  double Origin[3] = { 0.0, 0.0, 0.0 };
+  bool present = false; ///< false when the snapshot had no BOX BOUNDS section
+  Shape kind = Shape::Orthogonal;
+  double origin[3] = { 0.0, 0.0, 0.0 };
   double A[3] = { 1.0, 0.0, 0.0 };
   double B[3] = { 0.0, 1.0, 0.0 };
   double C[3] = { 0.0, 0.0, 1.0 };
   /// Tilt factors xy, xz, yz (restricted triclinic only, else 0).
-  double Tilt[3] = { 0.0, 0.0, 0.0 };
+  double tilt[3] = { 0.0, 0.0, 0.0 };
   /// Boundary flags as written, e.g. "pp", "fs", "mm"; empty if the header had none.
-  std::string Boundary[3];
+  std::string boundary[3];
 
   /// True if the axis has the periodic flag "pp".
-  bool IsPeriodic(int axis) const;
+  bool isPeriodic(int axis) const;
   /// Cartesian position of the scaled coordinates s (box units).
-  void ScaledToCartesian(const double s[3], double r[3]) const;
+  void scaledToCartesian(const double s[3], double r[3]) const;
   /// Axis-aligned bounds of the parallelepiped: xmin, xmax, ymin, ymax, zmin, zmax.
-  void GetBounds(double bounds[6]) const;
+  void bounds(double bounds[6]) const;
 };
 
 /// What the index knows about one snapshot without reading its atoms.
 struct DumpFrameInfo
 {
-  std::int64_t Timestep = 0;
-  bool HasTime = false; ///< the snapshot had "ITEM: TIME"
-  double Time = 0.0;
-  std::string Units; ///< "ITEM: UNITS" (written once; carried to later snapshots)
-  std::int64_t NumberOfAtoms = 0;
-  DumpBox Box;
-  std::vector<std::string> ColumnNames;
-  std::uint64_t AtomsOffset = 0; ///< byte offset of the first atom line
-  std::uint64_t AtomsLine = 0;   ///< 1-based line number of the first atom line
-  std::uint64_t HeaderLine = 0;  ///< 1-based line number where the snapshot starts
+  std::int64_t timestep = 0;
+  bool hasTime = false; ///< the snapshot had "ITEM: TIME"
+  double time = 0.0;
+  std::string units; ///< "ITEM: UNITS" (written once; carried to later snapshots)
+  std::int64_t numberOfAtoms = 0;
+  DumpBox box;
+  std::vector<std::string> columnNames;
+  std::uint64_t atomsOffset = 0; ///< byte offset of the first atom line
+  std::uint64_t atomsLine = 0;   ///< 1-based line number of the first atom line
+  std::uint64_t headerLine = 0;  ///< 1-based line number where the snapshot starts
 };
 
 /// Which coordinate columns gave DumpFrame::Points.
@@ -109,39 +109,39 @@ enum class PositionSource
 /// A numeric per-atom column other than positions, id and type.
 struct DumpColumn
 {
-  std::string Name;
-  std::vector<double> Values;
+  std::string name;
+  std::vector<double> values;
 };
 
 /// A text per-atom column (element names, type labels).
 struct DumpTextColumn
 {
-  std::string Name;
-  std::vector<std::string> Values;
+  std::string name;
+  std::vector<std::string> values;
 };
 
 /// One snapshot's atoms, sorted by id when the dump has an "id" column.
 struct DumpFrame
 {
-  DumpFrameInfo Info;
-  std::size_t NumberOfAtoms = 0;
-  PositionSource Positions = PositionSource::None;
+  DumpFrameInfo info;
+  std::size_t numberOfAtoms = 0;
+  PositionSource positions = PositionSource::None;
   /// Names of the three columns used for positions, e.g. "x" "y" "z".
-  std::string PositionColumns[3];
+  std::string positionColumns[3];
   /// Cartesian positions, 3 per atom (scaled coordinates are converted with the box).
-  std::vector<double> Points;
-  bool HasIds = false;
-  std::vector<std::int64_t> Ids;
-  bool HasTypes = false;
-  std::vector<std::int32_t> Types;
+  std::vector<double> points;
+  bool hasIds = false;
+  std::vector<std::int64_t> ids;
+  bool hasTypes = false;
+  std::vector<std::int32_t> types;
   /// Every other numeric column, in file order. Unused coordinate columns (e.g. xu when
   /// x y z gave the positions) are kept here as well.
-  std::vector<DumpColumn> Columns;
-  std::vector<DumpTextColumn> TextColumns;
+  std::vector<DumpColumn> columns;
+  std::vector<DumpTextColumn> textColumns;
   /// What reading found wrong without stopping it (e.g. atom ids that occur twice).
-  std::vector<std::string> Warnings;
+  std::vector<std::string> warnings;
 
-  void Clear();
+  void clear();
 };
 
 /// Sorted, unique time values (the timesteps) and, for each, the snapshot to read.
@@ -149,50 +149,50 @@ struct DumpFrame
 /// the last snapshot with it wins: it is the one the rerun produced.
 struct TimeTable
 {
-  std::vector<double> Times;
-  std::vector<std::size_t> Frames;
+  std::vector<double> times;
+  std::vector<std::size_t> frames;
 
   /// The snapshot for a requested time: the one with the largest time <= t, or the first
   /// one if t is before all of them (a small tolerance absorbs rounding). Requires
   /// at least one entry; returns 0 for an empty table.
-  std::size_t FrameForTime(double t) const;
+  std::size_t frameForTime(double t) const;
 };
 
-TimeTable BuildTimeTable(const std::vector<DumpFrameInfo>& frames);
+TimeTable buildTimeTable(const std::vector<DumpFrameInfo>& frames);
 
 /// Indexes a dump file's snapshots, then reads any of them on request.
 class DumpParser
 {
 public:
   /// Indexes the snapshots of a file (headers only; atom lines are counted, not parsed).
-  /// Returns false and sets GetError() if the file cannot be read or has no complete
+  /// Returns false and sets error() if the file cannot be read or has no complete
   /// snapshot. If the file is truncated or damaged after complete snapshots, those are kept
-  /// and GetWarnings() says what was dropped and where.
-  bool Open(const std::string& fileName);
-  void Close();
+  /// and warnings() says what was dropped and where.
+  bool open(const std::string& fileName);
+  void close();
 
-  /// True if the file's size or modification time changed since Open (e.g. a running
-  /// simulation appended snapshots, or a missing file appeared): the caller should Open it
-  /// again. False for a file that is as it was, including one Open failed on.
-  bool IsStale() const;
+  /// True if the file's size or modification time changed since open (e.g. a running
+  /// simulation appended snapshots, or a missing file appeared): the caller should open() it
+  /// again. False for a file that is as it was, including one open() failed on.
+  bool isStale() const;
 
-  const std::string& GetFileName() const { return this->FileName; }
-  const std::string& GetError() const { return this->Error; }
-  const std::vector<std::string>& GetWarnings() const { return this->Warnings; }
+  const std::string& fileName() const { return this->FileName; }
+  const std::string& error() const { return this->Error; }
+  const std::vector<std::string>& warnings() const { return this->Warnings; }
 
-  std::size_t GetNumberOfFrames() const { return this->Frames.size(); }
-  const DumpFrameInfo& GetFrameInfo(std::size_t i) const { return this->Frames[i]; }
-  const std::vector<DumpFrameInfo>& GetFrames() const { return this->Frames; }
+  std::size_t numberOfFrames() const { return this->Frames.size(); }
+  const DumpFrameInfo& frameInfo(std::size_t i) const { return this->Frames[i]; }
+  const std::vector<DumpFrameInfo>& frames() const { return this->Frames; }
 
-  /// Reads snapshot i into frame. Returns false and sets GetError() on malformed atom lines,
-  /// missing coordinate columns, or a file that changed since Open.
-  bool ReadFrame(std::size_t i, DumpFrame& frame);
+  /// Reads snapshot i into frame. Returns false and sets error() on malformed atom lines,
+  /// missing coordinate columns, or a file that changed since open().
+  bool readFrame(std::size_t i, DumpFrame& frame);
 
   /// Quick test used by readers' CanReadFile: does the file start like a text dump?
-  static bool LooksLikeDump(const std::string& fileName);
+  static bool looksLikeDump(const std::string& fileName);
 
 private:
-  bool Fail(const std::string& message);
+  bool fail(const std::string& message);
 
   std::string FileName;
   std::string Error;

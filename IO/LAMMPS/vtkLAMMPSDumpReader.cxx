@@ -36,7 +36,7 @@ class vtkLAMMPSDumpReader::vtkInternals
 public:
   raymappers::lammps::DumpParser Parser;
   raymappers::lammps::TimeTable Times;
-  bool Indexed = false;  ///< Parser.Open ran on the current file, which may have failed
+  bool Indexed = false;  ///< Parser.open ran on the current file, which may have failed
   bool Readable = false; ///< it succeeded: there are snapshots to read
   unsigned long IndexError = vtkErrorCode::NoError;
   /// The messages given so far. A message names its file, snapshot and line, so the same
@@ -49,9 +49,9 @@ public:
   {
     if (!outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
     {
-      return this->Times.Frames.front();
+      return this->Times.frames.front();
     }
-    return this->Times.FrameForTime(
+    return this->Times.frameForTime(
       outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()));
   }
 
@@ -113,12 +113,12 @@ void vtkLAMMPSDumpReader::SetOutputPointsPrecision(int precision)
 
 int vtkLAMMPSDumpReader::CanReadFile(const char* fileName)
 {
-  return fileName && raymappers::lammps::DumpParser::LooksLikeDump(fileName) ? 1 : 0;
+  return fileName && raymappers::lammps::DumpParser::looksLikeDump(fileName) ? 1 : 0;
 }
 
 int vtkLAMMPSDumpReader::GetNumberOfSnapshots()
 {
-  return this->Internals->Readable ? static_cast<int>(this->Internals->Parser.GetNumberOfFrames())
+  return this->Internals->Readable ? static_cast<int>(this->Internals->Parser.numberOfFrames())
                                    : 0;
 }
 
@@ -128,7 +128,7 @@ vtkIdType vtkLAMMPSDumpReader::GetSnapshotTimestep(int index)
   {
     return 0;
   }
-  return static_cast<vtkIdType>(this->Internals->Parser.GetFrameInfo(index).Timestep);
+  return static_cast<vtkIdType>(this->Internals->Parser.frameInfo(index).timestep);
 }
 
 //------------------------------------------------------------------------------
@@ -139,17 +139,17 @@ void vtkLAMMPSDumpReader::UpdateIndex()
   // Index again only when the name changed or the file changed on disk (a running
   // simulation appending snapshots). A failed index is kept as well: ParaView asks for the
   // information of a file several times, and a bad file is not read again until it changes.
-  if (internals.Indexed && internals.Parser.GetFileName() == fileName &&
-      !internals.Parser.IsStale())
+  if (internals.Indexed && internals.Parser.fileName() == fileName &&
+      !internals.Parser.isStale())
   {
     return;
   }
   internals.Indexed = true;
-  internals.Readable = internals.Parser.Open(fileName);
+  internals.Readable = internals.Parser.open(fileName);
   internals.Times = raymappers::lammps::TimeTable();
   if (!internals.Readable)
   {
-    internals.ReportOnce(this, { internals.Parser.GetError() }, true);
+    internals.ReportOnce(this, { internals.Parser.error() }, true);
     std::error_code ec;
     internals.IndexError = fileName.empty() ? vtkErrorCode::NoFileNameError
                            : !std::filesystem::exists(fileName, ec)
@@ -157,9 +157,9 @@ void vtkLAMMPSDumpReader::UpdateIndex()
                              : vtkErrorCode::FileFormatError;
     return;
   }
-  internals.ReportOnce(this, internals.Parser.GetWarnings(), false);
+  internals.ReportOnce(this, internals.Parser.warnings(), false);
   internals.IndexError = vtkErrorCode::NoError;
-  internals.Times = raymappers::lammps::BuildTimeTable(internals.Parser.GetFrames());
+  internals.Times = raymappers::lammps::buildTimeTable(internals.Parser.frames());
 }
 
 // A file that cannot be read gives one error and an empty output, and the request returns
@@ -179,7 +179,7 @@ int vtkLAMMPSDumpReader::RequestInformation(vtkInformation*,
   {
     return 1;
   }
-  const std::vector<double>& times = internals.Times.Times;
+  const std::vector<double>& times = internals.Times.times;
   outInfo->Set(
     vtkStreamingDemandDrivenPipeline::TIME_STEPS(), times.data(), static_cast<int>(times.size()));
   const double range[2] = { times.front(), times.back() };
@@ -258,34 +258,34 @@ void AddVertices(vtkIdType n, vtkPolyData* output)
 
 void AddPointArrays(const raymappers::lammps::DumpFrame& frame, vtkPointData* pointData)
 {
-  const vtkIdType n = static_cast<vtkIdType>(frame.NumberOfAtoms);
-  if (frame.HasIds)
+  const vtkIdType n = static_cast<vtkIdType>(frame.numberOfAtoms);
+  if (frame.hasIds)
   {
     vtkNew<vtkIdTypeArray> ids;
     ids->SetName("id");
     ids->SetNumberOfValues(n);
     for (vtkIdType i = 0; i < n; ++i)
     {
-      ids->SetValue(i, static_cast<vtkIdType>(frame.Ids[i]));
+      ids->SetValue(i, static_cast<vtkIdType>(frame.ids[i]));
     }
     pointData->AddArray(ids);
   }
-  if (frame.HasTypes)
+  if (frame.hasTypes)
   {
-    AddArray<vtkIntArray>(pointData, "type", frame.Types.data(), n);
+    AddArray<vtkIntArray>(pointData, "type", frame.types.data(), n);
   }
-  for (const raymappers::lammps::DumpColumn& column : frame.Columns)
+  for (const raymappers::lammps::DumpColumn& column : frame.columns)
   {
-    AddArray<vtkDoubleArray>(pointData, column.Name.c_str(), column.Values.data(), n);
+    AddArray<vtkDoubleArray>(pointData, column.name.c_str(), column.values.data(), n);
   }
-  for (const raymappers::lammps::DumpTextColumn& column : frame.TextColumns)
+  for (const raymappers::lammps::DumpTextColumn& column : frame.textColumns)
   {
     vtkNew<vtkStringArray> text;
-    text->SetName(column.Name.c_str());
+    text->SetName(column.name.c_str());
     text->SetNumberOfValues(n);
     for (vtkIdType i = 0; i < n; ++i)
     {
-      text->SetValue(i, column.Values[i]);
+      text->SetValue(i, column.values[i]);
     }
     pointData->AddArray(text);
   }
@@ -294,31 +294,31 @@ void AddPointArrays(const raymappers::lammps::DumpFrame& frame, vtkPointData* po
 /// Snapshot metadata, so a pipeline can show the step, the time and the periodic box.
 void AddFieldData(const raymappers::lammps::DumpFrameInfo& info, vtkFieldData* fieldData)
 {
-  const vtkIdType timestep = static_cast<vtkIdType>(info.Timestep);
+  const vtkIdType timestep = static_cast<vtkIdType>(info.timestep);
   AddArray<vtkIdTypeArray>(fieldData, "Timestep", &timestep, 1);
-  if (info.HasTime)
+  if (info.hasTime)
   {
-    AddArray<vtkDoubleArray>(fieldData, "Time", &info.Time, 1);
+    AddArray<vtkDoubleArray>(fieldData, "Time", &info.time, 1);
   }
-  if (!info.Units.empty())
+  if (!info.units.empty())
   {
     vtkNew<vtkStringArray> units;
     units->SetName("Units");
-    units->InsertNextValue(info.Units);
+    units->InsertNextValue(info.units);
     fieldData->AddArray(units);
   }
-  if (info.Box.Present)
+  if (info.box.present)
   {
-    const raymappers::lammps::DumpBox& box = info.Box;
-    AddArray<vtkDoubleArray>(fieldData, "BoxOrigin", box.Origin, 1, 3);
+    const raymappers::lammps::DumpBox& box = info.box;
+    AddArray<vtkDoubleArray>(fieldData, "BoxOrigin", box.origin, 1, 3);
     const double edges[9] = {
       box.A[0], box.A[1], box.A[2], box.B[0], box.B[1], box.B[2], box.C[0], box.C[1], box.C[2]
     };
     AddArray<vtkDoubleArray>(fieldData, "BoxEdges", edges, 3, 3);
-    const int periodic[3] = { box.IsPeriodic(0), box.IsPeriodic(1), box.IsPeriodic(2) };
+    const int periodic[3] = { box.isPeriodic(0), box.isPeriodic(1), box.isPeriodic(2) };
     AddArray<vtkIntArray>(fieldData, "BoxPeriodic", periodic, 1, 3);
     double bounds[6];
-    box.GetBounds(bounds);
+    box.bounds(bounds);
     AddArray<vtkDoubleArray>(fieldData, "BoxBounds", bounds, 1, 6);
   }
 }
@@ -339,31 +339,31 @@ int vtkLAMMPSDumpReader::RequestData(vtkInformation*,
   }
   const std::size_t snapshot = internals.SnapshotFor(outInfo);
   raymappers::lammps::DumpFrame frame;
-  if (!internals.Parser.ReadFrame(snapshot, frame))
+  if (!internals.Parser.readFrame(snapshot, frame))
   {
-    internals.ReportOnce(this, { internals.Parser.GetError() }, true);
+    internals.ReportOnce(this, { internals.Parser.error() }, true);
     this->SetErrorCode(vtkErrorCode::FileFormatError);
     return 1;
   }
 
   vtkNew<vtkPoints> points;
   const vtkIdType overflows =
-    CopyPoints(frame.Points, this->OutputPointsPrecision == vtkAlgorithm::DOUBLE_PRECISION, points);
+    CopyPoints(frame.points, this->OutputPointsPrecision == vtkAlgorithm::DOUBLE_PRECISION, points);
   if (overflows > 0)
   {
-    frame.Warnings.push_back(
-      "'" + internals.Parser.GetFileName() + "', timestep " + std::to_string(frame.Info.Timestep) +
+    frame.warnings.push_back(
+      "'" + internals.Parser.fileName() + "', timestep " + std::to_string(frame.info.timestep) +
       ": " + std::to_string(overflows) +
       " coordinates are beyond the range of float (3.4e38) and became infinite; set "
       "OutputPointsPrecision to double to keep them");
   }
-  internals.ReportOnce(this, frame.Warnings, false);
+  internals.ReportOnce(this, frame.warnings, false);
   output->SetPoints(points);
   AddVertices(points->GetNumberOfPoints(), output);
   AddPointArrays(frame, output->GetPointData());
-  AddFieldData(frame.Info, output->GetFieldData());
+  AddFieldData(frame.info, output->GetFieldData());
   output->GetInformation()->Set(
-    vtkDataObject::DATA_TIME_STEP(), static_cast<double>(frame.Info.Timestep));
+    vtkDataObject::DATA_TIME_STEP(), static_cast<double>(frame.info.timestep));
   return 1;
 }
 

@@ -23,7 +23,7 @@
 #endif
 
 namespace fs = std::filesystem;
-using raymappers::lammps::BuildTimeTable;
+using raymappers::lammps::buildTimeTable;
 using raymappers::lammps::DumpBox;
 using raymappers::lammps::DumpFrame;
 using raymappers::lammps::DumpParser;
@@ -62,11 +62,11 @@ protected:
 
 const std::vector<double>* Column(const DumpFrame& frame, const std::string& name)
 {
-  for (const auto& column : frame.Columns)
+  for (const auto& column : frame.columns)
   {
-    if (column.Name == name)
+    if (column.name == name)
     {
-      return &column.Values;
+      return &column.values;
     }
   }
   return nullptr;
@@ -107,79 +107,79 @@ const char* const TwoFrames = "ITEM: TIMESTEP\n"
 TEST_F(LammpsDump, OrthogonalBoxAndColumns)
 {
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("ortho.dump", TwoFrames))) << parser.GetError();
-  EXPECT_TRUE(parser.GetWarnings().empty());
-  ASSERT_EQ(parser.GetNumberOfFrames(), 2u);
-  const auto& info = parser.GetFrameInfo(0);
-  EXPECT_EQ(info.Timestep, 0);
-  EXPECT_EQ(info.NumberOfAtoms, 3);
-  EXPECT_FALSE(info.HasTime);
-  ASSERT_TRUE(info.Box.Present);
-  EXPECT_EQ(info.Box.Kind, DumpBox::Shape::Orthogonal);
-  EXPECT_TRUE(info.Box.IsPeriodic(0));
-  EXPECT_TRUE(info.Box.IsPeriodic(1));
-  EXPECT_FALSE(info.Box.IsPeriodic(2));
-  EXPECT_EQ(info.Box.Boundary[2], "ff");
+  ASSERT_TRUE(parser.open(this->Write("ortho.dump", TwoFrames))) << parser.error();
+  EXPECT_TRUE(parser.warnings().empty());
+  ASSERT_EQ(parser.numberOfFrames(), 2u);
+  const auto& info = parser.frameInfo(0);
+  EXPECT_EQ(info.timestep, 0);
+  EXPECT_EQ(info.numberOfAtoms, 3);
+  EXPECT_FALSE(info.hasTime);
+  ASSERT_TRUE(info.box.present);
+  EXPECT_EQ(info.box.kind, DumpBox::Shape::Orthogonal);
+  EXPECT_TRUE(info.box.isPeriodic(0));
+  EXPECT_TRUE(info.box.isPeriodic(1));
+  EXPECT_FALSE(info.box.isPeriodic(2));
+  EXPECT_EQ(info.box.boundary[2], "ff");
   double bounds[6];
-  info.Box.GetBounds(bounds);
+  info.box.bounds(bounds);
   const double expected[6] = { 0.0, 10.0, -5.0, 5.0, 1.0, 3.0 };
   for (int k = 0; k < 6; ++k)
   {
     EXPECT_DOUBLE_EQ(bounds[k], expected[k]) << k;
   }
-  EXPECT_EQ(info.ColumnNames.size(), 7u);
+  EXPECT_EQ(info.columnNames.size(), 7u);
 
   DumpFrame frame;
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  ASSERT_EQ(frame.NumberOfAtoms, 3u);
-  EXPECT_EQ(frame.Positions, PositionSource::Wrapped);
-  ASSERT_TRUE(frame.HasIds);
-  ASSERT_TRUE(frame.HasTypes);
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  ASSERT_EQ(frame.numberOfAtoms, 3u);
+  EXPECT_EQ(frame.positions, PositionSource::Wrapped);
+  ASSERT_TRUE(frame.hasIds);
+  ASSERT_TRUE(frame.hasTypes);
   // Sorted by id: 1, 2, 3.
-  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 1, 2, 3 }));
-  EXPECT_EQ(frame.Types, (std::vector<std::int32_t>{ 1, 1, 2 }));
-  EXPECT_EQ(frame.Points, (std::vector<double>{ 1.0, -4.0, 2.0, 2.0, 4.5, 2.5, 3.0, 0.5, 1.5 }));
+  EXPECT_EQ(frame.ids, (std::vector<std::int64_t>{ 1, 2, 3 }));
+  EXPECT_EQ(frame.types, (std::vector<std::int32_t>{ 1, 1, 2 }));
+  EXPECT_EQ(frame.points, (std::vector<double>{ 1.0, -4.0, 2.0, 2.0, 4.5, 2.5, 3.0, 0.5, 1.5 }));
   // Every column but positions, id and type is an array, in file order.
-  ASSERT_EQ(frame.Columns.size(), 2u);
-  EXPECT_EQ(frame.Columns[0].Name, "vx");
-  EXPECT_EQ(frame.Columns[1].Name, "q");
-  EXPECT_EQ(frame.Columns[0].Values, (std::vector<double>{ 0.1, 0.2, -0.3 }));
-  EXPECT_EQ(frame.Columns[1].Values, (std::vector<double>{ -1.0, 0.5, 1.0 }));
-  EXPECT_TRUE(frame.TextColumns.empty());
+  ASSERT_EQ(frame.columns.size(), 2u);
+  EXPECT_EQ(frame.columns[0].name, "vx");
+  EXPECT_EQ(frame.columns[1].name, "q");
+  EXPECT_EQ(frame.columns[0].values, (std::vector<double>{ 0.1, 0.2, -0.3 }));
+  EXPECT_EQ(frame.columns[1].values, (std::vector<double>{ -1.0, 0.5, 1.0 }));
+  EXPECT_TRUE(frame.textColumns.empty());
 }
 
 TEST_F(LammpsDump, TwoFramesAndTimeTable)
 {
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("two.dump", TwoFrames))) << parser.GetError();
-  ASSERT_EQ(parser.GetNumberOfFrames(), 2u);
-  EXPECT_EQ(parser.GetFrameInfo(1).Timestep, 100);
-  EXPECT_EQ(parser.GetFrameInfo(1).NumberOfAtoms, 2);
-  EXPECT_EQ(parser.GetFrameInfo(1).HeaderLine, 13u);
-  EXPECT_EQ(parser.GetFrameInfo(1).AtomsLine, 22u);
+  ASSERT_TRUE(parser.open(this->Write("two.dump", TwoFrames))) << parser.error();
+  ASSERT_EQ(parser.numberOfFrames(), 2u);
+  EXPECT_EQ(parser.frameInfo(1).timestep, 100);
+  EXPECT_EQ(parser.frameInfo(1).numberOfAtoms, 2);
+  EXPECT_EQ(parser.frameInfo(1).headerLine, 13u);
+  EXPECT_EQ(parser.frameInfo(1).atomsLine, 22u);
 
   DumpFrame frame;
-  ASSERT_TRUE(parser.ReadFrame(1, frame)) << parser.GetError();
-  EXPECT_EQ(frame.Info.Timestep, 100);
-  ASSERT_EQ(frame.NumberOfAtoms, 2u);
-  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 1, 2 }));
-  EXPECT_EQ(frame.Points, (std::vector<double>{ 1.5, -3.5, 2.0, 2.5, 4.0, 2.5 }));
+  ASSERT_TRUE(parser.readFrame(1, frame)) << parser.error();
+  EXPECT_EQ(frame.info.timestep, 100);
+  ASSERT_EQ(frame.numberOfAtoms, 2u);
+  EXPECT_EQ(frame.ids, (std::vector<std::int64_t>{ 1, 2 }));
+  EXPECT_EQ(frame.points, (std::vector<double>{ 1.5, -3.5, 2.0, 2.5, 4.0, 2.5 }));
   ASSERT_NE(Column(frame, "vx"), nullptr);
   EXPECT_EQ(*Column(frame, "vx"), (std::vector<double>{ 0.15, 0.25 }));
   // Reading the first snapshot again after the second one gives the same as before.
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_EQ(frame.NumberOfAtoms, 3u);
-  EXPECT_FALSE(parser.ReadFrame(2, frame));
-  EXPECT_TRUE(Contains(parser.GetError(), "snapshot 3"));
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_EQ(frame.numberOfAtoms, 3u);
+  EXPECT_FALSE(parser.readFrame(2, frame));
+  EXPECT_TRUE(Contains(parser.error(), "snapshot 3"));
 
-  const TimeTable table = BuildTimeTable(parser.GetFrames());
-  EXPECT_EQ(table.Times, (std::vector<double>{ 0.0, 100.0 }));
-  EXPECT_EQ(table.FrameForTime(-5.0), 0u);
-  EXPECT_EQ(table.FrameForTime(0.0), 0u);
-  EXPECT_EQ(table.FrameForTime(99.5), 0u);
-  EXPECT_EQ(table.FrameForTime(100.0), 1u);
-  EXPECT_EQ(table.FrameForTime(1e9), 1u);
-  EXPECT_EQ(table.FrameForTime(std::nan("")), 0u);
+  const TimeTable table = buildTimeTable(parser.frames());
+  EXPECT_EQ(table.times, (std::vector<double>{ 0.0, 100.0 }));
+  EXPECT_EQ(table.frameForTime(-5.0), 0u);
+  EXPECT_EQ(table.frameForTime(0.0), 0u);
+  EXPECT_EQ(table.frameForTime(99.5), 0u);
+  EXPECT_EQ(table.frameForTime(100.0), 1u);
+  EXPECT_EQ(table.frameForTime(1e9), 1u);
+  EXPECT_EQ(table.frameForTime(std::nan("")), 0u);
 }
 
 TEST_F(LammpsDump, RepeatedTimestepsUseTheLaterSnapshot)
@@ -193,12 +193,12 @@ TEST_F(LammpsDump, RepeatedTimestepsUseTheLaterSnapshot)
             "ITEM: ATOMS id x y z\n1 0.5 0.5 0.5\n";
   }
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("restart.dump", text))) << parser.GetError();
-  ASSERT_EQ(parser.GetNumberOfFrames(), 6u);
-  const TimeTable table = BuildTimeTable(parser.GetFrames());
-  EXPECT_EQ(table.Times, (std::vector<double>{ 0, 100, 200, 300 }));
-  EXPECT_EQ(table.Frames, (std::vector<std::size_t>{ 0, 3, 4, 5 }));
-  EXPECT_EQ(table.FrameForTime(150.0), 3u);
+  ASSERT_TRUE(parser.open(this->Write("restart.dump", text))) << parser.error();
+  ASSERT_EQ(parser.numberOfFrames(), 6u);
+  const TimeTable table = buildTimeTable(parser.frames());
+  EXPECT_EQ(table.times, (std::vector<double>{ 0, 100, 200, 300 }));
+  EXPECT_EQ(table.frames, (std::vector<std::size_t>{ 0, 3, 4, 5 }));
+  EXPECT_EQ(table.frameForTime(150.0), 3u);
 }
 
 TEST_F(LammpsDump, ScaledCoordinatesOfDumpAtom)
@@ -217,17 +217,17 @@ TEST_F(LammpsDump, ScaledCoordinatesOfDumpAtom)
                            "2 1 0.5 0.5 0.5 0 -1 2\n"
                            "1 1 0.0 1.0 0.25 1 0 0\n";
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("atom.dump", text))) << parser.GetError();
+  ASSERT_TRUE(parser.open(this->Write("atom.dump", text))) << parser.error();
   DumpFrame frame;
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_EQ(frame.Positions, PositionSource::Scaled);
-  EXPECT_EQ(frame.PositionColumns[0], "xs");
-  ASSERT_EQ(frame.NumberOfAtoms, 2u);
-  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 1, 2 }));
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_EQ(frame.positions, PositionSource::Scaled);
+  EXPECT_EQ(frame.positionColumns[0], "xs");
+  ASSERT_EQ(frame.numberOfAtoms, 2u);
+  EXPECT_EQ(frame.ids, (std::vector<std::int64_t>{ 1, 2 }));
   const double expected[6] = { -2.0, 20.0, 0.25, 0.0, 15.0, 0.5 };
   for (int k = 0; k < 6; ++k)
   {
-    EXPECT_NEAR(frame.Points[k], expected[k], 1e-12) << k;
+    EXPECT_NEAR(frame.points[k], expected[k], 1e-12) << k;
   }
   ASSERT_NE(Column(frame, "iy"), nullptr);
   EXPECT_EQ(*Column(frame, "iy"), (std::vector<double>{ 0.0, -1.0 }));
@@ -240,24 +240,24 @@ TEST_F(LammpsDump, PositionPreferenceKeepsOtherTriplesAsArrays)
                            "ITEM: ATOMS id xu yu zu x y z\n"
                            "7 3.5 0.5 -1.0 1.5 0.5 1.0\n";
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("pref.dump", text))) << parser.GetError();
+  ASSERT_TRUE(parser.open(this->Write("pref.dump", text))) << parser.error();
   DumpFrame frame;
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_EQ(frame.Positions, PositionSource::Wrapped);
-  EXPECT_EQ(frame.Points, (std::vector<double>{ 1.5, 0.5, 1.0 }));
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_EQ(frame.positions, PositionSource::Wrapped);
+  EXPECT_EQ(frame.points, (std::vector<double>{ 1.5, 0.5, 1.0 }));
   ASSERT_NE(Column(frame, "xu"), nullptr);
   EXPECT_EQ(*Column(frame, "xu"), (std::vector<double>{ 3.5 }));
   EXPECT_EQ(Column(frame, "x"), nullptr);
-  EXPECT_FALSE(frame.HasTypes);
+  EXPECT_FALSE(frame.hasTypes);
 
   // Only unwrapped: they give the positions.
   const std::string unwrapped = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\n"
                                 "ITEM: BOX BOUNDS pp pp pp\n0 2\n0 2\n0 2\n"
                                 "ITEM: ATOMS id type xu yu zu\n7 1 3.5 0.5 -1.0\n";
-  ASSERT_TRUE(parser.Open(this->Write("unwrapped.dump", unwrapped))) << parser.GetError();
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_EQ(frame.Positions, PositionSource::Unwrapped);
-  EXPECT_EQ(frame.Points, (std::vector<double>{ 3.5, 0.5, -1.0 }));
+  ASSERT_TRUE(parser.open(this->Write("unwrapped.dump", unwrapped))) << parser.error();
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_EQ(frame.positions, PositionSource::Unwrapped);
+  EXPECT_EQ(frame.points, (std::vector<double>{ 3.5, 0.5, -1.0 }));
 }
 
 TEST_F(LammpsDump, TriclinicBox)
@@ -277,38 +277,38 @@ TEST_F(LammpsDump, TriclinicBox)
                            "1 1 0.5 0.5 0.5\n"
                            "2 1 1.0 1.0 1.0\n";
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("tri.dump", text))) << parser.GetError();
-  const DumpBox& box = parser.GetFrameInfo(0).Box;
-  EXPECT_EQ(box.Kind, DumpBox::Shape::Triclinic);
-  EXPECT_DOUBLE_EQ(box.Tilt[0], 2.0);
-  EXPECT_DOUBLE_EQ(box.Tilt[1], -1.0);
-  EXPECT_DOUBLE_EQ(box.Tilt[2], 3.0);
+  ASSERT_TRUE(parser.open(this->Write("tri.dump", text))) << parser.error();
+  const DumpBox& box = parser.frameInfo(0).box;
+  EXPECT_EQ(box.kind, DumpBox::Shape::Triclinic);
+  EXPECT_DOUBLE_EQ(box.tilt[0], 2.0);
+  EXPECT_DOUBLE_EQ(box.tilt[1], -1.0);
+  EXPECT_DOUBLE_EQ(box.tilt[2], 3.0);
   const double origin[3] = { 0.0, 0.0, 0.0 };
   const double a[3] = { 10.0, 0.0, 0.0 };
   const double b[3] = { 2.0, 8.0, 0.0 };
   const double c[3] = { -1.0, 3.0, 6.0 };
   for (int k = 0; k < 3; ++k)
   {
-    EXPECT_DOUBLE_EQ(box.Origin[k], origin[k]) << k;
+    EXPECT_DOUBLE_EQ(box.origin[k], origin[k]) << k;
     EXPECT_DOUBLE_EQ(box.A[k], a[k]) << k;
     EXPECT_DOUBLE_EQ(box.B[k], b[k]) << k;
     EXPECT_DOUBLE_EQ(box.C[k], c[k]) << k;
   }
   // The bounding box of the cell is what LAMMPS wrote.
   double bounds[6];
-  box.GetBounds(bounds);
+  box.bounds(bounds);
   const double written[6] = { -1.0, 12.0, 0.0, 11.0, 0.0, 6.0 };
   for (int k = 0; k < 6; ++k)
   {
     EXPECT_DOUBLE_EQ(bounds[k], written[k]) << k;
   }
   DumpFrame frame;
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
   // r = origin + xs A + ys B + zs C.
   const double expected[6] = { 5.5, 5.5, 3.0, 11.0, 11.0, 6.0 };
   for (int k = 0; k < 6; ++k)
   {
-    EXPECT_NEAR(frame.Points[k], expected[k], 1e-12) << k;
+    EXPECT_NEAR(frame.points[k], expected[k], 1e-12) << k;
   }
 }
 
@@ -341,26 +341,26 @@ TEST_F(LammpsDump, GeneralTriclinicBoxTimeAndUnits)
                            "0.0 0.0 4.0 3.0\n"
                            "ITEM: ATOMS id type xs ys zs q\n";
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("general.dump", text))) << parser.GetError();
-  ASSERT_EQ(parser.GetNumberOfFrames(), 2u);
-  const auto& info = parser.GetFrameInfo(0);
-  EXPECT_EQ(info.Units, "metal");
-  EXPECT_EQ(parser.GetFrameInfo(1).Units, "metal"); // written once, carried forward
-  EXPECT_TRUE(info.HasTime);
-  EXPECT_DOUBLE_EQ(info.Time, 0.25);
-  EXPECT_DOUBLE_EQ(parser.GetFrameInfo(1).Time, 0.5);
-  EXPECT_EQ(info.Box.Kind, DumpBox::Shape::GeneralTriclinic);
-  EXPECT_EQ(info.Box.Boundary[2], "fs");
+  ASSERT_TRUE(parser.open(this->Write("general.dump", text))) << parser.error();
+  ASSERT_EQ(parser.numberOfFrames(), 2u);
+  const auto& info = parser.frameInfo(0);
+  EXPECT_EQ(info.units, "metal");
+  EXPECT_EQ(parser.frameInfo(1).units, "metal"); // written once, carried forward
+  EXPECT_TRUE(info.hasTime);
+  EXPECT_DOUBLE_EQ(info.time, 0.25);
+  EXPECT_DOUBLE_EQ(parser.frameInfo(1).time, 0.5);
+  EXPECT_EQ(info.box.kind, DumpBox::Shape::GeneralTriclinic);
+  EXPECT_EQ(info.box.boundary[2], "fs");
   DumpFrame frame;
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
   // origin (1,2,3) + 0.5 (2,2,0) + 0.5 (-2,2,0) + 0.5 (0,0,4) = (1, 4, 5)
-  EXPECT_NEAR(frame.Points[0], 1.0, 1e-12);
-  EXPECT_NEAR(frame.Points[1], 4.0, 1e-12);
-  EXPECT_NEAR(frame.Points[2], 5.0, 1e-12);
+  EXPECT_NEAR(frame.points[0], 1.0, 1e-12);
+  EXPECT_NEAR(frame.points[1], 4.0, 1e-12);
+  EXPECT_NEAR(frame.points[2], 5.0, 1e-12);
   // A snapshot with no atom is valid and keeps its arrays (empty).
-  ASSERT_TRUE(parser.ReadFrame(1, frame)) << parser.GetError();
-  EXPECT_EQ(frame.NumberOfAtoms, 0u);
-  EXPECT_TRUE(frame.Points.empty());
+  ASSERT_TRUE(parser.readFrame(1, frame)) << parser.error();
+  EXPECT_EQ(frame.numberOfAtoms, 0u);
+  EXPECT_TRUE(frame.points.empty());
   ASSERT_NE(Column(frame, "q"), nullptr);
 }
 
@@ -375,25 +375,25 @@ TEST_F(LammpsDump, UnsortedIdsPermuteEveryColumn)
                            "30 1 H 0.3 0.03 0.003 -3 300\n"
                            "20 2 O 0.2 0.02 0.002 -2 200\n";
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("unsorted.dump", text))) << parser.GetError();
+  ASSERT_TRUE(parser.open(this->Write("unsorted.dump", text))) << parser.error();
   DumpFrame frame;
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 10, 20, 30, 40, 50 }));
-  EXPECT_EQ(frame.Types, (std::vector<std::int32_t>{ 1, 2, 1, 2, 2 }));
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_EQ(frame.ids, (std::vector<std::int64_t>{ 10, 20, 30, 40, 50 }));
+  EXPECT_EQ(frame.types, (std::vector<std::int32_t>{ 1, 2, 1, 2, 2 }));
   for (std::size_t i = 0; i < 5; ++i)
   {
     const double k = 0.1 * double(i + 1);
-    EXPECT_NEAR(frame.Points[3 * i], k, 1e-12);
-    EXPECT_NEAR(frame.Points[3 * i + 1], k / 10, 1e-12);
-    EXPECT_NEAR(frame.Points[3 * i + 2], k / 100, 1e-12);
+    EXPECT_NEAR(frame.points[3 * i], k, 1e-12);
+    EXPECT_NEAR(frame.points[3 * i + 1], k / 10, 1e-12);
+    EXPECT_NEAR(frame.points[3 * i + 2], k / 100, 1e-12);
   }
   ASSERT_NE(Column(frame, "c_pe"), nullptr);
   EXPECT_EQ(*Column(frame, "c_pe"), (std::vector<double>{ -1, -2, -3, -4, -5 }));
   ASSERT_NE(Column(frame, "f_ave[2]"), nullptr);
   EXPECT_EQ(*Column(frame, "f_ave[2]"), (std::vector<double>{ 100, 200, 300, 400, 500 }));
-  ASSERT_EQ(frame.TextColumns.size(), 1u);
-  EXPECT_EQ(frame.TextColumns[0].Name, "element");
-  EXPECT_EQ(frame.TextColumns[0].Values, (std::vector<std::string>{ "H", "O", "H", "O", "O" }));
+  ASSERT_EQ(frame.textColumns.size(), 1u);
+  EXPECT_EQ(frame.textColumns[0].name, "element");
+  EXPECT_EQ(frame.textColumns[0].values, (std::vector<std::string>{ "H", "O", "H", "O", "O" }));
 }
 
 TEST_F(LammpsDump, MissingColumns)
@@ -404,37 +404,37 @@ TEST_F(LammpsDump, MissingColumns)
   const std::string noPositions = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\n"
                                   "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
                                   "ITEM: ATOMS id type vx vy vz\n1 1 0 0 0\n";
-  ASSERT_TRUE(parser.Open(this->Write("nopos.dump", noPositions))) << parser.GetError();
-  EXPECT_FALSE(parser.ReadFrame(0, frame));
-  EXPECT_TRUE(Contains(parser.GetError(), "no atom coordinates")) << parser.GetError();
-  EXPECT_TRUE(Contains(parser.GetError(), "id type vx vy vz")) << parser.GetError();
-  EXPECT_EQ(frame.NumberOfAtoms, 0u);
+  ASSERT_TRUE(parser.open(this->Write("nopos.dump", noPositions))) << parser.error();
+  EXPECT_FALSE(parser.readFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.error(), "no atom coordinates")) << parser.error();
+  EXPECT_TRUE(Contains(parser.error(), "id type vx vy vz")) << parser.error();
+  EXPECT_EQ(frame.numberOfAtoms, 0u);
 
   // Part of a triple.
   const std::string partial = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\n"
                               "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n"
                               "ITEM: ATOMS id x y\n1 0 0\n";
-  ASSERT_TRUE(parser.Open(this->Write("partial.dump", partial))) << parser.GetError();
-  EXPECT_FALSE(parser.ReadFrame(0, frame));
-  EXPECT_TRUE(Contains(parser.GetError(), "only part of x y z")) << parser.GetError();
+  ASSERT_TRUE(parser.open(this->Write("partial.dump", partial))) << parser.error();
+  EXPECT_FALSE(parser.readFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.error(), "only part of x y z")) << parser.error();
 
   // Scaled coordinates without a box cannot be converted.
   const std::string noBox = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\n"
                             "ITEM: ATOMS id xs ys zs\n1 0.5 0.5 0.5\n";
-  ASSERT_TRUE(parser.Open(this->Write("nobox.dump", noBox))) << parser.GetError();
-  EXPECT_FALSE(parser.ReadFrame(0, frame));
-  EXPECT_TRUE(Contains(parser.GetError(), "BOX BOUNDS")) << parser.GetError();
+  ASSERT_TRUE(parser.open(this->Write("nobox.dump", noBox))) << parser.error();
+  EXPECT_FALSE(parser.readFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.error(), "BOX BOUNDS")) << parser.error();
 
   // No id and no type: file order is kept; no box is fine with unscaled coordinates.
   const std::string noIds = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\n"
                             "ITEM: ATOMS x y z\n2 0 0\n1 0 0\n";
-  ASSERT_TRUE(parser.Open(this->Write("noids.dump", noIds))) << parser.GetError();
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_FALSE(frame.HasIds);
-  EXPECT_FALSE(frame.HasTypes);
-  EXPECT_FALSE(frame.Info.Box.Present);
-  EXPECT_EQ(frame.Points, (std::vector<double>{ 2, 0, 0, 1, 0, 0 }));
-  EXPECT_TRUE(frame.Columns.empty());
+  ASSERT_TRUE(parser.open(this->Write("noids.dump", noIds))) << parser.error();
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_FALSE(frame.hasIds);
+  EXPECT_FALSE(frame.hasTypes);
+  EXPECT_FALSE(frame.info.box.present);
+  EXPECT_EQ(frame.points, (std::vector<double>{ 2, 0, 0, 1, 0, 0 }));
+  EXPECT_TRUE(frame.columns.empty());
 }
 
 TEST_F(LammpsDump, TruncatedFile)
@@ -446,42 +446,42 @@ TEST_F(LammpsDump, TruncatedFile)
   // Cut inside the atom lines of the second snapshot: the first stays readable, with a
   // warning about the second.
   const std::string cut = full.substr(0, full.size() - 12);
-  ASSERT_TRUE(parser.Open(this->Write("cut.dump", cut))) << parser.GetError();
-  ASSERT_EQ(parser.GetNumberOfFrames(), 1u);
-  ASSERT_EQ(parser.GetWarnings().size(), 1u);
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "truncated")) << parser.GetWarnings()[0];
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "timestep 100")) << parser.GetWarnings()[0];
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_EQ(frame.NumberOfAtoms, 3u);
+  ASSERT_TRUE(parser.open(this->Write("cut.dump", cut))) << parser.error();
+  ASSERT_EQ(parser.numberOfFrames(), 1u);
+  ASSERT_EQ(parser.warnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.warnings()[0], "truncated")) << parser.warnings()[0];
+  EXPECT_TRUE(Contains(parser.warnings()[0], "timestep 100")) << parser.warnings()[0];
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_EQ(frame.numberOfAtoms, 3u);
 
   // Cut exactly at a line end inside the second snapshot's atoms.
   const std::string lineCut = full.substr(0, full.rfind("1 1 1.5"));
-  ASSERT_TRUE(parser.Open(this->Write("linecut.dump", lineCut))) << parser.GetError();
-  EXPECT_EQ(parser.GetNumberOfFrames(), 1u);
-  EXPECT_EQ(parser.GetWarnings().size(), 1u);
+  ASSERT_TRUE(parser.open(this->Write("linecut.dump", lineCut))) << parser.error();
+  EXPECT_EQ(parser.numberOfFrames(), 1u);
+  EXPECT_EQ(parser.warnings().size(), 1u);
 
   // Cut inside the second snapshot's header.
   const std::string headerCut = full.substr(0, full.find("ITEM: BOX", full.find("100")));
-  ASSERT_TRUE(parser.Open(this->Write("headercut.dump", headerCut))) << parser.GetError();
-  EXPECT_EQ(parser.GetNumberOfFrames(), 1u);
-  EXPECT_EQ(parser.GetWarnings().size(), 1u);
+  ASSERT_TRUE(parser.open(this->Write("headercut.dump", headerCut))) << parser.error();
+  EXPECT_EQ(parser.numberOfFrames(), 1u);
+  EXPECT_EQ(parser.warnings().size(), 1u);
 
   // The last line lacks only its newline: nothing is lost, but LAMMPS ends every line with
   // one, so a warning says the last value may have been cut short.
   const std::string noNewline = full.substr(0, full.size() - 1);
-  ASSERT_TRUE(parser.Open(this->Write("nonewline.dump", noNewline))) << parser.GetError();
-  EXPECT_EQ(parser.GetNumberOfFrames(), 2u);
-  ASSERT_EQ(parser.GetWarnings().size(), 1u);
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "line 23")) << parser.GetWarnings()[0];
-  ASSERT_TRUE(parser.ReadFrame(1, frame)) << parser.GetError();
-  EXPECT_EQ(frame.Points[0], 1.5);
+  ASSERT_TRUE(parser.open(this->Write("nonewline.dump", noNewline))) << parser.error();
+  EXPECT_EQ(parser.numberOfFrames(), 2u);
+  ASSERT_EQ(parser.warnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.warnings()[0], "line 23")) << parser.warnings()[0];
+  ASSERT_TRUE(parser.readFrame(1, frame)) << parser.error();
+  EXPECT_EQ(frame.points[0], 1.5);
 
   // Cut inside the only snapshot: an error, not an empty result.
   const std::string firstCut = full.substr(0, full.find("2 1 2.0"));
-  EXPECT_FALSE(parser.Open(this->Write("firstcut.dump", firstCut)));
-  EXPECT_TRUE(Contains(parser.GetError(), "truncated")) << parser.GetError();
-  EXPECT_TRUE(Contains(parser.GetError(), "2 complete atom lines")) << parser.GetError();
-  EXPECT_EQ(parser.GetNumberOfFrames(), 0u);
+  EXPECT_FALSE(parser.open(this->Write("firstcut.dump", firstCut)));
+  EXPECT_TRUE(Contains(parser.error(), "truncated")) << parser.error();
+  EXPECT_TRUE(Contains(parser.error(), "2 complete atom lines")) << parser.error();
+  EXPECT_EQ(parser.numberOfFrames(), 0u);
 }
 
 TEST_F(LammpsDump, EveryPrefixOfAFileIsHandled)
@@ -494,14 +494,14 @@ TEST_F(LammpsDump, EveryPrefixOfAFileIsHandled)
   for (std::size_t size = 0; size <= full.size(); ++size)
   {
     const std::string path = this->Write("prefix.dump", full.substr(0, size));
-    if (!parser.Open(path))
+    if (!parser.open(path))
     {
-      EXPECT_FALSE(parser.GetError().empty()) << size;
+      EXPECT_FALSE(parser.error().empty()) << size;
       continue;
     }
-    for (std::size_t i = 0; i < parser.GetNumberOfFrames(); ++i)
+    for (std::size_t i = 0; i < parser.numberOfFrames(); ++i)
     {
-      EXPECT_TRUE(parser.ReadFrame(i, frame)) << size << ": " << parser.GetError();
+      EXPECT_TRUE(parser.readFrame(i, frame)) << size << ": " << parser.error();
     }
   }
 }
@@ -522,16 +522,16 @@ TEST_F(LammpsDump, CorruptedBytesNeverCrash)
     {
       text[position(random)] = replacements[replacement(random)];
     }
-    if (!parser.Open(this->Write("corrupt.dump", text)))
+    if (!parser.open(this->Write("corrupt.dump", text)))
     {
-      EXPECT_FALSE(parser.GetError().empty());
+      EXPECT_FALSE(parser.error().empty());
       continue;
     }
-    for (std::size_t i = 0; i < parser.GetNumberOfFrames(); ++i)
+    for (std::size_t i = 0; i < parser.numberOfFrames(); ++i)
     {
-      if (!parser.ReadFrame(i, frame))
+      if (!parser.readFrame(i, frame))
       {
-        EXPECT_FALSE(parser.GetError().empty());
+        EXPECT_FALSE(parser.error().empty());
       }
     }
   }
@@ -544,87 +544,87 @@ TEST_F(LammpsDump, MalformedFilesGiveClearErrors)
   const std::string header = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\n"
                              "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\n";
 
-  EXPECT_FALSE(parser.Open((this->Dir / "missing.dump").string()));
-  EXPECT_TRUE(Contains(parser.GetError(), "no such file")) << parser.GetError();
+  EXPECT_FALSE(parser.open((this->Dir / "missing.dump").string()));
+  EXPECT_TRUE(Contains(parser.error(), "no such file")) << parser.error();
 
-  EXPECT_FALSE(parser.Open(this->Write("empty.dump", "")));
-  EXPECT_TRUE(Contains(parser.GetError(), "empty")) << parser.GetError();
+  EXPECT_FALSE(parser.open(this->Write("empty.dump", "")));
+  EXPECT_TRUE(Contains(parser.error(), "empty")) << parser.error();
 
   const std::string blank = this->Write("blank.dump", "\n \n");
-  EXPECT_FALSE(parser.Open(blank));
-  EXPECT_EQ(parser.GetError(),
+  EXPECT_FALSE(parser.open(blank));
+  EXPECT_EQ(parser.error(),
     "'" + blank + "': the file contains no snapshot ('ITEM: TIMESTEP' ... 'ITEM: ATOMS')");
 
-  EXPECT_FALSE(parser.Open(this->Dir.string()));
-  EXPECT_TRUE(Contains(parser.GetError(), "directory")) << parser.GetError();
+  EXPECT_FALSE(parser.open(this->Dir.string()));
+  EXPECT_TRUE(Contains(parser.error(), "directory")) << parser.error();
 
-  EXPECT_FALSE(parser.Open(this->Write("data.lmp", "LAMMPS data file\n\n3 atoms\n")));
-  EXPECT_TRUE(Contains(parser.GetError(), "not a LAMMPS text dump")) << parser.GetError();
+  EXPECT_FALSE(parser.open(this->Write("data.lmp", "LAMMPS data file\n\n3 atoms\n")));
+  EXPECT_TRUE(Contains(parser.error(), "not a LAMMPS text dump")) << parser.error();
 
-  EXPECT_FALSE(parser.Open(this->Write("dump.gz", std::string("\x1f\x8b\x08\x00rest", 8))));
-  EXPECT_TRUE(Contains(parser.GetError(), "gzip")) << parser.GetError();
+  EXPECT_FALSE(parser.open(this->Write("dump.gz", std::string("\x1f\x8b\x08\x00rest", 8))));
+  EXPECT_TRUE(Contains(parser.error(), "gzip")) << parser.error();
 
-  EXPECT_FALSE(parser.Open(this->Write("dump.bin", std::string("\x00\x00\x01\x00ITEM", 8))));
-  EXPECT_TRUE(Contains(parser.GetError(), "binary")) << parser.GetError();
+  EXPECT_FALSE(parser.open(this->Write("dump.bin", std::string("\x00\x00\x01\x00ITEM", 8))));
+  EXPECT_TRUE(Contains(parser.error(), "binary")) << parser.error();
 
-  EXPECT_FALSE(parser.Open(this->Write("step.dump", "ITEM: TIMESTEP\nabc\n")));
-  EXPECT_TRUE(Contains(parser.GetError(), "line 2")) << parser.GetError();
-  EXPECT_TRUE(Contains(parser.GetError(), "timestep")) << parser.GetError();
+  EXPECT_FALSE(parser.open(this->Write("step.dump", "ITEM: TIMESTEP\nabc\n")));
+  EXPECT_TRUE(Contains(parser.error(), "line 2")) << parser.error();
+  EXPECT_TRUE(Contains(parser.error(), "timestep")) << parser.error();
 
   EXPECT_FALSE(
-    parser.Open(this->Write("count.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n-3\n")));
-  EXPECT_TRUE(Contains(parser.GetError(), "number of atoms")) << parser.GetError();
+    parser.open(this->Write("count.dump", "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n-3\n")));
+  EXPECT_TRUE(Contains(parser.error(), "number of atoms")) << parser.error();
 
-  EXPECT_FALSE(parser.Open(this->Write("box.dump",
+  EXPECT_FALSE(parser.open(this->Write("box.dump",
     "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n0\nITEM: BOX BOUNDS pp pp pp\n0 1\n0\n0 1\n")));
-  EXPECT_TRUE(Contains(parser.GetError(), "line 7")) << parser.GetError();
+  EXPECT_TRUE(Contains(parser.error(), "line 7")) << parser.error();
 
-  EXPECT_FALSE(parser.Open(this->Write("order.dump", "ITEM: ATOMS id x y z\n1 0 0 0\n")));
-  EXPECT_TRUE(Contains(parser.GetError(), "before")) << parser.GetError();
+  EXPECT_FALSE(parser.open(this->Write("order.dump", "ITEM: ATOMS id x y z\n1 0 0 0\n")));
+  EXPECT_TRUE(Contains(parser.error(), "before")) << parser.error();
 
-  EXPECT_FALSE(parser.Open(this->Write("unknown.dump", "ITEM: TIMESTEP\n0\nITEM: BONDS\n")));
-  EXPECT_TRUE(Contains(parser.GetError(), "unknown section")) << parser.GetError();
+  EXPECT_FALSE(parser.open(this->Write("unknown.dump", "ITEM: TIMESTEP\n0\nITEM: BONDS\n")));
+  EXPECT_TRUE(Contains(parser.error(), "unknown section")) << parser.error();
 
-  EXPECT_FALSE(parser.Open(this->Write("local.dump",
+  EXPECT_FALSE(parser.open(this->Write("local.dump",
     "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ENTRIES\n1\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 "
     "1\nITEM: ENTRIES index c_1[1]\n1 2\n")));
-  EXPECT_TRUE(Contains(parser.GetError(), "dump local")) << parser.GetError();
+  EXPECT_TRUE(Contains(parser.error(), "dump local")) << parser.error();
 
   // More atom lines than NUMBER OF ATOMS, after a complete snapshot: the snapshot is kept,
   // a warning says where the file stops being readable.
-  ASSERT_TRUE(parser.Open(
+  ASSERT_TRUE(parser.open(
     this->Write("extra.dump", header + "ITEM: ATOMS id x y z\n1 0 0 0\n2 0 0 0\n3 0 0 0\n")))
-    << parser.GetError();
-  EXPECT_EQ(parser.GetNumberOfFrames(), 1u);
-  ASSERT_EQ(parser.GetWarnings().size(), 1u);
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "line 12")) << parser.GetWarnings()[0];
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "more atom lines")) << parser.GetWarnings()[0];
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "ignored")) << parser.GetWarnings()[0];
+    << parser.error();
+  EXPECT_EQ(parser.numberOfFrames(), 1u);
+  ASSERT_EQ(parser.warnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.warnings()[0], "line 12")) << parser.warnings()[0];
+  EXPECT_TRUE(Contains(parser.warnings()[0], "more atom lines")) << parser.warnings()[0];
+  EXPECT_TRUE(Contains(parser.warnings()[0], "ignored")) << parser.warnings()[0];
 
   // The same damage before any complete snapshot is an error.
-  EXPECT_FALSE(parser.Open(this->Write("garbage.dump", "ITEM: TIMESTEP\n0\n1 0 0 0\n")));
-  EXPECT_TRUE(Contains(parser.GetError(), "line 3")) << parser.GetError();
+  EXPECT_FALSE(parser.open(this->Write("garbage.dump", "ITEM: TIMESTEP\n0\n1 0 0 0\n")));
+  EXPECT_TRUE(Contains(parser.error(), "line 3")) << parser.error();
 
   // Errors found when reading a snapshot name the line and the column.
-  ASSERT_TRUE(parser.Open(
+  ASSERT_TRUE(parser.open(
     this->Write("values.dump", header + "ITEM: ATOMS id type x y z\n1 1 0 0 0\n2 1 0 zero 0\n")))
-    << parser.GetError();
-  EXPECT_FALSE(parser.ReadFrame(0, frame));
-  EXPECT_TRUE(Contains(parser.GetError(), "line 11, column 'y'")) << parser.GetError();
-  EXPECT_TRUE(Contains(parser.GetError(), "'zero'")) << parser.GetError();
+    << parser.error();
+  EXPECT_FALSE(parser.readFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.error(), "line 11, column 'y'")) << parser.error();
+  EXPECT_TRUE(Contains(parser.error(), "'zero'")) << parser.error();
 
-  ASSERT_TRUE(parser.Open(
+  ASSERT_TRUE(parser.open(
     this->Write("short.dump", header + "ITEM: ATOMS id type x y z\n1 1 0 0 0\n2 1 0 0\n")))
-    << parser.GetError();
-  EXPECT_FALSE(parser.ReadFrame(0, frame));
-  EXPECT_TRUE(Contains(parser.GetError(), "expected 5 values")) << parser.GetError();
+    << parser.error();
+  EXPECT_FALSE(parser.readFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.error(), "expected 5 values")) << parser.error();
 
-  ASSERT_TRUE(parser.Open(
+  ASSERT_TRUE(parser.open(
     this->Write("ids.dump", header + "ITEM: ATOMS id type x y z\n1 1 0 0 0\n2.5 1 0 0 0\n")))
-    << parser.GetError();
-  EXPECT_FALSE(parser.ReadFrame(0, frame));
-  EXPECT_TRUE(Contains(parser.GetError(), "column 'id'")) << parser.GetError();
-  EXPECT_TRUE(Contains(parser.GetError(), "integer")) << parser.GetError();
+    << parser.error();
+  EXPECT_FALSE(parser.readFrame(0, frame));
+  EXPECT_TRUE(Contains(parser.error(), "column 'id'")) << parser.error();
+  EXPECT_TRUE(Contains(parser.error(), "integer")) << parser.error();
 }
 
 TEST_F(LammpsDump, SpecialValuesPassThrough)
@@ -637,16 +637,16 @@ TEST_F(LammpsDump, SpecialValuesPassThrough)
                            "2 1 inf -inf +0.5 1e400\r\n"
                            "3 1 +1.5e-1 NaN 1e-400 -1e400\r\n";
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("special.dump", text))) << parser.GetError();
+  ASSERT_TRUE(parser.open(this->Write("special.dump", text))) << parser.error();
   DumpFrame frame;
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_TRUE(std::isnan(frame.Points[0]));
-  EXPECT_TRUE(std::isinf(frame.Points[3]) && frame.Points[3] > 0);
-  EXPECT_TRUE(std::isinf(frame.Points[4]) && frame.Points[4] < 0);
-  EXPECT_DOUBLE_EQ(frame.Points[5], 0.5);
-  EXPECT_DOUBLE_EQ(frame.Points[6], 0.15);
-  EXPECT_TRUE(std::isnan(frame.Points[7]));
-  EXPECT_EQ(frame.Points[8], 0.0);
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_TRUE(std::isnan(frame.points[0]));
+  EXPECT_TRUE(std::isinf(frame.points[3]) && frame.points[3] > 0);
+  EXPECT_TRUE(std::isinf(frame.points[4]) && frame.points[4] < 0);
+  EXPECT_DOUBLE_EQ(frame.points[5], 0.5);
+  EXPECT_DOUBLE_EQ(frame.points[6], 0.15);
+  EXPECT_TRUE(std::isnan(frame.points[7]));
+  EXPECT_EQ(frame.points[8], 0.0);
   const std::vector<double>& s = *Column(frame, "c_s");
   EXPECT_TRUE(std::isnan(s[0]));
   EXPECT_TRUE(std::isinf(s[1]) && s[1] > 0);
@@ -660,42 +660,42 @@ TEST_F(LammpsDump, LegacyAtomsWithoutColumnNames)
                            "ITEM: BOX BOUNDS\n0 4\n0 4\n0 4\n"
                            "ITEM: ATOMS\n1 1 0.25 0.5 0.75 0 0 1\n";
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("legacy.dump", text))) << parser.GetError();
-  EXPECT_EQ(parser.GetFrameInfo(0).ColumnNames.size(), 8u);
-  EXPECT_TRUE(parser.GetFrameInfo(0).Box.Boundary[0].empty());
+  ASSERT_TRUE(parser.open(this->Write("legacy.dump", text))) << parser.error();
+  EXPECT_EQ(parser.frameInfo(0).columnNames.size(), 8u);
+  EXPECT_TRUE(parser.frameInfo(0).box.boundary[0].empty());
   DumpFrame frame;
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_EQ(frame.Points, (std::vector<double>{ 1.0, 2.0, 3.0 }));
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_EQ(frame.points, (std::vector<double>{ 1.0, 2.0, 3.0 }));
   ASSERT_NE(Column(frame, "iz"), nullptr);
 }
 
 TEST_F(LammpsDump, StaleAfterAppendAndLooksLikeDump)
 {
   const std::string path = this->Write("grow.dump", TwoFrames);
-  EXPECT_TRUE(DumpParser::LooksLikeDump(path));
-  EXPECT_FALSE(DumpParser::LooksLikeDump(this->Write("text.txt", "hello\n")));
-  EXPECT_FALSE(DumpParser::LooksLikeDump((this->Dir / "none").string()));
+  EXPECT_TRUE(DumpParser::looksLikeDump(path));
+  EXPECT_FALSE(DumpParser::looksLikeDump(this->Write("text.txt", "hello\n")));
+  EXPECT_FALSE(DumpParser::looksLikeDump((this->Dir / "none").string()));
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(path)) << parser.GetError();
-  EXPECT_FALSE(parser.IsStale());
+  ASSERT_TRUE(parser.open(path)) << parser.error();
+  EXPECT_FALSE(parser.isStale());
   {
     std::ofstream out(path, std::ios::app | std::ios::binary);
     out << "ITEM: TIMESTEP\n200\nITEM: NUMBER OF ATOMS\n0\n"
            "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\nITEM: ATOMS id x y z\n";
   }
-  EXPECT_TRUE(parser.IsStale());
-  ASSERT_TRUE(parser.Open(path)) << parser.GetError();
-  EXPECT_EQ(parser.GetNumberOfFrames(), 3u);
+  EXPECT_TRUE(parser.isStale());
+  ASSERT_TRUE(parser.open(path)) << parser.error();
+  EXPECT_EQ(parser.numberOfFrames(), 3u);
 
   // A file Open failed on is not stale while it stays as it was (a reader need not index it
   // again, nor report the error again); it is once it appears.
   const std::string later = (this->Dir / "later.dump").string();
-  EXPECT_FALSE(parser.Open(later));
-  EXPECT_FALSE(parser.IsStale());
+  EXPECT_FALSE(parser.open(later));
+  EXPECT_FALSE(parser.isStale());
   this->Write("later.dump", TwoFrames);
-  EXPECT_TRUE(parser.IsStale());
-  EXPECT_FALSE(parser.Open(this->Write("bad.dump", "ITEM: TIMESTEP\n")));
-  EXPECT_FALSE(parser.IsStale());
+  EXPECT_TRUE(parser.isStale());
+  EXPECT_FALSE(parser.open(this->Write("bad.dump", "ITEM: TIMESTEP\n")));
+  EXPECT_FALSE(parser.isStale());
 }
 
 TEST_F(LammpsDump, RepeatedColumnNamesAndTypeLabels)
@@ -708,14 +708,14 @@ TEST_F(LammpsDump, RepeatedColumnNamesAndTypeLabels)
                            "2 Ow 0.2 0 0 1.0 2.0 20\n"
                            "1 Hw 0.1 0 0 3.0 4.0 10\n";
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("repeat.dump", text))) << parser.GetError();
+  ASSERT_TRUE(parser.open(this->Write("repeat.dump", text))) << parser.error();
   DumpFrame frame;
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 1, 2 }));
-  EXPECT_FALSE(frame.HasTypes);
-  ASSERT_EQ(frame.TextColumns.size(), 1u);
-  EXPECT_EQ(frame.TextColumns[0].Name, "type");
-  EXPECT_EQ(frame.TextColumns[0].Values, (std::vector<std::string>{ "Hw", "Ow" }));
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_EQ(frame.ids, (std::vector<std::int64_t>{ 1, 2 }));
+  EXPECT_FALSE(frame.hasTypes);
+  ASSERT_EQ(frame.textColumns.size(), 1u);
+  EXPECT_EQ(frame.textColumns[0].name, "type");
+  EXPECT_EQ(frame.textColumns[0].values, (std::vector<std::string>{ "Hw", "Ow" }));
   ASSERT_NE(Column(frame, "vx"), nullptr);
   ASSERT_NE(Column(frame, "vx_2"), nullptr);
   ASSERT_NE(Column(frame, "id_2"), nullptr);
@@ -734,36 +734,36 @@ TEST_F(LammpsDump, CutInTheMiddleOfALineOrANumber)
 
   // Cut inside a header line: the first snapshot stays, the warning names the cut line.
   const std::string headerCut = full.substr(0, full.find("ITEM: BOX", 100) + 12);
-  ASSERT_TRUE(parser.Open(this->Write("headerline.dump", headerCut))) << parser.GetError();
-  EXPECT_EQ(parser.GetNumberOfFrames(), 1u);
-  ASSERT_EQ(parser.GetWarnings().size(), 1u);
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "ends in the middle of line 17"))
-    << parser.GetWarnings()[0];
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "'ITEM: BOX BO'")) << parser.GetWarnings()[0];
+  ASSERT_TRUE(parser.open(this->Write("headerline.dump", headerCut))) << parser.error();
+  EXPECT_EQ(parser.numberOfFrames(), 1u);
+  ASSERT_EQ(parser.warnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.warnings()[0], "ends in the middle of line 17"))
+    << parser.warnings()[0];
+  EXPECT_TRUE(Contains(parser.warnings()[0], "'ITEM: BOX BO'")) << parser.warnings()[0];
 
   // Cut inside an atom line, values missing: the snapshot is dropped with one warning.
   const std::string lineCut = full.substr(0, full.size() - 10);
-  ASSERT_TRUE(parser.Open(this->Write("atomline.dump", lineCut))) << parser.GetError();
-  EXPECT_EQ(parser.GetNumberOfFrames(), 1u);
-  ASSERT_EQ(parser.GetWarnings().size(), 1u);
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "1 complete atom lines"))
-    << parser.GetWarnings()[0];
+  ASSERT_TRUE(parser.open(this->Write("atomline.dump", lineCut))) << parser.error();
+  EXPECT_EQ(parser.numberOfFrames(), 1u);
+  ASSERT_EQ(parser.warnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.warnings()[0], "1 complete atom lines"))
+    << parser.warnings()[0];
   // The same inside an atom line before the last one: the cut line is not counted.
   const std::string earlyCut = full.substr(0, full.find("2 1 2.5") + 7);
-  ASSERT_TRUE(parser.Open(this->Write("earlyline.dump", earlyCut))) << parser.GetError();
-  ASSERT_EQ(parser.GetWarnings().size(), 1u);
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "after 0 complete atom lines"))
-    << parser.GetWarnings()[0];
+  ASSERT_TRUE(parser.open(this->Write("earlyline.dump", earlyCut))) << parser.error();
+  ASSERT_EQ(parser.warnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.warnings()[0], "after 0 complete atom lines"))
+    << parser.warnings()[0];
 
   // Cut inside the last number ("-1." of "-1.0"): every value is there and well formed, so
   // the snapshot is kept, but one warning names the line and the value that may be short.
   const std::string numberCut = full.substr(0, full.size() - 2);
-  ASSERT_TRUE(parser.Open(this->Write("number.dump", numberCut))) << parser.GetError();
-  EXPECT_EQ(parser.GetNumberOfFrames(), 2u);
-  ASSERT_EQ(parser.GetWarnings().size(), 1u);
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "line 23")) << parser.GetWarnings()[0];
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "'-1.'")) << parser.GetWarnings()[0];
-  ASSERT_TRUE(parser.ReadFrame(1, frame)) << parser.GetError();
+  ASSERT_TRUE(parser.open(this->Write("number.dump", numberCut))) << parser.error();
+  EXPECT_EQ(parser.numberOfFrames(), 2u);
+  ASSERT_EQ(parser.warnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.warnings()[0], "line 23")) << parser.warnings()[0];
+  EXPECT_TRUE(Contains(parser.warnings()[0], "'-1.'")) << parser.warnings()[0];
+  ASSERT_TRUE(parser.readFrame(1, frame)) << parser.error();
   EXPECT_EQ(*Column(frame, "q"), (std::vector<double>{ -1.0, 0.5 }));
 }
 
@@ -788,19 +788,19 @@ TEST_F(LammpsDump, MoreOrFewerValuesThanColumnNames)
   for (const auto& [line, found] :
     { std::pair<std::string, std::string>{ "2 1 0.4 0.5 0.6 7", "6" }, { "2 1 0.4 0.5", "4" } })
   {
-    ASSERT_TRUE(parser.Open(this->Write("columns.dump", dump(line)))) << parser.GetError();
-    EXPECT_TRUE(parser.GetWarnings().empty());
-    ASSERT_EQ(parser.GetNumberOfFrames(), 3u);
-    EXPECT_FALSE(parser.ReadFrame(1, frame)) << line;
+    ASSERT_TRUE(parser.open(this->Write("columns.dump", dump(line)))) << parser.error();
+    EXPECT_TRUE(parser.warnings().empty());
+    ASSERT_EQ(parser.numberOfFrames(), 3u);
+    EXPECT_FALSE(parser.readFrame(1, frame)) << line;
     // Snapshot 2 starts at line 12; its second atom line is line 22.
-    EXPECT_TRUE(Contains(parser.GetError(), "line 22")) << parser.GetError();
-    EXPECT_TRUE(Contains(parser.GetError(), "expected 5 values (id type x y z), found " + found))
-      << parser.GetError();
-    EXPECT_EQ(frame.NumberOfAtoms, 0u);
+    EXPECT_TRUE(Contains(parser.error(), "line 22")) << parser.error();
+    EXPECT_TRUE(Contains(parser.error(), "expected 5 values (id type x y z), found " + found))
+      << parser.error();
+    EXPECT_EQ(frame.numberOfAtoms, 0u);
     for (std::size_t good : { 0u, 2u })
     {
-      ASSERT_TRUE(parser.ReadFrame(good, frame)) << parser.GetError();
-      EXPECT_EQ(frame.Points, (std::vector<double>{ 0.1, 0.2, 0.3, 0.4, 0.5, 0.6 }));
+      ASSERT_TRUE(parser.readFrame(good, frame)) << parser.error();
+      EXPECT_EQ(frame.points, (std::vector<double>{ 0.1, 0.2, 0.3, 0.4, 0.5, 0.6 }));
     }
   }
 }
@@ -837,20 +837,20 @@ TEST_F(LammpsDump, SnapshotWithTooFewAtomLinesKeepsTheNextOne)
   {
     const std::string what = "snapshot " + std::to_string(shortStep + 1) + " with " +
                              std::to_string(lines) + " atom lines";
-    ASSERT_TRUE(parser.Open(this->Write("short.dump", dump(shortStep, lines))))
-      << what << ": " << parser.GetError();
-    ASSERT_EQ(parser.GetNumberOfFrames(), kept.size()) << what;
-    ASSERT_EQ(parser.GetWarnings().size(), 1u) << what;
-    const std::string& warning = parser.GetWarnings()[0];
+    ASSERT_TRUE(parser.open(this->Write("short.dump", dump(shortStep, lines))))
+      << what << ": " << parser.error();
+    ASSERT_EQ(parser.numberOfFrames(), kept.size()) << what;
+    ASSERT_EQ(parser.warnings().size(), 1u) << what;
+    const std::string& warning = parser.warnings()[0];
     EXPECT_TRUE(Contains(warning, "timestep " + std::to_string(100 * shortStep))) << warning;
     EXPECT_TRUE(Contains(warning, std::to_string(lines) + " of its 2 atom lines")) << warning;
     EXPECT_TRUE(Contains(warning, "line " + std::to_string(nextHeader))) << warning;
     for (std::size_t i = 0; i < kept.size(); ++i)
     {
-      ASSERT_TRUE(parser.ReadFrame(i, frame)) << what << ": " << parser.GetError();
-      EXPECT_EQ(frame.Info.Timestep, kept[i]) << what;
+      ASSERT_TRUE(parser.readFrame(i, frame)) << what << ": " << parser.error();
+      EXPECT_EQ(frame.info.timestep, kept[i]) << what;
       const double x = static_cast<double>(kept[i] / 100);
-      EXPECT_EQ(frame.Points, (std::vector<double>{ x, 0.1, 0.5, x, 0.2, 0.5 })) << what;
+      EXPECT_EQ(frame.points, (std::vector<double>{ x, 0.1, 0.5, x, 0.2, 0.5 })) << what;
     }
   }
 }
@@ -885,15 +885,15 @@ TEST_F(LammpsDump, TooFewAtomLinesWhereTheHeaderCrossesTheReadBuffer)
     count = std::string(7 - count.size(), '0') + count + "\n";
     const std::string text = header + count + boxAndColumns + atoms + second;
     ASSERT_EQ(text.find("ITEM: TIMESTEP\n100"), block - k);
-    ASSERT_TRUE(parser.Open(this->Write("boundary.dump", text))) << k << ": " << parser.GetError();
-    ASSERT_EQ(parser.GetNumberOfFrames(), 1u) << k;
-    ASSERT_EQ(parser.GetWarnings().size(), 1u) << k;
-    EXPECT_TRUE(Contains(parser.GetWarnings()[0],
+    ASSERT_TRUE(parser.open(this->Write("boundary.dump", text))) << k << ": " << parser.error();
+    ASSERT_EQ(parser.numberOfFrames(), 1u) << k;
+    ASSERT_EQ(parser.warnings().size(), 1u) << k;
+    EXPECT_TRUE(Contains(parser.warnings()[0],
       std::to_string(lines) + " of its " + std::to_string(lines + 1) + " atom lines"))
-      << parser.GetWarnings()[0];
-    ASSERT_TRUE(parser.ReadFrame(0, frame)) << k << ": " << parser.GetError();
-    EXPECT_EQ(frame.Info.Timestep, 100) << k;
-    EXPECT_EQ(frame.Points, (std::vector<double>{ 0.25, 0.5, 0.75 })) << k;
+      << parser.warnings()[0];
+    ASSERT_TRUE(parser.readFrame(0, frame)) << k << ": " << parser.error();
+    EXPECT_EQ(frame.info.timestep, 100) << k;
+    EXPECT_EQ(frame.points, (std::vector<double>{ 0.25, 0.5, 0.75 })) << k;
   }
 }
 
@@ -914,26 +914,26 @@ TEST_F(LammpsDump, DuplicateIdsAreKeptWithOneWarning)
                            "1 0.11 0 0 11\n"
                            "5 0.52 0 0 52\n";
   DumpParser parser;
-  ASSERT_TRUE(parser.Open(this->Write("duplicates.dump", text))) << parser.GetError();
+  ASSERT_TRUE(parser.open(this->Write("duplicates.dump", text))) << parser.error();
   DumpFrame frame;
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_EQ(frame.NumberOfAtoms, 8u);
-  EXPECT_EQ(frame.Ids, (std::vector<std::int64_t>{ 1, 1, 2, 3, 3, 5, 5, 5 }));
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_EQ(frame.numberOfAtoms, 8u);
+  EXPECT_EQ(frame.ids, (std::vector<std::int64_t>{ 1, 1, 2, 3, 3, 5, 5, 5 }));
   EXPECT_EQ(*Column(frame, "q"), (std::vector<double>{ 10, 11, 20, 30, 31, 50, 51, 52 }));
-  EXPECT_DOUBLE_EQ(frame.Points[3 * 4], 0.31);
-  ASSERT_EQ(frame.Warnings.size(), 1u);
-  EXPECT_TRUE(Contains(frame.Warnings[0], "3 atom ids occur more than once")) << frame.Warnings[0];
-  EXPECT_TRUE(Contains(frame.Warnings[0], "4 extra atoms")) << frame.Warnings[0];
-  EXPECT_TRUE(Contains(frame.Warnings[0], "id 1 (2 times)")) << frame.Warnings[0];
-  EXPECT_TRUE(Contains(frame.Warnings[0], "timestep 0")) << frame.Warnings[0];
+  EXPECT_DOUBLE_EQ(frame.points[3 * 4], 0.31);
+  ASSERT_EQ(frame.warnings.size(), 1u);
+  EXPECT_TRUE(Contains(frame.warnings[0], "3 atom ids occur more than once")) << frame.warnings[0];
+  EXPECT_TRUE(Contains(frame.warnings[0], "4 extra atoms")) << frame.warnings[0];
+  EXPECT_TRUE(Contains(frame.warnings[0], "id 1 (2 times)")) << frame.warnings[0];
+  EXPECT_TRUE(Contains(frame.warnings[0], "timestep 0")) << frame.warnings[0];
 
   // Already sorted, with a repeat: the same check applies.
   const std::string sorted = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n3\n"
                              "ITEM: ATOMS id x y z\n1 0 0 0\n2 0 0 0\n2 1 0 0\n";
-  ASSERT_TRUE(parser.Open(this->Write("sorted.dump", sorted))) << parser.GetError();
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  ASSERT_EQ(frame.Warnings.size(), 1u);
-  EXPECT_TRUE(Contains(frame.Warnings[0], "1 atom id occurs more than once")) << frame.Warnings[0];
+  ASSERT_TRUE(parser.open(this->Write("sorted.dump", sorted))) << parser.error();
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  ASSERT_EQ(frame.warnings.size(), 1u);
+  EXPECT_TRUE(Contains(frame.warnings[0], "1 atom id occurs more than once")) << frame.warnings[0];
 
   // 200 atoms with ids 1..10, each 20 times, in a scrambled order (more than a sort handles
   // by insertion): q is the file line, so equal ids must come out with increasing q.
@@ -942,25 +942,25 @@ TEST_F(LammpsDump, DuplicateIdsAreKeptWithOneWarning)
   {
     many += std::to_string(1 + (line * 7) % 10) + " 0 0 0 " + std::to_string(line) + "\n";
   }
-  ASSERT_TRUE(parser.Open(this->Write("many.dump", many))) << parser.GetError();
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
+  ASSERT_TRUE(parser.open(this->Write("many.dump", many))) << parser.error();
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
   const std::vector<double>& line = *Column(frame, "q");
   for (std::size_t i = 1; i < 200; ++i)
   {
-    ASSERT_LE(frame.Ids[i - 1], frame.Ids[i]) << i;
-    if (frame.Ids[i - 1] == frame.Ids[i])
+    ASSERT_LE(frame.ids[i - 1], frame.ids[i]) << i;
+    if (frame.ids[i - 1] == frame.ids[i])
     {
-      ASSERT_LT(line[i - 1], line[i]) << "id " << frame.Ids[i] << " out of file order at " << i;
+      ASSERT_LT(line[i - 1], line[i]) << "id " << frame.ids[i] << " out of file order at " << i;
     }
   }
-  ASSERT_EQ(frame.Warnings.size(), 1u);
-  EXPECT_TRUE(Contains(frame.Warnings[0], "10 atom ids occur more than once (190 extra atoms"))
-    << frame.Warnings[0];
+  ASSERT_EQ(frame.warnings.size(), 1u);
+  EXPECT_TRUE(Contains(frame.warnings[0], "10 atom ids occur more than once (190 extra atoms"))
+    << frame.warnings[0];
 
   // Unique ids: no warning.
-  ASSERT_TRUE(parser.Open(this->Write("unique.dump", TwoFrames))) << parser.GetError();
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_TRUE(frame.Warnings.empty());
+  ASSERT_TRUE(parser.open(this->Write("unique.dump", TwoFrames))) << parser.error();
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_TRUE(frame.warnings.empty());
 }
 
 TEST_F(LammpsDump, AtomCountsTheFileCannotHold)
@@ -978,33 +978,33 @@ TEST_F(LammpsDump, AtomCountsTheFileCannotHold)
   };
   for (const char* count : { "5000000000", "4294967301", "9223372036854775807" })
   {
-    EXPECT_FALSE(parser.Open(this->Write("huge.dump", dump(count)))) << count;
-    EXPECT_TRUE(Contains(parser.GetError(), std::string("NUMBER OF ATOMS is ") + count))
-      << parser.GetError();
+    EXPECT_FALSE(parser.open(this->Write("huge.dump", dump(count)))) << count;
+    EXPECT_TRUE(Contains(parser.error(), std::string("NUMBER OF ATOMS is ") + count))
+      << parser.error();
     // The three atom lines take 30 bytes, and a line at least one.
-    EXPECT_TRUE(Contains(parser.GetError(), "the 30 bytes after line 9 hold at most 30 lines"))
-      << parser.GetError();
-    EXPECT_EQ(parser.GetNumberOfFrames(), 0u);
+    EXPECT_TRUE(Contains(parser.error(), "the 30 bytes after line 9 hold at most 30 lines"))
+      << parser.error();
+    EXPECT_EQ(parser.numberOfFrames(), 0u);
   }
 
   // The same count in a last snapshot after a complete one: that one stays readable.
-  ASSERT_TRUE(parser.Open(this->Write("lasthuge.dump", dump("3") + dump("5000000000"))))
-    << parser.GetError();
-  ASSERT_EQ(parser.GetNumberOfFrames(), 1u);
-  ASSERT_EQ(parser.GetWarnings().size(), 1u);
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "NUMBER OF ATOMS is 5000000000"))
-    << parser.GetWarnings()[0];
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_EQ(frame.NumberOfAtoms, 3u);
+  ASSERT_TRUE(parser.open(this->Write("lasthuge.dump", dump("3") + dump("5000000000"))))
+    << parser.error();
+  ASSERT_EQ(parser.numberOfFrames(), 1u);
+  ASSERT_EQ(parser.warnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.warnings()[0], "NUMBER OF ATOMS is 5000000000"))
+    << parser.warnings()[0];
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_EQ(frame.numberOfAtoms, 3u);
 
   // Counts that are not a number of atoms: beyond 64 bits, negative, not integral, text.
   for (const char* count :
     { "99999999999999999999", "1e30", "-1", "-5000000000", "2.5", "nan", "inf", "three", "" })
   {
-    EXPECT_FALSE(parser.Open(this->Write("notcount.dump", dump(count)))) << count;
-    EXPECT_TRUE(Contains(parser.GetError(),
+    EXPECT_FALSE(parser.open(this->Write("notcount.dump", dump(count)))) << count;
+    EXPECT_TRUE(Contains(parser.error(),
       "line 4: expected a number of atoms >= 0, found '" + std::string(count) + "'"))
-      << parser.GetError();
+      << parser.error();
   }
 }
 
@@ -1023,8 +1023,8 @@ TEST_F(LammpsDump, GarbageAfterTheHeaderOrTheLastSnapshot)
                              "ITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\nITEM: ATOMS id x y z\n";
   const std::string headerZeros = this->Write("headerzeros.dump", header + "1 0 0 0\n2 0 0 0\n");
   fs::resize_file(headerZeros, big);
-  EXPECT_FALSE(parser.Open(headerZeros));
-  EXPECT_TRUE(Contains(parser.GetError(), "line 12 is longer than 64 MiB")) << parser.GetError();
+  EXPECT_FALSE(parser.open(headerZeros));
+  EXPECT_TRUE(Contains(parser.error(), "line 12 is longer than 64 MiB")) << parser.error();
 
   // After a complete snapshot shorter than the 4 KiB a file is sniffed with: the snapshot
   // stays readable (the zeros are not taken for a binary file), one warning. (The same with
@@ -1033,11 +1033,11 @@ TEST_F(LammpsDump, GarbageAfterTheHeaderOrTheLastSnapshot)
                            header.substr(header.find("ITEM: BOX")) + "1 0.5 0.5 0.5\n";
   const std::string path = this->Write("goodzeros.dump", good);
   fs::resize_file(path, 4096);
-  ASSERT_TRUE(parser.Open(path)) << parser.GetError();
-  ASSERT_EQ(parser.GetNumberOfFrames(), 1u);
-  ASSERT_EQ(parser.GetWarnings().size(), 1u);
-  EXPECT_TRUE(Contains(parser.GetWarnings()[0], "line 11 holds NUL bytes"))
-    << parser.GetWarnings()[0];
-  ASSERT_TRUE(parser.ReadFrame(0, frame)) << parser.GetError();
-  EXPECT_EQ(frame.Points, (std::vector<double>{ 0.5, 0.5, 0.5 }));
+  ASSERT_TRUE(parser.open(path)) << parser.error();
+  ASSERT_EQ(parser.numberOfFrames(), 1u);
+  ASSERT_EQ(parser.warnings().size(), 1u);
+  EXPECT_TRUE(Contains(parser.warnings()[0], "line 11 holds NUL bytes"))
+    << parser.warnings()[0];
+  ASSERT_TRUE(parser.readFrame(0, frame)) << parser.error();
+  EXPECT_EQ(frame.points, (std::vector<double>{ 0.5, 0.5, 0.5 }));
 }
