@@ -38,12 +38,35 @@ target_include_directories(RayMappersKernels PUBLIC
 target_link_libraries(RayMappersKernels PUBLIC embree TBB::tbb)
 # -fopenmp-simd: the `#pragma omp simd` loops over a packet's rays. -fno-math-errno: a
 # std::sqrt that may set errno is a call the vectorizer cannot put in SIMD lanes (no kernel
-# reads errno).
-target_compile_options(RayMappersKernels PRIVATE ${RAYMAPPERS_WARNINGS} -fopenmp-simd -fno-math-errno)
+# reads errno). -ffp-contract=off: a*b+c stays a multiply and an add where the instruction
+# set has FMA, so every SIMD variant (and the portable build) computes the same floats.
+set(RAYMAPPERS_KERNEL_OPTIONS ${RAYMAPPERS_WARNINGS} -fopenmp-simd -fno-math-errno -ffp-contract=off)
+target_compile_options(RayMappersKernels PRIVATE ${RAYMAPPERS_KERNEL_OPTIONS})
+set_target_properties(RayMappersKernels PROPERTIES POSITION_INDEPENDENT_CODE ON)
 if (RAYMAPPERS_NATIVE)
   target_compile_options(RayMappersKernels PRIVATE -march=native)
+elseif (CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
+  # Run-time dispatch (Common/SimdTarget.h): the hot kernels are compiled twice more, for
+  # AVX2 (RAYMAPPERS_SIMD_TARGET=2) and AVX-512 (3), into object libraries linked into the
+  # kernel library; the copy compiled with the default flags chooses among them per frame.
+  set(RAYMAPPERS_DISPATCHED_KERNELS
+    ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFDirectMethod.cxx
+    ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFCoherentMethod.cxx
+    ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx)
+  foreach (simd_target IN ITEMS 2 3)
+    set(variant RayMappersKernelsSimd${simd_target})
+    add_library(${variant} OBJECT ${RAYMAPPERS_DISPATCHED_KERNELS})
+    target_include_directories(${variant} PRIVATE
+      $<TARGET_PROPERTY:RayMappersKernels,INCLUDE_DIRECTORIES>)
+    target_link_libraries(${variant} PRIVATE embree TBB::tbb)
+    target_compile_options(${variant} PRIVATE ${RAYMAPPERS_KERNEL_OPTIONS})
+    target_compile_definitions(${variant} PRIVATE
+      RAYMAPPERS_SIMD_DISPATCH=1 RAYMAPPERS_SIMD_TARGET=${simd_target})
+    set_target_properties(${variant} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+    target_sources(RayMappersKernels PRIVATE $<TARGET_OBJECTS:${variant}>)
+  endforeach ()
+  target_compile_definitions(RayMappersKernels PRIVATE RAYMAPPERS_SIMD_DISPATCH=1)
 endif ()
-set_target_properties(RayMappersKernels PROPERTIES POSITION_INDEPENDENT_CODE ON)
 # Beside the VTK modules' libraries: the plugin's libraries find it two folders up
 # (paraview-plugins/RayMappers/ -> lib/).
 install(TARGETS RayMappersKernels LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}")

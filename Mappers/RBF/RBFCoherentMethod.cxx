@@ -13,6 +13,7 @@
 
 #include "FastExp.h"
 #include "SimdLanes.h"
+#include "SimdTarget.h"
 #include "TileScheduler.h"
 
 #include <limits>
@@ -21,6 +22,10 @@ namespace raymappers
 {
 namespace rbf
 {
+
+RAYMAPPERS_SIMD_DECLARE(void renderCoherent(const RBFFrameInputs& in, RBFCounters& counters))
+
+RAYMAPPERS_SIMD_BEGIN
 
 namespace
 {
@@ -884,6 +889,16 @@ void renderCoherent(const RBFFrameInputs& in, RBFCounters& counters)
       counters.add(counts);
     });
 }
+
+RAYMAPPERS_SIMD_END
+
+#if RAYMAPPERS_SIMD_TARGET == 0
+// The entry point: the variant for this CPU (SimdTarget.h).
+void renderCoherent(const RBFFrameInputs& in, RBFCounters& counters)
+{
+  RAYMAPPERS_SIMD_PICK(renderCoherent)(in, counters);
+}
+#endif
 
 } // namespace rbf
 } // namespace raymappers

@@ -3,12 +3,17 @@
 // BVH point query per sample, then is classified and blended front to back.
 #include "RBFMethods.h"
 
+#include "SimdTarget.h"
 #include "TileScheduler.h"
 
 namespace raymappers
 {
 namespace rbf
 {
+
+RAYMAPPERS_SIMD_DECLARE(void renderDirect(const RBFFrameInputs& in, RBFCounters& counters))
+
+RAYMAPPERS_SIMD_BEGIN
 
 namespace
 {
@@ -130,6 +135,16 @@ void renderDirect(const RBFFrameInputs& in, RBFCounters& counters)
       counters.add(counts);
     });
 }
+
+RAYMAPPERS_SIMD_END
+
+#if RAYMAPPERS_SIMD_TARGET == 0
+// The entry point: the variant for this CPU (SimdTarget.h).
+void renderDirect(const RBFFrameInputs& in, RBFCounters& counters)
+{
+  RAYMAPPERS_SIMD_PICK(renderDirect)(in, counters);
+}
+#endif
 
 } // namespace rbf
 } // namespace raymappers

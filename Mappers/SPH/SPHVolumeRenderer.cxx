@@ -1,5 +1,6 @@
 #include "SPHVolumeRenderer.h"
 
+#include "SimdTarget.h"
 #include "Tallies.h"
 
 #include <tbb/blocked_range.h>
@@ -19,6 +20,7 @@ constexpr float Infinity = std::numeric_limits<float>::infinity();
 
 }
 
+#if RAYMAPPERS_SIMD_TARGET == 0 // (the functions outside the variants: once)
 /// Offset in [0, 1) of a pixel's samples under stochastic jittering: a fixed 32 x 32
 /// pattern of hashed values (section 4.1.2: "read from a 2D array with 32 x 32 entries").
 float sphJitterOffset(int px, int py)
@@ -31,6 +33,18 @@ float sphJitterOffset(int px, int py)
   h ^= h >> 16;
   return static_cast<float>(h >> 8) * (1.f / 16777216.f);
 }
+#endif
+
+RAYMAPPERS_SIMD_DECLARE(void renderSPH(const SPHParticles& particles,
+  const ViewRays& rays,
+  const SPHRenderParameters& params,
+  const TransferFunctionTable& table,
+  const float* opaqueDepth,
+  PerspectiveGrid& grid,
+  Frame& frame,
+  RenderStatistics& stats))
+
+RAYMAPPERS_SIMD_BEGIN
 
 namespace
 {
@@ -885,10 +899,17 @@ void writeBundle(const Bundle& bd, Frame& frame)
 }
 }
 
+RAYMAPPERS_SIMD_END
+
+#if RAYMAPPERS_SIMD_TARGET == 0
 double referenceWeightSum(SPHKernel kernel, double volume, double support, int neighbours)
 {
   return neighbours * volume * kernelValue(kernel, 0.5 * support, support);
 }
+#endif
+
+RAYMAPPERS_SIMD_BEGIN
+
 
 void renderSPH(const SPHParticles& particles,
   const ViewRays& rays,
@@ -922,5 +943,22 @@ void renderSPH(const SPHParticles& particles,
   addTallies(
     BundleCounters, [&](auto add) { std::for_each(perTile.begin(), perTile.end(), add); }, stats);
 }
+
+RAYMAPPERS_SIMD_END
+
+#if RAYMAPPERS_SIMD_TARGET == 0
+// The entry point: the variant for this CPU (SimdTarget.h).
+void renderSPH(const SPHParticles& particles,
+  const ViewRays& rays,
+  const SPHRenderParameters& params,
+  const TransferFunctionTable& table,
+  const float* opaqueDepth,
+  PerspectiveGrid& grid,
+  Frame& frame,
+  RenderStatistics& stats)
+{
+  RAYMAPPERS_SIMD_PICK(renderSPH)(particles, rays, params, table, opaqueDepth, grid, frame, stats);
+}
+#endif
 
 } // namespace raymappers

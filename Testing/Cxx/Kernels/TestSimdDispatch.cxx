@@ -1,0 +1,220 @@
+// The kernels compiled once per instruction set (Mappers/Common/SimdTarget.h) draw the same
+// bytes on every path: RBF's coherent and direct methods and SPH's volume ray casting render
+// the same scenes with RAYMAPPERS_SIMD=portable, avx2 and avx512 (those this CPU has), and
+// every frame must equal the portable one bit for bit. (Same float operations in the same
+// order on every path: -ffp-contract=off, no reassociation.)
+#include "CameraFixtures.h"
+#include "ParticleBVH.h"
+#include "RBFVolumeRenderer.h"
+#include "SPHVolumeRenderer.h"
+#include "SimdPath.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace raymappers;
+using namespace raymappers::test;
+
+namespace
+{
+/// The paths this CPU runs, portable first.
+std::vector<SimdPath> availablePaths()
+{
+  std::vector<SimdPath> paths;
+  for (const SimdPath path : { SimdPath::Portable, SimdPath::Avx2, SimdPath::Avx512 })
+  {
+    if (resolveSimdPath(path) == path)
+    {
+      paths.push_back(path);
+    }
+  }
+  return paths;
+}
+
+/// Renders `draw` once per path under RAYMAPPERS_SIMD and expects every frame's colours to
+/// equal the portable frame's bytes; the portable frame must not be empty.
+void expectSameFrameOnEveryPath(const std::string& scene, const std::function<Frame()>& draw)
+{
+  const std::vector<SimdPath> paths = availablePaths();
+  if (paths.size() < 2)
+  {
+    GTEST_SKIP() << "this CPU has no AVX2";
+  }
+  std::vector<Frame> frames;
+  for (const SimdPath path : paths)
+  {
+    ::setenv("RAYMAPPERS_SIMD", simdPathName(path), 1);
+    ASSERT_EQ(resolveSimdPath(SimdPath::Auto), path);
+    frames.push_back(draw());
+  }
+  ::unsetenv("RAYMAPPERS_SIMD");
+  const Frame& portable = frames.front();
+  double alpha = 0;
+  for (std::size_t i = 3; i < portable.rgba.size(); i += 4)
+  {
+    alpha += portable.rgba[i];
+  }
+  EXPECT_GT(alpha, 20.0) << scene << ": the picture is not empty";
+  for (std::size_t p = 1; p < paths.size(); ++p)
+  {
+    const Frame& other = frames[p];
+    ASSERT_EQ(other.rgba.size(), portable.rgba.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < portable.rgba.size(); ++i)
+    {
+      differing += std::memcmp(&portable.rgba[i], &other.rgba[i], sizeof(float)) != 0;
+    }
+    EXPECT_EQ(differing, 0u) << scene << ": " << simdPathName(paths[p])
+                             << " against portable, values that differ";
+  }
+}
+
+/// Particles in a cube of side 2 about the origin with radii (or supports) in [lo, hi].
+std::vector<Vec3d> cloud(int n, unsigned seed, std::vector<double>& radius, double lo, double hi)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1), ur(lo, hi);
+  std::vector<Vec3d> centres;
+  for (int i = 0; i < n; ++i)
+  {
+    centres.push_back({ u(rng), u(rng), u(rng) });
+    radius.push_back(ur(rng));
+  }
+  return centres;
+}
+
+/// n samples over [0, hi]: colour ramps, opacity rising to `alphaMax`.
+TransferFunctionTable ramp(double hi, double alphaMax, int n = 256)
+{
+  std::vector<float> rgba;
+  for (int k = 0; k < n; ++k)
+  {
+    const float x = static_cast<float>(k) / (n - 1);
+    rgba.insert(rgba.end(), { x, 1.f - x, 0.4f, static_cast<float>(alphaMax) * x });
+  }
+  TransferFunctionTable table;
+  table.assign(rgba, 0.0, hi, 1.0);
+  return table;
+}
+
+Material shinyMaterial()
+{
+  Material m;
+  m.ambient = 0.2;
+  m.diffuse = 0.7;
+  m.specular = 0.3;
+  m.specularPower = 10;
+  return m;
+}
+}
+
+TEST(SimdDispatch, RBFFramesAreTheSameOnEveryPath)
+{
+  std::vector<double> radius;
+  const std::vector<Vec3d> centres = cloud(400, 3, radius, 0.1, 0.3);
+  const Vec3d origin{ 0.2, -0.1, 0.3 };
+  RBFParticles particles;
+  buildRBFParticles(
+    centres.size(),
+    origin,
+    2,
+    [&](std::size_t i) { return centres[i]; },
+    [&](std::size_t i) { return radius[i]; },
+    [&](std::size_t i) { return 0.5 + 0.25 * static_cast<double>(i % 5); },
+    [&](std::size_t i) { return static_cast<int>(i % 2); },
+    particles);
+  ParticleBVH bvh;
+  bvh.build(particles, 8);
+  const int w = 48, h = 40;
+  const RayCamera camera(
+    multiply(perspective(35, double(w) / h, 0.5, 100), lookAt({ 2.5, 1.5, 3.5 }, { 0, 0, 0 }, { 0, 1, 0 })),
+    w,
+    h,
+    origin);
+  const std::vector<TransferFunctionTable> tables = { ramp(2.0, 0.6), ramp(1.5, 0.4) };
+  for (const bool direct : { false, true })
+  {
+    for (const bool shade : { false, true })
+    {
+      RBFRenderParameters params;
+      params.sampleDistance = 0.03;
+      params.direct = direct;
+      params.shade = shade;
+      params.lights = { Light() };
+      params.material = shinyMaterial();
+      expectSameFrameOnEveryPath(
+        std::string(direct ? "direct" : "coherent") + (shade ? ", shaded" : ""),
+        [&]
+        {
+          Frame frame;
+          RenderStatistics stats;
+          renderRBF(particles, bvh, camera, params, tables, nullptr, frame, stats);
+          return frame;
+        });
+    }
+  }
+}
+
+TEST(SimdDispatch, SPHVolumeFramesAreTheSameOnEveryPath)
+{
+  std::vector<double> support;
+  const std::vector<Vec3d> centres = cloud(300, 5, support, 0.15, 0.4);
+  SPHParticles particles;
+  buildSPHParticles(
+    centres.size(),
+    { 0.1, -0.2, 0.05 },
+    [&](std::size_t i) { return centres[i]; },
+    [&](std::size_t i) { return support[i]; },
+    [&](std::size_t i) { return 1.0 + static_cast<double>(i % 4); },
+    [&](std::size_t i) { return 0.5 * support[i] * support[i] * support[i]; },
+    particles);
+  ViewRays rays;
+  ASSERT_TRUE(rays.assign(
+    multiply(perspective(40, 48.0 / 40, 0.1, 100), lookAt({ 1.5, 1.0, 3.5 }, { 0, 0, 0 }, { 0, 1, 0 })),
+    48,
+    40,
+    particles.origin));
+  const TransferFunctionTable table = ramp(5.0, 0.8);
+  struct Case
+  {
+    SPHKernel kernel;
+    SPHNormalization mode;
+    bool shade, contour, jitter;
+  };
+  const Case cases[] = {
+    { SPHKernel::Poly6, SPHNormalization::Normalized, false, false, false },
+    { SPHKernel::CubicSpline, SPHNormalization::Normalized, true, false, false },
+    { SPHKernel::WendlandC2, SPHNormalization::Unnormalized, false, true, true },
+    { SPHKernel::Poly6, SPHNormalization::PseudoNormalized, true, true, true },
+  };
+  for (const Case& c : cases)
+  {
+    SPHRenderParameters params;
+    params.kernel = c.kernel;
+    params.normalization = c.mode;
+    params.referenceWeightSum =
+      referenceWeightSum(c.kernel, particles.medianVolume, particles.medianSupport);
+    params.shade = c.shade;
+    params.contour = c.contour;
+    params.jitter = c.jitter;
+    params.lights = { Light() };
+    params.material = shinyMaterial();
+    expectSameFrameOnEveryPath("SPH kernel " + std::to_string(static_cast<int>(c.kernel)) +
+        " mode " + std::to_string(static_cast<int>(c.mode)) + (c.shade ? " shaded" : "") +
+        (c.contour ? " contour" : "") + (c.jitter ? " jitter" : ""),
+      [&]
+      {
+        PerspectiveGrid grid;
+        Frame frame;
+        RenderStatistics stats;
+        renderSPH(particles, rays, params, table, nullptr, grid, frame, stats);
+        return frame;
+      });
+  }
+}
