@@ -52,7 +52,8 @@ elseif (CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
   set(RAYMAPPERS_DISPATCHED_KERNELS
     ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFDirectMethod.cxx
     ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFCoherentMethod.cxx
-    ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx)
+    ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx
+    ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx)
   foreach (simd_target IN ITEMS 2 3)
     set(variant RayMappersKernelsSimd${simd_target})
     add_library(${variant} OBJECT ${RAYMAPPERS_DISPATCHED_KERNELS})

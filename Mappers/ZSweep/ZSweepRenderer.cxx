@@ -1,6 +1,7 @@
 #include "ZSweepRenderer.h"
 
 #include "RayCamera.h"
+#include "SimdTarget.h"
 #include "ZSweepNearPlane.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -16,6 +17,17 @@
 
 namespace raymappers
 {
+
+RAYMAPPERS_SIMD_DECLARE(void renderZSweep(const ZSweepMesh& mesh,
+  const OpticalModel& optics,
+  const std::array<double, 16>& modelToClip,
+  const ZSweepParameters& params,
+  const float* opaqueDepth,
+  Frame& frame,
+  RenderStatistics& stats,
+  ZSweepEventOrder* previousOrder))
+
+RAYMAPPERS_SIMD_BEGIN
 
 namespace
 {
@@ -1052,5 +1064,23 @@ void renderZSweep(const ZSweepMesh& mesh,
   stats.addCounter("max_list", static_cast<std::int64_t>(counts.maxList));
   stats.addCounter("tie_groups", counts.tieGroups);
 }
+
+RAYMAPPERS_SIMD_END
+
+#if RAYMAPPERS_SIMD_TARGET == 0
+// The entry point: the variant for this CPU (SimdTarget.h).
+void renderZSweep(const ZSweepMesh& mesh,
+  const OpticalModel& optics,
+  const std::array<double, 16>& modelToClip,
+  const ZSweepParameters& params,
+  const float* opaqueDepth,
+  Frame& frame,
+  RenderStatistics& stats,
+  ZSweepEventOrder* previousOrder)
+{
+  RAYMAPPERS_SIMD_PICK(renderZSweep)(
+    mesh, optics, modelToClip, params, opaqueDepth, frame, stats, previousOrder);
+}
+#endif
 
 } // namespace raymappers
