@@ -53,6 +53,8 @@ elseif (CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
     ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFDirectMethod.cxx
     ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFCoherentMethod.cxx
     ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx
+    ${CMAKE_CURRENT_LIST_DIR}/SPH/SpanVoxelizer.cxx
+    ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidRenderer.cxx
     ${CMAKE_CURRENT_LIST_DIR}/ZSweep/OpticalModel.cxx
     ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx)
   foreach (simd_target IN ITEMS 2 3)

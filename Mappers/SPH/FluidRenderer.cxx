@@ -1,5 +1,6 @@
 #include "FluidRenderer.h"
 
+#include "SimdTarget.h"
 #include "SurfaceLinks.h"
 #include "Tallies.h"
 
@@ -15,6 +16,21 @@
 
 namespace raymappers
 {
+
+RAYMAPPERS_SIMD_DECLARE(void renderFluidSpans(const FluidSpans& spans,
+  const ViewRays& rays,
+  const Vec3d& origin,
+  const FluidRenderParameters& params,
+  Frame& frame,
+  RenderStatistics& stats))
+RAYMAPPERS_SIMD_DECLARE(bool renderFluid(const FluidParticles& particles,
+  const ViewRays& rays,
+  const FluidRenderParameters& params,
+  FluidSpans& spans,
+  Frame& frame,
+  RenderStatistics& stats))
+
+RAYMAPPERS_SIMD_BEGIN
 namespace
 {
 constexpr double Infinity = std::numeric_limits<double>::infinity();
@@ -622,8 +638,35 @@ bool renderFluid(const FluidParticles& particles,
   smoothSurfaces(
     spans, neighbourhoods, rays, params.smoothingRadius, params.smoothingIterations, stats);
   computeNormals(spans, neighbourhoods, rays, stats);
-  renderFluidSpans(spans, rays, particles.origin, params, frame, stats);
+  // (In parentheses: this variant's own, not also the entry point found by argument lookup.)
+  (renderFluidSpans)(spans, rays, particles.origin, params, frame, stats);
   return true;
 }
+
+RAYMAPPERS_SIMD_END
+
+#if RAYMAPPERS_SIMD_TARGET == 0
+// The entry point: the variant for this CPU (SimdTarget.h).
+void renderFluidSpans(const FluidSpans& spans,
+  const ViewRays& rays,
+  const Vec3d& origin,
+  const FluidRenderParameters& params,
+  Frame& frame,
+  RenderStatistics& stats)
+{
+  RAYMAPPERS_SIMD_PICK(renderFluidSpans)(spans, rays, origin, params, frame, stats);
+}
+
+// The entry point: the variant for this CPU (SimdTarget.h).
+bool renderFluid(const FluidParticles& particles,
+  const ViewRays& rays,
+  const FluidRenderParameters& params,
+  FluidSpans& spans,
+  Frame& frame,
+  RenderStatistics& stats)
+{
+  return RAYMAPPERS_SIMD_PICK(renderFluid)(particles, rays, params, spans, frame, stats);
+}
+#endif
 
 } // namespace raymappers

@@ -1,5 +1,6 @@
 #include "SpanVoxelizer.h"
 
+#include "SimdTarget.h"
 #include "Tallies.h"
 
 #include <tbb/blocked_range.h>
@@ -23,6 +24,14 @@
 
 namespace raymappers
 {
+
+RAYMAPPERS_SIMD_DECLARE(bool voxelizeFluid(const FluidParticles& particles,
+  const ViewRays& rays,
+  const VoxelizerParameters& params,
+  FluidSpans& out,
+  RenderStatistics& stats))
+
+RAYMAPPERS_SIMD_BEGIN
 namespace
 {
 /// The pixels [x0, x1] x [y0, y1] whose rays can meet a particle (empty when x0 > x1).
@@ -223,6 +232,9 @@ inline int nextBit(const std::uint64_t* column, int words, int pos, bool value)
 }
 }
 
+RAYMAPPERS_SIMD_END
+
+#if RAYMAPPERS_SIMD_TARGET == 0 // (the functions outside the variants: once)
 std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* windowDepth)
 {
   const int W = rays.width(), H = rays.height();
@@ -247,6 +259,9 @@ std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* 
     });
   return out;
 }
+#endif
+
+RAYMAPPERS_SIMD_BEGIN
 
 namespace
 {
@@ -728,5 +743,19 @@ bool voxelizeFluid(const FluidParticles& particles,
     Tallies, [&](auto add) { tallies.combine_each(add); }, stats);
   return true;
 }
+
+RAYMAPPERS_SIMD_END
+
+#if RAYMAPPERS_SIMD_TARGET == 0
+// The entry point: the variant for this CPU (SimdTarget.h).
+bool voxelizeFluid(const FluidParticles& particles,
+  const ViewRays& rays,
+  const VoxelizerParameters& params,
+  FluidSpans& out,
+  RenderStatistics& stats)
+{
+  return RAYMAPPERS_SIMD_PICK(voxelizeFluid)(particles, rays, params, out, stats);
+}
+#endif
 
 } // namespace raymappers

@@ -1,16 +1,19 @@
 // The kernels compiled once per instruction set (Mappers/Common/SimdTarget.h) draw the same
-// bytes on every path: RBF's coherent and direct methods and SPH's volume ray casting render
-// the same scenes with RAYMAPPERS_SIMD=portable, avx2 and avx512 (those this CPU has), and
+// bytes on every path: RBF's coherent and direct methods, SPH's volume ray casting, the SPH
+// fluid (voxelizer and surface renderer) and ZSweep render the same scenes with RAYMAPPERS_SIMD=portable, avx2 and avx512 (those this CPU has), and
 // every frame must equal the portable one bit for bit. (Same float operations in the same
 // order on every path: -ffp-contract=off, no reassociation.)
 #include "CameraFixtures.h"
+#include "FluidRenderer.h"
 #include "ParticleBVH.h"
 #include "RBFVolumeRenderer.h"
 #include "SPHVolumeRenderer.h"
 #include "SimdPath.h"
+#include "ZSweepRenderer.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
@@ -214,6 +217,105 @@ TEST(SimdDispatch, SPHVolumeFramesAreTheSameOnEveryPath)
         Frame frame;
         RenderStatistics stats;
         renderSPH(particles, rays, params, table, nullptr, grid, frame, stats);
+        return frame;
+      });
+  }
+}
+
+TEST(SimdDispatch, FluidFramesAreTheSameOnEveryPath)
+{
+  std::vector<double> radius;
+  const std::vector<Vec3d> centres = cloud(500, 9, radius, 0.08, 0.12);
+  FluidParticles particles;
+  buildFluidParticles(
+    centres.size(),
+    { 0.05, 0.1, -0.1 },
+    [&](std::size_t i) { return centres[i]; },
+    [&](std::size_t i) { return radius[i]; },
+    particles);
+  ViewRays rays;
+  ASSERT_TRUE(rays.assign(
+    multiply(perspective(40, 1.0, 0.1, 100), lookAt({ 1.0, 1.5, 3.5 }, { 0, 0, 0 }, { 0, 1, 0 })),
+    40,
+    40,
+    particles.origin));
+  for (const double refractiveIndex : { 1.0, 1.33 })
+  {
+    FluidRenderParameters params;
+    params.material = shinyMaterial();
+    params.lights = { Light() };
+    params.refractiveIndex = refractiveIndex;
+    params.ambientOcclusion = refractiveIndex == 1.0;
+    expectSameFrameOnEveryPath("fluid, index " + std::to_string(refractiveIndex),
+      [&]
+      {
+        FluidSpans spans;
+        Frame frame;
+        RenderStatistics stats;
+        EXPECT_TRUE(renderFluid(particles, rays, params, spans, frame, stats));
+        return frame;
+      });
+  }
+}
+
+TEST(SimdDispatch, ZSweepFramesAreTheSameOnEveryPath)
+{
+  // A 6 x 6 x 6 lattice of hexahedra over [-1, 1]^3 (VTK's vertex order) with a smooth point
+  // scalar in [0, 1].
+  const int n = 6;
+  ZSweepGrid grid;
+  const auto point = [&](int i, int j, int k) { return (k * (n + 1) + j) * (n + 1) + i; };
+  for (int k = 0; k <= n; ++k)
+  {
+    for (int j = 0; j <= n; ++j)
+    {
+      for (int i = 0; i <= n; ++i)
+      {
+        const Vec3d p{ -1 + 2.0 * i / n, -1 + 2.0 * j / n, -1 + 2.0 * k / n };
+        grid.points.push_back(p);
+        grid.scalars.push_back(0.5 + 0.5 * std::sin(2 * p.x) * std::cos(1.5 * p.y + p.z));
+      }
+    }
+  }
+  grid.cellOffsets.push_back(0);
+  for (int k = 0; k < n; ++k)
+  {
+    for (int j = 0; j < n; ++j)
+    {
+      for (int i = 0; i < n; ++i)
+      {
+        for (const int v : { point(i, j, k), point(i + 1, j, k), point(i + 1, j + 1, k),
+               point(i, j + 1, k), point(i, j, k + 1), point(i + 1, j, k + 1),
+               point(i + 1, j + 1, k + 1), point(i, j + 1, k + 1) })
+        {
+          grid.connectivity.push_back(v);
+        }
+        grid.cellTypes.push_back(ZSweepCellType::Hexahedron);
+        grid.cellOffsets.push_back(static_cast<std::int64_t>(grid.connectivity.size()));
+      }
+    }
+  }
+  ZSweepMesh mesh;
+  mesh.build(grid);
+  OpticalModel optics;
+  optics.assign({ 0.0, 0.3, 0.6, 1.0 },
+    { 0.9, 0.1, 0.1, 0.1, 0.9, 0.2, 0.2, 0.3, 0.9, 1.0, 1.0, 0.4 },
+    { 0.05, 0.5, 0.1, 0.8 },
+    0.5);
+  const Mat4 modelToClip =
+    multiply(perspective(35, 1.0, 0.5, 100), lookAt({ 2.0, 2.5, 4.5 }, { 0, 0, 0 }, { 0, 1, 0 }));
+  for (const ZSweepIntegrator integrator : { ZSweepIntegrator::Exact, ZSweepIntegrator::Farias })
+  {
+    ZSweepParameters params;
+    params.integrator = integrator;
+    expectSameFrameOnEveryPath(
+      std::string("ZSweep ") + (integrator == ZSweepIntegrator::Exact ? "exact" : "Farias"),
+      [&]
+      {
+        Frame frame;
+        frame.resize(40, 40);
+        RenderStatistics stats;
+        renderZSweep(mesh, optics, modelToClip, params, nullptr, frame, stats);
         return frame;
       });
   }
