@@ -3,10 +3,10 @@
 // compiled once per instruction set, with RAYMAPPERS_SIMD_TARGET = 0 (the build's own flags:
 // any x86-64, or this machine's with RAYMAPPERS_NATIVE), 2 (AVX2 + FMA) or 3 (AVX-512), the
 // values of SimdPath. Its code sits between RAYMAPPERS_SIMD_BEGIN and RAYMAPPERS_SIMD_END,
-// which open a namespace of its own per instruction set (simd_default, simd_avx2,
-// simd_avx512) under that instruction set's target pragma, and the compilation with the
-// build's own flags adds the entry point, which calls the variant resolveSimdPath picks
-// (RAYMAPPERS_SIMD_PICK).
+// which for AVX2 and AVX-512 open a namespace of its own (simd_avx2, simd_avx512) under that
+// instruction set's target pragma; compiled with the build's own flags, the code stays where
+// it is, and each entry point's first statement, RAYMAPPERS_SIMD_FORWARD, hands the call to
+// the variant resolveSimdPath picks (declared by RAYMAPPERS_SIMD_VARIANTS).
 //
 // Why a pragma after the includes and not -mavx512f on the command line: an inline function
 // or template of a shared header (Vec3, std::vector, TBB) compiled with AVX-512 in one object
@@ -31,10 +31,8 @@
 // AVX-512 F/BW/CD/DQ/VL), the levels resolveSimdPath checks. (The feature list is spelled
 // out: a target("arch=...") would keep the build's inline helpers from being inlined.)
 #if RAYMAPPERS_SIMD_TARGET == 0
-#define RAYMAPPERS_SIMD_BEGIN                                                                   \
-  namespace simd_default                                                                        \
-  {
-#define RAYMAPPERS_SIMD_END }
+#define RAYMAPPERS_SIMD_BEGIN
+#define RAYMAPPERS_SIMD_END
 #elif RAYMAPPERS_SIMD_TARGET == 2
 #define RAYMAPPERS_SIMD_BEGIN                                                                   \
   _Pragma("GCC push_options") _Pragma("GCC target(\"avx2,fma,bmi,bmi2,f16c,lzcnt,movbe,popcnt\")") \
@@ -57,41 +55,37 @@
 #endif
 
 // RAYMAPPERS_SIMD_DISPATCH (set by CMake when the AVX2 and AVX-512 objects are linked in):
-// the entry point chooses among three variants; otherwise there is only simd_default.
-#if RAYMAPPERS_SIMD_DISPATCH
-/// Declares `decl` (a function declaration) in every variant's namespace.
-#define RAYMAPPERS_SIMD_DECLARE(...)                                                            \
-  namespace simd_default                                                                        \
-  {                                                                                             \
-  __VA_ARGS__;                                                                                  \
-  }                                                                                             \
+// the compilation with the build's own flags hands each call of an entry point to the wider
+// variant the CPU has, if any.
+#if RAYMAPPERS_SIMD_DISPATCH && RAYMAPPERS_SIMD_TARGET == 0
+/// Declares the AVX2 and AVX-512 variants of `fn`, a function of the enclosing namespace
+/// declared before (not overloaded).
+#define RAYMAPPERS_SIMD_VARIANTS(fn)                                                            \
   namespace simd_avx2                                                                           \
   {                                                                                             \
-  __VA_ARGS__;                                                                                  \
+  decltype(fn) fn;                                                                              \
   }                                                                                             \
   namespace simd_avx512                                                                         \
   {                                                                                             \
-  __VA_ARGS__;                                                                                  \
+  decltype(fn) fn;                                                                              \
   }
-/// The variant of function `fn` for the path this CPU and RAYMAPPERS_SIMD choose.
-#define RAYMAPPERS_SIMD_PICK(fn)                                                                \
-  ::raymappers::pickSimdVariant(&simd_default::fn, &simd_avx2::fn, &simd_avx512::fn)
+/// The first statement of entry point `fn`: returns the wider variant's result for the
+/// arguments when resolveSimdPath picks AVX2 or AVX-512; else the portable body follows.
+#define RAYMAPPERS_SIMD_FORWARD(fn, ...)                                                        \
+  if (const auto wider = ::raymappers::widerSimdVariant(&simd_avx2::fn, &simd_avx512::fn))       \
+  return wider(__VA_ARGS__)
 #else
-#define RAYMAPPERS_SIMD_DECLARE(...)                                                            \
-  namespace simd_default                                                                        \
-  {                                                                                             \
-  __VA_ARGS__;                                                                                  \
-  }
-#define RAYMAPPERS_SIMD_PICK(fn) (&simd_default::fn)
+#define RAYMAPPERS_SIMD_VARIANTS(fn)
+#define RAYMAPPERS_SIMD_FORWARD(fn, ...) static_cast<void>(0)
 #endif
 
 namespace raymappers
 {
 
-/// One of three variants of a function, by resolveSimdPath(SimdPath::Auto) (read per call,
-/// so a test may change RAYMAPPERS_SIMD between frames).
+/// The variant for the path resolveSimdPath(SimdPath::Auto) picks (read per call, so a test
+/// may change RAYMAPPERS_SIMD between frames), or null for the portable one.
 template<typename Fn>
-Fn pickSimdVariant(Fn portable, Fn avx2, Fn avx512)
+Fn widerSimdVariant(Fn avx2, Fn avx512)
 {
   switch (resolveSimdPath(SimdPath::Auto))
   {
@@ -100,7 +94,7 @@ Fn pickSimdVariant(Fn portable, Fn avx2, Fn avx512)
     case SimdPath::Avx2:
       return avx2;
     default:
-      return portable;
+      return nullptr;
   }
 }
 

@@ -23,7 +23,7 @@ namespace raymappers
 namespace rbf
 {
 
-RAYMAPPERS_SIMD_DECLARE(void renderCoherent(const RBFFrameInputs& in, RBFCounters& counters))
+RAYMAPPERS_SIMD_VARIANTS(renderCoherent)
 
 RAYMAPPERS_SIMD_BEGIN
 
@@ -879,6 +879,7 @@ void renderTile(const RBFFrameInputs& in, const Tile& tile, RBFCounts& counts)
 
 void renderCoherent(const RBFFrameInputs& in, RBFCounters& counters)
 {
+  RAYMAPPERS_SIMD_FORWARD(renderCoherent, in, counters);
   forEachTile(in.camera.width(),
     in.camera.height(),
     in.params.tileSize,
@@ -891,14 +892,6 @@ void renderCoherent(const RBFFrameInputs& in, RBFCounters& counters)
 }
 
 RAYMAPPERS_SIMD_END
-
-#if RAYMAPPERS_SIMD_TARGET == 0
-// The entry point: the variant for this CPU (SimdTarget.h).
-void renderCoherent(const RBFFrameInputs& in, RBFCounters& counters)
-{
-  RAYMAPPERS_SIMD_PICK(renderCoherent)(in, counters);
-}
-#endif
 
 } // namespace rbf
 } // namespace raymappers

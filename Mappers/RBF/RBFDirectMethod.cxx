@@ -11,7 +11,7 @@ namespace raymappers
 namespace rbf
 {
 
-RAYMAPPERS_SIMD_DECLARE(void renderDirect(const RBFFrameInputs& in, RBFCounters& counters))
+RAYMAPPERS_SIMD_VARIANTS(renderDirect)
 
 RAYMAPPERS_SIMD_BEGIN
 
@@ -116,6 +116,7 @@ RayAccumulator castRay(const RBFFrameInputs& in,
 
 void renderDirect(const RBFFrameInputs& in, RBFCounters& counters)
 {
+  RAYMAPPERS_SIMD_FORWARD(renderDirect, in, counters);
   forEachTile(in.camera.width(),
     in.camera.height(),
     in.params.tileSize,
@@ -137,14 +138,6 @@ void renderDirect(const RBFFrameInputs& in, RBFCounters& counters)
 }
 
 RAYMAPPERS_SIMD_END
-
-#if RAYMAPPERS_SIMD_TARGET == 0
-// The entry point: the variant for this CPU (SimdTarget.h).
-void renderDirect(const RBFFrameInputs& in, RBFCounters& counters)
-{
-  RAYMAPPERS_SIMD_PICK(renderDirect)(in, counters);
-}
-#endif
 
 } // namespace rbf
 } // namespace raymappers

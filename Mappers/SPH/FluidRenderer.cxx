@@ -17,18 +17,8 @@
 namespace raymappers
 {
 
-RAYMAPPERS_SIMD_DECLARE(void renderFluidSpans(const FluidSpans& spans,
-  const ViewRays& rays,
-  const Vec3d& origin,
-  const FluidRenderParameters& params,
-  Frame& frame,
-  RenderStatistics& stats))
-RAYMAPPERS_SIMD_DECLARE(bool renderFluid(const FluidParticles& particles,
-  const ViewRays& rays,
-  const FluidRenderParameters& params,
-  FluidSpans& spans,
-  Frame& frame,
-  RenderStatistics& stats))
+RAYMAPPERS_SIMD_VARIANTS(renderFluidSpans)
+RAYMAPPERS_SIMD_VARIANTS(renderFluid)
 
 RAYMAPPERS_SIMD_BEGIN
 namespace
@@ -566,6 +556,7 @@ void renderFluidSpans(const FluidSpans& spans,
   Frame& frame,
   RenderStatistics& stats)
 {
+  RAYMAPPERS_SIMD_FORWARD(renderFluidSpans, spans, rays, origin, params, frame, stats);
   const bool refraction =
     params.translucency && params.refractiveIndex != 1.0 && params.bounces > 0;
   const bool ao = params.ambientOcclusion && params.aoSamples > 0 && params.aoRadius > 0;
@@ -625,6 +616,7 @@ bool renderFluid(const FluidParticles& particles,
   Frame& frame,
   RenderStatistics& stats)
 {
+  RAYMAPPERS_SIMD_FORWARD(renderFluid, particles, rays, params, spans, frame, stats);
   stats.addCounter("particles_skipped",
     static_cast<std::int64_t>(particles.skippedNonFinite + particles.skippedBadRadius));
   if (!voxelizeFluid(particles, rays, params.voxelizer, spans, stats))
@@ -644,29 +636,5 @@ bool renderFluid(const FluidParticles& particles,
 }
 
 RAYMAPPERS_SIMD_END
-
-#if RAYMAPPERS_SIMD_TARGET == 0
-// The entry point: the variant for this CPU (SimdTarget.h).
-void renderFluidSpans(const FluidSpans& spans,
-  const ViewRays& rays,
-  const Vec3d& origin,
-  const FluidRenderParameters& params,
-  Frame& frame,
-  RenderStatistics& stats)
-{
-  RAYMAPPERS_SIMD_PICK(renderFluidSpans)(spans, rays, origin, params, frame, stats);
-}
-
-// The entry point: the variant for this CPU (SimdTarget.h).
-bool renderFluid(const FluidParticles& particles,
-  const ViewRays& rays,
-  const FluidRenderParameters& params,
-  FluidSpans& spans,
-  Frame& frame,
-  RenderStatistics& stats)
-{
-  return RAYMAPPERS_SIMD_PICK(renderFluid)(particles, rays, params, spans, frame, stats);
-}
-#endif
 
 } // namespace raymappers

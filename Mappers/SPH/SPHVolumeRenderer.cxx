@@ -35,14 +35,7 @@ float sphJitterOffset(int px, int py)
 }
 #endif
 
-RAYMAPPERS_SIMD_DECLARE(void renderSPH(const SPHParticles& particles,
-  const ViewRays& rays,
-  const SPHRenderParameters& params,
-  const TransferFunctionTable& table,
-  const float* opaqueDepth,
-  PerspectiveGrid& grid,
-  Frame& frame,
-  RenderStatistics& stats))
+RAYMAPPERS_SIMD_VARIANTS(renderSPH)
 
 RAYMAPPERS_SIMD_BEGIN
 
@@ -920,6 +913,8 @@ void renderSPH(const SPHParticles& particles,
   Frame& frame,
   RenderStatistics& stats)
 {
+  RAYMAPPERS_SIMD_FORWARD(
+    renderSPH, particles, rays, params, table, opaqueDepth, grid, frame, stats);
   declareStatistics(params, opaqueDepth != nullptr, stats);
   frame.resize(rays.width(), rays.height());
   if (particles.size() == 0 || table.empty() || !buildGrid(particles, rays, params, grid, stats))
@@ -945,20 +940,5 @@ void renderSPH(const SPHParticles& particles,
 }
 
 RAYMAPPERS_SIMD_END
-
-#if RAYMAPPERS_SIMD_TARGET == 0
-// The entry point: the variant for this CPU (SimdTarget.h).
-void renderSPH(const SPHParticles& particles,
-  const ViewRays& rays,
-  const SPHRenderParameters& params,
-  const TransferFunctionTable& table,
-  const float* opaqueDepth,
-  PerspectiveGrid& grid,
-  Frame& frame,
-  RenderStatistics& stats)
-{
-  RAYMAPPERS_SIMD_PICK(renderSPH)(particles, rays, params, table, opaqueDepth, grid, frame, stats);
-}
-#endif
 
 } // namespace raymappers

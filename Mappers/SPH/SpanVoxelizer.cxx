@@ -25,11 +25,7 @@
 namespace raymappers
 {
 
-RAYMAPPERS_SIMD_DECLARE(bool voxelizeFluid(const FluidParticles& particles,
-  const ViewRays& rays,
-  const VoxelizerParameters& params,
-  FluidSpans& out,
-  RenderStatistics& stats))
+RAYMAPPERS_SIMD_VARIANTS(voxelizeFluid)
 
 RAYMAPPERS_SIMD_BEGIN
 namespace
@@ -667,6 +663,7 @@ bool voxelizeFluid(const FluidParticles& particles,
   FluidSpans& out,
   RenderStatistics& stats)
 {
+  RAYMAPPERS_SIMD_FORWARD(voxelizeFluid, particles, rays, params, out, stats);
   const bool bridging = params.gapThreshold > 0;
   const bool shell = bridging && params.gapThreshold >= 2.0 * particles.maxRadius;
   stats.setEffect("gap_bridging", bridging);
@@ -745,17 +742,5 @@ bool voxelizeFluid(const FluidParticles& particles,
 }
 
 RAYMAPPERS_SIMD_END
-
-#if RAYMAPPERS_SIMD_TARGET == 0
-// The entry point: the variant for this CPU (SimdTarget.h).
-bool voxelizeFluid(const FluidParticles& particles,
-  const ViewRays& rays,
-  const VoxelizerParameters& params,
-  FluidSpans& out,
-  RenderStatistics& stats)
-{
-  return RAYMAPPERS_SIMD_PICK(voxelizeFluid)(particles, rays, params, out, stats);
-}
-#endif
 
 } // namespace raymappers

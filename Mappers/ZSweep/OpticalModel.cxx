@@ -168,7 +168,8 @@ struct ExactLaneArrays
   int *interval0, *interval1;
 };
 
-RAYMAPPERS_SIMD_DECLARE(void integrateLinearPieceLanes(const ExactLaneArrays& a))
+void integrateLinearPieceLanes(const ExactLaneArrays& a);
+RAYMAPPERS_SIMD_VARIANTS(integrateLinearPieceLanes)
 
 #if RAYMAPPERS_SIMD_TARGET == 0 // (everything but the SIMD lanes: once)
 double gaussianDepthIntegral(double A, double B)
@@ -386,7 +387,7 @@ void OpticalModel::integrateExactLanes(SegmentBatch& batch) const
     BSlope.data(), batch.s0.data(), batch.s1.data(), batch.length.data(), batch.r.data(),
     batch.g.data(), batch.b.data(), batch.transmittance.data(), batch.Deferred.data(),
     batch.Interval0.data(), batch.Interval1.data() };
-  RAYMAPPERS_SIMD_PICK(integrateLinearPieceLanes)(a);
+  integrateLinearPieceLanes(a);
   for (std::size_t i = 0; i < count; ++i)
   {
     if (a.deferred[i])
@@ -497,6 +498,7 @@ RAYMAPPERS_SIMD_BEGIN
 // depthIntegrals when E' <= SeriesDepth all along; the other segments are marked deferred.
 void integrateLinearPieceLanes(const ExactLaneArrays& a)
 {
+  RAYMAPPERS_SIMD_FORWARD(integrateLinearPieceLanes, a);
   const std::size_t count = a.count;
   const double* nodeS = a.nodeS;
   const double *from = a.from, *tau = a.tau, *tauSlope = a.tauSlope;

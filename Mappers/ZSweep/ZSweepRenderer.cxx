@@ -18,14 +18,7 @@
 namespace raymappers
 {
 
-RAYMAPPERS_SIMD_DECLARE(void renderZSweep(const ZSweepMesh& mesh,
-  const OpticalModel& optics,
-  const std::array<double, 16>& modelToClip,
-  const ZSweepParameters& params,
-  const float* opaqueDepth,
-  Frame& frame,
-  RenderStatistics& stats,
-  ZSweepEventOrder* previousOrder))
+RAYMAPPERS_SIMD_VARIANTS(renderZSweep)
 
 RAYMAPPERS_SIMD_BEGIN
 
@@ -985,6 +978,8 @@ void renderZSweep(const ZSweepMesh& mesh,
   RenderStatistics& stats,
   ZSweepEventOrder* previousOrder)
 {
+  RAYMAPPERS_SIMD_FORWARD(
+    renderZSweep, mesh, optics, modelToClip, params, opaqueDepth, frame, stats, previousOrder);
   const int W = frame.width, H = frame.height;
   std::fill(frame.rgba.begin(), frame.rgba.end(), 0.f);
   std::fill(frame.depth.begin(), frame.depth.end(), 1.f);
@@ -1066,21 +1061,5 @@ void renderZSweep(const ZSweepMesh& mesh,
 }
 
 RAYMAPPERS_SIMD_END
-
-#if RAYMAPPERS_SIMD_TARGET == 0
-// The entry point: the variant for this CPU (SimdTarget.h).
-void renderZSweep(const ZSweepMesh& mesh,
-  const OpticalModel& optics,
-  const std::array<double, 16>& modelToClip,
-  const ZSweepParameters& params,
-  const float* opaqueDepth,
-  Frame& frame,
-  RenderStatistics& stats,
-  ZSweepEventOrder* previousOrder)
-{
-  RAYMAPPERS_SIMD_PICK(renderZSweep)(
-    mesh, optics, modelToClip, params, opaqueDepth, frame, stats, previousOrder);
-}
-#endif
 
 } // namespace raymappers
