@@ -3,7 +3,18 @@
 # RayMappers::Filters link privately and the kernel unit tests link directly: linked once, so
 # a process that loads both modules holds one copy of each kernel. They live beside their
 # vtk* adapters, one folder per method.
+#
+# The hot kernels, compiled once more per SIMD instruction set in the default build (below).
+set(RAYMAPPERS_DISPATCHED_KERNELS
+  ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFDirectMethod.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFCoherentMethod.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/SpanVoxelizer.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidRenderer.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/ZSweep/OpticalModel.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx)
 add_library(RayMappersKernels SHARED
+  ${RAYMAPPERS_DISPATCHED_KERNELS}
   ${CMAKE_CURRENT_LIST_DIR}/Common/FrameValidation.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/RayCamera.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/RenderStatistics.cxx
@@ -16,19 +27,12 @@ add_library(RayMappersKernels SHARED
   ${CMAKE_CURRENT_LIST_DIR}/CGT/SphereRenderer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/RBF/ParticleBVH.cxx
   ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFVolumeRenderer.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFDirectMethod.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFCoherentMethod.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/ZSweep/OpticalModel.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepMesh.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepNearPlane.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/ViewRays.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/PerspectiveGrid.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidCells.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/SPH/SpanVoxelizer.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/SPH/SurfaceLinks.cxx
-  ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidRenderer.cxx)
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/SurfaceLinks.cxx)
 target_include_directories(RayMappersKernels PUBLIC
   ${CMAKE_CURRENT_LIST_DIR}/Common
   ${CMAKE_CURRENT_LIST_DIR}/CGT
@@ -49,14 +53,6 @@ elseif (CMAKE_SYSTEM_PROCESSOR MATCHES "^(x86_64|AMD64|amd64)$")
   # Run-time dispatch (Common/SimdTarget.h): the hot kernels are compiled twice more, for
   # AVX2 (RAYMAPPERS_SIMD_TARGET=2) and AVX-512 (3), into object libraries linked into the
   # kernel library; the copy compiled with the default flags chooses among them per frame.
-  set(RAYMAPPERS_DISPATCHED_KERNELS
-    ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFDirectMethod.cxx
-    ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFCoherentMethod.cxx
-    ${CMAKE_CURRENT_LIST_DIR}/SPH/SPHVolumeRenderer.cxx
-    ${CMAKE_CURRENT_LIST_DIR}/SPH/SpanVoxelizer.cxx
-    ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidRenderer.cxx
-    ${CMAKE_CURRENT_LIST_DIR}/ZSweep/OpticalModel.cxx
-    ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx)
   foreach (simd_target IN ITEMS 2 3)
     set(variant RayMappersKernelsSimd${simd_target})
     add_library(${variant} OBJECT ${RAYMAPPERS_DISPATCHED_KERNELS})

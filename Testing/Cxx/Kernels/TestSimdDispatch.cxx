@@ -42,7 +42,8 @@ std::vector<SimdPath> availablePaths()
 
 /// Renders `draw` once per path under RAYMAPPERS_SIMD and expects every frame's colours to
 /// equal the portable frame's bytes; the portable frame must not be empty.
-void expectSameFrameOnEveryPath(const std::string& scene, const std::function<Frame()>& draw)
+void expectSameFrameOnEveryPath(const std::string& scene,
+  const std::function<void(Frame&, RenderStatistics&)>& draw)
 {
   const std::vector<SimdPath> paths = availablePaths();
   if (paths.size() < 2)
@@ -54,7 +55,9 @@ void expectSameFrameOnEveryPath(const std::string& scene, const std::function<Fr
   {
     ::setenv("RAYMAPPERS_SIMD", simdPathName(path), 1);
     ASSERT_EQ(resolveSimdPath(SimdPath::Auto), path);
-    frames.push_back(draw());
+    RenderStatistics stats;
+    frames.emplace_back();
+    draw(frames.back(), stats);
   }
   ::unsetenv("RAYMAPPERS_SIMD");
   const Frame& portable = frames.front();
@@ -153,13 +156,8 @@ TEST(SimdDispatch, RBFFramesAreTheSameOnEveryPath)
       params.material = shinyMaterial();
       expectSameFrameOnEveryPath(
         std::string(direct ? "direct" : "coherent") + (shade ? ", shaded" : ""),
-        [&]
-        {
-          Frame frame;
-          RenderStatistics stats;
-          renderRBF(particles, bvh, camera, params, tables, nullptr, frame, stats);
-          return frame;
-        });
+        [&](Frame& frame, RenderStatistics& stats)
+        { renderRBF(particles, bvh, camera, params, tables, nullptr, frame, stats); });
     }
   }
 }
@@ -211,13 +209,10 @@ TEST(SimdDispatch, SPHVolumeFramesAreTheSameOnEveryPath)
     expectSameFrameOnEveryPath("SPH kernel " + std::to_string(static_cast<int>(c.kernel)) +
         " mode " + std::to_string(static_cast<int>(c.mode)) + (c.shade ? " shaded" : "") +
         (c.contour ? " contour" : "") + (c.jitter ? " jitter" : ""),
-      [&]
+      [&](Frame& frame, RenderStatistics& stats)
       {
         PerspectiveGrid grid;
-        Frame frame;
-        RenderStatistics stats;
         renderSPH(particles, rays, params, table, nullptr, grid, frame, stats);
-        return frame;
       });
   }
 }
@@ -247,13 +242,10 @@ TEST(SimdDispatch, FluidFramesAreTheSameOnEveryPath)
     params.refractiveIndex = refractiveIndex;
     params.ambientOcclusion = refractiveIndex == 1.0;
     expectSameFrameOnEveryPath("fluid, index " + std::to_string(refractiveIndex),
-      [&]
+      [&](Frame& frame, RenderStatistics& stats)
       {
         FluidSpans spans;
-        Frame frame;
-        RenderStatistics stats;
         EXPECT_TRUE(renderFluid(particles, rays, params, spans, frame, stats));
-        return frame;
       });
   }
 }
@@ -310,13 +302,10 @@ TEST(SimdDispatch, ZSweepFramesAreTheSameOnEveryPath)
     params.integrator = integrator;
     expectSameFrameOnEveryPath(
       std::string("ZSweep ") + (integrator == ZSweepIntegrator::Exact ? "exact" : "Farias"),
-      [&]
+      [&](Frame& frame, RenderStatistics& stats)
       {
-        Frame frame;
         frame.resize(40, 40);
-        RenderStatistics stats;
         renderZSweep(mesh, optics, modelToClip, params, nullptr, frame, stats);
-        return frame;
       });
   }
 }
