@@ -81,19 +81,33 @@ void expectSameFrameOnEveryPath(const std::string& scene,
   }
 }
 
-/// Particles in a cube of side 2 about the origin with radii (or supports) in [lo, hi].
-std::vector<Vec3d> cloud(int n, unsigned seed, std::vector<double>& radius, double lo, double hi)
+/// n random particles in a cube of side 2 about the origin with radii (or supports) in
+/// [lo, hi], read by the particle builders through centre() and size().
+struct Cloud
 {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1, 1), ur(lo, hi);
   std::vector<Vec3d> centres;
-  for (int i = 0; i < n; ++i)
+  std::vector<double> sizes;
+
+  Cloud(int n, unsigned seed, double lo, double hi)
   {
-    centres.push_back({ u(rng), u(rng), u(rng) });
-    radius.push_back(ur(rng));
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1), ur(lo, hi);
+    for (int i = 0; i < n; ++i)
+    {
+      centres.push_back({ u(rng), u(rng), u(rng) });
+      sizes.push_back(ur(rng));
+    }
   }
-  return centres;
-}
+  std::size_t count() const { return centres.size(); }
+  std::function<Vec3d(std::size_t)> centre() const
+  {
+    return [this](std::size_t i) { return centres[i]; };
+  }
+  std::function<double(std::size_t)> size() const
+  {
+    return [this](std::size_t i) { return sizes[i]; };
+  }
+};
 
 /// n samples over [0, hi]: colour ramps, opacity rising to `alphaMax`.
 TransferFunctionTable ramp(double hi, double alphaMax, int n = 256)
@@ -122,19 +136,12 @@ Material shinyMaterial()
 
 TEST(SimdDispatch, RBFFramesAreTheSameOnEveryPath)
 {
-  std::vector<double> radius;
-  const std::vector<Vec3d> centres = cloud(400, 3, radius, 0.1, 0.3);
+  const Cloud cloud(400, 3, 0.1, 0.3);
   const Vec3d origin{ 0.2, -0.1, 0.3 };
   RBFParticles particles;
-  buildRBFParticles(
-    centres.size(),
-    origin,
-    2,
-    [&](std::size_t i) { return centres[i]; },
-    [&](std::size_t i) { return radius[i]; },
-    [&](std::size_t i) { return 0.5 + 0.25 * static_cast<double>(i % 5); },
-    [&](std::size_t i) { return static_cast<int>(i % 2); },
-    particles);
+  buildRBFParticles(cloud.count(), origin, 2, cloud.centre(), cloud.size(),
+    [](std::size_t i) { return 0.5 + 0.25 * static_cast<double>(i % 5); },
+    [](std::size_t i) { return static_cast<int>(i % 2); }, particles);
   ParticleBVH bvh;
   bvh.build(particles, 8);
   const int w = 48, h = 40;
@@ -164,17 +171,12 @@ TEST(SimdDispatch, RBFFramesAreTheSameOnEveryPath)
 
 TEST(SimdDispatch, SPHVolumeFramesAreTheSameOnEveryPath)
 {
-  std::vector<double> support;
-  const std::vector<Vec3d> centres = cloud(300, 5, support, 0.15, 0.4);
+  const Cloud cloud(300, 5, 0.15, 0.4);
+  const std::vector<double>& H = cloud.sizes;
   SPHParticles particles;
-  buildSPHParticles(
-    centres.size(),
-    { 0.1, -0.2, 0.05 },
-    [&](std::size_t i) { return centres[i]; },
-    [&](std::size_t i) { return support[i]; },
-    [&](std::size_t i) { return 1.0 + static_cast<double>(i % 4); },
-    [&](std::size_t i) { return 0.5 * support[i] * support[i] * support[i]; },
-    particles);
+  buildSPHParticles(cloud.count(), { 0.1, -0.2, 0.05 }, cloud.centre(), cloud.size(),
+    [](std::size_t i) { return 1.0 + static_cast<double>(i % 4); },
+    [&](std::size_t i) { return 0.5 * H[i] * H[i] * H[i]; }, particles);
   ViewRays rays;
   ASSERT_TRUE(rays.assign(
     multiply(perspective(40, 48.0 / 40, 0.1, 100), lookAt({ 1.5, 1.0, 3.5 }, { 0, 0, 0 }, { 0, 1, 0 })),
@@ -219,15 +221,9 @@ TEST(SimdDispatch, SPHVolumeFramesAreTheSameOnEveryPath)
 
 TEST(SimdDispatch, FluidFramesAreTheSameOnEveryPath)
 {
-  std::vector<double> radius;
-  const std::vector<Vec3d> centres = cloud(500, 9, radius, 0.08, 0.12);
+  const Cloud cloud(500, 9, 0.08, 0.12);
   FluidParticles particles;
-  buildFluidParticles(
-    centres.size(),
-    { 0.05, 0.1, -0.1 },
-    [&](std::size_t i) { return centres[i]; },
-    [&](std::size_t i) { return radius[i]; },
-    particles);
+  buildFluidParticles(cloud.count(), { 0.05, 0.1, -0.1 }, cloud.centre(), cloud.size(), particles);
   ViewRays rays;
   ASSERT_TRUE(rays.assign(
     multiply(perspective(40, 1.0, 0.1, 100), lookAt({ 1.0, 1.5, 3.5 }, { 0, 0, 0 }, { 0, 1, 0 })),
