@@ -14,6 +14,7 @@
 #include "Mappers/RBF/FastExp.h"
 #include "Mappers/Common/SimdLanes.h"
 #include "Mappers/Common/TileScheduler.h"
+#include "Mappers/Common/SimdTarget.h"
 
 #include <limits>
 
@@ -21,6 +22,10 @@ namespace raymappers
 {
 namespace rbf
 {
+
+RAYMAPPERS_SIMD_VARIANTS(renderCoherent)
+
+RAYMAPPERS_SIMD_BEGIN
 
 namespace
 {
@@ -874,6 +879,7 @@ void renderTile(const RBFFrameInputs& in, const Tile& tile, RBFCounts& counts)
 
 void renderCoherent(const RBFFrameInputs& in, RBFCounters& counters)
 {
+  RAYMAPPERS_SIMD_FORWARD(renderCoherent, in, counters);
   forEachTile(in.camera.width(),
     in.camera.height(),
     in.params.tileSize,
@@ -884,6 +890,8 @@ void renderCoherent(const RBFFrameInputs& in, RBFCounters& counters)
       counters.add(counts);
     });
 }
+
+RAYMAPPERS_SIMD_END
 
 } // namespace rbf
 } // namespace raymappers

@@ -4,11 +4,16 @@
 #include "Mappers/RBF/RBFMethods.h"
 
 #include "Mappers/Common/TileScheduler.h"
+#include "Mappers/Common/SimdTarget.h"
 
 namespace raymappers
 {
 namespace rbf
 {
+
+RAYMAPPERS_SIMD_VARIANTS(renderDirect)
+
+RAYMAPPERS_SIMD_BEGIN
 
 namespace
 {
@@ -111,6 +116,7 @@ RayAccumulator castRay(const RBFFrameInputs& in,
 
 void renderDirect(const RBFFrameInputs& in, RBFCounters& counters)
 {
+  RAYMAPPERS_SIMD_FORWARD(renderDirect, in, counters);
   forEachTile(in.camera.width(),
     in.camera.height(),
     in.params.tileSize,
@@ -130,6 +136,8 @@ void renderDirect(const RBFFrameInputs& in, RBFCounters& counters)
       counters.add(counts);
     });
 }
+
+RAYMAPPERS_SIMD_END
 
 } // namespace rbf
 } // namespace raymappers

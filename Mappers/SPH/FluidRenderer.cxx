@@ -2,6 +2,7 @@
 
 #include "Mappers/SPH/SurfaceLinks.h"
 #include "Mappers/SPH/Tallies.h"
+#include "Mappers/Common/SimdTarget.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
@@ -15,6 +16,11 @@
 
 namespace raymappers
 {
+
+RAYMAPPERS_SIMD_VARIANTS(renderFluidSpans)
+RAYMAPPERS_SIMD_VARIANTS(renderFluid)
+
+RAYMAPPERS_SIMD_BEGIN
 namespace
 {
 constexpr double Infinity = std::numeric_limits<double>::infinity();
@@ -550,6 +556,7 @@ void renderFluidSpans(const FluidSpans& spans,
   Frame& frame,
   RenderStatistics& stats)
 {
+  RAYMAPPERS_SIMD_FORWARD(renderFluidSpans, spans, rays, origin, params, frame, stats);
   const bool refraction =
     params.translucency && params.refractiveIndex != 1.0 && params.bounces > 0;
   const bool ao = params.ambientOcclusion && params.aoSamples > 0 && params.aoRadius > 0;
@@ -608,6 +615,7 @@ bool renderFluid(const FluidScene& scene,
   Frame& frame,
   RenderStatistics& stats)
 {
+  RAYMAPPERS_SIMD_FORWARD(renderFluid, scene, view, params, frame, stats);
   const FluidParticles& particles = scene.particles;
   FluidSpans& spans = scene.spans;
   const ViewRays& rays = view.depthRays();
@@ -633,8 +641,11 @@ bool renderFluid(const FluidScene& scene,
   smoothSurfaces(
     spans, neighbourhoods, rays, params.smoothingRadius, params.smoothingIterations, stats);
   computeNormals(spans, neighbourhoods, rays, stats);
-  renderFluidSpans(spans, rays, particles.origin, params, frame, stats);
+  // (In parentheses: this variant's own, not also the entry point found by argument lookup.)
+  (renderFluidSpans)(spans, rays, particles.origin, params, frame, stats);
   return true;
 }
+
+RAYMAPPERS_SIMD_END
 
 } // namespace raymappers

@@ -1,6 +1,7 @@
 #include "Mappers/SPH/SPHVolumeRenderer.h"
 
 #include "Mappers/SPH/Tallies.h"
+#include "Mappers/Common/SimdTarget.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -19,6 +20,7 @@ constexpr float Infinity = std::numeric_limits<float>::infinity();
 
 }
 
+#if RAYMAPPERS_SIMD_TARGET == 0 // (the functions outside the variants: once)
 /// Offset in [0, 1) of a pixel's samples under stochastic jittering: a fixed 32 x 32
 /// pattern of hashed values (section 4.1.2: "read from a 2D array with 32 x 32 entries").
 float sphJitterOffset(int px, int py)
@@ -31,6 +33,11 @@ float sphJitterOffset(int px, int py)
   h ^= h >> 16;
   return static_cast<float>(h >> 8) * (1.f / 16777216.f);
 }
+#endif
+
+RAYMAPPERS_SIMD_VARIANTS(renderSPH)
+
+RAYMAPPERS_SIMD_BEGIN
 
 namespace
 {
@@ -885,10 +892,17 @@ void writeBundle(const Bundle& bd, Frame& frame)
 }
 }
 
+RAYMAPPERS_SIMD_END
+
+#if RAYMAPPERS_SIMD_TARGET == 0
 double referenceWeightSum(SPHKernel kernel, double volume, double support, int neighbours)
 {
   return neighbours * volume * kernelValue(kernel, 0.5 * support, support);
 }
+#endif
+
+RAYMAPPERS_SIMD_BEGIN
+
 
 void renderSPH(const SPHScene& scene,
   const View& view,
@@ -896,6 +910,7 @@ void renderSPH(const SPHScene& scene,
   Frame& frame,
   RenderStatistics& stats)
 {
+  RAYMAPPERS_SIMD_FORWARD(renderSPH, scene, view, params, frame, stats);
   const SPHParticles& particles = scene.particles;
   const TransferFunctionTable& table = scene.table;
   PerspectiveGrid& grid = scene.grid;
@@ -924,5 +939,7 @@ void renderSPH(const SPHScene& scene,
   addTallies(
     BundleCounters, [&](auto add) { std::for_each(perTile.begin(), perTile.end(), add); }, stats);
 }
+
+RAYMAPPERS_SIMD_END
 
 } // namespace raymappers

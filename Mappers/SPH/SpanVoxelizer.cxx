@@ -1,6 +1,7 @@
 #include "Mappers/SPH/SpanVoxelizer.h"
 
 #include "Mappers/SPH/Tallies.h"
+#include "Mappers/Common/SimdTarget.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
@@ -23,6 +24,10 @@
 
 namespace raymappers
 {
+
+RAYMAPPERS_SIMD_VARIANTS(voxelizeFluid)
+
+RAYMAPPERS_SIMD_BEGIN
 namespace
 {
 /// The pixels [x0, x1] x [y0, y1] whose rays can meet a particle (empty when x0 > x1).
@@ -223,6 +228,9 @@ inline int nextBit(const std::uint64_t* column, int words, int pos, bool value)
 }
 }
 
+RAYMAPPERS_SIMD_END
+
+#if RAYMAPPERS_SIMD_TARGET == 0 // (the functions outside the variants: once)
 std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* windowDepth)
 {
   const int W = rays.width(), H = rays.height();
@@ -247,6 +255,9 @@ std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* 
     });
   return out;
 }
+#endif
+
+RAYMAPPERS_SIMD_BEGIN
 
 namespace
 {
@@ -652,6 +663,7 @@ bool voxelizeFluid(const FluidParticles& particles,
   FluidSpans& out,
   RenderStatistics& stats)
 {
+  RAYMAPPERS_SIMD_FORWARD(voxelizeFluid, particles, rays, params, out, stats);
   const bool bridging = params.gapThreshold > 0;
   const bool shell = bridging && params.gapThreshold >= 2.0 * particles.maxRadius;
   stats.setEffect("gap_bridging", bridging);
@@ -728,5 +740,7 @@ bool voxelizeFluid(const FluidParticles& particles,
     Tallies, [&](auto add) { tallies.combine_each(add); }, stats);
   return true;
 }
+
+RAYMAPPERS_SIMD_END
 
 } // namespace raymappers

@@ -1,5 +1,7 @@
 #include "Mappers/ZSweep/OpticalModel.h"
 
+#include "Mappers/Common/SimdTarget.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -149,8 +151,27 @@ inline SegmentLight linearPiece(double tauA,
   out.b = cA[2] * d.oneMinusG + cB[2] * d.gMinusT;
   return out;
 }
+
 } // namespace
 
+// The arrays of a batch and the piecewise-linear transfer function that the exact
+// integrator's SIMD lanes read and write (OpticalModel::integrateExactLanes).
+struct ExactLaneArrays
+{
+  std::size_t count;
+  int nodes;
+  const double *nodeS, *from, *tau, *tauSlope, *red, *redSlope, *green, *greenSlope, *blue,
+    *blueSlope;
+  const double *in0, *in1, *len;
+  double *outR, *outG, *outB, *outT;
+  unsigned char* deferred;
+  int *interval0, *interval1;
+};
+
+void integrateLinearPieceLanes(const ExactLaneArrays& a);
+RAYMAPPERS_SIMD_VARIANTS(integrateLinearPieceLanes)
+
+#if RAYMAPPERS_SIMD_TARGET == 0 // (everything but the SIMD lanes: once)
 double gaussianDepthIntegral(double A, double B)
 {
   return 1.0 - depthIntegrals(A, B).oneMinusG;
@@ -361,58 +382,21 @@ void OpticalModel::integrateHomogeneous(SegmentBatch& batch) const
 void OpticalModel::integrateExactLanes(SegmentBatch& batch) const
 {
   const std::size_t count = batch.size();
-  const int n = static_cast<int>(NodeS.size());
-  const double* nodeS = NodeS.data();
-  const double *from = From.data(), *tau = Tau.data(), *tauSlope = TauSlope.data();
-  const double *red = R.data(), *redSlope = RSlope.data(), *green = G.data(),
-               *greenSlope = GSlope.data(), *blue = B.data(), *blueSlope = BSlope.data();
-  const double *in0 = batch.s0.data(), *in1 = batch.s1.data(), *len = batch.length.data();
-  double *outR = batch.r.data(), *outG = batch.g.data(), *outB = batch.b.data(),
-         *outT = batch.transmittance.data();
-  unsigned char* deferred = batch.Deferred.data();
-  // Interval index + 1 of each end: the number of nodes at or below it.
-  int *interval0 = batch.Interval0.data(), *interval1 = batch.Interval1.data();
-  std::fill(interval0, interval0 + count, 0);
-  std::fill(interval1, interval1 + count, 0);
-  for (int j = 0; j < n; ++j)
-  {
-    const double sj = nodeS[j];
-#pragma omp simd
-    for (std::size_t i = 0; i < count; ++i)
-    {
-      interval0[i] += sj <= in0[i];
-      interval1[i] += sj <= in1[i];
-    }
-  }
-#pragma omp simd
+  const ExactLaneArrays a{ count, static_cast<int>(NodeS.size()), NodeS.data(), From.data(),
+    Tau.data(), TauSlope.data(), R.data(), RSlope.data(), G.data(), GSlope.data(), B.data(),
+    BSlope.data(), batch.s0.data(), batch.s1.data(), batch.length.data(), batch.r.data(),
+    batch.g.data(), batch.b.data(), batch.transmittance.data(), batch.Deferred.data(),
+    batch.Interval0.data(), batch.Interval1.data() };
+  integrateLinearPieceLanes(a);
   for (std::size_t i = 0; i < count; ++i)
   {
-    const double s0 = in0[i], s1 = in1[i], L = len[i];
-    const int c0 = interval0[i], c1 = interval1[i];
-    const double f0 = s0 - from[c0], f1 = s1 - from[c0];
-    const double tauA = tau[c0] + f0 * tauSlope[c0], tauB = tau[c0] + f1 * tauSlope[c0];
-    // One linear piece (integrateLinearPiece) when no node lies between the ends, with
-    // the series branch of depthIntegrals when E' <= SeriesDepth all along.
-    const double A = tauA * L, Bq = 0.5 * (tauB - tauA) * L;
-    const bool lane = c0 == c1 && std::max(A, A + 2.0 * Bq) <= SeriesDepth;
-    deferred[i] = !lane;
-    const DepthIntegrals d = seriesDepthIntegrals(lane ? A : 0.0, lane ? Bq : 0.0);
-    outT[i] = d.transmittance;
-    outR[i] = (red[c0] + f0 * redSlope[c0]) * d.oneMinusG + (red[c0] + f1 * redSlope[c0]) * d.gMinusT;
-    outG[i] = (green[c0] + f0 * greenSlope[c0]) * d.oneMinusG +
-      (green[c0] + f1 * greenSlope[c0]) * d.gMinusT;
-    outB[i] =
-      (blue[c0] + f0 * blueSlope[c0]) * d.oneMinusG + (blue[c0] + f1 * blueSlope[c0]) * d.gMinusT;
-  }
-  for (std::size_t i = 0; i < count; ++i)
-  {
-    if (deferred[i])
+    if (a.deferred[i])
     {
-      const SegmentLight l = integrateExact(in0[i], in1[i], len[i]);
-      outR[i] = l.r;
-      outG[i] = l.g;
-      outB[i] = l.b;
-      outT[i] = l.transmittance;
+      const SegmentLight l = integrateExact(a.in0[i], a.in1[i], a.len[i]);
+      a.outR[i] = l.r;
+      a.outG[i] = l.g;
+      a.outB[i] = l.b;
+      a.outT[i] = l.transmittance;
     }
   }
 }
@@ -505,5 +489,58 @@ SegmentLight OpticalModel::integrateFarias(double s0, double s1, double L) const
   }
   return out;
 }
+#endif
+
+RAYMAPPERS_SIMD_BEGIN
+
+// The SIMD lanes of integrateExactLanes: each segment's interval, then one linear piece
+// (integrateLinearPiece) when no node lies between the ends, with the series branch of
+// depthIntegrals when E' <= SeriesDepth all along; the other segments are marked deferred.
+void integrateLinearPieceLanes(const ExactLaneArrays& a)
+{
+  RAYMAPPERS_SIMD_FORWARD(integrateLinearPieceLanes, a);
+  const std::size_t count = a.count;
+  const double* nodeS = a.nodeS;
+  const double *from = a.from, *tau = a.tau, *tauSlope = a.tauSlope;
+  const double *red = a.red, *redSlope = a.redSlope, *green = a.green,
+               *greenSlope = a.greenSlope, *blue = a.blue, *blueSlope = a.blueSlope;
+  const double *in0 = a.in0, *in1 = a.in1, *len = a.len;
+  double *outR = a.outR, *outG = a.outG, *outB = a.outB, *outT = a.outT;
+  unsigned char* deferred = a.deferred;
+  // Interval index + 1 of each end: the number of nodes at or below it.
+  int *interval0 = a.interval0, *interval1 = a.interval1;
+  std::fill(interval0, interval0 + count, 0);
+  std::fill(interval1, interval1 + count, 0);
+  for (int j = 0; j < a.nodes; ++j)
+  {
+    const double sj = nodeS[j];
+#pragma omp simd
+    for (std::size_t i = 0; i < count; ++i)
+    {
+      interval0[i] += sj <= in0[i];
+      interval1[i] += sj <= in1[i];
+    }
+  }
+#pragma omp simd
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    const double s0 = in0[i], s1 = in1[i], L = len[i];
+    const int c0 = interval0[i], c1 = interval1[i];
+    const double f0 = s0 - from[c0], f1 = s1 - from[c0];
+    const double tauA = tau[c0] + f0 * tauSlope[c0], tauB = tau[c0] + f1 * tauSlope[c0];
+    const double A = tauA * L, Bq = 0.5 * (tauB - tauA) * L;
+    const bool lane = c0 == c1 && std::max(A, A + 2.0 * Bq) <= SeriesDepth;
+    deferred[i] = !lane;
+    const DepthIntegrals d = seriesDepthIntegrals(lane ? A : 0.0, lane ? Bq : 0.0);
+    outT[i] = d.transmittance;
+    outR[i] = (red[c0] + f0 * redSlope[c0]) * d.oneMinusG + (red[c0] + f1 * redSlope[c0]) * d.gMinusT;
+    outG[i] = (green[c0] + f0 * greenSlope[c0]) * d.oneMinusG +
+      (green[c0] + f1 * greenSlope[c0]) * d.gMinusT;
+    outB[i] =
+      (blue[c0] + f0 * blueSlope[c0]) * d.oneMinusG + (blue[c0] + f1 * blueSlope[c0]) * d.gMinusT;
+  }
+}
+
+RAYMAPPERS_SIMD_END
 
 } // namespace raymappers

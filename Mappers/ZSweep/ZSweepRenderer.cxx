@@ -2,6 +2,7 @@
 
 #include "Mappers/Common/RayCamera.h"
 #include "Mappers/ZSweep/ZSweepNearPlane.h"
+#include "Mappers/Common/SimdTarget.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -16,6 +17,10 @@
 
 namespace raymappers
 {
+
+RAYMAPPERS_SIMD_VARIANTS(renderZSweep)
+
+RAYMAPPERS_SIMD_BEGIN
 
 namespace
 {
@@ -960,6 +965,7 @@ void renderZSweep(const ZSweepScene& scene,
   Frame& frame,
   RenderStatistics& stats)
 {
+  RAYMAPPERS_SIMD_FORWARD(renderZSweep, scene, view, params, frame, stats);
   const ZSweepMesh& mesh = scene.mesh;
   const OpticalModel& optics = scene.optics;
   const int W = view.width(), H = view.height();
@@ -1041,5 +1047,7 @@ void renderZSweep(const ZSweepScene& scene,
   stats.addCounter("max_list", static_cast<std::int64_t>(counts.maxList));
   stats.addCounter("tie_groups", counts.tieGroups);
 }
+
+RAYMAPPERS_SIMD_END
 
 } // namespace raymappers
