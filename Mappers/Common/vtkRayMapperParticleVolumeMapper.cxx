@@ -54,7 +54,19 @@ double* vtkRayMapperParticleVolumeMapper::GetBounds()
 
 void vtkRayMapperParticleVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
-  this->Core->Execute(this->NumberOfThreads, [&] { this->RenderVolume(ren, vol); });
+  this->Core->Execute(this->NumberOfThreads,
+    [&]
+    {
+      auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
+      // (A renderer culls an input without points by its empty bounds, where GetBounds
+      // warns; this guards a direct call.)
+      if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
+      {
+        this->Core->Skip(raymappers::RenderStatistics());
+        return;
+      }
+      this->RenderVolume(ren, vol, input);
+    });
 }
 
 void vtkRayMapperParticleVolumeMapper::WarnSkipped(std::size_t count, const char* what)

@@ -65,7 +65,8 @@ public:
   void GetBounds(double bounds[6]) override { this->vtkAbstractMapper3D::GetBounds(bounds); }
 
   /**
-   * One render: RenderVolume in the mapper's task arena of NumberOfThreads threads.
+   * One render: RenderVolume in the mapper's task arena of NumberOfThreads threads; an input
+   * without points draws nothing (GetBounds gives its warning).
    */
   void Render(vtkRenderer* ren, vtkVolume* vol) override;
   void ReleaseGraphicsResources(vtkWindow* win) override;
@@ -79,8 +80,9 @@ protected:
   /// The largest distance from a particle's centre at which it still contributes (the
   /// bounds are grown by it); `input` has finite points.
   virtual double GetSupportRadius(vtkPointSet* input) = 0;
-  /// The body of one render, run inside the mapper's task arena.
-  virtual void RenderVolume(vtkRenderer* ren, vtkVolume* vol) = 0;
+  /// The body of one render of `input` (a point set with points), run inside the mapper's
+  /// task arena.
+  virtual void RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input) = 0;
 
   /// The warning "<count> <what> and are not drawn." when a build skipped `count` particles.
   void WarnSkipped(std::size_t count, const char* what);

@@ -198,16 +198,10 @@ raymappers::RBFRenderParameters vtkRBFVolumeMapper::GatherParameters(vtkRenderer
   return params;
 }
 
-void vtkRBFVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol)
+void vtkRBFVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input)
 {
   raymappers::RenderStatistics stats;
-  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
   vtkRayMapperCore::View view;
-  if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
-  {
-    this->Core->Skip(stats);
-    return;
-  }
   this->UpdateAcceleration(input, stats);
   // Classification: component m of the volume property for field m.
   std::vector<raymappers::TransferFunctionTable> tables;

@@ -172,7 +172,7 @@ protected:
   /// The largest support of a particle (the bounds' growth).
   double GetSupportRadius(vtkPointSet* input) override;
   /// One render, in the mapper's task arena (Render runs it there).
-  void RenderVolume(vtkRenderer* ren, vtkVolume* vol) override;
+  void RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input) override;
 
   double Kappa = 1.0;
   double Sigma = 2.0;

@@ -159,17 +159,10 @@ void vtkSPHFluidMapper::WarnAboutMemoryBudget(const vtkRayMapperView& view,
   }
 }
 
-void vtkSPHFluidMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol)
+void vtkSPHFluidMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input)
 {
   raymappers::RenderStatistics stats;
-  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
   vtkRayMapperView view;
-  if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
-  {
-    this->Core->WarnEmptyInput(this, input, "points", "fluid");
-    this->Core->Skip(stats);
-    return;
-  }
   bool built = false;
   {
     raymappers::ScopedPhase phase(stats, "particles");

@@ -183,16 +183,10 @@ raymappers::SPHRenderParameters vtkSPHVolumeMapper::GatherParameters(vtkRenderer
   return params;
 }
 
-void vtkSPHVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol)
+void vtkSPHVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input)
 {
   raymappers::RenderStatistics stats;
-  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
   vtkRayMapperView view;
-  if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
-  {
-    this->Core->Skip(stats);
-    return;
-  }
   {
     raymappers::ScopedPhase phase(stats, "particles");
     this->UpdateParticles(input);

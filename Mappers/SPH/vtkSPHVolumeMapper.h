@@ -204,7 +204,7 @@ protected:
   /// The largest support of a particle (the bounds' growth).
   double GetSupportRadius(vtkPointSet* input) override;
   /// One render, in the mapper's task arena (Render runs it there).
-  void RenderVolume(vtkRenderer* ren, vtkVolume* vol) override;
+  void RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input) override;
 
   int Kernel = VTK_SPH_KERNEL_CUBIC_SPLINE;
   double SupportFactor = 0.0;
