@@ -102,6 +102,7 @@ int TestSPHVolumeMapper(int argc, char* argv[])
   vtkRayMapperStatistics* stats = mapper->GetStatistics();
 
   const auto picture = render();
+  const auto fullBundles = stats->GetCounter("bundles");
   std::printf("%s", stats->GetSummary());
   check(stats->GetCounter("particles") == 9360 && events.Warnings == 0 && events.Errors == 0,
     "every particle used, no warning");
@@ -168,6 +169,11 @@ int TestSPHVolumeMapper(int argc, char* argv[])
   check(reduction == 300 && stats->GetCounter("image_sample_distance_percent") == 300 &&
       MeanDifference(coarse, picture) > 0,
     "reduced sampling while interacting: MaximumImageSampleDistance");
+  // 3 x 3 fewer rays: the coarse frame's 16 x 16 bundles are about a ninth of the full one's.
+  std::printf("bundles: full %lld, coarse %lld\n", static_cast<long long>(fullBundles),
+    static_cast<long long>(stats->GetCounter("bundles")));
+  check(fullBundles > 0 && 4 * stats->GetCounter("bundles") < fullBundles,
+    "the interactive frame casts 3 x 3 fewer rays");
   win->SetDesiredUpdateRate(0.0001);
   const auto refined = render();
   check(stats->GetCounter("reduction_percent") == 100 && refined == picture,
