@@ -54,14 +54,25 @@ assert tracker.GetPluginAutoLoad(i) and tracker.GetPluginLoaded(i), "not auto-lo
 sphere = Sphere()
 view = CreateRenderView()
 view.ViewSize = [200, 200]
+view.OrientationAxesVisibility = 0
 rep = Show(sphere, view)
 rep.SetRepresentationType("Ray-Traced Spheres")
 assert rep.Representation == "Ray-Traced Spheres", rep.Representation
 Render(view)
 shot = os.path.join(sys.argv[2], "installed.png")
 SaveScreenshot(shot, view, ImageResolution=[200, 200])
-assert os.path.getsize(shot) > 0
-print("INSTALLED-OK", path)
+# The frame shows spheres: with nothing else in the view, pixels that differ from the
+# background (the corner). At the default radius (1% of the bounds) the Sphere source's 50
+# points cover about 0.5% of a 200 x 200 view; nothing drawn leaves 0.
+from vtkmodules.vtkIOImage import vtkPNGReader
+from vtkmodules.util.numpy_support import vtk_to_numpy
+reader = vtkPNGReader()
+reader.SetFileName(shot)
+reader.Update()
+pixels = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3].astype(int)
+drawn = (abs(pixels - pixels[0]).max(axis=1) > 10).mean()
+assert drawn > 0.002, "the installed plugin drew %.3f of the pixels" % drawn
+print("INSTALLED-OK", path, "drawn %.3f" % drawn)
 '''
 script = os.path.join(scratch, "check_installed.py")
 with open(script, "w") as f:
