@@ -1,0 +1,130 @@
+#include "vtkRayMapperParticleSizes.h"
+
+#include "Mappers/Common/ParticleSpacing.h"
+#include "vtkRayMapperPointArrays.h"
+
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkMath.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <string>
+
+namespace vtkRayMapperParticleSizes
+{
+namespace
+{
+struct SizeName
+{
+  const char* name;
+  double scale;
+};
+const SizeName RadiusNames[] = { { "radius", 1.0 }, { "radii", 1.0 }, { "r", 1.0 },
+  { "diameter", 0.5 } };
+const SizeName SmoothingNames[] = { { "h", 1.0 }, { "hsml", 1.0 }, { "smoothing_length", 1.0 },
+  { "smoothinglength", 1.0 } };
+
+bool sameIgnoringCase(const char* a, const char* b)
+{
+  for (; *a && *b; ++a, ++b)
+  {
+    if (std::tolower(static_cast<unsigned char>(*a)) != std::tolower(static_cast<unsigned char>(*b)))
+    {
+      return false;
+    }
+  }
+  return *a == *b;
+}
+
+/// The first array of `input` (in `names`' order) whose name matches, or nullptr.
+template <std::size_t N>
+const char* findIn(vtkPointData* data, const SizeName (&names)[N], double& scale)
+{
+  for (const SizeName& candidate : names)
+  {
+    for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+    {
+      const char* name = data->GetArrayName(a);
+      if (name && data->GetArray(a) && sameIgnoringCase(name, candidate.name))
+      {
+        scale = candidate.scale;
+        return name;
+      }
+    }
+  }
+  return nullptr;
+}
+}
+
+const char* FindSizeArrayName(vtkDataSet* input, Role role, bool acceptOther, double& scale)
+{
+  scale = 1.0;
+  if (!input)
+  {
+    return nullptr;
+  }
+  vtkPointData* data = input->GetPointData();
+  const char* found = role == Role::Radius ? findIn(data, RadiusNames, scale)
+                                           : findIn(data, SmoothingNames, scale);
+  if (!found && acceptOther)
+  {
+    found = role == Role::Radius ? findIn(data, SmoothingNames, scale)
+                                 : findIn(data, RadiusNames, scale);
+    scale = 1.0;
+  }
+  return found;
+}
+
+double SpacingCache::Spacing(vtkPoints* points)
+{
+  if (!points)
+  {
+    return 0.0;
+  }
+  if (points != this->Points || points->GetMTime() != this->Time)
+  {
+    const vtkRayMapperPointArrays::TupleReader reader(points->GetData());
+    this->Value = raymappers::typicalParticleSpacing(
+      static_cast<std::size_t>(points->GetNumberOfPoints()), [&](std::size_t i) {
+        return raymappers::Vec3d(reader.get(i, 0), reader.get(i, 1), reader.get(i, 2));
+      });
+    this->Points = points;
+    this->Time = points->GetMTime();
+  }
+  return this->Value;
+}
+
+double AutomaticLengthFrom(double spacing, const double bounds[6], double perSpacing)
+{
+  if (spacing > 0.0 && std::isfinite(spacing))
+  {
+    return perSpacing * spacing;
+  }
+  if (bounds && vtkMath::AreBoundsInitialized(bounds))
+  {
+    const double diagonal = std::sqrt(vtkMath::Distance2BetweenPoints(
+      std::array<double, 3>{ bounds[0], bounds[2], bounds[4] }.data(),
+      std::array<double, 3>{ bounds[1], bounds[3], bounds[5] }.data()));
+    if (diagonal > 0.0 && std::isfinite(diagonal))
+    {
+      return 0.01 * diagonal;
+    }
+  }
+  return 1.0;
+}
+
+double AutomaticLength(vtkDataSet* input, double perSpacing, SpacingCache& cache)
+{
+  auto* pointSet = vtkPointSet::SafeDownCast(input);
+  const double spacing = pointSet ? cache.Spacing(pointSet->GetPoints()) : 0.0;
+  double bounds[6];
+  vtkRayMapperPointArrays::FiniteBounds(input, bounds);
+  return AutomaticLengthFrom(spacing, bounds, perSpacing);
+}
+
+} // namespace vtkRayMapperParticleSizes

@@ -1,0 +1,64 @@
+// The particles' sizes when the user gave none, as every RayMappers mapper, filter,
+// representation and the bench choose them: a size array recognised by its name, else a
+// constant length proportional to the particles' typical spacing (ParticleSpacing.h), so
+// that the same data in other units gives the same picture.
+#ifndef vtkRayMapperParticleSizes_h
+#define vtkRayMapperParticleSizes_h
+
+#include "RayMappersCoreModule.h" // for export macro
+#include "vtkType.h"              // for vtkMTimeType
+
+class vtkDataSet;
+class vtkPoints;
+
+namespace vtkRayMapperParticleSizes
+{
+
+/// What a size array is to be: a sphere's radius, or an SPH smoothing length h.
+enum class Role
+{
+  Radius,
+  SmoothingLength
+};
+
+/// The point array of `input` that conventionally holds the size `role` asks for, and in
+/// `scale` the factor that turns its values into that size; nullptr when none is there.
+/// Names are matched ignoring case, in this order: for Radius "radius", "radii", "r",
+/// "diameter" (scale 0.5); for SmoothingLength "h", "hsml", "smoothing_length",
+/// "smoothinglength". With `acceptOther`, the other role's names come next (scale 1): an
+/// RBF or a fluid radius may come from h, and an SPH smoothing length from a radius.
+RAYMAPPERSCORE_EXPORT const char* FindSizeArrayName(vtkDataSet* input,
+  Role role,
+  bool acceptOther,
+  double& scale);
+
+/// The typical spacing of a point set (raymappers::typicalParticleSpacing: the median
+/// nearest-distinct-neighbour distance over a sample), computed again only when the points
+/// or their modification time change: a camera change costs nothing.
+class RAYMAPPERSCORE_EXPORT SpacingCache
+{
+public:
+  double Spacing(vtkPoints* points);
+
+private:
+  vtkPoints* Points = nullptr;
+  vtkMTimeType Time = 0;
+  double Value = 0.0;
+};
+
+/// The automatic constant size: `perSpacing` times the typical spacing of the input's points;
+/// when that is 0 (fewer than two distinct finite points) 1% of the finite bounds' diagonal,
+/// and 1 when that is 0 too (a single point).
+RAYMAPPERSCORE_EXPORT double AutomaticLength(vtkDataSet* input,
+  double perSpacing,
+  SpacingCache& cache);
+
+/// The same from a spacing already known (e.g. reduced over processes): `perSpacing` *
+/// `spacing` when positive, else the bounds fallback above for `bounds` (may be uninitialized).
+RAYMAPPERSCORE_EXPORT double AutomaticLengthFrom(double spacing,
+  const double bounds[6],
+  double perSpacing);
+
+} // namespace vtkRayMapperParticleSizes
+
+#endif
