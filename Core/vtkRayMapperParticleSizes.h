@@ -14,6 +14,14 @@ class vtkPoints;
 namespace vtkRayMapperParticleSizes
 {
 
+/// The automatic sizes per typical spacing s (the reasons are in each mapper's header):
+/// touching spheres, a Gaussian as wide as the spacing, the SPH kernel support SPH codes use,
+/// a fluid of overlapping spheres without cavities.
+constexpr double SphereRadiusPerSpacing = 0.5;
+constexpr double RBFRadiusPerSpacing = 1.0;
+constexpr double SPHSupportPerSpacing = 2.4;
+constexpr double FluidRadiusPerSpacing = 1.0;
+
 /// What a size array is to be: a sphere's radius, or an SPH smoothing length h.
 enum class Role
 {

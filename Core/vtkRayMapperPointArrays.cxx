@@ -57,7 +57,15 @@ vtkDataArray* FindScaleArray(vtkObject* self,
   vtkDataArray* array = FindPointArray(input, name, role, why);
   if (!why.empty())
   {
-    vtkWarningWithObjectMacro(self, << why << "; using the constant " << role << " " << constant << ".");
+    if (constant > 0.0)
+    {
+      vtkWarningWithObjectMacro(self, << why << "; using the constant " << role << " " << constant << ".");
+    }
+    else
+    {
+      vtkWarningWithObjectMacro(self, << why << "; using the automatic " << role
+                                      << " (from the particles' spacing).");
+    }
   }
   return array;
 }

@@ -50,7 +50,8 @@ RAYMAPPERSCORE_EXPORT vtkDataArray* FindPointArray(vtkDataSet* input,
 
 /// The particles' size array (a mapper's ScaleArray): FindPointArray of `name` as `role`
 /// ("radius", "smoothing length"); when it is named but missing, the warning
-/// "<why>; using the constant <role> <constant>." from `self`, and nullptr.
+/// "<why>; using the constant <role> <constant>." from `self` ("using the automatic <role>"
+/// when `constant` is 0, the mappers' automatic size), and nullptr.
 RAYMAPPERSCORE_EXPORT vtkDataArray* FindScaleArray(vtkObject* self,
   vtkDataSet* input,
   const char* name,

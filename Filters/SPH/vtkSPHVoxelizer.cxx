@@ -84,12 +84,13 @@ raymappers::Vec3d ReadParticles(vtkSPHVoxelizer* self,
     // Read single-threaded (vtkDataArray access), then build.
     std::vector<raymappers::Vec3d> centers(static_cast<std::size_t>(n));
     std::vector<double> r(static_cast<std::size_t>(n));
+    const double constant = radii || n == 0 ? 0.0 : self->GetRadiusInUse(input);
     for (vtkIdType i = 0; i < n; ++i)
     {
       double p[3];
       points->GetPoint(i, p);
       centers[i] = raymappers::Vec3d(p[0], p[1], p[2]);
-      r[i] = (radii ? radii->GetComponent(i, 0) : self->GetRadius()) * self->GetScaleFactor();
+      r[i] = (radii ? radii->GetComponent(i, 0) : constant) * self->GetScaleFactor();
     }
     raymappers::buildFluidParticles(
       static_cast<std::size_t>(n),
@@ -487,6 +488,13 @@ int vtkSPHVoxelizer::RequestData(vtkInformation*, vtkInformationVector** inputVe
   WriteSpanArrays(output, spans, rays, ok, W, H);
   WriteFieldData(output, spans, rays, ok, modelToClip);
   return 1;
+}
+
+double vtkSPHVoxelizer::GetRadiusInUse(vtkPointSet* input)
+{
+  return this->Radius > 0.0 ? this->Radius
+                            : vtkRayMapperParticleSizes::AutomaticLength(input,
+                                vtkRayMapperParticleSizes::FluidRadiusPerSpacing, this->Spacing);
 }
 
 void vtkSPHVoxelizer::PrintSelf(ostream& os, vtkIndent indent)

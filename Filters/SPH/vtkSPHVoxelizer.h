@@ -58,6 +58,7 @@
 #define vtkSPHVoxelizer_h
 
 #include "RayMappersFiltersModule.h" // for export macro
+#include "vtkRayMapperParticleSizes.h" // for SpacingCache
 #include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 #include "vtkImageAlgorithm.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
@@ -65,6 +66,7 @@
 #include <string> // for std::string
 
 class vtkCamera;
+class vtkPointSet;
 
 class RAYMAPPERSFILTERS_EXPORT vtkSPHVoxelizer : public vtkImageAlgorithm
 {
@@ -74,11 +76,15 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /** Constant particle radius (default 1), its point array, and a factor on either (1). */
+  /** Constant particle radius (default 0: automatic, as vtkSPHFluidMapper's, the typical
+   * particle spacing), its point array, and a factor on either (1). */
   vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
   vtkRayMapperScaleMacro();
   ///@}
+
+  /** The constant radius for `input`: Radius, or the automatic one when Radius is 0. */
+  double GetRadiusInUse(vtkPointSet* input);
 
   /** @deprecated RadiusArrayName and RadiusScale (vtkRayMapperDeprecatedRadiusNamesMacro). */
   vtkRayMapperDeprecatedRadiusNamesMacro();
@@ -150,7 +156,7 @@ protected:
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  double Radius = 1.0;
+  double Radius = 0.0;
   char* ScaleArray = nullptr;
   double ScaleFactor = 1.0;
   double AngleResolution = 14.0;
@@ -169,6 +175,7 @@ protected:
   std::string Summary;
 
 private:
+  vtkRayMapperParticleSizes::SpacingCache Spacing;
   vtkSPHVoxelizer(const vtkSPHVoxelizer&) = delete;
   void operator=(const vtkSPHVoxelizer&) = delete;
 };

@@ -1,4 +1,5 @@
 #include "vtkCGTSphereMapper.h"
+#include "vtkRayMapperParticleSizes.h"
 #include "vtkRayMapperPointArrays.h"
 
 #include "Mappers/CGT/CoherentGridAccelerator.h"
@@ -53,6 +54,8 @@ struct vtkCGTSphereMapper::Internals
     SpheresStamp;
   vtkMTimeType BuiltColorTime = 0;
   vtkRayMapperStamp<int, double, int, int> AcceleratorStamp;
+  // The typical spacing of the input's points, for the automatic radius.
+  vtkRayMapperParticleSizes::SpacingCache Spacing;
 };
 
 vtkCGTSphereMapper::vtkCGTSphereMapper()
@@ -188,7 +191,14 @@ void vtkCGTSphereMapper::ComputeBounds()
     vtkRayMapperPointArrays::FindPointArray(input, this->ScaleArray, "radius", why);
   vtkRayMapperCore::GrowBounds(this->Bounds,
     radii ? vtkRayMapperPointArrays::LargestParticleLength(radii, this->ScaleFactor)
-          : this->Radius * this->ScaleFactor);
+          : this->GetRadiusInUse() * this->ScaleFactor);
+}
+
+double vtkCGTSphereMapper::GetRadiusInUse()
+{
+  return this->Radius > 0.0 ? this->Radius
+                            : vtkRayMapperParticleSizes::AutomaticLength(
+                                this->GetInput(), GetAutomaticRadiusPerSpacing(), Impl->Spacing);
 }
 
 // A sphere's colour: its point's mapped scalar colour (RGB or grey, opaque), or the actor's
@@ -314,7 +324,7 @@ void vtkCGTSphereMapper::BuildSpheres(vtkPolyData* input, const SphereColors& co
   vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
   vtkPoints* points = input->GetPoints();
   const double scale = this->ScaleFactor;
-  const double constantRadius = this->Radius * scale;
+  const double constantRadius = radii ? 0.0 : this->GetRadiusInUse() * scale;
   // Float and double arrays (nearly all data) are read directly, others through the
   // generic vtkDataArray interface.
   const vtkRayMapperPointArrays::TupleReader pointReader(points->GetData());

@@ -3,7 +3,12 @@
  * @brief   Renders every point of its input as an exact, ray-traced sphere.
  *
  * Each point of the input vtkPolyData (cells are ignored) becomes a sphere of radius
- *   r_i = ScaleFactor * (ScaleArray set ? radius[i] : Radius).
+ *   r_i = ScaleFactor * (ScaleArray set ? radius[i] : Radius),
+ * and Radius 0 (the default) is automatic: half the typical particle spacing s (the median
+ * distance of a particle to its nearest neighbour, estimated on a sample of 1024:
+ * vtkRayMapperParticleSizes), the radius at which spheres on a lattice touch. It follows the
+ * data's units and density, not its bounds: a clustered halo and a sparse sample of the same
+ * bounds get different radii, and the data scaled by 1e-3 or 1e3 the same picture.
  * Spheres are colored by the mapper's scalars through its lookup table (the usual
  * vtkMapper coloring: ScalarVisibility, ColorMode, SelectColorArray, ...) or by the
  * actor's color, and shaded with the renderer's lights (Lambert diffuse plus Phong
@@ -35,6 +40,7 @@
 
 #include "RayMappersMappersModule.h" // for export macro
 #include "vtkPolyDataMapper.h"
+#include "vtkRayMapperParticleSizes.h" // for SphereRadiusPerSpacing
 #include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 
 #include <memory> // for std::unique_ptr
@@ -69,11 +75,20 @@ public:
   ///@{
   /**
    * Constant radius, used when no radius array is selected (or it is missing).
-   * Default 1.
+   * Default 0: automatic, GetAutomaticRadiusPerSpacing() (0.5) times the typical spacing of
+   * the input's points (1% of the bounds' diagonal when there is no spacing, e.g. one point).
    */
   vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
+  static double GetAutomaticRadiusPerSpacing()
+  {
+    return vtkRayMapperParticleSizes::SphereRadiusPerSpacing;
+  }
   ///@}
+
+  /** The constant radius the spheres get for the current input: Radius, or the automatic
+   * one when Radius is 0 (before ScaleFactor). */
+  double GetRadiusInUse();
 
   ///@{
   /**
@@ -219,7 +234,7 @@ protected:
   /// Bounds of the points grown by the largest radius, so a camera reset frames the spheres.
   void ComputeBounds() override;
 
-  double Radius = 1.0;
+  double Radius = 0.0;
   char* ScaleArray = nullptr;
   double ScaleFactor = 1.0;
   int TileSize = 32;

@@ -42,6 +42,13 @@ void vtkRayMapperParticleVolumeMapper::ReleaseGraphicsResources(vtkWindow* win)
   this->Superclass::ReleaseGraphicsResources(win);
 }
 
+double vtkRayMapperParticleVolumeMapper::SizeInUse(double constant, double perSpacing)
+{
+  return constant > 0.0 ? constant
+                        : vtkRayMapperParticleSizes::AutomaticLength(
+                            this->GetDataSetInput(), perSpacing, this->Spacing);
+}
+
 double* vtkRayMapperParticleVolumeMapper::GetBounds()
 {
   vtkPointSet* input = this->Core->PointSetBounds(this, this->Bounds, this->Drawn);

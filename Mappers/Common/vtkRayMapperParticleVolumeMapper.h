@@ -15,7 +15,8 @@
 
 #include "RayMappersMappersModule.h" // for export macro
 #include "vtkAbstractVolumeMapper.h"
-#include "vtkRayMapperSetGet.h" // for vtkRayMapperScaleMacro
+#include "vtkRayMapperParticleSizes.h" // for SpacingCache
+#include "vtkRayMapperSetGet.h"        // for vtkRayMapperScaleMacro
 
 #include <cstddef> // for std::size_t
 #include <memory>  // for std::unique_ptr
@@ -84,6 +85,10 @@ protected:
   /// task arena.
   virtual void RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input) = 0;
 
+  /// The constant particle size in use: `constant` when positive, else the automatic one,
+  /// `perSpacing` times the typical spacing of the input's points (vtkRayMapperParticleSizes;
+  /// computed again only when the points change).
+  double SizeInUse(double constant, double perSpacing);
   /// The warning "<count> <what> and are not drawn." when a build skipped `count` particles.
   void WarnSkipped(std::size_t count, const char* what);
   /// The model transform of `view` (points and normals to world) into a kernel's parameters.
@@ -108,6 +113,7 @@ private:
   void operator=(const vtkRayMapperParticleVolumeMapper&) = delete;
 
   const char* Drawn;
+  vtkRayMapperParticleSizes::SpacingCache Spacing;
 };
 
 #endif

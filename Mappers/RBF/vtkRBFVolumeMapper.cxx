@@ -59,8 +59,13 @@ double vtkRBFVolumeMapper::GetSupportRadius(vtkPointSet* input)
     vtkRayMapperPointArrays::FindPointArray(input, this->ScaleArray, "radius", why);
   const double rMax = radii
     ? vtkRayMapperPointArrays::LargestParticleLength(radii, this->ScaleFactor)
-    : this->Radius * this->ScaleFactor;
+    : this->GetRadiusInUse() * this->ScaleFactor;
   return this->Sigma * rMax;
+}
+
+double vtkRBFVolumeMapper::GetRadiusInUse()
+{
+  return this->SizeInUse(this->Radius, GetAutomaticRadiusPerSpacing());
 }
 
 bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
@@ -121,7 +126,8 @@ bool vtkRBFVolumeMapper::UpdateParticles(vtkPointSet* input)
   const vtkRayMapperPointArrays::TupleReader pointReader(input->GetPoints()->GetData());
   const vtkRayMapperPointArrays::TupleReader radiusReader(radii);
   const vtkRayMapperPointArrays::TupleReader valueReader(values);
-  const double scale = this->ScaleFactor, constantRadius = this->Radius * scale;
+  const double scale = this->ScaleFactor;
+  const double constantRadius = radii ? 0.0 : this->GetRadiusInUse() * scale;
   raymappers::buildRBFParticles(
     n,
     raymappers::Vec3d(vtkRayMapperPointArrays::FiniteCenter(input->GetPoints())),

@@ -11,7 +11,12 @@
  * lights and the field's analytic gradient (Knoll et al., "RBF Volume Ray Casting on
  * Multicore and Manycore CPUs", EuroVis 2014).
  *   k_i: the first component of ValueArrayName, or 1 when it is not set.
- *   r_i: ScaleFactor * (the first component of ScaleArray, or Radius when not set).
+ *   r_i: ScaleFactor * (the first component of ScaleArray, or Radius when not set); Radius 0
+ *        (the default) is automatic: the typical particle spacing s (the median distance to
+ *        the nearest neighbour, on a sample: vtkRayMapperParticleSizes). With r = s the
+ *        field of a lattice of particles ripples by exp(-2 pi^2) ~ 3e-9 of its mean: smooth,
+ *        yet a feature one spacing wide still shows; a radius from the bounds would blur a
+ *        dense set and break a sparse one into beads, and would change with the units.
  *
  * Multi-field classification (section 5.5): with FieldArrayName set, the distinct values
  * of that point array (a category, such as an atom type) split the particles into up to
@@ -93,11 +98,20 @@ public:
   /**
    * Constant radius (used without a radius array), a radius array ScaleArray (first
    * component) and a factor ScaleFactor on either (vtkPointGaussianMapper's names).
-   * Defaults 1, none, 1.
+   * Defaults 0 (automatic: GetAutomaticRadiusPerSpacing() = 1 times the typical spacing of
+   * the points; 1% of the bounds' diagonal without one), none, 1.
    */
   vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
+  static double GetAutomaticRadiusPerSpacing()
+  {
+    return vtkRayMapperParticleSizes::RBFRadiusPerSpacing;
+  }
   ///@}
+
+  /** The constant radius in use for the current input: Radius, or the automatic one when
+   * Radius is 0 (before ScaleFactor). */
+  double GetRadiusInUse();
 
   ///@{
   /** @deprecated RadiusArrayName and RadiusScale (vtkRayMapperDeprecatedRadiusNamesMacro). */
@@ -177,7 +191,7 @@ protected:
   double Kappa = 1.0;
   double Sigma = 2.0;
   double SampleDistance = 0.0;
-  double Radius = 1.0;
+  double Radius = 0.0;
   char* ValueArrayName = nullptr;
   char* FieldArrayName = nullptr;
   double TerminationOpacity = 0.99;

@@ -20,6 +20,7 @@ struct FluidParticles
   std::vector<Vec3f> centers; // relative to origin
   std::vector<float> radius;  // r_i > 0
   float maxRadius = 0.f;
+  double meanRadius = 0.0; // the mean r_i of the particles kept: the unit of relative lengths
   std::size_t skippedNonFinite = 0; // NaN/Inf centre
   std::size_t skippedBadRadius = 0; // radius NaN/Inf, zero, negative or above MaxLength
 
@@ -50,6 +51,12 @@ void buildFluidParticles(std::size_t n,
   out.skippedBadRadius = tally.badRadius;
   out.maxRadius = tally.maxRadius;
   dropSkipped(tally, out.radius, out.centers, out.radius);
+  double sum = 0.0;
+  for (const float r : out.radius)
+  {
+    sum += r;
+  }
+  out.meanRadius = out.radius.empty() ? 0.0 : sum / static_cast<double>(out.radius.size());
 }
 
 } // namespace raymappers

@@ -61,7 +61,20 @@ double vtkSPHFluidMapper::GetSupportRadius(vtkPointSet* input)
   vtkDataArray* radii =
     vtkRayMapperPointArrays::FindPointArray(input, this->ScaleArray, "radius", why);
   return radii ? vtkRayMapperPointArrays::LargestParticleLength(radii, this->ScaleFactor)
-               : this->Radius * this->ScaleFactor;
+               : this->GetRadiusInUse() * this->ScaleFactor;
+}
+
+double vtkSPHFluidMapper::GetRadiusInUse()
+{
+  return this->SizeInUse(this->Radius, GetAutomaticRadiusPerSpacing());
+}
+
+double vtkSPHFluidMapper::GetLengthUnitSize() const
+{
+  // The mean radius of the particles built (1 for WORLD, and when there are none).
+  return this->LengthUnit == PARTICLE_RADIUS && Impl->Particles.meanRadius > 0.0
+    ? Impl->Particles.meanRadius
+    : 1.0;
 }
 
 bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
@@ -76,7 +89,8 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
   vtkRayMapperWarnIfComponentsDiffer(this, radii, "radius");
   const vtkRayMapperPointArrays::TupleReader pointReader(input->GetPoints()->GetData());
   const vtkRayMapperPointArrays::TupleReader radiusReader(radii);
-  const double scale = this->ScaleFactor, constant = this->Radius * this->ScaleFactor;
+  const double scale = this->ScaleFactor;
+  const double constant = radii ? 0.0 : this->GetRadiusInUse() * scale;
   raymappers::buildFluidParticles(
     static_cast<std::size_t>(input->GetNumberOfPoints()),
     raymappers::Vec3d(vtkRayMapperPointArrays::FiniteCenter(input->GetPoints())),
@@ -96,11 +110,12 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
 void vtkSPHFluidMapper::UpdateCells(raymappers::RenderStatistics& stats)
 {
   // Boundary-cell culling (FluidCells.h): once per particle set and culling setting.
-  const bool rebuild = Impl->CellsStamp.Changed(this, nullptr, { this->BoundaryCulling, this->CellSize });
+  const double cellSize = this->CellSize * this->GetLengthUnitSize();
+  const bool rebuild = Impl->CellsStamp.Changed(this, nullptr, { this->BoundaryCulling, cellSize });
   if (rebuild)
   {
     raymappers::ScopedPhase phase(stats, "cells");
-    raymappers::buildFluidCells(Impl->Particles, this->CellSize, this->BoundaryCulling, Impl->Cells);
+    raymappers::buildFluidCells(Impl->Particles, cellSize, this->BoundaryCulling, Impl->Cells);
   }
   const raymappers::FluidCells& cells = Impl->Cells;
   stats.setEffect("boundary_culling", this->BoundaryCulling);
@@ -121,19 +136,21 @@ raymappers::FluidRenderParameters vtkSPHFluidMapper::GatherParameters(vtkRendere
   params.voxelizer.maxLayers = this->MaximumLayers;
   params.voxelizer.maxSpans = this->MaximumSpans;
   params.voxelizer.memoryBudget = static_cast<std::size_t>(this->MemoryBudget * 1024.0 * 1024.0);
-  params.voxelizer.gapThreshold = this->GapThreshold;
+  // Lengths in LengthUnit, absorption per LengthUnit.
+  const double unit = this->GetLengthUnitSize();
+  params.voxelizer.gapThreshold = this->GapThreshold * unit;
   params.voxelizer.cells = &Impl->Cells;
-  params.smoothingRadius = this->SmoothingRadius;
+  params.smoothingRadius = this->SmoothingRadius * unit;
   params.smoothingIterations = this->SmoothingIterations;
   params.color = { this->Color[0], this->Color[1], this->Color[2] };
   params.translucency = this->Translucency;
   params.absorptionColor = { this->AbsorptionColor[0], this->AbsorptionColor[1],
     this->AbsorptionColor[2] };
-  params.density = this->Density;
+  params.density = this->Density / unit;
   params.refractiveIndex = this->RefractiveIndex;
   params.bounces = this->Bounces;
   params.ambientOcclusion = this->AmbientOcclusion;
-  params.aoRadius = this->AmbientOcclusionRadius;
+  params.aoRadius = this->AmbientOcclusionRadius * unit;
   params.aoSamples = this->AmbientOcclusionSamples;
   if (vtkVolumeProperty* property = vol->GetProperty())
   {
@@ -203,6 +220,8 @@ void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "LengthUnit: " << (this->LengthUnit == WORLD ? "WORLD" : "PARTICLE_RADIUS")
+     << "\n";
   os << indent << "AngleResolution: " << this->AngleResolution << "\n";
   os << indent << "MaximumLayers: " << this->MaximumLayers << "\n";
   os << indent << "MaximumSpans: " << this->MaximumSpans << "\n";

@@ -5,6 +5,15 @@
  *
  * Every point i of the input vtkPointSet (cells are ignored) is a sphere of radius
  * r_i = ScaleFactor * (ScaleArray, else Radius); the union of the spheres is the fluid.
+ * Radius 0 (the default) is automatic: the typical particle spacing s (the median distance
+ * to the nearest neighbour, on a sample: vtkRayMapperParticleSizes). Spheres of radius s on a
+ * cubic lattice leave no cavity (that needs r >= (sqrt(3)/2) s = 0.87 s) and bulge only
+ * s - sqrt(s^2 - s^2/4) = 0.13 s between neighbours on a flat face.
+ *
+ * Lengths: with LengthUnit PARTICLE_RADIUS (the default) Density is the absorption per mean
+ * particle radius rbar, and GapThreshold, SmoothingRadius, AmbientOcclusionRadius and
+ * CellSize are in radii: the same particles in other units (x1e-3, x1e3) give the same
+ * picture. LengthUnit WORLD takes them in the input's (model) units, as given.
  * Once per input, boundary-cell culling (BoundaryCulling, CellSize; sections 3.1 and 4.3)
  * finds the cells of a uniform grid that the spheres provably cover and drops the particles
  * of cells whose neighbours are all covered: the covered cells are filled as boxes instead,
@@ -13,15 +22,15 @@
  * section 4.2: the layers keep the angle AngleResolution, at most MaximumLayers of them), in
  * tiles that fit MemoryBudget, compresses each pixel's column into at most MaximumSpans
  * spans (the absorption beyond them stays exact), bridges gaps shorter than GapThreshold
- * (world units; 0: none), connects the spans of neighbouring pixels into surfaces, smooths
- * them with a world-space radius SmoothingRadius (0: no smoothing pass; at most
+ * (LengthUnit; 0: none), connects the spans of neighbouring pixels into surfaces, smooths
+ * them with the radius SmoothingRadius (0: no smoothing pass; at most
  * SmoothingIterations iterations), takes normals with a Sobel operator along the links and
  * renders (kernels: FluidCells.h, SpanVoxelizer.h, SurfaceLinks.h, FluidRenderer.h, which
  * give the formulas):
  *   - the front surface lit by the renderer's lights with Color and the vtkVolumeProperty's
  *     Ambient, Diffuse, Specular and SpecularPower;
  *   - Translucency on (default): Beer-Lambert absorption kappa = Density * AbsorptionColor
- *     per world unit over all spans; the background shows through by exp(-kappa l);
+ *     per LengthUnit over all spans; the background shows through by exp(-kappa l);
  *   - RefractiveIndex != 1 (with Translucency): refraction, Fresnel reflection and total
  *     internal reflection by marching the rays through the columns, Bounces surface events;
  *   - AmbientOcclusion: deep screen-space occlusion over all layers, AmbientOcclusionSamples
@@ -84,6 +93,29 @@ public:
    * ScaleFactor on either (1; vtkPointGaussianMapper's names). */
   vtkRayMapperSetClampMacro(Radius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Radius, double);
+  static double GetAutomaticRadiusPerSpacing()
+  {
+    return vtkRayMapperParticleSizes::FluidRadiusPerSpacing;
+  }
+  ///@}
+
+  /** The constant radius in use for the current input: Radius, or the automatic one when
+   * Radius is 0 (before ScaleFactor). */
+  double GetRadiusInUse();
+
+  ///@{
+  /** The unit of Density (absorption per unit), GapThreshold, SmoothingRadius,
+   * AmbientOcclusionRadius and CellSize: the mean particle radius (PARTICLE_RADIUS, default)
+   * or the input's own unit (WORLD). */
+  enum LengthUnits
+  {
+    WORLD = 0,
+    PARTICLE_RADIUS = 1
+  };
+  vtkSetClampMacro(LengthUnit, int, WORLD, PARTICLE_RADIUS);
+  vtkGetMacro(LengthUnit, int);
+  void SetLengthUnitToWorld() { this->SetLengthUnit(WORLD); }
+  void SetLengthUnitToParticleRadius() { this->SetLengthUnit(PARTICLE_RADIUS); }
   ///@}
 
   ///@{
@@ -94,7 +126,7 @@ public:
   ///@{
   /** Voxelization: angle resolution in degrees (14), at most this many depth layers
    * (16384), spans kept per pixel (7, at most 63), temporary memory in MB (512), gap
-   * threshold in world units (0: no gap bridging). */
+   * threshold in LengthUnit (0: no gap bridging). */
   vtkRayMapperSetClampMacro(AngleResolution, double, 0.01, 89.0);
   vtkGetMacro(AngleResolution, double);
   vtkRayMapperSetClampMacro(MaximumLayers, int, 1, 1 << 20);
@@ -112,7 +144,7 @@ public:
    * neighbours are full are not splatted; the full cells are filled as boxes instead
    * (FluidCells.h: "full" means the cell's box is covered by the spheres, so the fluid is the
    * same). CellSize:
-   * the culling grid's cell size in world units (0, default: twice the largest radius; at
+   * the culling grid's cell size in LengthUnit (0, default: twice the largest radius; at
    * least the largest radius). */
   vtkSetMacro(BoundaryCulling, bool);
   vtkGetMacro(BoundaryCulling, bool);
@@ -121,7 +153,7 @@ public:
   vtkGetMacro(CellSize, double);
   ///@}
   ///@{
-  /** Surface smoothing: world-space radius (0, default: no smoothing pass) and the largest
+  /** Surface smoothing: radius in LengthUnit (0, default: no smoothing pass) and the largest
    * number of iterations (20). */
   vtkRayMapperSetClampMacro(SmoothingRadius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingRadius, double);
@@ -136,8 +168,10 @@ public:
   ///@}
 
   ///@{
-  /** Translucency (on): absorption per world unit Density (1) * AbsorptionColor
-   * (0.8, 0.35, 0.15); off: an opaque surface that writes depth. */
+  /** Translucency (on): absorption per LengthUnit Density (0.05) * AbsorptionColor
+   * (0.8, 0.35, 0.15): through 40 radii of fluid the blue light keeps exp(-0.3) = 74% and
+   * the red 20%, so water reads as blue-green and what lies behind it still shows; off: an
+   * opaque surface that writes depth. */
   vtkSetMacro(Translucency, bool);
   vtkGetMacro(Translucency, bool);
   vtkBooleanMacro(Translucency, bool);
@@ -156,7 +190,7 @@ public:
   ///@}
 
   ///@{
-  /** Ambient occlusion (off), its world radius (0.1) and samples per pixel (16). */
+  /** Ambient occlusion (off), its radius in LengthUnit (4) and samples per pixel (16). */
   vtkSetMacro(AmbientOcclusion, bool);
   vtkGetMacro(AmbientOcclusion, bool);
   vtkBooleanMacro(AmbientOcclusion, bool);
@@ -193,7 +227,8 @@ protected:
   /// One render, in the mapper's task arena (Render runs it there).
   void RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input) override;
 
-  double Radius = 1.0;
+  double Radius = 0.0;
+  int LengthUnit = PARTICLE_RADIUS;
   double AngleResolution = 14.0;
   int MaximumLayers = 16384;
   int MaximumSpans = 7;
@@ -211,11 +246,11 @@ protected:
   double Color[3] = { 0.55, 0.75, 0.95 };
   bool Translucency = true;
   double AbsorptionColor[3] = { 0.8, 0.35, 0.15 };
-  double Density = 1.0;
+  double Density = 0.05;
   double RefractiveIndex = 1.0;
   int Bounces = 4;
   bool AmbientOcclusion = false;
-  double AmbientOcclusionRadius = 0.1;
+  double AmbientOcclusionRadius = 4.0;
   int AmbientOcclusionSamples = 16;
 
 private:
@@ -227,6 +262,8 @@ private:
   bool UpdateParticles(vtkPointSet* input);
   /// Rebuilds the boundary-culling cells when the particles or the culling settings changed.
   void UpdateCells(raymappers::RenderStatistics& stats);
+  /// The model-space length of LengthUnit: the particles' mean radius, or 1 for WORLD.
+  double GetLengthUnitSize() const;
   /// The kernel's parameters: the properties, the model transform, lights and material.
   raymappers::FluidRenderParameters GatherParameters(vtkRenderer* ren,
     vtkVolume* vol,

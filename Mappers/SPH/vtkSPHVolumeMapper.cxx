@@ -68,7 +68,13 @@ double vtkSPHVolumeMapper::GetSupportRadius(vtkPointSet* input)
     vtkRayMapperPointArrays::FindPointArray(input, this->ScaleArray, "smoothing length", why);
   const double factor = this->GetSupportPerSmoothingLength();
   return h ? vtkRayMapperPointArrays::LargestParticleLength(h, factor * this->ScaleFactor)
-           : factor * this->SmoothingLength * this->ScaleFactor;
+           : factor * this->GetSmoothingLengthInUse() * this->ScaleFactor;
+}
+
+double vtkSPHVolumeMapper::GetSmoothingLengthInUse()
+{
+  return this->SizeInUse(
+    this->SmoothingLength, GetAutomaticSupportPerSpacing() / this->GetSupportPerSmoothingLength());
 }
 
 void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
@@ -127,7 +133,8 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   const vtkRayMapperPointArrays::TupleReader hReader(h), valueReader(values),
     volumeReader(volumes), massReader(masses), densityReader(densities);
   const double hScale = this->ScaleFactor * factor;
-  const double hConstant = this->SmoothingLength * hScale, vConstant = this->Volume;
+  const double hConstant = h ? 0.0 : this->GetSmoothingLengthInUse() * hScale;
+  const double vConstant = this->Volume;
   const auto n = static_cast<std::size_t>(input->GetNumberOfPoints());
   raymappers::buildSPHParticles(
     n,

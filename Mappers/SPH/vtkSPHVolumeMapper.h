@@ -14,6 +14,11 @@
  *   h_i: ScaleFactor * (ScaleArray, else SmoothingLength); the
  *        kernel's support is H_i = SupportFactor * h_i (SupportFactor 0: the kernel's own
  *        convention, h for poly6 and 2h for the cubic spline and Wendland C2).
+ *        SmoothingLength 0 (the default) is automatic: the support H = 2.4 s, s the typical
+ *        particle spacing (the median nearest-neighbour distance on a sample:
+ *        vtkRayMapperParticleSizes), i.e. h = 1.2 s for the cubic spline, the ratio SPH
+ *        codes run with (about 58 neighbours inside the support on a lattice), so the
+ *        normalized field is smooth and follows the data's units, not its bounds.
  *
  * Normalization: NORMALIZED (equation 3.14, default), UNNORMALIZED (3.15) or
  * PSEUDO_NORMALIZED (3.16, divided by ReferenceWeightSum; 0 chooses 12 neighbours at half
@@ -96,11 +101,20 @@ public:
   ///@}
 
   ///@{
-  /** Constant smoothing length (default 1), its array ScaleArray, and a factor ScaleFactor
-   * on either (1; vtkPointGaussianMapper's names). */
+  /** Constant smoothing length (default 0: automatic, GetAutomaticSupportPerSpacing() = 2.4
+   * spacings of support; 1% of the bounds' diagonal without a spacing), its array ScaleArray,
+   * and a factor ScaleFactor on either (1; vtkPointGaussianMapper's names). */
   vtkRayMapperSetClampMacro(SmoothingLength, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingLength, double);
+  static double GetAutomaticSupportPerSpacing()
+  {
+    return vtkRayMapperParticleSizes::SPHSupportPerSpacing;
+  }
   ///@}
+
+  /** The constant smoothing length in use for the current input: SmoothingLength, or the
+   * automatic one when it is 0 (before ScaleFactor). */
+  double GetSmoothingLengthInUse();
 
   ///@{
   /** @deprecated SmoothingLengthArrayName and SmoothingLengthScale, the old names of
@@ -208,7 +222,7 @@ protected:
 
   int Kernel = VTK_SPH_KERNEL_CUBIC_SPLINE;
   double SupportFactor = 0.0;
-  double SmoothingLength = 1.0;
+  double SmoothingLength = 0.0;
   char* ValueArrayName = nullptr;
   char* VolumeArrayName = nullptr;
   char* MassArrayName = nullptr;

@@ -37,6 +37,11 @@ vtkRBFVolumeMapper* vtkRBFVolumeRepresentation::GetMapper()
 }
 
 //----------------------------------------------------------------------------
+double vtkRBFVolumeRepresentation::GetAutomaticRadiusPerSpacing()
+{
+  return vtkRBFVolumeMapper::GetAutomaticRadiusPerSpacing();
+}
+
 void vtkRBFVolumeRepresentation::PushRadius(double& radius, double& scale, const char* radiusArray)
 {
   vtkRayMapperPushRadius(this->Mapper.Get(), radius, scale, radiusArray);

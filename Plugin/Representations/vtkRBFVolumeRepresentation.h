@@ -92,6 +92,7 @@ protected:
   ~vtkRBFVolumeRepresentation() override;
 
   void PushRadius(double& radius, double& scale, const char* radiusArray) override;
+  double GetAutomaticRadiusPerSpacing() override;
   /** The field reaches Sigma radii beyond the points. */
   double GetParticleReach() override;
   void SetRegion(const double bounds[6]) override;

@@ -4,9 +4,13 @@
 #include "vtkAlgorithm.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkMath.h"
+#include "vtkMultiProcessController.h"
+#include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
 #include "vtkRayMapperGatherPoints.h"
+#include "vtkRayMapperPointArrays.h"
 #include "vtkRayMapperSetGet.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
@@ -67,6 +71,7 @@ void vtkRayMapperParticleRepresentation::PrintSelf(ostream& os, vtkIndent indent
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Radius: " << this->Radius << "\n";
+  os << indent << "AutomaticRadius: " << this->AutomaticRadius << "\n";
   os << indent << "RadiusScale: " << this->RadiusScale << "\n";
   os << indent << "UseRadiusArray: " << this->UseRadiusArray << "\n";
   os << indent << "RadiusArrayName: " << this->RadiusArrayName << "\n";
@@ -81,7 +86,53 @@ int vtkRayMapperParticleRepresentation::RequestData(vtkInformation* request,
   this->ProcessedData = vtkRayMapperGatherPoints(
     inputVector[0]->GetNumberOfInformationObjects() == 1 ? vtkDataObject::GetData(inputVector[0], 0)
                                                          : nullptr);
+  this->UpdateAutomaticRadius();
   return this->Superclass::RequestData(request, inputVector, outputVector);
+}
+
+void vtkRayMapperParticleRepresentation::UpdateAutomaticRadius()
+{
+  // The typical spacing, and the bounds for its fallback, over all processes: a process
+  // without particles takes no part in the minimum.
+  double spacing = this->Spacing.Spacing(this->ProcessedData->GetPoints());
+  double bounds[6];
+  vtkRayMapperPointArrays::FiniteBounds(this->ProcessedData, bounds);
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (controller && controller->GetNumberOfProcesses() > 1)
+  {
+    // One MIN reduction each: the spacing, the lower corners and the negated upper ones.
+    double local = spacing > 0.0 ? spacing : VTK_DOUBLE_MAX;
+    double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+    double hi[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
+    for (int a = 0; a < 3 && vtkMath::AreBoundsInitialized(bounds); ++a)
+    {
+      lo[a] = bounds[2 * a];
+      hi[a] = -bounds[2 * a + 1];
+    }
+    double globalMin = local, globalLo[3], globalHi[3];
+    controller->AllReduce(&local, &globalMin, 1, vtkCommunicator::MIN_OP);
+    controller->AllReduce(lo, globalLo, 3, vtkCommunicator::MIN_OP);
+    controller->AllReduce(hi, globalHi, 3, vtkCommunicator::MIN_OP);
+    spacing = globalMin < VTK_DOUBLE_MAX ? globalMin : 0.0;
+    vtkMath::UninitializeBounds(bounds);
+    for (int a = 0; a < 3 && globalLo[0] <= -globalHi[0]; ++a)
+    {
+      bounds[2 * a] = globalLo[a];
+      bounds[2 * a + 1] = -globalHi[a];
+    }
+  }
+  const double automatic = vtkRayMapperParticleSizes::AutomaticLengthFrom(
+    spacing, bounds, this->GetAutomaticRadiusPerSpacing());
+  if (automatic != this->AutomaticRadius)
+  {
+    this->AutomaticRadius = automatic;
+    this->PushRadiusInUse();
+  }
+}
+
+double vtkRayMapperParticleRepresentation::GetRadiusInUse() const
+{
+  return this->Radius == 0.0 ? this->AutomaticRadius : this->Radius;
 }
 
 vtkDataSet* vtkRayMapperParticleRepresentation::GetProcessedData()
@@ -94,7 +145,7 @@ double vtkRayMapperParticleRepresentation::GetBoundsMargin()
   // The particles reach GetParticleReach() of their radius beyond their points.
   return this->GetParticleReach() *
          vtkRayMapperLargestRadius(
-           this->ProcessedData, this->GetRadiusArrayInUse(), this->Radius, this->RadiusScale);
+           this->ProcessedData, this->GetRadiusArrayInUse(), this->GetRadiusInUse(), this->RadiusScale);
 }
 
 void vtkRayMapperParticleRepresentation::SetDeliveredPiece(vtkDataObject* piece)
@@ -124,9 +175,24 @@ const char* vtkRayMapperParticleRepresentation::GetRadiusArrayInUse() const
                                                                 : nullptr;
 }
 
+void vtkRayMapperParticleRepresentation::PushRadiusInUse()
+{
+  // The automatic radius is pushed as it is (0 before the first RequestData: the mapper's
+  // own automatic radius). A radius the user set goes as it is, so that the mapper warns
+  // about a bad one, and is kept as the mapper accepted it: NaN rejected (the radius stays
+  // what it was, automatic again when it was the automatic one), a negative one clamped to
+  // 0, i.e. automatic.
+  double radius = this->GetRadiusInUse();
+  this->PushRadius(radius, this->RadiusScale, this->GetRadiusArrayInUse());
+  if (this->Radius != 0.0)
+  {
+    this->Radius = radius == this->AutomaticRadius ? 0.0 : radius;
+  }
+}
+
 void vtkRayMapperParticleRepresentation::UpdateRadiusParameters()
 {
-  this->PushRadius(this->Radius, this->RadiusScale, this->GetRadiusArrayInUse());
+  this->PushRadiusInUse();
   this->Modified();
 }
 

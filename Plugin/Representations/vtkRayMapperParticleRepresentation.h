@@ -13,7 +13,13 @@
  * The particle radius r_i is RadiusScale * (the radius array's value at the point, when
  * UseRadiusArray is on and an array is selected, else Radius): the spheres' radius, the
  * Gaussians' radius, the SPH smoothing length h, the fluid spheres' radius. This class keeps
- * the settings as the mapper accepted them (PushRadius()); the rendered data reaches
+ * the settings as the mapper accepted them (PushRadius()). Radius 0 (the default) is
+ * automatic: GetAutomaticRadiusPerSpacing() times the typical spacing of the particles
+ * (vtkRayMapperParticleSizes), computed in RequestData on all of them: with several
+ * processes the smallest of the processes' spacings (a process holding a spatial piece sees
+ * the global spacing; one holding a random subset of n/p particles would overestimate it by
+ * p^(1/3), which the minimum over processes does not correct), so that every process draws
+ * the same radius. The rendered data reaches
  * GetParticleReach() radii beyond the points, which grows the bounds the view sees.
  *
  * Ambient, Diffuse, Specular and SpecularPower are the material of the prop's property (the
@@ -25,6 +31,7 @@
 #define vtkRayMapperParticleRepresentation_h
 
 #include "RayMappersRepresentationsModule.h" // for export macro
+#include "vtkRayMapperParticleSizes.h" // for SpacingCache
 #include "vtkRayMapperPropRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
@@ -45,11 +52,17 @@ public:
 
   ///@{
   /**
-   * Radius of every particle when no radius array is used. Default 1.
+   * Radius of every particle when no radius array is used. Default 0: automatic (see above).
    */
   void SetRadius(double radius);
   double GetRadius() const { return this->Radius; }
   ///@}
+
+  /**
+   * The constant radius the mapper gets: Radius, or the automatic one when Radius is 0 (the
+   * information property ...RadiusInUse of the panels).
+   */
+  double GetRadiusInUse() const;
 
   ///@{
   /**
@@ -110,6 +123,11 @@ protected:
   virtual void PushRadius(double& radius, double& scale, const char* radiusArray) = 0;
 
   /**
+   * The automatic radius per typical particle spacing (the mapper's own factor).
+   */
+  virtual double GetAutomaticRadiusPerSpacing() = 0;
+
+  /**
    * How far a particle's rendered geometry or field reaches, in radii (default 1).
    */
   virtual double GetParticleReach() { return 1.0; }
@@ -132,13 +150,20 @@ protected:
   void UpdateRadiusParameters();
 
   vtkSmartPointer<vtkPolyData> ProcessedData;
-  double Radius = 1.0;
+  double Radius = 0.0;
   double RadiusScale = 1.0;
   bool UseRadiusArray = false;
   std::string RadiusArrayName;
 
 private:
+  /// Computes AutomaticRadius from ProcessedData (collective with several processes).
+  void UpdateAutomaticRadius();
+  /// Hands the radius settings in use to the mapper, keeping what it accepted.
+  void PushRadiusInUse();
+
   vtkAlgorithm* ParticleMapper = nullptr;
+  double AutomaticRadius = 0.0;
+  vtkRayMapperParticleSizes::SpacingCache Spacing;
   /// The four material coefficients in the order of the lighting setters.
   enum class Material
   {

@@ -110,6 +110,11 @@ void vtkRayTracedSpheresRepresentation::SetMapScalars(int val)
 }
 
 //----------------------------------------------------------------------------
+double vtkRayTracedSpheresRepresentation::GetAutomaticRadiusPerSpacing()
+{
+  return vtkCGTSphereMapper::GetAutomaticRadiusPerSpacing();
+}
+
 void vtkRayTracedSpheresRepresentation::PushRadius(double& radius, double& scale, const char* radiusArray)
 {
   vtkRayMapperPushRadius(this->Mapper.Get(), radius, scale, radiusArray);

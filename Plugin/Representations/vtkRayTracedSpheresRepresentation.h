@@ -114,6 +114,7 @@ protected:
 
   void UpdateMapperParameters() override;
   void PushRadius(double& radius, double& scale, const char* radiusArray) override;
+  double GetAutomaticRadiusPerSpacing() override;
 
   /**
    * Pushes the color array selection (SetInputArrayToProcess(0, ...)) to the mapper.

@@ -38,6 +38,11 @@ vtkVolume* vtkSPHFluidRepresentation::GetVolume()
 }
 
 //----------------------------------------------------------------------------
+double vtkSPHFluidRepresentation::GetAutomaticRadiusPerSpacing()
+{
+  return vtkSPHFluidMapper::GetAutomaticRadiusPerSpacing();
+}
+
 void vtkSPHFluidRepresentation::PushRadius(double& radius, double& scale, const char* radiusArray)
 {
   vtkRayMapperPushRadius(this->Mapper.Get(), radius, scale, radiusArray);
@@ -50,6 +55,7 @@ vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetAngleResolution, double, 
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetMaximumLayers, int, SetMaximumLayers)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetMaximumSpans, int, SetMaximumSpans)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetMemoryBudget, double, SetMemoryBudget)
+vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetLengthUnit, int, SetLengthUnit)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetGapThreshold, double, SetGapThreshold)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetBoundaryCulling, bool, SetBoundaryCulling)
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetCellSize, double, SetCellSize)

@@ -40,6 +40,7 @@ public:
   void SetMaximumLayers(int layers);
   void SetMaximumSpans(int spans);
   void SetMemoryBudget(double megabytes);
+  void SetLengthUnit(int unit);
   void SetGapThreshold(double g);
   void SetBoundaryCulling(bool on);
   void SetCellSize(double size);
@@ -70,6 +71,7 @@ protected:
   ~vtkSPHFluidRepresentation() override;
 
   void PushRadius(double& radius, double& scale, const char* radiusArray) override;
+  double GetAutomaticRadiusPerSpacing() override;
   Distribution GetDistribution() override { return Distribution::GatherToFirst; }
 
   vtkSmartPointer<vtkVolume> Volume;

@@ -41,6 +41,13 @@ vtkSPHVolumeMapper* vtkSPHVolumeRepresentation::GetMapper()
 }
 
 //----------------------------------------------------------------------------
+double vtkSPHVolumeRepresentation::GetAutomaticRadiusPerSpacing()
+{
+  // The smoothing length whose kernel support is the mapper's automatic support.
+  return vtkSPHVolumeMapper::GetAutomaticSupportPerSpacing() /
+    this->Mapper->GetSupportPerSmoothingLength();
+}
+
 void vtkSPHVolumeRepresentation::PushRadius(double& radius, double& scale, const char* radiusArray)
 {
   this->Mapper->SetSmoothingLength(radius);

@@ -71,6 +71,7 @@ protected:
   ~vtkSPHVolumeRepresentation() override;
 
   void PushRadius(double& radius, double& scale, const char* radiusArray) override;
+  double GetAutomaticRadiusPerSpacing() override;
   /** The kernel's support in smoothing lengths. */
   double GetParticleReach() override;
   void SetRegion(const double bounds[6]) override;

@@ -37,6 +37,7 @@ import os
 import sys
 
 from paraview.simple import *  # noqa: F401,F403 (pvpython test)
+import numpy
 from vtkmodules.vtkIOImage import vtkPNGReader
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
@@ -232,8 +233,12 @@ def run_checks(args, source, view, stem):
                  'SpecularPower', 'SpecularColor'):
         check(rep.GetProperty(name) is not None, 'property %s exists' % name)
 
-    check(math.isclose(rep.Radius, 0.01 * extent, rel_tol=1e-6),
-          'default Radius %g is 1%% of the extent %g' % (rep.Radius, extent))
+    check(rep.Radius == 0.0, 'default Radius 0: automatic')
+    Render(view)
+    points = [vtk_to_numpy(leaf.GetPoints().GetData())
+              for leaf in leaves(servermanager.Fetch(source)) if leaf.GetNumberOfPoints()]
+    raymappers_testing.check_automatic_size(
+        rep, 'RadiusInUse', numpy.concatenate(points), 0.5, 'radius')
     check(rep.UseRadiusArray == 0 and rep.RadiusScale == 1.0,
           'defaults UseRadiusArray=0, RadiusScale=1')
 

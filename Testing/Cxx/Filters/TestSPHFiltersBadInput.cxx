@@ -313,8 +313,7 @@ void Voxelizer()
       { "CameraPosition", [&](double x) { v->SetCameraPosition(1.5, 2, x); }, 12, nan, 0, "" },
       { "CameraViewAngle", [&](double x) { v->SetCameraViewAngle(x); }, 30, nan, 0, "" },
       { "Radius", [&](double x) { v->SetRadius(x); }, 0.6, -1, 0,
-        "Radius -1 is outside [0, 1e+15]: clamped to 0", 1,
-        "64 particles have a zero, negative, non-finite or huge" },
+        "Radius -1 is outside [0, 1e+15]: clamped to 0", 0, "" }, // 0: automatic, kept
       { "AngleResolution", [&](double x) { v->SetAngleResolution(x); }, 14, 0, 0.01,
         "AngleResolution 0 is outside [0.01, 89]" },
       { "MaximumSpans", [&](double x) { v->SetMaximumSpans(static_cast<int>(x)); }, 7, 100, 63,

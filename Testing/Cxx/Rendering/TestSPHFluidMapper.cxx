@@ -45,6 +45,72 @@ const unsigned char* Pixel(const std::vector<unsigned char>& rgb, int width, int
 {
   return &rgb[3 * (static_cast<std::size_t>(j) * width + i)];
 }
+
+// Closed form: Beer-Lambert through one sphere of radius `scale` (Density 1 per particle
+// radius, so the same transmittance at every scale), and stopped by a plane through it.
+bool CheckBeerLambert(double scale)
+{
+  bool ok = true;
+  auto check = [&](bool condition, const char* what) {
+    std::printf("%s %s\n", condition ? "ok  " : "FAIL", what);
+    ok = ok && condition;
+  };
+  auto one = rmtest::MakeSpheres({ { 0.0, 0.0, 0.0 } }, { scale });
+  vtkNew<vtkSPHFluidMapper> fluid;
+  fluid->SetInputData(one);
+  fluid->SetRadius(scale);
+  fluid->SetDensity(1); // per particle radius: kappa per radius, whatever the units
+  fluid->SetSmoothingRadius(0);
+  fluid->SetColor(0, 0, 0);
+  const double kappa = 0.6;
+  fluid->SetAbsorptionColor(kappa, kappa, kappa);
+  fluid->SetAngleResolution(2.0);
+  vtkNew<vtkVolume> v;
+  v->SetMapper(fluid);
+  vtkNew<vtkVolumeProperty> flat;
+  flat->SetSpecular(0);
+  v->SetProperty(flat);
+  vtkNew<vtkRenderer> r2;
+  r2->SetBackground(1, 1, 1);
+  r2->AddVolume(v);
+  vtkNew<vtkRenderWindow> w2;
+  w2->SetSize(101, 101);
+  w2->AddRenderer(r2);
+  r2->GetActiveCamera()->SetPosition(0, 0, 6 * scale);
+  r2->GetActiveCamera()->SetFocalPoint(0, 0, 0);
+  r2->ResetCameraClippingRange();
+  w2->Render();
+  auto rgb = rmtest::ReadRGB(w2);
+  const unsigned char* centre = Pixel(rgb, 101, 50, 50);
+  const double expected = 255 * std::exp(-kappa * 2.0);
+  std::printf("radius %g, through the sphere: %d %d %d, exp(-kappa 2) = %.1f\n", scale, centre[0], centre[1],
+    centre[2], expected);
+  check(std::abs(centre[0] - expected) <= 2 && centre[1] == centre[0] && centre[2] == centre[0],
+    "the background shows through by exp(-kappa l), l = 2r");
+  // An unlit white plane z = 0 behind the sphere's front half.
+  vtkNew<vtkPlaneSource> plane;
+  plane->SetOrigin(-3 * scale, -3 * scale, 0);
+  plane->SetPoint1(3 * scale, -3 * scale, 0);
+  plane->SetPoint2(-3 * scale, 3 * scale, 0);
+  vtkNew<vtkPolyDataMapper> planeMapper;
+  planeMapper->SetInputConnection(plane->GetOutputPort());
+  vtkNew<vtkActor> planeActor;
+  planeActor->SetMapper(planeMapper);
+  planeActor->GetProperty()->SetColor(1, 1, 1);
+  planeActor->GetProperty()->SetAmbient(1);
+  planeActor->GetProperty()->SetDiffuse(0);
+  planeActor->GetProperty()->SetSpecular(0);
+  r2->AddActor(planeActor);
+  r2->ResetCameraClippingRange();
+  w2->Render();
+  rgb = rmtest::ReadRGB(w2);
+  centre = Pixel(rgb, 101, 50, 50);
+  const double half = 255 * std::exp(-kappa * 1.0);
+  std::printf("to the plane: %d %d %d, exp(-kappa 1) = %.1f\n", centre[0], centre[1], centre[2],
+    half);
+  check(std::abs(centre[0] - half) <= 2, "an opaque plane through the centre: exp(-kappa r)");
+  return ok;
+}
 }
 
 int TestSPHFluidMapper(int argc, char* argv[])
@@ -67,6 +133,11 @@ int TestSPHFluidMapper(int argc, char* argv[])
   mapper->SetRadiusArrayName("h");
   mapper->SetRadiusScale(0.8);
   mapper->SetAbsorptionColor(4.0, 1.5, 0.8);
+  // World lengths, as the baselines were made: absorption 1 per unit, no smoothing unless
+  // set below (TestSPHFluidRelativeLengths covers the relative defaults).
+  mapper->SetLengthUnitToWorld();
+  mapper->SetDensity(1);
+  mapper->SetSmoothingRadius(0);
   vtkNew<vtkVolumeProperty> property;
   property->SetAmbient(0.25);
   property->SetDiffuse(0.75);
@@ -275,59 +346,9 @@ int TestSPHFluidMapper(int argc, char* argv[])
   render();
   check(rmtest::CompareWithBaseline(win, argc, argv) == EXIT_SUCCESS, "matches the baseline");
 
-  // Closed form: Beer-Lambert through one sphere, and stopped by a plane through it.
+  for (const double scale : { 1.0, 1e-3, 1e3 })
   {
-    auto one = rmtest::MakeSpheres({ { 0.0, 0.0, 0.0 } }, { 1.0 });
-    vtkNew<vtkSPHFluidMapper> fluid;
-    fluid->SetInputData(one);
-    fluid->SetColor(0, 0, 0);
-    const double kappa = 0.6;
-    fluid->SetAbsorptionColor(kappa, kappa, kappa);
-    fluid->SetAngleResolution(2.0);
-    vtkNew<vtkVolume> v;
-    v->SetMapper(fluid);
-    vtkNew<vtkVolumeProperty> flat;
-    flat->SetSpecular(0);
-    v->SetProperty(flat);
-    vtkNew<vtkRenderer> r2;
-    r2->SetBackground(1, 1, 1);
-    r2->AddVolume(v);
-    vtkNew<vtkRenderWindow> w2;
-    w2->SetSize(101, 101);
-    w2->AddRenderer(r2);
-    r2->GetActiveCamera()->SetPosition(0, 0, 6);
-    r2->GetActiveCamera()->SetFocalPoint(0, 0, 0);
-    r2->ResetCameraClippingRange();
-    w2->Render();
-    auto rgb = rmtest::ReadRGB(w2);
-    const unsigned char* centre = Pixel(rgb, 101, 50, 50);
-    const double expected = 255 * std::exp(-kappa * 2.0);
-    std::printf("through the sphere: %d %d %d, exp(-kappa 2) = %.1f\n", centre[0], centre[1],
-      centre[2], expected);
-    check(std::abs(centre[0] - expected) <= 2 && centre[1] == centre[0] && centre[2] == centre[0],
-      "the background shows through by exp(-kappa l), l = 2r");
-    // An unlit white plane z = 0 behind the sphere's front half.
-    vtkNew<vtkPlaneSource> plane;
-    plane->SetOrigin(-3, -3, 0);
-    plane->SetPoint1(3, -3, 0);
-    plane->SetPoint2(-3, 3, 0);
-    vtkNew<vtkPolyDataMapper> planeMapper;
-    planeMapper->SetInputConnection(plane->GetOutputPort());
-    vtkNew<vtkActor> planeActor;
-    planeActor->SetMapper(planeMapper);
-    planeActor->GetProperty()->SetColor(1, 1, 1);
-    planeActor->GetProperty()->SetAmbient(1);
-    planeActor->GetProperty()->SetDiffuse(0);
-    planeActor->GetProperty()->SetSpecular(0);
-    r2->AddActor(planeActor);
-    r2->ResetCameraClippingRange();
-    w2->Render();
-    rgb = rmtest::ReadRGB(w2);
-    centre = Pixel(rgb, 101, 50, 50);
-    const double half = 255 * std::exp(-kappa * 1.0);
-    std::printf("to the plane: %d %d %d, exp(-kappa 1) = %.1f\n", centre[0], centre[1], centre[2],
-      half);
-    check(std::abs(centre[0] - half) <= 2, "an opaque plane through the centre: exp(-kappa r)");
+    check(CheckBeerLambert(scale), "Beer-Lambert per particle radius at this scale");
   }
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }

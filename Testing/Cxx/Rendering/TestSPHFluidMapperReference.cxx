@@ -152,6 +152,7 @@ int TestSPHFluidMapperReference(int argc, char* argv[])
   mapper->SetInputData(particles);
   mapper->SetRadius(radius);
   mapper->TranslucencyOff();
+  mapper->SetSmoothingRadius(0); // the reference has the union of the spheres, unsmoothed
   vtkNew<vtkVolume> volume;
   volume->SetMapper(mapper);
   volume->SetProperty(vtkNew<vtkVolumeProperty>());
