@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -283,6 +284,69 @@ void ParticleBVH::build(RBFParticles& particles, int leafSize)
   embree.release();
   permute(particles, order);
   computeBounds(Nodes, particles);
+}
+
+namespace
+{
+/// W(x) of medianWeightSum: the point query of x in the BVH grown by sigma r_max.
+double weightSumAt(const RBFParticles& particles,
+  const std::vector<BVHNode>& nodes,
+  const Vec3f& x,
+  float sigma,
+  std::vector<std::uint32_t>& stack)
+{
+  double sum = 0.0;
+  stack.assign(1, 0u);
+  while (!stack.empty())
+  {
+    const BVHNode& node = nodes[stack.back()];
+    stack.pop_back();
+    const float g = sigma * node.rMax;
+    if (x.x < node.lo[0] - g || x.x > node.hi[0] + g || x.y < node.lo[1] - g ||
+        x.y > node.hi[1] + g || x.z < node.lo[2] - g || x.z > node.hi[2] + g)
+    {
+      continue;
+    }
+    if (node.count == 0)
+    {
+      stack.push_back(node.first + 1);
+      stack.push_back(node.first);
+      continue;
+    }
+    for (std::uint32_t p = node.first; p < node.first + node.count; ++p)
+    {
+      const Vec3f e = x - particles.centers[p];
+      const float d2 = dot(e, e), r = particles.radii[p];
+      if (d2 <= sigma * sigma * r * r)
+      {
+        sum += std::exp(-d2 / (2.f * r * r));
+      }
+    }
+  }
+  return sum;
+}
+}
+
+double medianWeightSum(const RBFParticles& particles,
+  const ParticleBVH& bvh,
+  float sigma,
+  std::size_t sampleSize)
+{
+  const std::size_t n = particles.size();
+  const std::size_t m = std::min(n, sampleSize);
+  if (m == 0 || bvh.empty())
+  {
+    return 0.0;
+  }
+  std::vector<double> sums(m);
+  std::vector<std::uint32_t> stack;
+  for (std::size_t k = 0; k < m; ++k)
+  {
+    const std::size_t i = (2 * k + 1) * n / (2 * m);
+    sums[k] = weightSumAt(particles, bvh.nodes(), particles.centers[i], sigma, stack);
+  }
+  std::nth_element(sums.begin(), sums.begin() + static_cast<std::ptrdiff_t>(m / 2), sums.end());
+  return sums[m / 2];
 }
 
 } // namespace raymappers

@@ -13,6 +13,7 @@
 
 #include "Mappers/RBF/RBFParticles.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -46,6 +47,17 @@ private:
   std::vector<BVHNode> Nodes;
   int Depth = 0;
 };
+
+/// The automatic kappa's measure of density: the median, over up to `sampleSize` particles
+/// (evenly strided), of the sum of the unit Gaussians at the particle's centre,
+///   W(x_i) = sum_j exp(-|x_i - x_j|^2 / (2 r_j^2)) over |x_i - x_j| <= sigma r_j
+/// (i included, so W >= 1; a point query of the BVH with its nodes grown by sigma r_max).
+/// On a cubic lattice of spacing s with r = s it is (sum_n exp(-n^2 / 2))^3 = 15.7.
+/// 0 when there are no particles.
+double medianWeightSum(const RBFParticles& particles,
+  const ParticleBVH& bvh,
+  float sigma,
+  std::size_t sampleSize = 256);
 
 } // namespace raymappers
 

@@ -33,6 +33,9 @@ struct vtkRBFVolumeMapper::Internals
   raymappers::RBFParticles Particles;
   raymappers::ParticleBVH BVH;
   double MeanRadius = 0.0;
+  // The automatic kappa for the BVH's particles at the sigma it was measured with (-1: none).
+  double AutomaticKappa = 1.0;
+  double AutomaticKappaSigma = -1.0;
   // The particles are built from the points and the radius, value and field arrays, the
   // BVH from the particles and the leaf size.
   vtkRayMapperStamp<double, double, std::string, std::string, std::string> ParticlesStamp;
@@ -174,6 +177,7 @@ void vtkRBFVolumeMapper::UpdateAcceleration(vtkPointSet* input, raymappers::Rend
   {
     raymappers::ScopedPhase phase(stats, "bvh_build");
     Impl->BVH.build(Impl->Particles, this->LeafSize);
+    Impl->AutomaticKappaSigma = -1.0;
     this->Core->CountBuild();
     stats.addCounter("builds_this_render", 1);
   }
@@ -184,12 +188,29 @@ void vtkRBFVolumeMapper::UpdateAcceleration(vtkPointSet* input, raymappers::Rend
   stats.addCounter("fields", Impl->Particles.numFields);
 }
 
+double vtkRBFVolumeMapper::GetKappaInUse()
+{
+  if (this->Kappa > 0.0)
+  {
+    return this->Kappa;
+  }
+  // 1 / the median weight sum: measured again only for new particles or another sigma.
+  if (Impl->AutomaticKappaSigma != this->Sigma)
+  {
+    const double w =
+      raymappers::medianWeightSum(Impl->Particles, Impl->BVH, static_cast<float>(this->Sigma));
+    Impl->AutomaticKappa = w > 0.0 ? 1.0 / w : 1.0;
+    Impl->AutomaticKappaSigma = this->Sigma;
+  }
+  return Impl->AutomaticKappa;
+}
+
 raymappers::RBFRenderParameters vtkRBFVolumeMapper::GatherParameters(vtkRenderer* ren,
   vtkVolume* vol,
   const vtkRayMapperView& view)
 {
   raymappers::RBFRenderParameters params;
-  params.kappa = this->Kappa;
+  params.kappa = this->GetKappaInUse();
   params.sigma = this->Sigma;
   params.sampleDistance =
     this->SampleDistance > 0 ? this->SampleDistance : 0.5 * std::max(Impl->MeanRadius, 1e-30);

@@ -71,11 +71,19 @@ public:
 
   ///@{
   /**
-   * Global scale of the kernels (the paper's kappa). Default 1.
+   * Global scale of the kernels (the paper's kappa). Default 0: automatic, 1 / the median
+   * over 256 particles of the sum of the unit Gaussians at a particle (ParticleBVH.h's
+   * medianWeightSum), so that where the particles are as dense as usual the field of
+   * particles with the value k is about k: the volume property's transfer functions over
+   * the value array's range (ParaView's ColorBy) then classify the values, not the density
+   * (with kappa 1 the field of overlapping Gaussians is about 16 k and saturates them).
    */
   vtkRayMapperSetClampMacro(Kappa, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(Kappa, double);
   ///@}
+
+  /** The kappa in use: Kappa, or the automatic one for the particles of the last render. */
+  double GetKappaInUse();
 
   ///@{
   /**
@@ -188,7 +196,7 @@ protected:
   /// One render, in the mapper's task arena (Render runs it there).
   void RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input) override;
 
-  double Kappa = 1.0;
+  double Kappa = 0.0;
   double Sigma = 2.0;
   double SampleDistance = 0.0;
   double Radius = 0.0;

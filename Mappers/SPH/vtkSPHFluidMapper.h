@@ -168,10 +168,11 @@ public:
   ///@}
 
   ///@{
-  /** Translucency (on): absorption per LengthUnit Density (0.05) * AbsorptionColor
-   * (0.8, 0.35, 0.15): through 40 radii of fluid the blue light keeps exp(-0.3) = 74% and
-   * the red 20%, so water reads as blue-green and what lies behind it still shows; off: an
-   * opaque surface that writes depth. */
+  /** Translucency (on): absorption per LengthUnit Density (0.5) * AbsorptionColor
+   * (0.8, 0.35, 0.15): through 10 radii of fluid the blue light keeps exp(-0.75) = 47% and
+   * the red 2%, through 40 radii 5% of the blue: a body a few particles thick still shows
+   * (at 0.05 a 20-particle dam break was a faint veil) and what lies behind a thin one shows
+   * through; off: an opaque surface that writes depth. */
   vtkSetMacro(Translucency, bool);
   vtkGetMacro(Translucency, bool);
   vtkBooleanMacro(Translucency, bool);
@@ -246,7 +247,7 @@ protected:
   double Color[3] = { 0.55, 0.75, 0.95 };
   bool Translucency = true;
   double AbsorptionColor[3] = { 0.8, 0.35, 0.15 };
-  double Density = 0.05;
+  double Density = 0.5;
   double RefractiveIndex = 1.0;
   int Bounces = 4;
   bool AmbientOcclusion = false;

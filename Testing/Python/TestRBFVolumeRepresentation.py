@@ -163,6 +163,7 @@ def run_checks(view, source, stem, build_dir, output, baseline):
                  'TerminationOpacity', 'Shade', 'ScalarOpacityFunction',
                  'ScalarOpacityUnitDistance', 'LookupTable', 'ColorArrayName'):
         check(rep.GetProperty(name) is not None, 'property %s exists' % name)
+    check(rep.Kappa == 0.0 and rep.RBFRadius == 0.0, 'defaults Kappa 0 and RBFRadius 0: automatic')
 
     # Heights from the atomic numbers (an electron-density-like field), 1 A Gaussians.
     ColorBy(rep, ('POINTS', 'atom_type'))
@@ -278,6 +279,7 @@ def run_checks(view, source, stem, build_dir, output, baseline):
     lut.RescaleTransferFunction(0.0, 20.0)
     opacity.RescaleTransferFunction(0.0, 20.0)
     carbon_rep.RBFRadius = 1.0
+    carbon_rep.Kappa = 1.0  # the same kappa (the automatic one follows the particles' density)
     carbon_rep.ScalarOpacityUnitDistance = 2.0
     carbon_rep.SampleDistance = 0.05
     alone = shot(view, stem + '-carbons.png')
@@ -286,6 +288,14 @@ def run_checks(view, source, stem, build_dir, output, baseline):
           'all atoms)' % (rmse(fields, alone), rmse(fields, image)))
     Hide(carbons, view)
     Show(source, view)
+
+    # The automatic radius: the median distance between neighbouring atoms.
+    rep.RBFRadius = 0.0
+    Render(view)
+    atoms = servermanager.Fetch(source)
+    raymappers_testing.check_automatic_size(
+        rep, 'RBFRadiusInUse', vtk_to_numpy(atoms.GetPoints().GetData()), 1.0, 'radius')
+    rep.RBFRadius = 1.0
 
     # Hidden: nothing drawn.
     Hide(source, view)

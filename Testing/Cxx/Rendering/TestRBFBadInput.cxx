@@ -41,6 +41,7 @@ struct Viewer : rmtest::BadInputVolumeViewer<vtkRBFVolumeMapper, vtkPolyData>
     Property->SetScalarOpacity(opacity);
     Property->SetScalarOpacityUnitDistance(0.3);
     Mapper->SetSampleDistance(0.05);
+    Mapper->SetKappa(1); // the pictures' kappa (the automatic one is restored to 1 below)
     Ren->GetActiveCamera()->SetViewAngle(40);
     ClipHalfSide = 3;
     Open(120, 0.5, 0.7, 6);

@@ -55,6 +55,7 @@ int TestRBFVolumeMapperReference(int argc, char* argv[])
   mapper->SetInputData(atoms);
   mapper->SetValueArrayName("atom_type");
   mapper->SetRadius(1.0);
+  mapper->SetKappa(1.0); // the reference's field: the paper's kappa 1, not the automatic one
   vtkNew<vtkVolume> volume;
   volume->SetMapper(mapper);
   volume->SetProperty(property);
