@@ -188,7 +188,29 @@ void vtkRBFVolumeMapper::UpdateAcceleration(vtkPointSet* input, raymappers::Rend
   stats.addCounter("fields", Impl->Particles.numFields);
 }
 
+void vtkRBFVolumeMapper::UpdateForCurrentInput()
+{
+  auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
+  if (input && input->GetNumberOfPoints() > 0)
+  {
+    raymappers::RenderStatistics unused;
+    this->UpdateAcceleration(input, unused);
+  }
+}
+
+vtkIdType vtkRBFVolumeMapper::GetNumberOfParticlesInUse()
+{
+  this->UpdateForCurrentInput();
+  return static_cast<vtkIdType>(Impl->Particles.size());
+}
+
 double vtkRBFVolumeMapper::GetKappaInUse()
+{
+  this->UpdateForCurrentInput();
+  return this->KappaForBuiltParticles();
+}
+
+double vtkRBFVolumeMapper::KappaForBuiltParticles()
 {
   if (this->Kappa > 0.0)
   {
@@ -210,7 +232,7 @@ raymappers::RBFRenderParameters vtkRBFVolumeMapper::GatherParameters(vtkRenderer
   const vtkRayMapperView& view)
 {
   raymappers::RBFRenderParameters params;
-  params.kappa = this->GetKappaInUse();
+  params.kappa = this->KappaForBuiltParticles();
   params.sigma = this->Sigma;
   params.sampleDistance =
     this->SampleDistance > 0 ? this->SampleDistance : 0.5 * std::max(Impl->MeanRadius, 1e-30);

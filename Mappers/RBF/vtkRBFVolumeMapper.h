@@ -82,8 +82,13 @@ public:
   vtkGetMacro(Kappa, double);
   ///@}
 
-  /** The kappa in use: Kappa, or the automatic one for the particles of the last render. */
+  ///@{
+  /** The kappa in use, Kappa or the automatic one, and the number of particles drawn, for
+   * the current input (the particles and the BVH are built for it when needed, as the next
+   * render would). */
   double GetKappaInUse();
+  vtkIdType GetNumberOfParticlesInUse();
+  ///@}
 
   ///@{
   /**
@@ -219,6 +224,10 @@ private:
   bool UpdateParticles(vtkPointSet* input);
   /// The particles, then the BVH over them, rebuilt where their stamps changed.
   void UpdateAcceleration(vtkPointSet* input, raymappers::RenderStatistics& stats);
+  /// UpdateAcceleration for the mapper's input outside a render (statistics discarded).
+  void UpdateForCurrentInput();
+  /// Kappa, or the automatic kappa of the particles and BVH as built.
+  double KappaForBuiltParticles();
   /// The kernel's parameters: the properties, the model transform, lights and material.
   raymappers::RBFRenderParameters GatherParameters(vtkRenderer* ren,
     vtkVolume* vol,

@@ -2,6 +2,7 @@
 
 #include "vtkColorTransferFunction.h"
 #include "vtkDiscretizableColorTransferFunction.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkRBFVolumeMapper.h"
@@ -29,6 +30,7 @@ void vtkRBFVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FieldArrayName: " << this->FieldArrayName << "\n";
+  os << indent << "Kappa: " << this->Kappa << "\n";
 }
 
 vtkRBFVolumeMapper* vtkRBFVolumeRepresentation::GetMapper()
@@ -55,6 +57,37 @@ double vtkRBFVolumeRepresentation::GetParticleReach()
 void vtkRBFVolumeRepresentation::SetRegion(const double bounds[6])
 {
   this->Mapper->SetRegionBounds(bounds);
+}
+
+void vtkRBFVolumeRepresentation::SetKappa(double kappa)
+{
+  this->Mapper->SetKappa(kappa);
+  this->Kappa = this->Mapper->GetKappa(); // as the mapper accepted it (NaN rejected, clamped)
+  this->Modified();
+}
+
+void vtkRBFVolumeRepresentation::UpdateMapperParameters()
+{
+  this->Superclass::UpdateMapperParameters();
+  this->PushKappa();
+}
+
+void vtkRBFVolumeRepresentation::PushKappa()
+{
+  this->Mapper->SetKappa(this->Kappa);
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (this->Kappa > 0.0 || !controller || controller->GetNumberOfProcesses() < 2)
+  {
+    return;
+  }
+  // This process's median weight sum 1 / kappa and particle count (none: no part in it).
+  const vtkIdType n = this->Mapper->GetNumberOfParticlesInUse();
+  const double kappa = n > 0 ? this->Mapper->GetKappaInUse() : 0.0;
+  const double local[2] = { kappa > 0.0 ? static_cast<double>(n) / kappa : 0.0,
+    kappa > 0.0 ? static_cast<double>(n) : 0.0 };
+  double global[2] = { 0.0, 0.0 };
+  controller->AllReduce(local, global, 2, vtkCommunicator::SUM_OP);
+  this->Mapper->SetKappa(global[0] > 0.0 ? global[1] / global[0] : 1.0);
 }
 
 void vtkRBFVolumeRepresentation::SetValueArray(const char* name)
@@ -96,7 +129,6 @@ void vtkRBFVolumeRepresentation::SelectFieldArray(int, int, int, int, const char
 //----------------------------------------------------------------------------
 // The field, forwarded to the mapper.
 // clang-format off
-vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetKappa, double, SetKappa)
 vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetSigma, double, SetSigma)
 vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetSampleDistance, double, SetSampleDistance)
 vtkRayMapperForwardMacro(vtkRBFVolumeRepresentation, SetTerminationOpacity, double, SetTerminationOpacity)

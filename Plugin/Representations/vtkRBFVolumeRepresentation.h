@@ -70,7 +70,8 @@ public:
   void SelectFieldArray(int, int, int, int, const char* name);
 
   //***************************************************************************
-  // The field (forwarded to vtkRBFVolumeMapper, see there).
+  // The field (forwarded to vtkRBFVolumeMapper, see there). Kappa 0 is the mapper's
+  // automatic kappa; with several processes their measures are averaged (PushKappa).
   void SetKappa(double kappa);
   void SetSigma(double sigma);
   void SetSampleDistance(double distance);
@@ -97,6 +98,7 @@ protected:
   double GetParticleReach() override;
   void SetRegion(const double bounds[6]) override;
   void SetValueArray(const char* name) override;
+  void UpdateMapperParameters() override;
   int GetNumberOfFields() override { return 4; }
   void GetFieldMaps(int field,
     vtkColorTransferFunction*& color,
@@ -107,8 +109,14 @@ protected:
   vtkSmartPointer<vtkRBFVolumeMapper> Mapper;
   vtkSmartPointer<vtkScalarsToColors> FieldLookupTables[4];
   std::string FieldArrayName;
+  double Kappa = 0.0;
 
 private:
+  /// Hands Kappa to the mapper. The automatic kappa (Kappa 0) is 1 / a median weight sum
+  /// that each process would measure on its own particles: with several processes (a
+  /// collective call, made while rendering) the processes' weight sums are averaged, weighted
+  /// by their particles, and all render with the same kappa.
+  void PushKappa();
   vtkRBFVolumeRepresentation(const vtkRBFVolumeRepresentation&) = delete;
   void operator=(const vtkRBFVolumeRepresentation&) = delete;
 };

@@ -88,6 +88,7 @@ def spheres(rep, view):
 def rbf_volume(rep, view):
     color_map(rep, view, 'atom_type', (0.0, 20.0), [0.0, 0.0, 0.5, 0.0, 20.0, 0.6, 0.5, 0.0])
     rep.RBFRadius = 1.0
+    rep.Kappa = 1.0  # the automatic kappa is estimated per decomposition (distributed_scene.py)
     rep.ScalarOpacityUnitDistance = 2.0
 
 
