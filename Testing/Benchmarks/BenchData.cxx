@@ -297,7 +297,7 @@ bool ChooseValueArray(vtkPolyData* points,
   return true;
 }
 
-vtkDataArray* FindColorArray(vtkPolyData* points)
+vtkDataArray* FindColorArray(vtkDataSet* points)
 {
   vtkPointData* pd = points->GetPointData();
   if (pd->GetScalars() && pd->GetScalars()->GetNumberOfComponents() == 1)

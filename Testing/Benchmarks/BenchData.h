@@ -81,7 +81,7 @@ bool ChooseValueArray(vtkPolyData* points,
 
 /// The point array to colour by: the active scalars if 1 component, else the first of
 /// type, atom_type, Temp, ... else the first 1-component array; nullptr if none.
-vtkDataArray* FindColorArray(vtkPolyData* points);
+vtkDataArray* FindColorArray(vtkDataSet* points);
 
 /// Base name of a path without folders and without the last extension.
 std::string BaseName(const std::string& path);

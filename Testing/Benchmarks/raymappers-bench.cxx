@@ -23,11 +23,16 @@
 //               spacing (spheres 0.5, rbf 1, sph h 1.2, fluid radius 1); --radius R and
 //               --h H set a constant radius and smoothing length instead. Each suite prints
 //               which it took.
-//   value       the point array --array NAME; else (sph) a speed: vmag, speed,
+//   value       (the spheres' colour, the rbf weight, the sph quantity, the zsweep scalars)
+//               the point array --array NAME; else (sph) a speed: vmag, speed,
 //               velocity_magnitude, or the magnitude of a 3-component v, vel or velocity;
-//               else the active point scalars, else type, atom_type, Temp, temperature, rho,
-//               density, else the first 1-component array. A missing --array names the
-//               file, the array and the arrays present, and the file is skipped.
+//               else (rbf) a weight of 1, or one that follows the density with an h array;
+//               else the active point scalars (zsweep: Density, Temp, RTData of the bundled
+//               data), else type, atom_type, Temp, temperature, rho, density, else the first
+//               1-component array. A legacy file's first SCALARS section is its active
+//               scalars whatever it holds (PySPH's is rho): that is why sph looks for a speed
+//               first. A missing --array names the file, the array and the arrays present,
+//               and the file is skipped.
 //   mass, density  (sph) m or mass and rho or density, ignoring case; without them the
 //               particle volume is the typical spacing cubed, and the suite says so.
 // build_ms of our mapper is the median over --repeat rebuilds after the data is marked
