@@ -7,6 +7,7 @@
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkExodusIIReader.h"
+#include "vtkFloatArray.h"
 #include "vtkGenericDataObjectReader.h"
 #include "vtkLAMMPSDumpReader.h"
 #include "vtkMultiBlockPLOT3DReader.h"
@@ -23,6 +24,7 @@
 #include <cmath>
 #include <iostream>
 #include <numeric>
+#include <sstream>
 
 namespace bench
 {
@@ -180,24 +182,122 @@ vtkSmartPointer<vtkPolyData> ToPointCloud(vtkDataObject* data)
   return cloud;
 }
 
-vtkDataArray* FindRadiusArray(vtkPolyData* points, std::string& name, double& factor)
+ParticleSize ChooseSize(vtkDataSet* points,
+  vtkRayMapperParticleSizes::Role role,
+  bool acceptOther,
+  double perSpacing,
+  double override)
 {
-  // A diameter, or an SPH smoothing length h (a support of two radii, the RBF default,
-  // then reaches h), gives half its value.
-  for (const char* candidate : { "radius", "radii", "r", "Radius", "diameter", "smoothing_length" })
+  ParticleSize size;
+  std::ostringstream how;
+  if (override > 0)
   {
-    vtkDataArray* a = points->GetPointData()->GetArray(candidate);
-    if (a)
+    size.constant = override;
+    how << "constant " << override << " (given)";
+  }
+  else if (const char* name =
+             vtkRayMapperParticleSizes::FindSizeArrayName(points, role, acceptOther, size.scale))
+  {
+    size.array = name;
+    how << "array '" << name << "'";
+    if (size.scale != 1.0)
     {
-      name = candidate;
-      factor = name == "diameter" || name == "smoothing_length" ? 0.5 : 1.0;
-      return a;
+      how << " x " << size.scale;
+    }
+  }
+  else
+  {
+    vtkRayMapperParticleSizes::SpacingCache cache;
+    size.constant = vtkRayMapperParticleSizes::AutomaticLength(points, perSpacing, cache);
+    how << "constant " << size.constant << " (automatic: " << perSpacing
+        << " x the typical spacing; no size array)";
+  }
+  size.how = how.str();
+  return size;
+}
+
+vtkDataArray* FindNamedArray(vtkDataSet* points,
+  std::initializer_list<const char*> names,
+  int components)
+{
+  vtkPointData* pd = points->GetPointData();
+  for (const char* candidate : names)
+  {
+    for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
+    {
+      vtkDataArray* a = pd->GetArray(i);
+      const char* name = pd->GetArrayName(i);
+      if (a && name && vtksys::SystemTools::Strucmp(name, candidate) == 0 &&
+        (components == 0 || a->GetNumberOfComponents() == components))
+      {
+        return a;
+      }
     }
   }
   return nullptr;
 }
 
-vtkDataArray* FindColorArray(vtkPolyData* points)
+std::string ListPointArrays(vtkDataSet* points)
+{
+  vtkPointData* pd = points->GetPointData();
+  std::ostringstream list;
+  for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
+  {
+    const char* name = pd->GetArrayName(i);
+    list << (i ? ", " : "") << "'" << (name ? name : "") << "' ("
+         << pd->GetAbstractArray(i)->GetNumberOfComponents() << ")";
+  }
+  return pd->GetNumberOfArrays() ? list.str() : std::string("none");
+}
+
+vtkDataArray* FindSpeedArray(vtkPolyData* points)
+{
+  if (vtkDataArray* speed = FindNamedArray(points, { "vmag", "speed", "velocity_magnitude" }, 1))
+  {
+    return speed;
+  }
+  vtkDataArray* velocity = FindNamedArray(points, { "v", "vel", "velocity" }, 3);
+  if (!velocity)
+  {
+    return nullptr;
+  }
+  vtkNew<vtkFloatArray> magnitude;
+  magnitude->SetName((std::string(velocity->GetName()) + "_magnitude").c_str());
+  magnitude->SetNumberOfTuples(velocity->GetNumberOfTuples());
+  for (vtkIdType i = 0; i < velocity->GetNumberOfTuples(); ++i)
+  {
+    const double* v = velocity->GetTuple3(i);
+    magnitude->SetValue(i, static_cast<float>(std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])));
+  }
+  points->GetPointData()->AddArray(magnitude);
+  return magnitude;
+}
+
+bool ChooseValueArray(vtkPolyData* points,
+  const std::string& requested,
+  const std::string& file,
+  bool preferSpeed,
+  vtkDataArray*& chosen)
+{
+  if (!requested.empty())
+  {
+    chosen = points->GetPointData()->GetArray(requested.c_str());
+    if (!chosen)
+    {
+      std::cerr << "raymappers-bench: " << file << " has no point array '" << requested
+                << "' (--array); its point arrays: " << ListPointArrays(points) << "\n";
+    }
+    return chosen != nullptr;
+  }
+  chosen = preferSpeed ? FindSpeedArray(points) : nullptr;
+  if (!chosen)
+  {
+    chosen = FindColorArray(points);
+  }
+  return true;
+}
+
+vtkDataArray* FindColorArray(vtkDataSet* points)
 {
   vtkPointData* pd = points->GetPointData();
   if (pd->GetScalars() && pd->GetScalars()->GetNumberOfComponents() == 1)
@@ -221,29 +321,6 @@ vtkDataArray* FindColorArray(vtkPolyData* points)
     }
   }
   return nullptr;
-}
-
-double DefaultRadius(vtkPolyData* points)
-{
-  double b[6];
-  points->GetBounds(b);
-  const vtkIdType n = std::max<vtkIdType>(1, points->GetNumberOfPoints());
-  double volume = 1.0;
-  int dims = 0;
-  for (int i = 0; i < 3; ++i)
-  {
-    const double e = b[2 * i + 1] - b[2 * i];
-    if (e > 0 && std::isfinite(e))
-    {
-      volume *= e;
-      ++dims;
-    }
-  }
-  if (dims == 0)
-  {
-    return 1.0;
-  }
-  return 0.5 * std::pow(volume / static_cast<double>(n), 1.0 / dims);
 }
 
 }

@@ -28,6 +28,9 @@ struct Options
   std::string generated = RAYMAPPERS_GENERATED_DIR;
   std::vector<std::string> only; // run only methods whose "method:setting" contains one
   int threads = 0;               // TBB threads; 0: all cores
+  std::string array;             // --array: the colour or value array; empty: chosen by name
+  double radius = 0;             // --radius: a constant particle radius; 0: from the data
+  double h = 0;                  // --h: a constant SPH smoothing length; 0: from the data
 };
 
 struct Row

@@ -83,7 +83,64 @@ vtkSmartPointer<vtkVolumeProperty> MakeProperty(double peak, double unit, int fi
   return property;
 }
 
-Dataset Prepare(const std::string& file)
+// The radius as the RBF representation chooses it (a radius array, else an h array; else
+// the typical spacing: a Gaussian as wide as the spacing), or --radius; d.radius the mean.
+void ChooseRadius(Dataset& d, const Options& opt)
+{
+  const ParticleSize size = ChooseSize(d.cloud, vtkRayMapperParticleSizes::Role::Radius, true,
+    RBFRadiusPerSpacing, opt.radius);
+  std::cout << BaseName(d.file) << ": radius " << size.how << "\n";
+  d.radiusArray = size.array;
+  d.radiusFactor = size.scale;
+  d.radius = size.constant;
+  vtkDataArray* radii = d.cloud->GetPointData()->GetArray(d.radiusArray.c_str());
+  if (!d.radiusArray.empty() && radii)
+  {
+    double sum = 0;
+    for (vtkIdType i = 0; i < radii->GetNumberOfTuples(); ++i)
+    {
+      sum += radii->GetComponent(i, 0);
+    }
+    d.radius = d.radiusFactor * sum / std::max<vtkIdType>(1, radii->GetNumberOfTuples());
+  }
+}
+
+// Without --array: SPH-like data (a smoothing length h per particle, about 32 neighbours
+// within h) get the weight k = (h_median / h)^3, which follows the density (1 for a median
+// particle, far more in the core; k = 1 and a constant neighbour count give a nearly flat
+// field); other data k = 1.
+void AddDensityWeight(Dataset& d)
+{
+  double scale = 1.0;
+  const char* name = vtkRayMapperParticleSizes::FindSizeArrayName(
+    d.cloud, vtkRayMapperParticleSizes::Role::SmoothingLength, false, scale);
+  vtkDataArray* h = name ? d.cloud->GetPointData()->GetArray(name) : nullptr;
+  if (!h)
+  {
+    return;
+  }
+  std::vector<double> sorted(static_cast<std::size_t>(h->GetNumberOfTuples()));
+  for (vtkIdType i = 0; i < h->GetNumberOfTuples(); ++i)
+  {
+    sorted[static_cast<std::size_t>(i)] = h->GetComponent(i, 0);
+  }
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  vtkNew<vtkFloatArray> k;
+  k->SetName("density_weight");
+  k->SetNumberOfTuples(h->GetNumberOfTuples());
+  for (vtkIdType i = 0; i < h->GetNumberOfTuples(); ++i)
+  {
+    k->SetValue(i, static_cast<float>(std::pow(median / h->GetComponent(i, 0), 3.0)));
+  }
+  d.cloud->GetPointData()->AddArray(k);
+  d.valueArray = "density_weight";
+  d.peak = 40.0;
+}
+
+// The file's particles, radius and weights; no cloud when it cannot be read or lacks the
+// --array (the weight of each particle then).
+Dataset Prepare(const std::string& file, const Options& opt)
 {
   Dataset d;
   d.file = file;
@@ -93,45 +150,23 @@ Dataset Prepare(const std::string& file)
     return d;
   }
   d.cloud = ToPointCloud(data);
-  std::string name;
-  double factor = 1.0;
-  if (vtkDataArray* radii = FindRadiusArray(d.cloud, name, factor))
+  ChooseRadius(d, opt);
+  if (!opt.array.empty())
   {
-    d.radiusArray = name;
-    d.radiusFactor = factor;
-    double sum = 0;
-    for (vtkIdType i = 0; i < radii->GetNumberOfTuples(); ++i)
+    vtkDataArray* value = nullptr;
+    if (!ChooseValueArray(d.cloud, opt.array, file, false, value))
     {
-      sum += radii->GetComponent(i, 0);
+      d.cloud = nullptr;
+      return d;
     }
-    d.radius = factor * sum / std::max<vtkIdType>(1, radii->GetNumberOfTuples());
+    d.valueArray = opt.array;
+    double range[2];
+    value->GetRange(range, 0);
+    d.peak = range[1] > 0 ? 1.5 * range[1] : 1.5; // k = 1 reaches about 1.5 (the default)
   }
   else
   {
-    d.radius = DefaultRadius(d.cloud);
-  }
-  // SPH-like data (a smoothing length h per particle, about 32 neighbours within h): with
-  // k = 1 the constant neighbour count gives a nearly flat field; k = (h_median / h)^3
-  // follows the density instead (1 for a median particle, far more in the core).
-  if (vtkDataArray* h = d.cloud->GetPointData()->GetArray("smoothing_length"))
-  {
-    std::vector<double> sorted(static_cast<std::size_t>(h->GetNumberOfTuples()));
-    for (vtkIdType i = 0; i < h->GetNumberOfTuples(); ++i)
-    {
-      sorted[static_cast<std::size_t>(i)] = h->GetComponent(i, 0);
-    }
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double median = sorted[sorted.size() / 2];
-    vtkNew<vtkFloatArray> k;
-    k->SetName("density_weight");
-    k->SetNumberOfTuples(h->GetNumberOfTuples());
-    for (vtkIdType i = 0; i < h->GetNumberOfTuples(); ++i)
-    {
-      k->SetValue(i, static_cast<float>(std::pow(median / h->GetComponent(i, 0), 3.0)));
-    }
-    d.cloud->GetPointData()->AddArray(k);
-    d.valueArray = "density_weight";
-    d.peak = 40.0;
+    AddDensityWeight(d);
   }
   // PDB: two fields, carbon (atomic number 6 in vtkPDBReader's atom_type) and the rest.
   if (vtkDataArray* types = d.cloud->GetPointData()->GetArray("atom_type"))
@@ -171,7 +206,7 @@ std::vector<Row> RunRBF(const Options& opt)
   std::vector<Row> rows;
   for (const std::string& file : files)
   {
-    const Dataset d = Prepare(file);
+    const Dataset d = Prepare(file, opt);
     if (!d.cloud || d.cloud->GetNumberOfPoints() == 0)
     {
       std::cerr << "raymappers-bench: " << file << " has no points; skipped\n";

@@ -5,7 +5,8 @@
 //
 // Data: Data/dam_break_coarse_00674.vtk (9,360 particles, t = 0.3 s) and, when the generator
 // has made them, the build/data/dam_break_fine_*.vtk time step closest to t = 0.3 s
-// (>= 200,000 particles); --data takes other PySPH legacy files with h, m, rho and vmag.
+// (>= 200,000 particles); --data takes other legacy particle files: PySPH's h, m, rho and
+// vmag, or the arrays raymappers-bench.cxx's header says are chosen instead (--array, --h).
 // Two views each at --size: outside (the whole fluid from the side and above) and surface
 // (the camera close to the free surface of the collapsing column, part of the fluid in view).
 //
@@ -110,7 +111,75 @@ double TitleTime(const std::string& file)
 }
 } // namespace
 
-Dataset Load(const std::string& file)
+namespace
+{
+// The smoothing length and the value of `d.particles`: --h, else an h-like array (a radius
+// array too), else 1.2 x the typical spacing (Wendland C2's support 2h then reaches 2.4
+// spacings: the neighbours SPH codes keep); the value as ChooseValueArray picks it, a speed
+// first. False when --array names no point array of the file.
+bool ChooseArrays(Dataset& d, const Options& opt)
+{
+  d.smoothing = ChooseSize(d.particles, vtkRayMapperParticleSizes::Role::SmoothingLength, true,
+    SPHSmoothingPerSpacing, opt.h);
+  double range[2] = { d.smoothing.constant, d.smoothing.constant };
+  if (!d.smoothing.array.empty())
+  {
+    d.particles->GetPointData()->GetArray(d.smoothing.array.c_str())->GetRange(range, 0);
+  }
+  d.h = d.smoothing.scale * range[1];
+  vtkDataArray* value = nullptr;
+  if (!ChooseValueArray(d.particles, opt.array, d.file, true, value) || !value)
+  {
+    if (!value && opt.array.empty())
+    {
+      std::cerr << "sph: " << d.file << " has no 1-component point array to sample; its point "
+                << "arrays: " << ListPointArrays(d.particles) << "\n";
+    }
+    return false;
+  }
+  d.value = value->GetName();
+  value->GetRange(range, 0);
+  d.vmax = range[1] > 0 ? range[1] : 1.0;
+  return true;
+}
+
+// The mass and density arrays (m or mass, rho or density, ignoring case). A file without
+// both gets a constant mass s^3 (s the typical spacing) and density 1, so that every method
+// still runs: the normalized rows do not depend on V, the unnormalized rows and the
+// interpolator's Shepard sum (the contour route's volume fraction) use V = s^3.
+void ChooseVolume(Dataset& d)
+{
+  vtkDataArray* mass = FindNamedArray(d.particles, { "m", "mass" }, 1);
+  vtkDataArray* density = FindNamedArray(d.particles, { "rho", "density" }, 1);
+  if (mass && density)
+  {
+    d.mass = mass->GetName();
+    d.density = density->GetName();
+    return;
+  }
+  vtkRayMapperParticleSizes::SpacingCache cache;
+  const double s = vtkRayMapperParticleSizes::AutomaticLength(d.particles, 1.0, cache);
+  const vtkIdType n = d.particles->GetNumberOfPoints();
+  d.mass = "mass_from_spacing";
+  d.density = "unit_density";
+  for (const auto& [name, v] :
+    { std::make_pair(d.mass, s * s * s), std::make_pair(d.density, 1.0) })
+  {
+    vtkNew<vtkFloatArray> a;
+    a->SetName(name.c_str());
+    a->SetNumberOfTuples(n);
+    a->FillValue(static_cast<float>(v));
+    d.particles->GetPointData()->AddArray(a);
+  }
+  std::cout << "sph: " << d.file << " has no "
+            << (mass ? "density (rho, density)" : "mass (m, mass)")
+            << " point array: particle volume V = s^3 = " << s * s * s
+            << " from the typical spacing s = " << s
+            << " (the unnormalized rows and the Shepard sum use it)\n";
+}
+} // namespace
+
+Dataset Load(const std::string& file, const Options& opt)
 {
   Dataset d;
   d.file = file;
@@ -124,23 +193,18 @@ Dataset Load(const std::string& file)
   vtkNew<vtkPolyDataReader> reader;
   reader->SetFileName(file.c_str());
   reader->ReadAllScalarsOn(); // one SCALARS section per array
+  reader->ReadAllVectorsOn();
   reader->Update();
-  vtkPolyData* out = reader->GetOutput();
-  for (const char* name : { "h", "m", "rho", "vmag" })
-  {
-    if (!out->GetPointData()->GetArray(name))
-    {
-      std::cerr << "sph: " << file << " has no point array '" << name << "'\n";
-      return d;
-    }
-  }
   d.particles = vtkSmartPointer<vtkPolyData>::New();
-  d.particles->ShallowCopy(out);
-  double range[2];
-  out->GetPointData()->GetArray("h")->GetRange(range);
-  d.h = range[1];
-  out->GetPointData()->GetArray("vmag")->GetRange(range);
-  d.vmax = range[1] > 0 ? range[1] : 1.0;
+  d.particles->ShallowCopy(reader->GetOutput());
+  if (d.particles->GetNumberOfPoints() == 0 || !ChooseArrays(d, opt))
+  {
+    d.particles = nullptr;
+    return d;
+  }
+  ChooseVolume(d);
+  std::cout << "sph: " << d.name << ": smoothing length " << d.smoothing.how << ", value '"
+            << d.value << "', V = " << d.mass << " / " << d.density << "\n";
   return d;
 }
 
@@ -344,7 +408,7 @@ void RecordVoxelRow(const Options& opt,
 }
 
 // vtkSPHInterpolator onto a grid of `res` voxels along the longest side of the particles'
-// bounds grown by the support, only vmag interpolated (the fastest the filter goes), then
+// bounds grown by the support, only the value interpolated (the fastest the filter goes), then
 // the voxels without a neighbour (Shepard sum 0, which ShepardNormalization sets to 0) set
 // to -vmax/2, below the transfer function's visible range. The Shepard sum is kept beside
 // (the array itself, not a copy).
@@ -371,14 +435,14 @@ Resampled Resample(const Dataset& d, int res)
     std::max(2, int(std::ceil((b[5] - b[4]) / s)) + 1));
 
   vtkNew<vtkWendlandQuinticKernel> kernel; // (1 - q/2)^4 (1 + 2q), q = r / h: support 2h
-  kernel->SetSpatialStep(d.h);             // PySPH's h (constant in these runs)
+  kernel->SetSpatialStep(d.h);             // the largest h (PySPH's is constant)
   kernel->SetDimension(3);
   vtkNew<vtkSPHInterpolator> interpolator;
   interpolator->SetInputData(grid);
   interpolator->SetSourceData(d.particles);
   interpolator->SetKernel(kernel);
-  interpolator->SetMassArrayName("m");
-  interpolator->SetDensityArrayName("rho");
+  interpolator->SetMassArrayName(d.mass);
+  interpolator->SetDensityArrayName(d.density);
   interpolator->ShepardNormalizationOn();
   interpolator->SetNullPointsStrategyToNullValue();
   interpolator->SetNullValue(0.0);
@@ -386,23 +450,23 @@ Resampled Resample(const Dataset& d, int res)
   for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
   {
     const char* name = pd->GetArrayName(i);
-    if (name && std::string(name) != "vmag")
+    if (name && name != d.value)
     {
       interpolator->AddExcludedArray(name);
     }
   }
   interpolator->Update();
   vtkImageData* result = vtkImageData::SafeDownCast(interpolator->GetOutput());
-  vtkDataArray* vmag = result->GetPointData()->GetArray("vmag");
+  vtkDataArray* value = result->GetPointData()->GetArray(d.value.c_str());
   vtkDataArray* shepard = result->GetPointData()->GetArray("Shepard Summation");
   vtkNew<vtkFloatArray> scalars;
-  scalars->SetName("vmag");
+  scalars->SetName(d.value.c_str());
   scalars->SetNumberOfTuples(result->GetNumberOfPoints());
   const float empty = static_cast<float>(-0.5 * d.vmax);
   for (vtkIdType i = 0; i < result->GetNumberOfPoints(); ++i)
   {
     scalars->SetValue(i,
-      shepard->GetComponent(i, 0) > 0 ? static_cast<float>(vmag->GetComponent(i, 0)) : empty);
+      shepard->GetComponent(i, 0) > 0 ? static_cast<float>(value->GetComponent(i, 0)) : empty);
   }
   out.image = vtkSmartPointer<vtkImageData>::New();
   out.image->CopyStructure(result);
@@ -467,7 +531,7 @@ std::vector<Row> RunSPH(const Options& opt)
     {
       continue; // the voxel half's synthetic and refined sets (or a missing file: it says so)
     }
-    const Dataset d = Load(file);
+    const Dataset d = Load(file, opt);
     if (!d.particles || d.particles->GetNumberOfPoints() == 0)
     {
       continue;
@@ -478,7 +542,7 @@ std::vector<Row> RunSPH(const Options& opt)
     shaded->DeepCopy(property);
     shaded->ShadeOn();
     std::cout << d.name << ": " << n << " particles, t = " << d.time << " s, h " << d.h
-              << ", vmag up to " << d.vmax << "\n";
+              << ", " << d.value << " up to " << d.vmax << "\n";
     std::map<int, Resampled> resampled; // by grid size, shared by the views
 
     for (const std::string view : { "outside", "surface" })
@@ -511,10 +575,12 @@ std::vector<Row> RunSPH(const Options& opt)
           auto m = vtkSmartPointer<vtkSPHVolumeMapper>::New();
           m->SetInputData(d.particles);
           m->SetKernel(VTK_SPH_KERNEL_WENDLAND_C2);
-          m->SetSmoothingLengthArrayName("h");
-          m->SetMassArrayName("m");
-          m->SetDensityArrayName("rho");
-          m->SetValueArrayName("vmag");
+          m->SetScaleArray(d.smoothing.array.empty() ? nullptr : d.smoothing.array.c_str());
+          m->SetScaleFactor(d.smoothing.scale);
+          m->SetSmoothingLength(d.smoothing.constant > 0 ? d.smoothing.constant : 1.0);
+          m->SetMassArrayName(d.mass.c_str());
+          m->SetDensityArrayName(d.density.c_str());
+          m->SetValueArrayName(d.value.c_str());
           m->SetNormalization(s.normalization);
           m->SetContourShading(s.contour);
           m->SetStepFactor(s.step);

@@ -5,6 +5,7 @@
 #ifndef RayMappers_SPHSuite_h
 #define RayMappers_SPHSuite_h
 
+#include "BenchData.h"
 #include "BenchRun.h"
 
 #include "vtkSmartPointer.h"
@@ -26,14 +27,18 @@ struct Dataset
 {
   std::string file, name;
   vtkSmartPointer<vtkPolyData> particles;
-  double h = 0;     // the largest smoothing length (PySPH's h is constant)
-  double vmax = 1;  // the largest vmag: the transfer function's top
-  double time = -1; // simulated time from the file's title, -1 if absent
+  ParticleSize smoothing;    // the smoothing length h: an array, or a constant
+  double h = 0;              // the largest smoothing length (PySPH's h is constant)
+  std::string value;         // the sampled quantity (PySPH: vmag)
+  std::string mass, density; // V = m / rho (made from the spacing when the file has none)
+  double vmax = 1;           // the largest value: the transfer function's top
+  double time = -1;          // simulated time from the file's title, -1 if absent
 };
 
-/// A PySPH legacy file with the point arrays h, m, rho and vmag (no particles and a message
-/// when it cannot be read).
-Dataset Load(const std::string& file);
+/// A legacy file of SPH particles (PySPH's output: h, m, rho, vmag) and the arrays the suite
+/// uses, chosen as raymappers-bench.cxx describes (--array, --h); no particles and a message
+/// when it cannot be read or lacks the --array.
+Dataset Load(const std::string& file, const Options& opt);
 
 /// The default data: the shipped coarse frame and the fine time step closest to t = 0.3 s.
 std::vector<std::string> DefaultFiles(const Options& opt);
@@ -45,14 +50,14 @@ std::function<void(vtkCamera*)> View(const Dataset& d, const std::string& view);
 /// An image grid resampled from the particles by vtkSPHInterpolator.
 struct Resampled
 {
-  vtkSmartPointer<vtkImageData> image; // scalars vmag; also "Shepard Summation"
+  vtkSmartPointer<vtkImageData> image; // scalars: the value; also "Shepard Summation"
   double ms = 0;
   double spacing = 0;
 };
 
-/// vtkSPHInterpolator (Wendland C2 with PySPH's h, V = m / rho, Shepard normalized) onto a
+/// vtkSPHInterpolator (Wendland C2 with the largest h, V = m / rho, Shepard normalized) onto a
 /// grid of `res` points along the longest side of the particles' bounds grown by the support
-/// 2h. The image's scalars are vmag, -vmax/2 where no particle reaches; it also keeps the
+/// 2h. The image's scalars are the value, -vmax/2 where no particle reaches; it also keeps the
 /// interpolator's "Shepard Summation", sum_j V_j W(x - x_j, h): the fluid's volume fraction.
 Resampled Resample(const Dataset& d, int res);
 

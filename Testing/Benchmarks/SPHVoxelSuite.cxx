@@ -17,13 +17,15 @@
 //                    0.75 (the spheres overlap: a sheet has no holes), 4 apart along the view
 //                    axis (240,000 particles), seen from 250 in front of the first; --data
 //                    layers24 selects it.
-// Fluid radius on the dam break: r = 0.8 h = 1.04 dx (RadiusArrayName "h", RadiusScale 0.8;
-// PySPH's h = 1.3 dx; as TestSPHFluidMapper), no gap bridging. A radius above sqrt(3)/2 dx
-// = 0.87 dx covers a particle lattice's cells whole, so the union of spheres has no holes
-// inside the fluid, and boundary-cell culling (FluidCells.h) can prove the inner cells full
-// (its cover test needs a margin of about 0.1 r). The 0.5 level set of the volume fraction
-// lies about dx/2 beyond the outermost centres, so the spheres' surface lies about 0.5 dx
-// beyond the contour route's: the rows' depth_bias measures it, depth_mean_abs includes it.
+// Fluid radius on the dam break: r = 0.8 h = 1.04 dx (ScaleArray h, ScaleFactor 0.8;
+// PySPH's h = 1.3 dx; as TestSPHFluidMapper), no gap bridging. Other data: --radius, else a
+// radius array, else 0.8 times its h array (or --h), else the typical spacing (SetFluidRadius).
+// A radius above sqrt(3)/2 dx = 0.87 dx covers a particle lattice's cells whole, so the union
+// of spheres has no holes inside the fluid, and boundary-cell culling (FluidCells.h) can
+// prove the inner cells full (its cover test needs a margin of about 0.1 r). The 0.5 level
+// set of the volume fraction lies about dx/2 beyond the outermost centres, so the spheres'
+// surface lies about 0.5 dx beyond the contour route's: the rows' depth_bias measures it,
+// depth_mean_abs includes it.
 //
 // Methods (CSV method column; views "outside" and "surface" as the volume half):
 //   sph-voxel              the water look: Translucency on, RefractiveIndex 1.33, Bounces 4,
@@ -174,7 +176,7 @@ constexpr double NaN = std::numeric_limits<double>::quiet_NaN();
 // The settings of vtkSPHFluidMapper and vtkSPHVoxelizer that a row uses.
 struct Fluid
 {
-  bool radiusFromH = true; // RadiusArrayName "h" times radiusScale, else radius
+  std::string radiusArray = "h"; // ScaleArray times radiusScale; empty: the constant radius
   double radiusScale = 0.8;
   bool culling = true;
   double radius = 1.0;
@@ -215,15 +217,9 @@ struct Fluid
   template <typename T>
   void Apply(T* m) const
   {
-    if (radiusFromH)
-    {
-      m->SetRadiusArrayName("h");
-      m->SetRadiusScale(radiusScale);
-    }
-    else
-    {
-      m->SetRadius(radius);
-    }
+    m->SetScaleArray(radiusArray.empty() ? nullptr : radiusArray.c_str());
+    m->SetScaleFactor(radiusArray.empty() ? 1.0 : radiusScale);
+    m->SetRadius(radius);
     m->SetAngleResolution(angle);
     m->SetMaximumLayers(layers);
     m->SetMaximumSpans(spans);
@@ -467,8 +463,9 @@ struct FluidData
 };
 
 // The fine frame refined: each particle a 2 x 2 x 2 lattice at +-dx/4, h / 2, m / 8.
-vtkSmartPointer<vtkPolyData> Refine(vtkPolyData* in, double dx)
+vtkSmartPointer<vtkPolyData> Refine(const Dataset& d, double dx)
 {
+  vtkPolyData* in = d.particles;
   const vtkIdType n = in->GetNumberOfPoints();
   vtkNew<vtkPoints> points;
   points->SetDataTypeToFloat();
@@ -483,14 +480,19 @@ vtkSmartPointer<vtkPolyData> Refine(vtkPolyData* in, double dx)
     double factor; // h / 2, m / 8, the rest kept
   };
   std::vector<Refined> arrays;
-  for (const auto& [name, factor] : { std::make_pair("h", 0.5), std::make_pair("m", 0.125),
-         std::make_pair("rho", 1.0), std::make_pair("vmag", 1.0) })
+  for (const auto& [name, factor] : { std::make_pair(d.smoothing.array, 0.5),
+         std::make_pair(d.mass, 0.125), std::make_pair(d.density, 1.0),
+         std::make_pair(d.value, 1.0) })
   {
+    if (name.empty())
+    {
+      continue; // a constant h
+    }
     auto a = vtkSmartPointer<vtkFloatArray>::New();
-    a->SetName(name);
+    a->SetName(name.c_str());
     a->SetNumberOfTuples(8 * n);
     out->GetPointData()->AddArray(a);
-    arrays.push_back({ pin->GetArray(name), a, factor });
+    arrays.push_back({ pin->GetArray(name.c_str()), a, factor });
   }
   const double q = 0.25 * dx;
   for (vtkIdType i = 0; i < n; ++i)
@@ -724,6 +726,44 @@ void PrintStageTable(const std::vector<Stage>& stages)
 }
 } // namespace
 
+namespace
+{
+// The particle spacing dx: PySPH's h / 1.3 when h is an array (PySPH writes h = 1.3 dx), else
+// the typical spacing.
+double FluidSpacing(const Dataset& d)
+{
+  if (!d.smoothing.array.empty())
+  {
+    return d.h / 1.3;
+  }
+  vtkRayMapperParticleSizes::SpacingCache cache;
+  return vtkRayMapperParticleSizes::AutomaticLength(d.particles, 1.0, cache);
+}
+
+// The fluid radius: --radius; else a radius array (radius, radii, r, diameter x 0.5); else
+// 0.8 h (the dam break's r = 0.8 h above) of the h array or of --h; else the automatic
+// radius, 1 x the typical spacing (overlapping spheres without cavities).
+void SetFluidRadius(const Dataset& d, const Options& opt, Fluid& f)
+{
+  const ParticleSize radius = ChooseSize(d.particles, vtkRayMapperParticleSizes::Role::Radius,
+    false, FluidRadiusPerSpacing, opt.radius);
+  f.radiusArray = radius.array;
+  f.radiusScale = radius.scale;
+  f.radius = radius.constant;
+  std::string how = radius.how;
+  const bool fromH =
+    opt.radius <= 0 && radius.array.empty() && (!d.smoothing.array.empty() || opt.h > 0);
+  if (fromH)
+  {
+    f.radiusArray = d.smoothing.array;
+    f.radiusScale = 0.8 * d.smoothing.scale;
+    f.radius = 0.8 * d.smoothing.constant;
+    how = "0.8 x the smoothing length, " + d.smoothing.how;
+  }
+  std::cout << "sph: " << d.name << ": fluid radius " << how << "\n";
+}
+} // namespace
+
 std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>& files)
 {
   // The data: the files, and without --data the refined fine frame and the layers.
@@ -753,17 +793,17 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
     {
       const bool refine =
         spec.size() > suffix.size() && spec.compare(spec.size() - suffix.size(), suffix.size(), suffix) == 0;
-      fd.source = Load(refine ? spec.substr(0, spec.size() - suffix.size()) : spec);
+      fd.source = Load(refine ? spec.substr(0, spec.size() - suffix.size()) : spec, opt);
       if (!fd.source.particles || fd.source.particles->GetNumberOfPoints() == 0)
       {
         continue;
       }
-      fd.dx = fd.source.h / 1.3; // PySPH's h = 1.3 dx
+      fd.dx = FluidSpacing(fd.source);
       fd.name = fd.source.name;
       fd.particles = fd.source.particles;
       if (refine)
       {
-        fd.particles = Refine(fd.source.particles, fd.dx);
+        fd.particles = Refine(fd.source, fd.dx);
         fd.dx *= 0.5;
         fd.name += "-refined2";
         fd.stageOnly = true;
@@ -775,6 +815,10 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
 
     // The settings of the rows.
     Fluid water;
+    if (!fd.layers)
+    {
+      SetFluidRadius(fd.source, opt, water);
+    }
     water.smoothRadius = fd.dx;
     Fluid plain = water;
     plain.smoothRadius = 0;
@@ -789,7 +833,7 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
     if (fd.layers)
     {
       water = Fluid();
-      water.radiusFromH = false;
+      water.radiusArray.clear();
       water.radius = LayerRadius;
       water.ior = 1;
       water.color = { 0, 0, 0 };

@@ -84,19 +84,25 @@ std::vector<Row> RunSpheres(const Options& opt)
       std::cerr << "raymappers-bench: " << file << " has no points; skipped\n";
       continue;
     }
-    std::string radiusName;
-    double radiusFactor = 1.0;
-    vtkDataArray* radii = bench::FindRadiusArray(cloud, radiusName, radiusFactor);
-    const double constantRadius = bench::DefaultRadius(cloud);
-    vtkDataArray* colors = bench::FindColorArray(cloud);
+    // The radius as the representation chooses it (a radius array, else half the typical
+    // spacing: touching spheres), or --radius.
+    const ParticleSize size = ChooseSize(cloud, vtkRayMapperParticleSizes::Role::Radius, false,
+      SphereRadiusPerSpacing, opt.radius);
+    const bool radii = !size.array.empty();
+    const std::string& radiusName = size.array;
+    const double radiusFactor = size.scale;
+    const double constantRadius = size.constant;
+    vtkDataArray* colors = nullptr;
+    if (!ChooseValueArray(cloud, opt.array, file, false, colors))
+    {
+      continue;
+    }
     double range[2] = { 0, 1 };
     if (colors)
     {
       colors->GetRange(range);
     }
-    std::cout << bench::BaseName(file) << ": " << n << " points, radius "
-              << (radii ? "array '" + radiusName + "'"
-                        : "constant " + std::to_string(constantRadius))
+    std::cout << bench::BaseName(file) << ": " << n << " points, radius " << size.how
               << ", color " << (colors && colors->GetName() ? colors->GetName() : "none") << "\n";
 
     // One view for all methods: the data seen from a corner, filling the image.

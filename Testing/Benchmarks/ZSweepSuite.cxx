@@ -12,7 +12,9 @@
 //
 // Data: the Blunt Fin and the Combustion Chamber (PLOT3D, density), disk_out_ref.ex2
 // (Temp) and a tetrahedralized wavelet (vtkRTAnalyticSource, extent +-20: 320,000
-// tetrahedra); --data takes PLOT3D xyz files (the q file beside it), Exodus or VTK files.
+// tetrahedra); --data takes PLOT3D xyz files (the q file beside it), Exodus or VTK files,
+// rendered by the point array --array NAME, else the reader's or active scalars, else the
+// first 1-component point array.
 // Three views each: far, side and close.
 #include "../Cxx/Kernels/UnstructuredReference.h"
 #include "BenchData.h"
@@ -110,7 +112,41 @@ vtkSmartPointer<vtkUnstructuredGrid> ToUnstructured(vtkDataObject* data, bool te
   return out;
 }
 
-Grid Load(const std::string& file)
+// An array's name for the printout ("" for an unnamed one).
+std::string Name(vtkDataArray* a)
+{
+  return a && a->GetName() ? a->GetName() : "";
+}
+
+// The scalars of the grid's point data: --array (false, with the arrays present, when the
+// file has no such point array), else the reader's choice above or the active scalars, else
+// the first 1-component array as the other suites colour by (FindColorArray).
+bool ChooseScalars(vtkUnstructuredGrid* u, const Options& opt, const std::string& file,
+  std::string scalars)
+{
+  vtkPointData* pd = u->GetPointData();
+  if (!opt.array.empty())
+  {
+    if (!pd->GetArray(opt.array.c_str()))
+    {
+      std::cerr << "zsweep: " << file << " has no point array '" << opt.array
+                << "' (--array); its point arrays: " << ListPointArrays(u) << "\n";
+      return false;
+    }
+    scalars = opt.array;
+  }
+  if (scalars.empty() && !pd->GetScalars())
+  {
+    scalars = Name(FindColorArray(u));
+  }
+  if (!scalars.empty())
+  {
+    pd->SetActiveScalars(scalars.c_str());
+  }
+  return true;
+}
+
+Grid Load(const std::string& file, const Options& opt)
 {
   Grid g;
   vtkSmartPointer<vtkDataObject> data;
@@ -168,9 +204,9 @@ Grid Load(const std::string& file)
   }
   for (vtkUnstructuredGrid* u : { g.tetra.Get(), g.native.Get() })
   {
-    if (u && !scalars.empty())
+    if (u && !ChooseScalars(u, opt, file, scalars))
     {
-      u->GetPointData()->SetActiveScalars(scalars.c_str());
+      return Grid();
     }
   }
   return g;
@@ -303,7 +339,7 @@ std::vector<Row> RunZSweep(const Options& opt)
   WarmUp(opt);
   for (const std::string& file : files)
   {
-    const Grid g = Load(file);
+    const Grid g = Load(file, opt);
     if (!g.tetra || g.tetra->GetNumberOfCells() == 0 || !g.tetra->GetPointData()->GetScalars())
     {
       std::cerr << "zsweep: cannot read a grid with scalars from " << file << "\n";
@@ -319,7 +355,7 @@ std::vector<Row> RunZSweep(const Options& opt)
     std::cout << g.name << ": " << cells << " tetrahedra"
               << (g.native ? ", " + std::to_string(g.native->GetNumberOfCells()) + " native cells"
                            : std::string())
-              << "\n";
+              << ", scalars '" << Name(g.tetra->GetPointData()->GetScalars()) << "'\n";
 
     for (const std::string view : { "far", "side", "close" })
     {

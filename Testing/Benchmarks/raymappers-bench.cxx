@@ -12,10 +12,29 @@
 //
 // usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] [--csv FILE]
 //                               [--images DIR] [--generated DIR] [--only TEXT ...]
-//                               [--threads N]
+//                               [--threads N] [--array NAME] [--radius R] [--h H]
 // --only runs just the methods whose ":method:setting" contains TEXT (and the references);
 // a leading ':' anchors TEXT at the method's name.
 // --threads limits TBB (our mappers' parallel work) to N threads, for parallel efficiency.
+// Arrays are chosen as the representations choose them, so any particle file runs:
+//   size        a point array with a conventional name (vtkRayMapperParticleSizes::
+//               FindSizeArrayName: radius, radii, r, diameter x 0.5; h, hsml,
+//               smoothing_length), else a constant, a factor times the typical particle
+//               spacing (spheres 0.5, rbf 1, sph h 1.2, fluid radius 1); --radius R and
+//               --h H set a constant radius and smoothing length instead. Each suite prints
+//               which it took.
+//   value       (the spheres' colour, the rbf weight, the sph quantity, the zsweep scalars)
+//               the point array --array NAME; else (sph) a speed: vmag, speed,
+//               velocity_magnitude, or the magnitude of a 3-component v, vel or velocity;
+//               else (rbf) a weight of 1, or one that follows the density with an h array;
+//               else the active point scalars (zsweep: Density, Temp, RTData of the bundled
+//               data), else type, atom_type, Temp, temperature, rho, density, else the first
+//               1-component array. A legacy file's first SCALARS section is its active
+//               scalars whatever it holds (PySPH's is rho): that is why sph looks for a speed
+//               first. A missing --array names the file, the array and the arrays present,
+//               and the file is skipped.
+//   mass, density  (sph) m or mass and rho or density, ignoring case; without them the
+//               particle volume is the typical spacing cubed, and the suite says so.
 // build_ms of our mapper is the median over --repeat rebuilds after the data is marked
 // modified (a new time step), and the breakdown is printed.
 #include "BenchRun.h"
@@ -47,7 +66,10 @@ int Usage()
 {
   std::cerr << "usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] "
                "[--csv FILE] [--images DIR] [--generated DIR] [--only METHOD:SETTING ...] "
-               "[--threads N]\n"
+               "[--threads N] [--array NAME] [--radius R] [--h H]\n"
+               "--array: the point array to colour or sample by (default: chosen by name)\n"
+               "--radius, --h: a constant particle radius, SPH smoothing length (default: "
+               "the data's size array, else a multiple of the particle spacing)\n"
                "suites: spheres, rbf, zsweep, sph\n";
   return 2;
 }
@@ -107,6 +129,20 @@ int main(int argc, char* argv[])
     else if (a == "--generated")
     {
       opt.generated = next();
+    }
+    else if (a == "--array")
+    {
+      opt.array = next();
+    }
+    else if (a == "--radius" || a == "--h")
+    {
+      const double value = std::atof(next().c_str());
+      if (!(value > 0))
+      {
+        std::cerr << a << " takes a positive length\n";
+        return 2;
+      }
+      (a == "--radius" ? opt.radius : opt.h) = value;
     }
     else if (a == "--threads")
     {
