@@ -25,14 +25,12 @@ vtkSmartPointer<vtkDataObject> ReadAny(const std::string& path);
 /// one vertex per point (arrays that not every block has are dropped).
 vtkSmartPointer<vtkPolyData> ToPointCloud(vtkDataObject* data);
 
-/// The automatic sizes per typical particle spacing, those of the mappers' defaults:
-/// touching spheres, a Gaussian as wide as the spacing, an SPH smoothing length whose
-/// support 2h reaches 2.4 spacings (the neighbours SPH codes keep), a fluid of overlapping
-/// spheres without cavities.
-constexpr double SphereRadiusPerSpacing = 0.5;
-constexpr double RBFRadiusPerSpacing = 1.0;
-constexpr double SPHSmoothingPerSpacing = 1.2;
-constexpr double FluidRadiusPerSpacing = 1.0;
+/// The automatic sizes per typical particle spacing: the mappers' own
+/// (vtkRayMapperParticleSizes), the SPH smoothing length for the kernels of support 2h.
+using vtkRayMapperParticleSizes::FluidRadiusPerSpacing;
+using vtkRayMapperParticleSizes::RBFRadiusPerSpacing;
+using vtkRayMapperParticleSizes::SphereRadiusPerSpacing;
+constexpr double SPHSmoothingPerSpacing = vtkRayMapperParticleSizes::SPHSupportPerSpacing / 2.0;
 
 /// A particle size as a mapper takes it: a point array (ScaleArray) times `scale`, or the
 /// constant length `constant` when `array` is empty.
