@@ -65,7 +65,7 @@ PARTICLE_TYPES = {
 }
 
 # How far each type's rendering reaches beyond the points with these settings: a sphere's
-# radius; Sigma (default 2) Gaussian radii; the cubic spline's (the default kernel's) support
+# radius; Sigma (default 3) Gaussian radii; the cubic spline's (the default kernel's) support
 # 2h (Limper 2012: h is half the support of M4); a fluid sphere's radius.
 # The composite representations expose each type's NumberOfThreads under its own name, and
 # its statistics (counter "threads": the concurrency of the arena the render ran in).
@@ -74,7 +74,7 @@ THREADS = {'Ray-Traced Spheres': ('SpheresNumberOfThreads', 'SpheresRenderStatis
            'SPH Volume': ('SPHNumberOfThreads', 'SPHRenderStatistics'),
            'SPH Fluid': ('SPHFluidNumberOfThreads', 'SPHFluidRenderStatistics')}
 
-MARGINS = {'Ray-Traced Spheres': 0.35, 'RBF Volume': 2.0 * 0.35, 'SPH Volume': 2.0 * 0.6,
+MARGINS = {'Ray-Traced Spheres': 0.35, 'RBF Volume': 3.0 * 0.35, 'SPH Volume': 2.0 * 0.6,
            'SPH Fluid': 0.35}
 
 

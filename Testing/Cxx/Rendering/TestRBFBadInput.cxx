@@ -185,7 +185,7 @@ void Properties(Viewer& v)
         "RadiusScale 1e+300 is outside" },
       { "SampleDistance", [&](double x) { m->SetSampleDistance(x); }, 1e300, 1e15,
         "SampleDistance 1e+300 is outside" } });
-  m->SetSigma(2);
+  m->SetSigma(3);
   m->SetKappa(1);
   m->SetSamplesPerPass(32);
   m->SetTerminationOpacity(0.99);
