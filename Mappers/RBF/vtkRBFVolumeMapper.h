@@ -97,8 +97,8 @@ public:
    * support's edge (13.5% at 2, 1.1% at 3, 0.03% at 4), and on 2LYZ seen from far at 512 x
    * 512 (raymappers-bench rbf, against a converged image) sigma 2 -> 3 costs 1.21x the time
    * for 5.9x less rmse (0.0077 -> 0.0013) while 3 -> 4 costs 1.72x for 1.3x less; on the
-   * LAMMPS crack 2 -> 3 took the rmse from 0.058 to 0.0055 for 1.3x (Testing/Benchmarks/
-   * results/rbf.csv). Open VKL's particle volume cuts at 3 radii too.
+   * LAMMPS crack seen from far 2 -> 3 costs 1.47x for 19x less (0.047 -> 0.0025), 3 -> 4
+   * 1.18x for 1.8x less. Open VKL's particle volume cuts at 3 radii too.
    */
   vtkRayMapperSetClampMacro(Sigma, double, 0.0, 1000.0);
   vtkGetMacro(Sigma, double);
