@@ -13,12 +13,15 @@
  * XML (tag ParticleSizeDefaultDomain): the required property of function "ArraySelection"
  * is the array property, e.g.
  * @code{xml}
- * <ParticleSizeDefaultDomain name="size_default">
+ * <ParticleSizeDefaultDomain name="array_default">
  *   <RequiredProperties>
  *     <Property name="RadiusArray" function="ArraySelection" />
  *   </RequiredProperties>
  * </ParticleSizeDefaultDomain>
  * @endcode
+ * Its name must sort before the property's other domain ("array_default" before "bool" or
+ * "range"): a property keeps its domains in name order, and ParaView's panel makes the
+ * widget (a check box, a range) from the last one.
  */
 #ifndef vtkSMParticleSizeDefaultDomain_h
 #define vtkSMParticleSizeDefaultDomain_h
