@@ -41,24 +41,37 @@ bool sameIgnoringCase(const char* a, const char* b)
   return *a == *b;
 }
 
-/// The first array of `input` (in `names`' order) whose name matches, or nullptr.
+/// The index of the first of `names` that matches a candidate (in `candidates`' order), or -1.
 template <std::size_t N>
-const char* findIn(vtkPointData* data, const SizeName (&names)[N], double& scale)
+int findIn(const std::vector<std::string>& names, const SizeName (&candidates)[N], double& scale)
 {
-  for (const SizeName& candidate : names)
+  for (const SizeName& candidate : candidates)
   {
-    for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+    for (std::size_t i = 0; i < names.size(); ++i)
     {
-      const char* name = data->GetArrayName(a);
-      if (name && data->GetArray(a) && sameIgnoringCase(name, candidate.name))
+      if (sameIgnoringCase(names[i].c_str(), candidate.name))
       {
         scale = candidate.scale;
-        return name;
+        return static_cast<int>(i);
       }
     }
   }
-  return nullptr;
+  return -1;
 }
+}
+
+int FindSizeName(const std::vector<std::string>& names, Role role, bool acceptOther, double& scale)
+{
+  scale = 1.0;
+  int found = role == Role::Radius ? findIn(names, RadiusNames, scale)
+                                   : findIn(names, SmoothingNames, scale);
+  if (found < 0 && acceptOther)
+  {
+    found = role == Role::Radius ? findIn(names, SmoothingNames, scale)
+                                 : findIn(names, RadiusNames, scale);
+    scale = 1.0;
+  }
+  return found;
 }
 
 const char* FindSizeArrayName(vtkDataSet* input, Role role, bool acceptOther, double& scale)
@@ -68,16 +81,16 @@ const char* FindSizeArrayName(vtkDataSet* input, Role role, bool acceptOther, do
   {
     return nullptr;
   }
+  // Arrays without a name or that are not data arrays take an empty name: never matched.
   vtkPointData* data = input->GetPointData();
-  const char* found = role == Role::Radius ? findIn(data, RadiusNames, scale)
-                                           : findIn(data, SmoothingNames, scale);
-  if (!found && acceptOther)
+  std::vector<std::string> names(static_cast<std::size_t>(data->GetNumberOfArrays()));
+  for (int a = 0; a < data->GetNumberOfArrays(); ++a)
   {
-    found = role == Role::Radius ? findIn(data, SmoothingNames, scale)
-                                 : findIn(data, RadiusNames, scale);
-    scale = 1.0;
+    const char* name = data->GetArrayName(a);
+    names[static_cast<std::size_t>(a)] = name && data->GetArray(a) ? name : "";
   }
-  return found;
+  const int found = FindSizeName(names, role, acceptOther, scale);
+  return found < 0 ? nullptr : data->GetArrayName(found);
 }
 
 double SpacingCache::Spacing(vtkPoints* points)

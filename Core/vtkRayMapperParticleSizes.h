@@ -8,6 +8,9 @@
 #include "RayMappersCoreModule.h" // for export macro
 #include "vtkType.h"              // for vtkMTimeType
 
+#include <string> // for std::string
+#include <vector> // for std::vector
+
 class vtkDataSet;
 class vtkPoints;
 
@@ -36,6 +39,13 @@ enum class Role
 /// "smoothinglength". With `acceptOther`, the other role's names come next (scale 1): an
 /// RBF or a fluid radius may come from h, and an SPH smoothing length from a radius.
 RAYMAPPERSCORE_EXPORT const char* FindSizeArrayName(vtkDataSet* input,
+  Role role,
+  bool acceptOther,
+  double& scale);
+
+/// The same choice among `names` alone (e.g. the arrays a ParaView domain lists on the
+/// client, which has no dataset): the index of the chosen name and its `scale`, or -1.
+RAYMAPPERSCORE_EXPORT int FindSizeName(const std::vector<std::string>& names,
   Role role,
   bool acceptOther,
   double& scale);

@@ -75,9 +75,8 @@ def color_map(rep, view, array, value_range, opacity_points=None):
         GetOpacityTransferFunction(array).Points = opacity_points
 
 
-# Each case sets its representation's properties before the first render: the SPH
-# representations' default radius arrays are the first point array (rho, about 1000 on
-# the dam break), which would make every particle kilometres wide.
+# Each case sets its representation's properties before the first render. The SPH
+# representations keep their default size array, the dam break's h (SIZE_DEFAULTS).
 def spheres(rep, view):
     rep.UseRadiusArray = 1
     rep.RadiusArray = ['POINTS', 'h']
@@ -99,7 +98,6 @@ def zsweep_volume(rep, view):
 
 def sph_volume(rep, view):
     rep.SPHKernel = 'Wendland C2'
-    rep.SPHSmoothingLengthArray = ['POINTS', 'h']
     rep.SPHMassArray = ['POINTS', 'm']
     rep.SPHDensityArray = ['POINTS', 'rho']
     color_map(rep, view, 'rho', (990.0, 1010.0), [990.0, 0.1, 0.5, 0.0, 1010.0, 0.6, 0.5, 0.0])
@@ -108,7 +106,6 @@ def sph_volume(rep, view):
 
 def sph_fluid(rep, view):
     rep.ColorArrayName = ['POINTS', '']
-    rep.SPHFluidRadiusArray = ['POINTS', 'h']
     rep.SPHFluidRadiusScale = 0.8
     rep.SPHFluidAbsorptionColor = [4.0, 1.5, 0.8]
 
@@ -118,6 +115,13 @@ def sph_fluid(rep, view):
 DAM_BREAK_CAMERA = ((0.9, 0.0, 0.2), (0.2, -2.6, 1.5))
 LYSOZYME_CAMERA = ((1.6, 21.6, 19.2), (60.0, -60.0, 70.0))
 HEXA_CAMERA = ((0.48, 0.48, 0.48), (2.2, -1.6, 1.9))
+
+# What each particle case's size property is by default: the client's domains choose it
+# from the data information of the session's data (the server's in client-server). The dam
+# break's h is a smoothing length, never a sphere radius; 2LYZ has no size array.
+SIZE_DEFAULTS = {'spheres': ('UseRadiusArray', 0), 'rbf': ('UseRBFRadiusArray', 0),
+                 'sph-volume': ('SPHSmoothingLengthArray', 'h'),
+                 'sph-fluid': ('SPHFluidRadiusArray', 'h')}
 
 # (name, representation, data file, properties, camera)
 CASES = (
@@ -148,6 +152,16 @@ class WarningCounter:
         self.count += 1
 
 
+def check_size_default(session, name, rep):
+    if name not in SIZE_DEFAULTS:
+        return
+    prop, expected = SIZE_DEFAULTS[name]
+    value = rep.GetPropertyValue(prop)
+    value = value if isinstance(value, int) else value[1]
+    check(value == expected, '%s: %s %s is %r by default (%r)'
+          % (session, name, prop, expected, value))
+
+
 def render_cases(session, data_dir, out_dir, warnings, ranks=1):
     """Every case in a fresh view of the current session: {name: (RGB pixels, camera
     after Reset Camera as (focal point, distance))}."""
@@ -163,6 +177,7 @@ def render_cases(session, data_dir, out_dir, warnings, ranks=1):
         check(offered, '%s: "%s" is offered for %s' % (session, representation, data))
         if offered:
             rep.SetRepresentationType(representation)
+            check_size_default(session, name, rep)
             properties(rep, view)
             before = warnings.count
             # paraview.simple's first render resets the camera: place it after that one.

@@ -152,16 +152,16 @@ def run_checks(view, source, stem, build_dir, output, baseline):
                  'SPHFluidBounces', 'SPHFluidAmbientOcclusion', 'SPHFluidAORadius',
                  'SPHFluidAOSamples'):
         check(rep.GetProperty(name) is not None, 'property %s exists' % name)
-    # The radius array starts as None: the domain's default (the active scalars, rho here)
-    # would make every particle a sphere 1000 times the data.
-    check(rep.SPHFluidRadiusArray[1] in ('', 'None'),
-          'SPHFluidRadiusArray defaults to None (%s)' % rep.SPHFluidRadiusArray[1])
+    # The radius array starts as the data's smoothing length h (a conventional size name),
+    # not the active scalars (rho here), which would make every particle a sphere 1000 times
+    # the data. The picture below uses h at that default.
+    check(rep.SPHFluidRadiusArray[1] == 'h',
+          'SPHFluidRadiusArray defaults to h (%s)' % rep.SPHFluidRadiusArray[1])
     rep.ColorArrayName = ['POINTS', '']
     # Ambient light only, so the comparison with a plain VTK renderer (a headlight, where
     # ParaView has its light kit) sees the same shading.
     rep.Ambient = 1.0
     rep.Diffuse = 0.0
-    rep.SPHFluidRadiusArray = ['POINTS', 'h']
     rep.SPHFluidRadiusScale = 0.8
     rep.SPHFluidAbsorptionColor = [4.0, 1.5, 0.8]
     camera = view.GetActiveCamera()

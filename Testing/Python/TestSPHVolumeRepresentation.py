@@ -136,13 +136,15 @@ def run_checks(view, source, stem, build_dir, output, baseline):
                  'ScalarOpacityFunction', 'ScalarOpacityUnitDistance', 'Shade'):
         check(rep.GetProperty(name) is not None, 'property %s exists' % name)
 
-    # The optional arrays start as None: the domain's default (the active scalars, rho here)
-    # would make every particle's support 1000 times the data.
-    for name in ('SPHSmoothingLengthArray', 'SPHMassArray', 'SPHDensityArray', 'SPHVolumeArray'):
+    # The smoothing length array starts as the data's h (its conventional name); the other
+    # optional arrays as None, not the active scalars (rho here), which as h would make every
+    # particle's support 1000 times the data. The picture below uses h at that default.
+    check(rep.SPHSmoothingLengthArray[1] == 'h',
+          'SPHSmoothingLengthArray defaults to h (%s)' % rep.SPHSmoothingLengthArray[1])
+    for name in ('SPHMassArray', 'SPHDensityArray', 'SPHVolumeArray'):
         check(rep.GetProperty(name)[1] in ('', 'None'),
               '%s defaults to None (%s)' % (name, rep.GetProperty(name)[1]))
     rep.SPHKernel = 'Wendland C2'
-    rep.SPHSmoothingLengthArray = ['POINTS', 'h']
     rep.SPHMassArray = ['POINTS', 'm']
     rep.SPHDensityArray = ['POINTS', 'rho']
     ColorBy(rep, ('POINTS', 'vmag'))
