@@ -296,24 +296,9 @@ double weightSumAt(const RBFParticles& particles,
   std::vector<std::uint32_t>& stack)
 {
   double sum = 0.0;
-  stack.assign(1, 0u);
-  while (!stack.empty())
-  {
-    const BVHNode& node = nodes[stack.back()];
-    stack.pop_back();
-    const float g = sigma * node.rMax;
-    if (x.x < node.lo[0] - g || x.x > node.hi[0] + g || x.y < node.lo[1] - g ||
-        x.y > node.hi[1] + g || x.z < node.lo[2] - g || x.z > node.hi[2] + g)
-    {
-      continue;
-    }
-    if (node.count == 0)
-    {
-      stack.push_back(node.first + 1);
-      stack.push_back(node.first);
-      continue;
-    }
-    for (std::uint32_t p = node.first; p < node.first + node.count; ++p)
+  traverseBVH(
+    nodes, stack, [&](const BVHNode& node) { return grownBoxHolds(node, x, sigma * node.rMax); },
+    [&](std::uint32_t p)
     {
       const Vec3f e = x - particles.centers[p];
       const float d2 = dot(e, e), r = particles.radii[p];
@@ -321,8 +306,7 @@ double weightSumAt(const RBFParticles& particles,
       {
         sum += std::exp(-d2 / (2.f * r * r));
       }
-    }
-  }
+    });
   return sum;
 }
 }

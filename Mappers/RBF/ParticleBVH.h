@@ -48,6 +48,47 @@ private:
   int Depth = 0;
 };
 
+/// Depth-first traversal: calls leaf(p) for every particle p of the leaves below the nodes
+/// that meets(node) accepts (a rejected node's subtree is skipped); returns the nodes
+/// visited. `stack` is scratch space, reused between calls.
+template <typename Meets, typename Leaf>
+std::size_t traverseBVH(const std::vector<BVHNode>& nodes,
+  std::vector<std::uint32_t>& stack,
+  Meets meets,
+  Leaf leaf)
+{
+  std::size_t visits = 0;
+  stack.assign(1, 0u);
+  while (!stack.empty())
+  {
+    const BVHNode& node = nodes[stack.back()];
+    stack.pop_back();
+    ++visits;
+    if (!meets(node))
+    {
+      continue;
+    }
+    if (node.count == 0)
+    {
+      stack.push_back(node.first + 1);
+      stack.push_back(node.first);
+      continue;
+    }
+    for (std::uint32_t p = node.first; p < node.first + node.count; ++p)
+    {
+      leaf(p);
+    }
+  }
+  return visits;
+}
+
+/// Whether x lies in the node's box grown by g on every side (a point query's test).
+inline bool grownBoxHolds(const BVHNode& node, const Vec3f& x, float g)
+{
+  return !(x.x < node.lo[0] - g || x.x > node.hi[0] + g || x.y < node.lo[1] - g ||
+    x.y > node.hi[1] + g || x.z < node.lo[2] - g || x.z > node.hi[2] + g);
+}
+
 /// The automatic kappa's measure of density: the median, over up to `sampleSize` particles
 /// (evenly strided), of the sum of the unit Gaussians at the particle's centre,
 ///   W(x_i) = sum_j exp(-|x_i - x_j|^2 / (2 r_j^2)) over |x_i - x_j| <= sigma r_j
