@@ -192,11 +192,17 @@ void Voxelize(vtkSPHVoxelizer* self,
   vp.maxLayers = self->GetMaximumLayers();
   vp.maxSpans = self->GetMaximumSpans();
   vp.memoryBudget = static_cast<std::size_t>(self->GetMemoryBudget() * 1024.0 * 1024.0);
-  vp.gapThreshold = self->GetGapThreshold();
+  // Lengths in LengthUnit: the particles' mean radius, or the input's unit.
+  const double unit =
+    self->GetLengthUnit() == vtkSPHVoxelizer::PARTICLE_RADIUS && particles.meanRadius > 0.0
+    ? particles.meanRadius
+    : 1.0;
+  vp.gapThreshold = self->GetGapThreshold() * unit;
   raymappers::FluidCells cells;
   {
     raymappers::ScopedPhase phase(stats, "cells");
-    raymappers::buildFluidCells(particles, self->GetCellSize(), self->GetBoundaryCulling(), cells);
+    raymappers::buildFluidCells(
+      particles, self->GetCellSize() * unit, self->GetBoundaryCulling(), cells);
   }
   stats.addCounter("culled_particles", static_cast<std::int64_t>(cells.culledParticles));
   vp.cells = &cells;
@@ -210,7 +216,7 @@ void Voxelize(vtkSPHVoxelizer* self,
   raymappers::SurfaceNeighbourhoods neighbourhoods;
   raymappers::findNeighbourhoods(spans, neighbourhoods, stats);
   raymappers::smoothSurfaces(
-    spans, neighbourhoods, rays, self->GetSmoothingRadius(), self->GetSmoothingIterations(), stats);
+    spans, neighbourhoods, rays, self->GetSmoothingRadius() * unit, self->GetSmoothingIterations(), stats);
   raymappers::computeNormals(spans, neighbourhoods, rays, stats);
 }
 
@@ -508,6 +514,8 @@ void vtkSPHVoxelizer::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaximumLayers: " << this->MaximumLayers << "\n";
   os << indent << "MaximumSpans: " << this->MaximumSpans << "\n";
   os << indent << "MemoryBudget: " << this->MemoryBudget << "\n";
+  os << indent << "LengthUnit: " << (this->LengthUnit == WORLD ? "WORLD" : "PARTICLE_RADIUS")
+     << "\n";
   os << indent << "GapThreshold: " << this->GapThreshold << "\n";
   os << indent << "BoundaryCulling: " << this->BoundaryCulling << "\n";
   os << indent << "CellSize: " << this->CellSize << "\n";

@@ -90,6 +90,21 @@ public:
   vtkRayMapperDeprecatedRadiusNamesMacro();
 
   ///@{
+  /** The unit of GapThreshold, CellSize and SmoothingRadius, as vtkSPHFluidMapper's: the
+   * particles' mean radius (PARTICLE_RADIUS, default; the same spans for the same particles
+   * in other units) or the input's own unit (WORLD). */
+  enum LengthUnits
+  {
+    WORLD = 0,
+    PARTICLE_RADIUS = 1
+  };
+  vtkSetClampMacro(LengthUnit, int, WORLD, PARTICLE_RADIUS);
+  vtkGetMacro(LengthUnit, int);
+  void SetLengthUnitToWorld() { this->SetLengthUnit(WORLD); }
+  void SetLengthUnitToParticleRadius() { this->SetLengthUnit(PARTICLE_RADIUS); }
+  ///@}
+
+  ///@{
   /** As vtkSPHFluidMapper: angle resolution (14 degrees), layers (16384), spans (7),
    * memory budget (512 MB), gap threshold (0), smoothing radius (0) and iterations (20). */
   vtkRayMapperSetClampMacro(AngleResolution, double, 0.01, 89.0);
@@ -157,6 +172,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   double Radius = 0.0;
+  int LengthUnit = PARTICLE_RADIUS;
   char* ScaleArray = nullptr;
   double ScaleFactor = 1.0;
   double AngleResolution = 14.0;

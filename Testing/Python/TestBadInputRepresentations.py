@@ -581,13 +581,18 @@ def output_of(proxy):
     return copy
 
 
-def run_filter(name, make_filter, array_property, radius_property, properties):
+def run_filter(name, make_filter, array_property, radius_property, properties,
+               bounds_radius=True):
     filters = []
-    # ParaView's default Radius is 1% of the data's extent (a bounds domain): infinite for
-    # the bad data (its bounds hold the point at infinity), -1e297 for the empty data
-    # (uninitialized bounds). The filter warns once about each and keeps a valid radius.
-    for data, n, text in ((particles(), 0, ''), (particles(bad=True), 1, 'Radius inf is not finite'),
-                          (particles(empty=True), 1, 'is outside [0, 1e+15]')):
+    # A default Radius of 1% of the data's extent (a bounds domain, `bounds_radius`) is
+    # infinite for the bad data (its bounds hold the point at infinity) and -1e297 for the
+    # empty data (uninitialized bounds): the filter warns once about each and keeps a valid
+    # radius. The automatic radius (default 0) gives no warning.
+    created = ((particles(), 0, ''), (particles(bad=True), 1, 'Radius inf is not finite'),
+               (particles(empty=True), 1, 'is outside [0, 1e+15]'))
+    if not bounds_radius:
+        created = tuple((data, 0, '') for data, _, _ in created)
+    for data, n, text in created:
         with Messages() as m:
             f = make_filter(producer(data))
             setattr(f, array_property, 'radius')
@@ -660,7 +665,7 @@ def run_filters():
         ('CameraPosition', [0.6, NAN, 6.5], None, 'not a number'),
         ('MaximumSpans', 100, 63, 'MaximumSpans 100 is outside [1, 63]'),
         ('AngleResolution', 0.0, 0.01, 'AngleResolution 0 is outside'),
-        ('RadiusScale', 1e300, 1e15, 'ScaleFactor 1e+300 is outside')])
+        ('RadiusScale', 1e300, 1e15, 'ScaleFactor 1e+300 is outside')], bounds_radius=False)
     for reset in (0, 1):
         what = 'SPH Voxelizer: the eye at the focal point, Reset Camera %s' % ('on' if reset else 'off')
         # (A new focal point each time: vtkCamera moves its focal point 1e-20 away from an
