@@ -852,3 +852,37 @@ TEST(ParticleBVH, EveryParticleInOneLeafInsideItsBounds)
   // Memory: the nodes take at most the size of the particle data (centre, radius, value).
   EXPECT_LE(bvh.memoryBytes(), s.size() * (sizeof(Vec3f) + 2 * sizeof(float)));
 }
+
+// The automatic kappa's density measure (ParticleBVH.h's medianWeightSum) against the closed
+// form: on a cubic lattice of spacing s with r = s, the unit Gaussians at an interior
+// particle, cut at sigma = 3 (offsets n with |n| <= 3 along each axis, and the whole offset
+// vector within 3 s), sum to sum_{|n| <= 3} exp(-|n|^2 / 2), computed here by enumeration.
+// A 40^3 lattice: more than half its particles (34^3 / 40^3 = 61%) are 3 spacings inside,
+// so the median is the interior sum.
+TEST(RBFVolume, MedianWeightSumOfALatticeIsTheClosedForm)
+{
+  const int side = 40;
+  const double spacing = 0.25;
+  Input in;
+  for (int i = 0; i < side; ++i)
+    for (int j = 0; j < side; ++j)
+      for (int k = 0; k < side; ++k)
+      {
+        in.p.emplace_back(i * spacing, j * spacing, k * spacing);
+        in.r.push_back(spacing);
+      }
+  RBFParticles s = makeParticles(in, Vec3d(5, 5, 5));
+  ParticleBVH bvh;
+  bvh.build(s, 8);
+  double expected = 0.0;
+  for (int a = -3; a <= 3; ++a)
+    for (int b = -3; b <= 3; ++b)
+      for (int c = -3; c <= 3; ++c)
+      {
+        const int n2 = a * a + b * b + c * c;
+        expected += n2 <= 9 ? std::exp(-0.5 * n2) : 0.0;
+      }
+  EXPECT_NEAR(medianWeightSum(s, bvh, 3.0f), expected, 1e-4 * expected);
+  // No particles: 0 (the mapper then keeps kappa 1).
+  EXPECT_EQ(medianWeightSum(RBFParticles(), ParticleBVH(), 3.0f), 0.0);
+}
