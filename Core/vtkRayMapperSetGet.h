@@ -176,6 +176,20 @@ bool AcceptVector(vtkObject* self, const char* name, T (&value)[N], T min, T max
   vtkRayMapperSetClampMacro(NumberOfThreads, int, 0, 4096);                                        \
   vtkGetMacro(NumberOfThreads, int)
 
+/// LengthUnit of vtkSPHFluidMapper and vtkSPHVoxelizer: the unit of their lengths, the
+/// particles' mean radius (PARTICLE_RADIUS) or the input's own unit (WORLD). The class
+/// declares the member and its default.
+#define vtkRayMapperLengthUnitMacro()                                                             \
+  enum LengthUnits                                                                                 \
+  {                                                                                                \
+    WORLD = 0,                                                                                     \
+    PARTICLE_RADIUS = 1                                                                            \
+  };                                                                                               \
+  vtkSetClampMacro(LengthUnit, int, WORLD, PARTICLE_RADIUS);                                       \
+  vtkGetMacro(LengthUnit, int);                                                                    \
+  void SetLengthUnitToWorld() { this->SetLengthUnit(WORLD); }                                      \
+  void SetLengthUnitToParticleRadius() { this->SetLengthUnit(PARTICLE_RADIUS); }
+
 /// @deprecated The old Subsampling p of vtkZSweepVolumeMapper and vtkSPHFluidMapper (0 to
 /// maxP), kept for one release: 0 is AutoAdjustSampleDistances on, p > 0 a fixed
 /// ImageSampleDistance p with AutoAdjustSampleDistances off.

@@ -93,15 +93,7 @@ public:
   /** The unit of GapThreshold, CellSize and SmoothingRadius, as vtkSPHFluidMapper's: the
    * particles' mean radius (PARTICLE_RADIUS, default; the same spans for the same particles
    * in other units) or the input's own unit (WORLD). */
-  enum LengthUnits
-  {
-    WORLD = 0,
-    PARTICLE_RADIUS = 1
-  };
-  vtkSetClampMacro(LengthUnit, int, WORLD, PARTICLE_RADIUS);
-  vtkGetMacro(LengthUnit, int);
-  void SetLengthUnitToWorld() { this->SetLengthUnit(WORLD); }
-  void SetLengthUnitToParticleRadius() { this->SetLengthUnit(PARTICLE_RADIUS); }
+  vtkRayMapperLengthUnitMacro();
   ///@}
 
   ///@{

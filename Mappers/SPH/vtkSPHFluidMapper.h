@@ -107,15 +107,7 @@ public:
   /** The unit of Density (absorption per unit), GapThreshold, SmoothingRadius,
    * AmbientOcclusionRadius and CellSize: the mean particle radius (PARTICLE_RADIUS, default)
    * or the input's own unit (WORLD). */
-  enum LengthUnits
-  {
-    WORLD = 0,
-    PARTICLE_RADIUS = 1
-  };
-  vtkSetClampMacro(LengthUnit, int, WORLD, PARTICLE_RADIUS);
-  vtkGetMacro(LengthUnit, int);
-  void SetLengthUnitToWorld() { this->SetLengthUnit(WORLD); }
-  void SetLengthUnitToParticleRadius() { this->SetLengthUnit(PARTICLE_RADIUS); }
+  vtkRayMapperLengthUnitMacro();
   ///@}
 
   ///@{
