@@ -73,6 +73,18 @@ void renderSpheres(const SphereScene& scene,
   Frame& frame,
   RenderStatistics& stats);
 
+/// A hardware-selection pass: for every pixel of the view, the input point (sourceIds) + 1
+/// of the sphere its primary ray hits first and that hit's window depth (0 and depth 1 where
+/// the ray meets nothing), traced like renderSpheres (same packets, accelerator, range
+/// culling and exact root) without shading. Counters rays, packets, hits; effect
+/// selection_ids.
+void pickSpheres(const SphereScene& scene,
+  const View& view,
+  int packetSide,
+  int tileSize,
+  IdFrame& picks,
+  RenderStatistics& stats);
+
 /// Exact closest intersection of a ray (unit direction) with a sphere, in double:
 /// returns the root nearest to `tGuess` (the accelerator's float estimate), or tGuess
 /// itself when the ray only grazes the sphere in float arithmetic.

@@ -11,12 +11,16 @@
 #include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
+#include "vtkRayMapperSelectionPass.h"
 
 #include "vtkActor.h"
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkHardwareSelector.h"
+#include "vtkIdTypeArray.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
@@ -24,13 +28,16 @@
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkUnsignedIntArray.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 vtkStandardNewMacro(vtkCGTSphereMapper);
 
@@ -56,6 +63,11 @@ struct vtkCGTSphereMapper::Internals
   vtkRayMapperStamp<int, double, int, int> AcceleratorStamp;
   // The typical spacing of the input's points, for the automatic radius.
   vtkRayMapperParticleSizes::SpacingCache Spacing;
+  // Hardware selection: the ids of the last pass, and each point's vertex cell + 1 (0: none)
+  // for cell selection, built for the input's MTime.
+  raymappers::IdFrame Picks;
+  std::vector<std::uint32_t> VertexCellOfPoint;
+  vtkMTimeType VertexCellsTime = 0;
 };
 
 vtkCGTSphereMapper::vtkCGTSphereMapper()
@@ -66,6 +78,8 @@ vtkCGTSphereMapper::vtkCGTSphereMapper()
 vtkCGTSphereMapper::~vtkCGTSphereMapper()
 {
   this->SetScaleArray(nullptr);
+  this->SetPointIdArrayName(nullptr);
+  this->SetProcessIdArrayName(nullptr);
 }
 
 void vtkCGTSphereMapper::SetRange(int index, const char* arrayName, double minimum, double maximum)
@@ -235,45 +249,120 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
   Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); });
 }
 
-void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)
+raymappers::SphereAccelerator* vtkCGTSphereMapper::PrepareScene(vtkRenderer* ren,
+  vtkActor* actor,
+  vtkRayMapperView& view,
+  raymappers::RenderStatistics& stats)
 {
-  if (ren->GetSelector())
-  {
-    // A hardware selection pass asks for ids, not colours: spheres are not pickable yet,
-    // and colours written there would be read as ids.
-    return;
-  }
-  raymappers::RenderStatistics stats;
   vtkPolyData* input = this->GetInput();
-  vtkRayMapperView view;
   if (!input || input->GetNumberOfPoints() == 0)
   {
-    Impl->Core.Skip(stats);
-    return;
+    return nullptr;
   }
   // 1. Update: the sphere set, then the accelerator over it.
   this->UpdateSpheres(input, actor, stats);
   const bool grid = this->UpdateAccelerator(stats);
-  // 2. Gather the camera, lights and material.
+  // 2. Gather the camera.
   if (!Impl->Core.GatherView(this, ren, actor, view))
+  {
+    return nullptr;
+  }
+  raymappers::SphereAccelerator& accelerator =
+    grid ? static_cast<raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
+  this->SetRangeFilter(accelerator);
+  return &accelerator;
+}
+
+void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)
+{
+  raymappers::RenderStatistics stats;
+  vtkRayMapperView view;
+  raymappers::SphereAccelerator* accelerator = this->PrepareScene(ren, actor, view, stats);
+  if (!accelerator)
   {
     Impl->Core.Skip(stats);
     return;
   }
+  const int packetSide = accelerator == &Impl->Grid ? this->PacketSize : 4;
+  if (vtkHardwareSelector* selector = vtkRayMapperSelectionPass::Of(ren))
+  {
+    // A hardware selection pass: the ids of the spheres in front instead of colours.
+    raymappers::pickSpheres({ Impl->Spheres, *accelerator },
+      Impl->Core.KernelView(ren, view, 1.0, Impl->Spheres.origin, false, stats), packetSide,
+      this->TileSize, Impl->Picks, stats);
+    this->PresentSelection(ren, selector, stats);
+    return;
+  }
+  // 3. Gather the lights and material.
   raymappers::SphereRenderParameters params;
   std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.shading.modelToWorld);
   std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.shading.normalToWorld);
   this->GatherShading(ren, actor, view.model, params.shading);
-  params.packetSide = grid ? this->PacketSize : 4;
+  params.packetSide = packetSide;
   params.tileSize = this->TileSize;
-  // 3. Trace, 4. show.
-  raymappers::SphereAccelerator& accelerator =
-    grid ? static_cast<raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
-  this->SetRangeFilter(accelerator);
-  raymappers::renderSpheres({ Impl->Spheres, accelerator },
+  // 4. Trace, 5. show.
+  raymappers::renderSpheres({ Impl->Spheres, *accelerator },
     Impl->Core.KernelView(ren, view, 1.0, Impl->Spheres.origin, false, stats), params,
     Impl->Core.Target(), stats);
   Impl->Core.Present(ren, view, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth, false, stats);
+}
+
+void vtkCGTSphereMapper::PresentSelection(vtkRenderer* ren,
+  vtkHardwareSelector* selector,
+  raymappers::RenderStatistics& stats)
+{
+  vtkPolyData* input = this->GetInput();
+  vtkRayMapperSelectionPass::Origins origins;
+  vtkIdType maximumId = input->GetNumberOfPoints() - 1;
+  if (!vtkRayMapperSelectionPass::SelectsPoints(selector))
+  {
+    maximumId = this->PicksToVertexCells(input);
+  }
+  else
+  {
+    vtkPointData* pd = input->GetPointData();
+    origins.ids = this->PointIdArrayName
+      ? vtkArrayDownCast<vtkIdTypeArray>(pd->GetAbstractArray(this->PointIdArrayName))
+      : nullptr;
+    origins.processes = this->ProcessIdArrayName
+      ? vtkArrayDownCast<vtkUnsignedIntArray>(pd->GetAbstractArray(this->ProcessIdArrayName))
+      : nullptr;
+    if (origins.ids && origins.ids->GetNumberOfTuples() > 0)
+    {
+      maximumId = std::max(maximumId, origins.ids->GetValueRange()[1]);
+    }
+  }
+  Impl->Core.PresentSelection(ren, selector, Impl->Picks, origins, maximumId, stats);
+}
+
+vtkIdType vtkCGTSphereMapper::PicksToVertexCells(vtkPolyData* input)
+{
+  // A vtkPolyData numbers its vertex cells (verts) first, so the k-th cell of GetVerts()
+  // is cell k. A sphere stands for the first vertex cell holding its point; a point in no
+  // vertex cell has no cell to select, and its pixels select nothing.
+  vtkCellArray* verts = input->GetVerts();
+  if (Impl->VertexCellsTime != input->GetMTime())
+  {
+    Impl->VertexCellOfPoint.assign(static_cast<std::size_t>(input->GetNumberOfPoints()), 0u);
+    auto cells = vtk::TakeSmartPointer(verts->NewIterator());
+    for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
+    {
+      vtkIdType count;
+      const vtkIdType* points;
+      cells->GetCurrentCell(count, points);
+      for (vtkIdType k = 0; k < count; ++k)
+      {
+        std::uint32_t& cell = Impl->VertexCellOfPoint[static_cast<std::size_t>(points[k])];
+        cell = cell != 0 ? cell : static_cast<std::uint32_t>(cells->GetCurrentCellId() + 1);
+      }
+    }
+    Impl->VertexCellsTime = input->GetMTime();
+  }
+  for (std::uint32_t& id : Impl->Picks.ids)
+  {
+    id = id != 0 ? Impl->VertexCellOfPoint[id - 1] : 0u;
+  }
+  return verts->GetNumberOfCells() - 1;
 }
 
 void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
@@ -480,6 +569,10 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "PointIdArrayName: " << (this->PointIdArrayName ? this->PointIdArrayName : "(none)")
+     << "\n";
+  os << indent << "ProcessIdArrayName: "
+     << (this->ProcessIdArrayName ? this->ProcessIdArrayName : "(none)") << "\n";
   os << indent << "Accelerator: "
      << (this->Accelerator == VTK_CGT_ACCELERATOR_GRID ? "coherent grid" : "Embree") << "\n";
   os << indent << "PacketSize: " << this->PacketSize << "\n";

@@ -45,7 +45,9 @@
 
 #include <memory> // for std::unique_ptr
 
+class vtkHardwareSelector;
 class vtkRayMapperStatistics;
+struct vtkRayMapperView;
 namespace vtkRayMapperRenderHelpers
 {
 struct ModelTransform;
@@ -214,6 +216,22 @@ public:
   void SetRange(int index, const char* arrayName, double minimum, double maximum);
   void RemoveAllRanges();
 
+  ///@{
+  /**
+   * Hardware selection (vtkHardwareSelector: ParaView's Select Points On, Hover Points,
+   * Interactive Select): a selection pass draws, for each pixel, the id of the point whose
+   * sphere is in front (the cell selection passes: the id of its vertex cell; a point in no
+   * vertex cell selects nothing). PointIdArrayName and ProcessIdArrayName name point arrays
+   * (vtkIdTypeArray, vtkUnsignedIntArray) giving each point's id in, and the process of, the
+   * data it was taken from, as for vtkOpenGLPolyDataMapper; unset (default) or absent: the
+   * input's own ids.
+   */
+  vtkSetStringMacro(PointIdArrayName);
+  vtkGetStringMacro(PointIdArrayName);
+  vtkSetStringMacro(ProcessIdArrayName);
+  vtkGetStringMacro(ProcessIdArrayName);
+  ///@}
+
   /**
    * Statistics of the last render: phase times, counters, effects that ran.
    */
@@ -253,6 +271,8 @@ protected:
   double AmbientOcclusionRadius = 0.0;
 
   int NumberOfThreads = 0;
+  char* PointIdArrayName = nullptr;
+  char* ProcessIdArrayName = nullptr;
 
 private:
   vtkCGTSphereMapper(const vtkCGTSphereMapper&) = delete;
@@ -274,8 +294,23 @@ private:
   void SetRangeFilter(raymappers::SphereAccelerator& accelerator);
   void operator=(const vtkCGTSphereMapper&) = delete;
 
-  /// One render, in the mapper's task arena (RenderPiece runs it there).
+  /// One render, in the mapper's task arena (RenderPiece runs it there): an image, or in a
+  /// hardware selection pass (vtkRayMapperSelectionPass.h) the ids of the spheres in front:
+  /// point ids for point selection, the ids of their vertex cells for cell selection.
   void RenderFrame(vtkRenderer* ren, vtkActor* actor);
+  /// The updated spheres and accelerator (range filter set) and the camera of a render; null
+  /// when there is nothing to draw.
+  raymappers::SphereAccelerator* PrepareScene(vtkRenderer* ren,
+    vtkActor* actor,
+    vtkRayMapperView& view,
+    raymappers::RenderStatistics& stats);
+  /// The last selection pass's picks drawn as the ids of the selector's pass.
+  void PresentSelection(vtkRenderer* ren,
+    vtkHardwareSelector* selector,
+    raymappers::RenderStatistics& stats);
+  /// The last selection pass's point ids replaced by their vertex cells' ids; returns the
+  /// largest cell id.
+  vtkIdType PicksToVertexCells(vtkPolyData* input);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

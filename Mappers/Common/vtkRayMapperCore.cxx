@@ -1,4 +1,5 @@
 #include "vtkRayMapperCore.h"
+#include "vtkRayMapperSelectionPass.h"
 #include "vtkRayMapperPointArrays.h"
 
 #include "Mappers/Common/FrameResample.h"
@@ -238,4 +239,23 @@ void vtkRayMapperCore::Present(vtkRenderer* ren,
     raymappers::enlargeDepth(this->CoarseFrame, this->FullFrame);
   }
   this->Show(ren, mode, stats);
+}
+
+void vtkRayMapperCore::PresentSelection(vtkRenderer* ren,
+  vtkHardwareSelector* selector,
+  const raymappers::IdFrame& picks,
+  const vtkRayMapperSelectionPass::Origins& origins,
+  vtkIdType maximumId,
+  raymappers::RenderStatistics& stats)
+{
+  vtkRayMapperSelectionPass::Begin(selector, maximumId);
+  vtkRayMapperSelectionPass::Encode(selector, picks, origins, this->FullFrame);
+  {
+    raymappers::ScopedPhase phase(stats, "draw");
+    this->Drawer.Draw(
+      ren, this->FullFrame, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth, false, stats);
+  }
+  vtkRayMapperSelectionPass::End(selector);
+  stats.addCounter("threads", this->Concurrency);
+  this->Statistics->Set(stats);
 }

@@ -15,6 +15,7 @@
 #include "Mappers/Common/View.h"
 #include "vtkRayMapperFrameDrawer.h"
 #include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperSelectionPass.h"
 #include "vtkRayMapperStatistics.h"
 
 #include "vtkNew.h"
@@ -31,6 +32,7 @@
 
 class vtkAbstractVolumeMapper;
 class vtkDataObject;
+class vtkHardwareSelector;
 class vtkPointSet;
 class vtkProp3D;
 class vtkRenderer;
@@ -218,6 +220,16 @@ public:
     const View& view,
     vtkRayMapperFrameDrawer::Mode mode,
     bool withDepth,
+    raymappers::RenderStatistics& stats);
+  /// A hardware-selection pass (vtkRayMapperSelectionPass.h): `picks` (the view's size, an
+  /// id + 1 per pixel) drawn with their depth as the colours of the selector's current pass,
+  /// the ids standing for `origins`, `maximumId` the largest id the prop can write; then the
+  /// statistics published.
+  void PresentSelection(vtkRenderer* ren,
+    vtkHardwareSelector* selector,
+    const raymappers::IdFrame& picks,
+    const vtkRayMapperSelectionPass::Origins& origins,
+    vtkIdType maximumId,
     raymappers::RenderStatistics& stats);
   /// A render that draws nothing: the statistics published.
   void Skip(const raymappers::RenderStatistics& stats) { this->Statistics->Set(stats); }

@@ -1,4 +1,5 @@
 #include "vtkRayMapperParticleVolumeMapper.h"
+#include "vtkRayMapperSelectionPass.h"
 
 #include "vtkRayMapperCore.h"
 
@@ -61,6 +62,12 @@ double* vtkRayMapperParticleVolumeMapper::GetBounds()
 
 void vtkRayMapperParticleVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
+  if (vtkRayMapperSelectionPass::Of(ren))
+  {
+    // No part in hardware selection (vtkRayMapperSelectionPass.h): its colours would be
+    // read as ids; the selection sees through to what is behind.
+    return;
+  }
   this->Core->Execute(this->NumberOfThreads,
     [&]
     {

@@ -1,0 +1,258 @@
+"""pvpython: ParaView's hardware selection on Ray-Traced Spheres, against an analytic answer.
+
+The scene is two lattices of N x M points (a Plane source each), one at z = 0 and one right
+behind it at z = -3, drawn as spheres of radius R (less than half the spacing: gaps between
+them) and seen head-on through a parallel projection. Every back sphere is then exactly
+behind a front one, and where each sphere lands in the view follows from the camera alone:
+display = centre of the view + (world - focal point) * pixels per unit. Checks, each against
+the points expected from their coordinates here (no code shared with the mapper), the
+selection compared as the set of the extracted points' coordinates:
+- Select Points On over the whole view: exactly the front lattice's points;
+- a rectangle whose edges run through the gaps: exactly the points inside it;
+- a polygon (a triangle): every sphere wholly inside it, none wholly outside;
+- one-pixel selections (what Hover Points and Interactive Select ask) at three sphere
+  centres: exactly that sphere's point;
+- Select Cells On: the Plane's cells are quads, no vertex cells, so no sphere has a cell to
+  select: nothing (the mapper's rule for cell selection);
+- an SPH Volume of the same points in front of the spheres takes no part: the same ids
+  (ParaView's own unstructured-grid volume does the same, see the class comment of
+  vtkRayMapperSelectionPass).
+With --server PVSERVER [--ranks N --launcher ENV] the same checks run in a client-server
+session (on N MPI ranks the lattices are redistributed among the ranks first, each rank
+draws its part, and the selection must name each point's process and its id there).
+
+usage: pvpython TestSelection.py PLUGIN [--server PVSERVER [--ranks N --launcher ENV]]
+"""
+import os
+import subprocess
+import sys
+
+from paraview.simple import (  # noqa: E402
+    AppendGeometry, ClearSelection, Connect, CreateView, Delete, Disconnect, ExtractSelection,
+    LoadPlugin, Plane, RedistributeDataSet, Render, SelectSurfaceCells, SelectSurfacePoints,
+    SetActiveSource, Show)
+from paraview import servermanager  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from raymappers_testing import check, finish  # noqa: E402
+
+N, M = 12, 8          # the lattice: N columns (x), M rows (y), spacing 1
+BACK = -3.0           # the hidden lattice's z
+R = 0.3               # sphere radius: gaps of 1 - 2R between neighbours
+SIZE = [400, 300]
+SCALE = 5.0           # ParallelScale: half the view's height in world units
+PIXELS = SIZE[1] / (2 * SCALE)  # pixels per world unit
+CENTER = ((N - 1) / 2.0, (M - 1) / 2.0)
+RANKS = 1             # the server's ranks (main sets it)
+
+
+def display(x, y):
+    """The display position of world (x, y) (pixel (i, j) spans [i, i + 1))."""
+    return (SIZE[0] / 2.0 + (x - CENTER[0]) * PIXELS, SIZE[1] / 2.0 + (y - CENTER[1]) * PIXELS)
+
+
+def make_scene(view, split):
+    planes = []
+    for z in (0.0, BACK):
+        planes.append(Plane(Origin=[0, 0, z], Point1=[N - 1, 0, z], Point2=[0, M - 1, z],
+                            XResolution=N - 1, YResolution=M - 1))
+    source = AppendGeometry(Input=planes)
+    if split:
+        # Both lattices split among the server's ranks, so each rank draws and selects its
+        # own part, and the selection must name the right process.
+        planes.append(source)
+        source = RedistributeDataSet(Input=source)
+    rep = Show(source, view)
+    rep.SetRepresentationType('Ray-Traced Spheres')
+    rep.Radius = R
+    # paraview.simple resets the camera at a view's first render: render once before.
+    Render(view)
+    view.CameraParallelProjection = 1
+    view.CameraPosition = [CENTER[0], CENTER[1], 10]
+    view.CameraFocalPoint = [CENTER[0], CENTER[1], 0]
+    view.CameraViewUp = [0, 1, 0]
+    view.CameraParallelScale = SCALE
+    view.OrientationAxesVisibility = 0
+    Render(view)
+    coords = []
+    for plane in planes[:2]:
+        data = servermanager.Fetch(plane)
+        coords += [tuple(round(c, 6) for c in data.GetPoint(i))
+                   for i in range(data.GetNumberOfPoints())]
+    return source, rep, planes, coords
+
+
+def selected_points(source, processes=None):
+    """The points of the source's selection, as a set of coordinate triples (the extracted
+    selection fetched to the client); `processes`, when given, receives the processes the
+    selection names (its IDSelectionSources' (process, id) pairs)."""
+    selection = source.GetSelectionInput(0)
+    if selection is None:
+        return set()
+    if processes is not None:
+        # ParaView 5.11 wraps the selection in AppendSelections (one input per selection).
+        inputs = selection.Input if selection.GetXMLName() == 'AppendSelections' else [selection]
+        for s in inputs:
+            processes |= set(list(s.IDs)[0::2])
+    extract = ExtractSelection(Input=source, Selection=selection)
+    points = set()
+    # Each rank's piece on its own (Fetch's gather of all ranks returned only the first
+    # rank's unstructured grid here).
+    for rank in range(RANKS):
+        data = servermanager.Fetch(extract, rank)
+        for i in range(data.GetNumberOfPoints()):
+            points.add(tuple(round(c, 6) for c in data.GetPoint(i)))
+    Delete(extract)
+    return points
+
+
+def front(coords, inside=lambda x, y: True):
+    return {c for c in coords if c[2] == 0.0 and inside(c[0], c[1])}
+
+
+def check_rectangle(source, coords, view, where):
+    # Columns 2..6 and rows 1..4: the edges lie half way between spheres.
+    x0, y0 = display(2 - 0.5, 1 - 0.5)
+    x1, y1 = display(6 + 0.5, 4 + 0.5)
+    SelectSurfacePoints(Rectangle=[int(x0), int(y0), int(x1), int(y1)], View=view)
+    expected = front(coords, lambda x, y: 2 <= x <= 6 and 1 <= y <= 4)
+    got = selected_points(source)
+    check(got == expected, '%s: a rectangle through the gaps selects its %d spheres (got %d, '
+          '%d missing, %d extra)' % (where, len(expected), len(got), len(expected - got),
+                                     len(got - expected)))
+
+
+def segment_distance(p, a, b):
+    ax, ay = a
+    bx, by = b
+    px, py = p
+    dx, dy = bx - ax, by - ay
+    t = max(0.0, min(1.0, ((px - ax) * dx + (py - ay) * dy) / (dx * dx + dy * dy)))
+    return ((px - ax - t * dx) ** 2 + (py - ay - t * dy) ** 2) ** 0.5
+
+
+def inside_polygon(p, polygon):
+    x, y = p
+    inside = False
+    for k in range(len(polygon)):
+        (ax, ay), (bx, by) = polygon[k], polygon[(k + 1) % len(polygon)]
+        if (ay > y) != (by > y) and x < ax + (y - ay) * (bx - ax) / (by - ay):
+            inside = not inside
+    return inside
+
+
+def check_polygon(source, coords, view, where):
+    triangle = [display(0.2, 0.1), display(9.7, 1.4), display(3.1, 6.6)]
+    triangle = [(int(x), int(y)) for x, y in triangle]
+    SelectSurfacePoints(Polygon=[c for p in triangle for c in p], View=view)
+    got = selected_points(source)
+    radius = R * PIXELS
+    wholly_in, wholly_out = set(), set()
+    for p in front(coords):
+        c = display(p[0], p[1])
+        edge = min(segment_distance(c, triangle[k], triangle[(k + 1) % 3]) for k in range(3))
+        if inside_polygon(c, triangle) and edge > radius + 1.5:
+            wholly_in.add(p)
+        elif not inside_polygon(c, triangle) and edge > radius + 1.5:
+            wholly_out.add(p)
+    check(wholly_in and wholly_in <= got and not (got & wholly_out) and
+          got <= front(coords),
+          '%s: a polygon selects the %d spheres wholly inside it and none of the %d wholly '
+          'outside (got %d)' % (where, len(wholly_in), len(wholly_out), len(got)))
+
+
+def check_picks(source, coords, view, where):
+    for p in sorted(front(coords))[5::29][:3]:
+        x, y = display(p[0], p[1])
+        SelectSurfacePoints(Rectangle=[int(x), int(y), int(x), int(y)], View=view)
+        got = selected_points(source)
+        check(got == {p}, '%s: one pixel at the centre of the sphere at %s selects it (got %s)'
+              % (where, p, sorted(got)))
+
+
+def run_checks(where, ranks):
+    view = CreateView('RenderView')
+    view.ViewSize = SIZE
+    # In client-server, the server renders (and so selects) however small the data.
+    view.RemoteRenderThreshold = 0.0
+    source, rep, planes, coords = make_scene(view, ranks > 1)
+    SetActiveSource(source)
+    check(len(coords) == 2 * N * M, '%s: %d points' % (where, len(coords)))
+
+    SelectSurfacePoints(Rectangle=[0, 0, SIZE[0] - 1, SIZE[1] - 1], View=view)
+    expected = front(coords)
+    processes = set()
+    got = selected_points(source, processes)
+    check(processes == set(range(ranks)), '%s: the selection names the processes that hold '
+          'the points (%s)' % (where, sorted(processes)))
+    check(got == expected, '%s: Select Points On over the whole view selects the %d front '
+          'spheres and none behind them (got %d, %d missing, %d extra)'
+          % (where, len(expected), len(got), len(expected - got), len(got - expected)))
+    check_rectangle(source, coords, view, where)
+    check_polygon(source, coords, view, where)
+    check_picks(source, coords, view, where)
+
+    ClearSelection(source)
+    SelectSurfaceCells(Rectangle=[0, 0, SIZE[0] - 1, SIZE[1] - 1], View=view)
+    got = selected_points(source)
+    check(not got, '%s: Select Cells On spheres without vertex cells selects nothing (got %d)'
+          % (where, len(got)))
+
+    # A volume in front of everything: the selection sees through it.
+    ClearSelection(source)
+    volume_source = Plane(Origin=[-1, -1, 2], Point1=[N, -1, 2], Point2=[-1, M, 2],
+                          XResolution=30, YResolution=30)
+    volume = Show(volume_source, view)
+    volume.SetRepresentationType('SPH Volume')
+    Render(view)
+    SetActiveSource(source)
+    SelectSurfacePoints(Rectangle=[0, 0, SIZE[0] - 1, SIZE[1] - 1], View=view)
+    got = selected_points(source)
+    check(got == expected and selected_points(volume_source) == set(),
+          '%s: an SPH Volume in front takes no part in the selection (got %d spheres, %d '
+          'volume points)' % (where, len(got), len(selected_points(volume_source))))
+    ClearSelection(source)
+    for proxy in [volume_source, source] + planes:
+        Delete(proxy)
+    Delete(view)
+
+
+def main():
+    plugin = sys.argv[1]
+    options = dict(zip(sys.argv[2::2], sys.argv[3::2]))
+    LoadPlugin(plugin, remote=False, ns=globals())
+    if '--server' not in options:
+        run_checks('builtin', 1)
+        return finish()
+    from TestClientServer import start_server
+    ranks = int(options.get('--ranks', 1))
+    global RANKS
+    RANKS = ranks
+    out_dir = options.get('--output', '.')
+    os.makedirs(out_dir, exist_ok=True)
+    process, port, copier = start_server(
+        options['--server'], os.path.join(out_dir, 'pvserver-selection-%d.log' % ranks), ranks,
+        options.get('--launcher'))
+    try:
+        check(port is not None, 'pvserver listens (port %s)' % port)
+        if port is not None:
+            Connect('localhost', port)
+            LoadPlugin(plugin, remote=True, ns=globals())
+            run_checks('%d server rank%s' % (ranks, 's' if ranks > 1 else ''), ranks)
+            Disconnect()
+            Connect()
+    finally:
+        if process.poll() is None:
+            try:
+                process.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+        copier.join()
+    return finish()
+
+
+if __name__ == '__main__':
+    code = main()
+    if code:
+        sys.exit(code)
