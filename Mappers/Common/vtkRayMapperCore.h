@@ -231,6 +231,13 @@ public:
     const vtkRayMapperSelectionPass::Origins& origins,
     vtkIdType maximumId,
     raymappers::RenderStatistics& stats);
+  /// A volume's part in a hardware-selection pass: it selects nothing and hides what is
+  /// behind it, as ParaView's Volume of an unstructured grid does (its projected tetrahedra
+  /// draw their colours in every pass, which the selector reads as no known prop). The
+  /// footprint is the last frame's (the selection renders right after a render, with its
+  /// camera): "nothing" (0) is drawn over its pixels of alpha > 0, none when the last frame
+  /// is not of the viewport's size.
+  void PresentSelectionFootprint(vtkRenderer* ren);
   /// A render that draws nothing: the statistics published.
   void Skip(const raymappers::RenderStatistics& stats) { this->Statistics->Set(stats); }
 
@@ -246,6 +253,7 @@ private:
 
   raymappers::Frame FullFrame;
   raymappers::Frame CoarseFrame;
+  raymappers::Frame FootprintFrame; // a volume's footprint in a selection pass
   vtkRayMapperFrameDrawer Drawer;
   vtkRayMapperRenderHelpers::CameraCheck Camera;
   vtkNew<vtkRayMapperStatistics> Statistics;

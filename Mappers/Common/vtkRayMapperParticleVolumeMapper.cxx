@@ -64,8 +64,8 @@ void vtkRayMapperParticleVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
   if (vtkRayMapperSelectionPass::Of(ren))
   {
-    // No part in hardware selection (vtkRayMapperSelectionPass.h): its colours would be
-    // read as ids; the selection sees through to what is behind.
+    // A hardware selection pass: selects nothing, hides what is behind.
+    this->Core->PresentSelectionFootprint(ren);
     return;
   }
   this->Core->Execute(this->NumberOfThreads,

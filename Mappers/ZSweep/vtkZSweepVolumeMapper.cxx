@@ -394,8 +394,8 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
   if (vtkRayMapperSelectionPass::Of(ren))
   {
-    // No part in hardware selection (vtkRayMapperSelectionPass.h): its colours would be
-    // read as ids; the selection sees through to what is behind.
+    // A hardware selection pass: selects nothing, hides what is behind.
+    Impl->Core.PresentSelectionFootprint(ren);
     return;
   }
   Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });

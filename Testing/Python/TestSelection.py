@@ -14,9 +14,10 @@ selection compared as the set of the extracted points' coordinates:
   centres: exactly that sphere's point;
 - Select Cells On: the Plane's cells are quads, no vertex cells, so no sphere has a cell to
   select: nothing (the mapper's rule for cell selection);
-- an SPH Volume of the same points in front of the spheres takes no part: the same ids
-  (ParaView's own unstructured-grid volume does the same, see the class comment of
-  vtkRayMapperSelectionPass).
+- a volume in front of the spheres: ParaView's own Volume of an unstructured grid selects
+  nothing and hides the spheres from the selection (its projected tetrahedra draw colours in
+  every selection pass); an SPH Volume there does the same (vtkRayMapperCore::
+  PresentSelectionFootprint), and hides nothing when moved aside.
 With --server PVSERVER [--ranks N --launcher ENV] the same checks run in a client-server
 session (on N MPI ranks the lattices are redistributed among the ranks first, each rank
 draws its part, and the selection must name each point's process and its id there).
@@ -30,7 +31,7 @@ import sys
 from paraview.simple import (  # noqa: E402
     AppendGeometry, ClearSelection, Connect, CreateView, Delete, Disconnect, ExtractSelection,
     LoadPlugin, Plane, RedistributeDataSet, Render, SelectSurfaceCells, SelectSurfacePoints,
-    SetActiveSource, Show)
+    SetActiveSource, Show, Hide, Tetrahedralize, Transform, Wavelet)
 from paraview import servermanager  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -198,19 +199,38 @@ def run_checks(where, ranks):
     check(not got, '%s: Select Cells On spheres without vertex cells selects nothing (got %d)'
           % (where, len(got)))
 
-    # A volume in front of everything: the selection sees through it.
+    # A volume in front of the spheres: ParaView's own Volume of an unstructured grid
+    # (projected tetrahedra) selects nothing and hides them from the selection; an SPH
+    # Volume there must do the same, and nothing once it is moved aside.
     ClearSelection(source)
+    wavelet = Wavelet(WholeExtent=[0, 4, 0, 4, 0, 1])
+    grid = Tetrahedralize(Input=wavelet)
+    grid_volume = Transform(Input=grid)
+    grid_volume.Transform.Scale = [N / 2.0, M / 2.0, 0.5]
+    grid_volume.Transform.Translate = [-1.5, -1.5, 1.5]
     volume_source = Plane(Origin=[-1, -1, 2], Point1=[N, -1, 2], Point2=[-1, M, 2],
                           XResolution=30, YResolution=30)
+    for case, volume_of, representation in (('ParaView\'s Volume', grid_volume, 'Volume'),
+                                            ('an SPH Volume', volume_source, 'SPH Volume')):
+        volume = Show(volume_of, view)
+        volume.SetRepresentationType(representation)
+        Render(view)
+        SetActiveSource(source)
+        SelectSurfacePoints(Rectangle=[0, 0, SIZE[0] - 1, SIZE[1] - 1], View=view)
+        got, got_volume = selected_points(source), selected_points(volume_of)
+        check(not got and not got_volume, '%s: %s in front hides the spheres from the '
+              'selection and selects nothing itself (got %d spheres, %d volume points)'
+              % (where, case, len(got), len(got_volume)))
+        Hide(volume_of, view)
+        ClearSelection(source)
     volume = Show(volume_source, view)
-    volume.SetRepresentationType('SPH Volume')
+    volume.Position = [3 * N, 0, 0]
     Render(view)
-    SetActiveSource(source)
     SelectSurfacePoints(Rectangle=[0, 0, SIZE[0] - 1, SIZE[1] - 1], View=view)
     got = selected_points(source)
-    check(got == expected and selected_points(volume_source) == set(),
-          '%s: an SPH Volume in front takes no part in the selection (got %d spheres, %d '
-          'volume points)' % (where, len(got), len(selected_points(volume_source))))
+    check(got == expected, '%s: the SPH Volume moved aside hides nothing (got %d spheres)'
+          % (where, len(got)))
+    planes += [grid_volume, grid, wavelet]
     ClearSelection(source)
     for proxy in [volume_source, source] + planes:
         Delete(proxy)
