@@ -29,6 +29,7 @@
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
 #include "vtkSmartPointer.h"
+#include "vtkTimeStamp.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnsignedIntArray.h"
 
@@ -68,6 +69,10 @@ struct vtkCGTSphereMapper::Internals
   raymappers::IdFrame Picks;
   std::vector<std::uint32_t> VertexCellOfPoint;
   vtkMTimeType VertexCellsTime = 0;
+  // Highlighted points (SetSelectedPoints), and a mask of them by point id.
+  std::vector<vtkIdType> SelectedIds;
+  vtkTimeStamp SelectedTime;
+  std::vector<bool> SelectedMask;
 };
 
 vtkCGTSphereMapper::vtkCGTSphereMapper()
@@ -217,20 +222,34 @@ double vtkCGTSphereMapper::GetRadiusInUse()
 
 // A sphere's colour: its point's mapped scalar colour (RGB or grey, opaque), or the actor's
 // diffuse colour when nothing is mapped.
+namespace
+{
+std::uint32_t PackColor(const double* rgb)
+{
+  return raymappers::packRGBA8(
+    static_cast<unsigned>(std::lround(std::clamp(rgb[0], 0.0, 1.0) * 255)),
+    static_cast<unsigned>(std::lround(std::clamp(rgb[1], 0.0, 1.0) * 255)),
+    static_cast<unsigned>(std::lround(std::clamp(rgb[2], 0.0, 1.0) * 255)), 255);
+}
+}
+
 struct vtkCGTSphereMapper::SphereColors
 {
-  SphereColors(vtkUnsignedCharArray* colors, const double* actorColor)
+  SphereColors(vtkUnsignedCharArray* colors, const double* actorColor,
+    const std::vector<bool>& selected, const double* selectionColor)
     : Rgba(colors ? colors->GetPointer(0) : nullptr)
     , Components(colors ? colors->GetNumberOfComponents() : 0)
-    , ActorColor(raymappers::packRGBA8(
-        static_cast<unsigned>(std::lround(std::clamp(actorColor[0], 0.0, 1.0) * 255)),
-        static_cast<unsigned>(std::lround(std::clamp(actorColor[1], 0.0, 1.0) * 255)),
-        static_cast<unsigned>(std::lround(std::clamp(actorColor[2], 0.0, 1.0) * 255)),
-        255))
+    , ActorColor(PackColor(actorColor))
+    , Selected(selected)
+    , SelectionColor(PackColor(selectionColor))
   {
   }
   std::uint32_t operator()(std::size_t i) const
   {
+    if (i < Selected.size() && Selected[i])
+    {
+      return SelectionColor;
+    }
     if (!Rgba)
     {
       return ActorColor;
@@ -242,7 +261,47 @@ struct vtkCGTSphereMapper::SphereColors
   const unsigned char* Rgba;
   int Components;
   std::uint32_t ActorColor;
+  const std::vector<bool>& Selected; // by point id
+  std::uint32_t SelectionColor;
 };
+
+void vtkCGTSphereMapper::SetSelectedPoints(vtkIdTypeArray* pointIds)
+{
+  std::vector<vtkIdType> ids;
+  for (vtkIdType k = 0; pointIds && k < pointIds->GetNumberOfValues(); ++k)
+  {
+    ids.push_back(pointIds->GetValue(k));
+  }
+  if (ids != Impl->SelectedIds)
+  {
+    Impl->SelectedIds = std::move(ids);
+    Impl->SelectedTime.Modified();
+  }
+}
+
+void vtkCGTSphereMapper::SetSelectionColor(double r, double g, double b)
+{
+  if (r != this->SelectionColor[0] || g != this->SelectionColor[1] || b != this->SelectionColor[2])
+  {
+    this->SelectionColor[0] = r;
+    this->SelectionColor[1] = g;
+    this->SelectionColor[2] = b;
+    Impl->SelectedTime.Modified();
+    this->Modified();
+  }
+}
+
+void vtkCGTSphereMapper::UpdateSelectedMask(vtkIdType numberOfPoints)
+{
+  Impl->SelectedMask.assign(Impl->SelectedIds.empty() ? 0 : numberOfPoints, false);
+  for (vtkIdType id : Impl->SelectedIds)
+  {
+    if (id >= 0 && id < numberOfPoints)
+    {
+      Impl->SelectedMask[static_cast<std::size_t>(id)] = true;
+    }
+  }
+}
 
 void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
 {
@@ -373,7 +432,7 @@ void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
   // scalars, lookup table and actor colour; a camera or light change reuses both.
   this->MapScalars(input, 1.0);
   vtkMTimeType colorTime = this->Colors ? this->Colors->GetMTime() : 0;
-  colorTime = std::max(colorTime, actor->GetProperty()->GetMTime());
+  colorTime = std::max({ colorTime, actor->GetProperty()->GetMTime(), Impl->SelectedTime.GetMTime() });
   const bool geometryChanged = Impl->SpheresStamp.Changed(this, input,
     { this->Radius, this->ScaleFactor, vtkRayMapperString(this->ScaleArray),
       Impl->RangeArrays });
@@ -390,7 +449,9 @@ void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
                        "data is ignored and the actor color is used.");
     colors = nullptr;
   }
-  const SphereColors colorOf(colors, actor->GetProperty()->GetDiffuseColor());
+  this->UpdateSelectedMask(input->GetNumberOfPoints());
+  const SphereColors colorOf(
+    colors, actor->GetProperty()->GetDiffuseColor(), Impl->SelectedMask, this->SelectionColor);
   if (geometryChanged)
   {
     this->BuildSpheres(input, colorOf);

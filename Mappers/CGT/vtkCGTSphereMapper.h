@@ -46,6 +46,7 @@
 #include <memory> // for std::unique_ptr
 
 class vtkHardwareSelector;
+class vtkIdTypeArray;
 class vtkRayMapperStatistics;
 struct vtkRayMapperView;
 namespace vtkRayMapperRenderHelpers
@@ -232,6 +233,19 @@ public:
   vtkGetStringMacro(ProcessIdArrayName);
   ///@}
 
+  ///@{
+  /**
+   * Highlighted points: the spheres of these point ids (nullptr or empty: none; ids outside
+   * the input are ignored) get SelectionColor (default magenta, ParaView's) instead of their
+   * colour, and are lit like the others. ParaView's Ray-Traced Spheres set them from the
+   * view's selection, which ParaView draws as points that the spheres would hide.
+   */
+  void SetSelectedPoints(vtkIdTypeArray* pointIds);
+  void SetSelectionColor(double r, double g, double b);
+  void SetSelectionColor(const double rgb[3]) { this->SetSelectionColor(rgb[0], rgb[1], rgb[2]); }
+  vtkGetVector3Macro(SelectionColor, double);
+  ///@}
+
   /**
    * Statistics of the last render: phase times, counters, effects that ran.
    */
@@ -273,6 +287,7 @@ protected:
   int NumberOfThreads = 0;
   char* PointIdArrayName = nullptr;
   char* ProcessIdArrayName = nullptr;
+  double SelectionColor[3] = { 1.0, 0.0, 1.0 };
 
 private:
   vtkCGTSphereMapper(const vtkCGTSphereMapper&) = delete;
@@ -285,6 +300,7 @@ private:
   struct SphereColors;
   void UpdateSpheres(vtkPolyData* input, vtkActor* actor, raymappers::RenderStatistics& stats);
   void BuildSpheres(vtkPolyData* input, const SphereColors& colorOf);
+  void UpdateSelectedMask(vtkIdType numberOfPoints);
   void ReadRangeAttributes(vtkPolyData* input);
   bool UpdateAccelerator(raymappers::RenderStatistics& stats);
   void GatherShading(vtkRenderer* ren,

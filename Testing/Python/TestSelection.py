@@ -10,6 +10,8 @@ selection compared as the set of the extracted points' coordinates:
 - Select Points On over the whole view: exactly the front lattice's points;
 - a rectangle whose edges run through the gaps: exactly the points inside it;
 - a polygon (a triangle): every sphere wholly inside it, none wholly outside;
+- the selected spheres, and only they, show the selection colour (SelectionColor, also
+  when changed);
 - one-pixel selections (what Hover Points and Interactive Select ask) at three sphere
   centres: exactly that sphere's point;
 - Select Cells On: the Plane's cells are quads, no vertex cells, so no sphere has a cell to
@@ -31,11 +33,11 @@ import sys
 from paraview.simple import (  # noqa: E402
     AppendGeometry, ClearSelection, Connect, CreateView, Delete, Disconnect, ExtractSelection,
     LoadPlugin, Plane, RedistributeDataSet, Render, SelectSurfaceCells, SelectSurfacePoints,
-    SetActiveSource, Show, Hide, Tetrahedralize, Transform, Wavelet)
+    SetActiveSource, Show, Hide, Tetrahedralize, Transform, Wavelet, GetDisplayProperties)
 from paraview import servermanager  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from raymappers_testing import check, finish  # noqa: E402
+from raymappers_testing import check, finish, prepare_view, screenshot  # noqa: E402
 
 N, M = 12, 8          # the lattice: N columns (x), M rows (y), spacing 1
 BACK = -3.0           # the hidden lattice's z
@@ -45,6 +47,7 @@ SCALE = 5.0           # ParallelScale: half the view's height in world units
 PIXELS = SIZE[1] / (2 * SCALE)  # pixels per world unit
 CENTER = ((N - 1) / 2.0, (M - 1) / 2.0)
 RANKS = 1             # the server's ranks (main sets it)
+OUTPUT = '.'          # where screenshots go (main sets it)
 
 
 def display(x, y):
@@ -121,6 +124,30 @@ def check_rectangle(source, coords, view, where):
     check(got == expected, '%s: a rectangle through the gaps selects its %d spheres (got %d, '
           '%d missing, %d extra)' % (where, len(expected), len(got), len(expected - got),
                                      len(got - expected)))
+    check_highlight(view, coords, expected, [1.0, 0.0, 1.0], where)
+    # ParaView's palette sets every representation's SelectionColor.
+    source_rep = GetDisplayProperties(source, view)
+    source_rep.SelectionColor = [0.0, 1.0, 0.0]
+    check_highlight(view, coords, expected, [0.0, 1.0, 0.0], where)
+    source_rep.SelectionColor = [1.0, 0.0, 1.0]
+
+
+def check_highlight(view, coords, selected, color, where):
+    """The selected spheres show the selection colour, the others do not: the pixel at each
+    front sphere's centre (lit head-on: the colour times the diffuse and ambient light) has
+    the colour's hue exactly when the sphere is selected."""
+    image = screenshot(view, os.path.join(OUTPUT, 'selection.png'), SIZE).reshape(
+        SIZE[1], SIZE[0], 3)
+    wrong = []
+    for p in front(coords):
+        x, y = display(p[0], p[1])
+        r, g, b = image[int(y), int(x)]
+        tinted = (r > g + 60 and b > g + 60) if color == [1.0, 0.0, 1.0] else (
+            g > r + 60 and g > b + 60)
+        if tinted != (p in selected):
+            wrong.append(p)
+    check(not wrong, '%s: the %d selected spheres, and only they, show the selection colour '
+          '%s (%d wrong)' % (where, len(selected), color, len(wrong)))
 
 
 def segment_distance(p, a, b):
@@ -173,7 +200,7 @@ def check_picks(source, coords, view, where):
 
 def run_checks(where, ranks):
     view = CreateView('RenderView')
-    view.ViewSize = SIZE
+    prepare_view(view, SIZE, [0.1, 0.1, 0.15])
     # In client-server, the server renders (and so selects) however small the data.
     view.RemoteRenderThreshold = 0.0
     source, rep, planes, coords = make_scene(view, ranks > 1)
@@ -240,16 +267,17 @@ def run_checks(where, ranks):
 def main():
     plugin = sys.argv[1]
     options = dict(zip(sys.argv[2::2], sys.argv[3::2]))
+    global RANKS, OUTPUT
+    OUTPUT = options.get('--output', '.')
+    os.makedirs(OUTPUT, exist_ok=True)
     LoadPlugin(plugin, remote=False, ns=globals())
     if '--server' not in options:
         run_checks('builtin', 1)
         return finish()
     from TestClientServer import start_server
     ranks = int(options.get('--ranks', 1))
-    global RANKS
     RANKS = ranks
-    out_dir = options.get('--output', '.')
-    os.makedirs(out_dir, exist_ok=True)
+    out_dir = OUTPUT
     process, port, copier = start_server(
         options['--server'], os.path.join(out_dir, 'pvserver-selection-%d.log' % ranks), ranks,
         options.get('--launcher'))
