@@ -14,6 +14,7 @@ selection compared as the set of the extracted points' coordinates:
   when changed);
 - one-pixel selections (what Hover Points and Interactive Select ask) at three sphere
   centres: exactly that sphere's point;
+- Find Data's query selection (id < N: the first row) is highlighted the same way;
 - Select Cells On: the Plane's cells are quads, no vertex cells, so no sphere has a cell to
   select: nothing (the mapper's rule for cell selection);
 - a volume in front of the spheres: ParaView's own Volume of an unstructured grid selects
@@ -33,7 +34,8 @@ import sys
 from paraview.simple import (  # noqa: E402
     AppendGeometry, ClearSelection, Connect, CreateView, Delete, Disconnect, ExtractSelection,
     LoadPlugin, Plane, RedistributeDataSet, Render, SelectSurfaceCells, SelectSurfacePoints,
-    SetActiveSource, Show, Hide, Tetrahedralize, Transform, Wavelet, GetDisplayProperties)
+    SetActiveSource, Show, Hide, Tetrahedralize, Transform, Wavelet, GetDisplayProperties,
+    QuerySelect)
 from paraview import servermanager  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -219,6 +221,17 @@ def run_checks(where, ranks):
     check_rectangle(source, coords, view, where)
     check_polygon(source, coords, view, where)
     check_picks(source, coords, view, where)
+
+    # Find Data: a query selection (the first lattice row, ids below N in the builtin
+    # session's order; on several ranks the ids are each rank's own) is highlighted too.
+    ClearSelection(source)
+    if ranks == 1:
+        QuerySelect(QueryString='id < %d' % N, FieldType='POINT', Source=source)
+        row = front(coords, lambda x, y: y == 0.0)
+        got = selected_points(source)
+        check(got == row, '%s: Find Data (id < %d) selects the first row (got %d)'
+              % (where, N, len(got)))
+        check_highlight(view, coords, row, [1.0, 0.0, 1.0], where + ', Find Data')
 
     ClearSelection(source)
     SelectSurfaceCells(Rectangle=[0, 0, SIZE[0] - 1, SIZE[1] - 1], View=view)
