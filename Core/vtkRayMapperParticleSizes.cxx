@@ -112,6 +112,28 @@ double SpacingCache::Spacing(vtkPoints* points)
   return this->Value;
 }
 
+std::vector<double> SpacingSampleDistances(vtkPoints* points, std::size_t totalCount)
+{
+  const std::size_t count = points ? static_cast<std::size_t>(points->GetNumberOfPoints()) : 0;
+  if (count == 0 || totalCount == 0)
+  {
+    return {};
+  }
+  // This piece's share of the whole set's sample, rounded up so that no piece is left out.
+  const std::size_t share = (1024 * count + totalCount - 1) / totalCount;
+  const vtkRayMapperPointArrays::TupleReader reader(points->GetData());
+  return raymappers::spacingSampleDistances(
+    count,
+    [&](std::size_t i)
+    { return raymappers::Vec3d(reader.get(i, 0), reader.get(i, 1), reader.get(i, 2)); },
+    share);
+}
+
+double MedianSpacing(const std::vector<double>& distances)
+{
+  return raymappers::medianSpacing(distances);
+}
+
 double AutomaticLengthFrom(double spacing, const double bounds[6], double perSpacing)
 {
   if (spacing > 0.0 && std::isfinite(spacing))

@@ -64,6 +64,17 @@ private:
   double Value = 0.0;
 };
 
+/// The sample's nearest-neighbour distances of one process's piece `points` of a set of
+/// `totalCount` points over all processes (raymappers::spacingSampleDistances on the piece's
+/// share of the 1024 samples): their median gathered from all pieces is the set's typical
+/// spacing, up to the sampling's noise.
+RAYMAPPERSCORE_EXPORT std::vector<double> SpacingSampleDistances(vtkPoints* points,
+  std::size_t totalCount);
+
+/// The median of sample distances gathered from the pieces (raymappers::medianSpacing): 0
+/// when there are none or half of them found no neighbour.
+RAYMAPPERSCORE_EXPORT double MedianSpacing(const std::vector<double>& distances);
+
 /// The automatic constant size: `perSpacing` times the typical spacing of the input's points;
 /// when that is 0 (fewer than two distinct finite points) 1% of the finite bounds' diagonal,
 /// and 1 when that is 0 too (a single point).

@@ -3,8 +3,10 @@
 // same data in other units gives the same picture.
 //
 // Definition: the median, over a deterministic sample of up to `sampleSize` finite
-// particles, of each sampled particle's distance to its nearest distinct particle of the
-// whole set (coincident points do not count as neighbours). The median, not the mean: on a
+// particles (evenly strided indices; the pieces of a set on several processes sample their
+// shares and gather the distances: spacingSampleDistances), of each sampled
+// particle's distance to its nearest distinct particle of the whole set (coincident points
+// do not count as neighbours). The median, not the mean: on a
 // clustered set (a galaxy halo) the few particles of the sparse outskirts have neighbours
 // hundreds of times farther than the core's and would dominate a mean.
 //
@@ -104,31 +106,18 @@ inline double firstGuess(const std::vector<Vec3d>& sample, std::size_t total)
 }
 } // namespace spacingdetail
 
-/// The median nearest-neighbour distance described above, for `count` points given by
-/// pointAt(i) -> Vec3d; 0 when fewer than two distinct finite points exist.
+/// Steps 2 and 3 for `sample`: each sample point's nearest-distinct-neighbour distance among
+/// the `count` points, +infinity for those with none within the final search radius (fewer
+/// than half of them); empty when no search radius could be set.
 template <typename PointAt>
-double typicalParticleSpacing(std::size_t count, PointAt pointAt, std::size_t sampleSize = 1024)
+std::vector<double> sampleNeighbourDistances(
+  std::size_t count, PointAt pointAt, const std::vector<Vec3d>& sample)
 {
   using namespace spacingdetail;
-  // The sample: evenly strided indices (deterministic), each the next finite point.
-  std::vector<Vec3d> sample;
-  const std::size_t m = std::min(count, sampleSize);
-  for (std::size_t k = 0; k < m; ++k)
-  {
-    for (std::size_t i = (2 * k + 1) * count / (2 * m); i < count; ++i)
-    {
-      const Vec3d p = pointAt(i);
-      if (finitePoint(p))
-      {
-        sample.push_back(p);
-        break;
-      }
-    }
-  }
   double radius = 2.0 * firstGuess(sample, count);
   if (!(radius > 0.0) || !std::isfinite(radius))
   {
-    return 0.0;
+    return {};
   }
   constexpr std::size_t FilterBits = 1u << 16;
   for (int pass = 0; pass < 24; ++pass)
@@ -157,12 +146,8 @@ double typicalParticleSpacing(std::size_t count, PointAt pointAt, std::size_t sa
     for (std::size_t i = 0; i < count; ++i)
     {
       const Vec3d p = pointAt(i);
-      if (!finitePoint(p))
-      {
-        continue;
-      }
       std::array<std::int64_t, 3> at;
-      if (!cellOf(p, cell, at))
+      if (!finitePoint(p) || !cellOf(p, cell, at))
       {
         continue;
       }
@@ -186,7 +171,7 @@ double typicalParticleSpacing(std::size_t count, PointAt pointAt, std::size_t sa
       best.begin(), best.end(), [](double d) { return std::isfinite(d); }));
     if (2 * found > best.size())
     {
-      return median(best);
+      return best;
     }
     radius *= 4.0;
     if (!std::isfinite(radius * 4.0))
@@ -194,7 +179,55 @@ double typicalParticleSpacing(std::size_t count, PointAt pointAt, std::size_t sa
       break;
     }
   }
-  return 0.0;
+  return {};
+}
+
+/// The sample's nearest-neighbour distances (sampleNeighbourDistances) for `count` points
+/// given by pointAt(i) -> Vec3d, the sample being up to `sampleSize` of them at evenly
+/// strided indices (each the next finite point): deterministic, and the same for the set in
+/// other units. The `count` points may be one process's piece of a larger set, sampled in
+/// proportion to its share (then each neighbour is sought among the piece's own points: a
+/// sample point whose nearest neighbour lies in another piece measures a farther one).
+/// Empty when there is no sample or no search radius.
+template <typename PointAt>
+std::vector<double> spacingSampleDistances(
+  std::size_t count, PointAt pointAt, std::size_t sampleSize = 1024)
+{
+  std::vector<Vec3d> sample;
+  const std::size_t m = std::min(count, sampleSize);
+  for (std::size_t k = 0; k < m; ++k)
+  {
+    for (std::size_t i = (2 * k + 1) * count / (2 * m); i < count; ++i)
+    {
+      const Vec3d p = pointAt(i);
+      if (spacingdetail::finitePoint(p))
+      {
+        sample.push_back(p);
+        break;
+      }
+    }
+  }
+  return sample.empty() ? std::vector<double>() : sampleNeighbourDistances(count, pointAt, sample);
+}
+
+/// The median of sample distances (of one set, or gathered from its pieces): 0 when there
+/// are none or when the median is not finite (half of them found no neighbour).
+inline double medianSpacing(const std::vector<double>& distances)
+{
+  if (distances.empty())
+  {
+    return 0.0;
+  }
+  const double m = spacingdetail::median(distances);
+  return std::isfinite(m) ? m : 0.0;
+}
+
+/// The median nearest-neighbour distance described above, for `count` points given by
+/// pointAt(i) -> Vec3d; 0 when fewer than two distinct finite points exist.
+template <typename PointAt>
+double typicalParticleSpacing(std::size_t count, PointAt pointAt, std::size_t sampleSize = 1024)
+{
+  return medianSpacing(spacingSampleDistances(count, pointAt, sampleSize));
 }
 
 } // namespace raymappers

@@ -1,5 +1,6 @@
 #include "vtkRayMapperParticleRepresentation.h"
 
+
 #include "vtkActor.h"
 #include "vtkAlgorithm.h"
 #include "vtkInformation.h"
@@ -10,6 +11,7 @@
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
 #include "vtkRayMapperGatherPoints.h"
+#include "vtkRayMapperParticleSizes.h"
 #include "vtkRayMapperPointArrays.h"
 #include "vtkRayMapperSetGet.h"
 #include "vtkVolume.h"
@@ -90,18 +92,48 @@ int vtkRayMapperParticleRepresentation::RequestData(vtkInformation* request,
   return this->Superclass::RequestData(request, inputVector, outputVector);
 }
 
+namespace
+{
+/// The typical spacing of the particles of all processes: each process's sample distances
+/// (vtkRayMapperParticleSizes::SpacingSampleDistances, its share of the sample) gathered,
+/// and their median, so that a decomposition gives the spacing of the whole set up to the
+/// sampling's noise and the sample particles whose neighbour lies on another process.
+double GlobalSpacing(vtkPoints* points, vtkMultiProcessController* controller)
+{
+  vtkIdType local = points ? points->GetNumberOfPoints() : 0, total = 0;
+  controller->AllReduce(&local, &total, 1, vtkCommunicator::SUM_OP);
+  std::vector<double> mine = vtkRayMapperParticleSizes::SpacingSampleDistances(
+    points, static_cast<std::size_t>(total));
+  const int ranks = controller->GetNumberOfProcesses();
+  vtkIdType length = static_cast<vtkIdType>(mine.size());
+  std::vector<vtkIdType> lengths(static_cast<std::size_t>(ranks)),
+    offsets(static_cast<std::size_t>(ranks));
+  controller->AllGather(&length, lengths.data(), 1);
+  vtkIdType sum = 0;
+  for (int r = 0; r < ranks; ++r)
+  {
+    offsets[static_cast<std::size_t>(r)] = sum;
+    sum += lengths[static_cast<std::size_t>(r)];
+  }
+  std::vector<double> all(static_cast<std::size_t>(std::max<vtkIdType>(sum, 1)));
+  mine.push_back(0.0); // a valid pointer when this process has no sample
+  controller->AllGatherV(mine.data(), all.data(), length, lengths.data(), offsets.data());
+  all.resize(static_cast<std::size_t>(sum));
+  return vtkRayMapperParticleSizes::MedianSpacing(all);
+}
+}
+
 void vtkRayMapperParticleRepresentation::UpdateAutomaticRadius()
 {
-  // The typical spacing, and the bounds for its fallback, over all processes: a process
-  // without particles takes no part in the minimum.
-  double spacing = this->Spacing.Spacing(this->ProcessedData->GetPoints());
+  // The typical spacing, and the bounds for its fallback, over all processes.
+  vtkPoints* points = this->ProcessedData->GetPoints();
   double bounds[6];
   vtkRayMapperPointArrays::FiniteBounds(this->ProcessedData, bounds);
   vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  double spacing = 0.0;
   if (controller && controller->GetNumberOfProcesses() > 1)
   {
-    // One MIN reduction each: the spacing, the lower corners and the negated upper ones.
-    double local = spacing > 0.0 ? spacing : VTK_DOUBLE_MAX;
+    // One MIN reduction each: the lower corners and the negated upper ones.
     double lo[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
     double hi[3] = { VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
     for (int a = 0; a < 3 && vtkMath::AreBoundsInitialized(bounds); ++a)
@@ -109,17 +141,20 @@ void vtkRayMapperParticleRepresentation::UpdateAutomaticRadius()
       lo[a] = bounds[2 * a];
       hi[a] = -bounds[2 * a + 1];
     }
-    double globalMin = local, globalLo[3], globalHi[3];
-    controller->AllReduce(&local, &globalMin, 1, vtkCommunicator::MIN_OP);
+    double globalLo[3], globalHi[3];
     controller->AllReduce(lo, globalLo, 3, vtkCommunicator::MIN_OP);
     controller->AllReduce(hi, globalHi, 3, vtkCommunicator::MIN_OP);
-    spacing = globalMin < VTK_DOUBLE_MAX ? globalMin : 0.0;
     vtkMath::UninitializeBounds(bounds);
     for (int a = 0; a < 3 && globalLo[0] <= -globalHi[0]; ++a)
     {
       bounds[2 * a] = globalLo[a];
       bounds[2 * a + 1] = -globalHi[a];
     }
+    spacing = GlobalSpacing(points, controller);
+  }
+  else
+  {
+    spacing = this->Spacing.Spacing(points);
   }
   const double automatic = vtkRayMapperParticleSizes::AutomaticLengthFrom(
     spacing, bounds, this->GetAutomaticRadiusPerSpacing());

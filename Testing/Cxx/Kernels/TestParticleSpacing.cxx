@@ -156,23 +156,53 @@ TEST(ParticleSpacing, TightClusterWithSparseHaloIsTheClustersSpacing)
 
 TEST(ParticleSpacing, SampledPointsWithFarNeighboursWidenTheSearch)
 {
-  // 65,536 points; the 1,024 the kernel samples (every 64th, from index 32) form a lattice of
-  // step 1 and all others a lattice of step 0.1 far away: the first guess from density
-  // scaling is a quarter of the answer, so only the widened passes find it.
-  std::vector<Vec3d> points(65536);
-  std::size_t sampled = 0, other = 0;
-  for (std::size_t i = 0; i < points.size(); ++i)
+  // 65,536 points; the 1,024 of the sample form a lattice of step 1 and all others a lattice
+  // of step 0.1 far away: the first guess from density scaling is a quarter of the answer,
+  // so only the widened passes find it.
+  std::vector<Vec3d> points, sample;
+  for (std::size_t k = 0; k < 1024; ++k)
   {
-    if (i % 64 == 32)
-    {
-      const std::size_t k = sampled++;
-      points[i] = Vec3d(double(k % 8), double(k / 8 % 8), double(k / 64));
-    }
-    else
-    {
-      const std::size_t k = other++;
-      points[i] = Vec3d(1000.0 + 0.1 * double(k % 48), 0.1 * double(k / 48 % 48), 0.1 * double(k / 2304));
-    }
+    sample.emplace_back(double(k % 8), double(k / 8 % 8), double(k / 64));
+    points.push_back(sample.back());
   }
-  EXPECT_NEAR(spacingOf(points), 1.0, 1e-12);
+  for (std::size_t k = 0; points.size() < 65536; ++k)
+  {
+    points.emplace_back(1000.0 + 0.1 * double(k % 48), 0.1 * double(k / 48 % 48), 0.1 * double(k / 2304));
+  }
+  const std::vector<double> d = raymappers::sampleNeighbourDistances(
+    points.size(), [&](std::size_t i) { return points[i]; }, sample);
+  ASSERT_EQ(d.size(), sample.size());
+  EXPECT_NEAR(raymappers::medianSpacing(d), 1.0, 1e-12);
+}
+
+// Two spatial halves of a set, each sampling its share (512 of the 1024) and gathering the
+// distances, give the whole set's median spacing within the sampling's noise and the few
+// sample points whose neighbour lies across the cut. (The representations' use of it on
+// several ranks is checked by Python.TestDistributedRendering.spheres.2ranks at the
+// automatic radius.)
+TEST(ParticleSpacing, PiecesGatherTheSpacingOfTheWholeSet)
+{
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Vec3d> points(60000);
+  for (Vec3d& p : points)
+  {
+    p = Vec3d(u(rng), u(rng), u(rng));
+  }
+  std::vector<Vec3d> left, right;
+  for (const Vec3d& p : points)
+  {
+    (p.x < 0.5 ? left : right).push_back(p);
+  }
+  std::vector<double> gathered;
+  for (const std::vector<Vec3d>* piece : { &left, &right })
+  {
+    const std::size_t share = 1024 * piece->size() / points.size();
+    const std::vector<double> d = raymappers::spacingSampleDistances(
+      piece->size(), [&](std::size_t i) { return (*piece)[i]; }, share);
+    EXPECT_EQ(d.size(), share);
+    gathered.insert(gathered.end(), d.begin(), d.end());
+  }
+  const double serial = spacingOf(points);
+  EXPECT_NEAR(raymappers::medianSpacing(gathered), serial, 0.02 * serial);
 }
