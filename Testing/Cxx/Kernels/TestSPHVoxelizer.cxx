@@ -76,6 +76,28 @@ bool raySphere(const ViewRays& rays, int i, int j, const Sphere& s, double& z0, 
   return true;
 }
 
+/// Calls fn(i, j, z0, z1, len) for each pixel of a w x h view whose centre ray meets the
+/// sphere ([z0, z1] its depths there, len = |B| the ray's length per unit of depth); returns
+/// how many pixels it called it for.
+template<typename Fn>
+int forEachPixelOnSphere(const ViewRays& rays, int w, int h, const Sphere& s, Fn fn)
+{
+  int count = 0;
+  for (int j = 0; j < h; ++j)
+  {
+    for (int i = 0; i < w; ++i)
+    {
+      double z0, z1;
+      if (raySphere(rays, i, j, s, z0, z1))
+      {
+        fn(i, j, z0, z1, length(rays.direction(i + 0.5, j + 0.5)));
+        ++count;
+      }
+    }
+  }
+  return count;
+}
+
 /// The depth of the layer holding z.
 double layerDepth(const VoxelDepthLayers& L, double z)
 {
@@ -775,18 +797,9 @@ TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSeve
   const ViewRays wide = perspectiveRays({ 0, 0, 3 }, { 0, 0, 0 }, W, H, 0.1, 100, 90);
   Frame frame;
   ASSERT_TRUE(renderFluid({ makeParticles({ corner }), allSpans }, viewOf(wide), fp, frame, stats));
-  int tested = 0;
-  for (int j = 0; j < H; ++j)
-  {
-    for (int i = 0; i < W; ++i)
+  const int tested = forEachPixelOnSphere(wide, W, H, corner,
+    [&](int i, int j, double z0, double z1, double len)
     {
-      double z0, z1;
-      if (!raySphere(wide, i, j, corner, z0, z1))
-      {
-        continue;
-      }
-      ++tested;
-      const double len = length(wide.direction(i + 0.5, j + 0.5));
       const double chord = (z1 - z0) * len;
       const double beer =
         1 -
@@ -795,8 +808,7 @@ TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSeve
         (layerDepth(allSpans.layers, z0) + layerDepth(allSpans.layers, z1)) * len;
       EXPECT_NEAR(frame.rgba[4 * frame.index(i, j) + 3], beer, kappa.x * slack + 1e-6)
         << i << " " << j;
-    }
-  }
+    });
   EXPECT_GT(tested, 100);
 }
 
@@ -1399,10 +1411,8 @@ namespace
 /// frame's colour is the medium's model alone.
 FluidRenderParameters unlitFluid()
 {
-  FluidRenderParameters fp;
-  fp.material.ambient = 1.0;
-  fp.material.diffuse = 0.0;
-  fp.material.specular = 0.0;
+  FluidRenderParameters fp = litFluid();
+  fp.material = Material{ 1.0, 0.0, 0.0 };
   fp.color = { 1.0, 0.9, 0.8 };
   return fp;
 }
@@ -1427,17 +1437,9 @@ TEST(SPHVoxelizer, TranslucentColourIsTheLightAGreyScatteringSlabSendsBack)
     Frame frame;
     RenderStatistics stats;
     ASSERT_TRUE(renderFluid({ makeParticles({ s }), spans }, viewOf(rays), fp, frame, stats));
-    int tested = 0;
-    for (int j = 0; j < H; ++j)
-    {
-      for (int i = 0; i < W; ++i)
+    const int tested = forEachPixelOnSphere(rays, W, H, s,
+      [&](int i, int j, double z0, double z1, double len)
       {
-        double z0, z1;
-        if (!raySphere(rays, i, j, s, z0, z1))
-        {
-          continue;
-        }
-        const double len = length(rays.direction(i + 0.5, j + 0.5));
         const double chord = (z1 - z0) * len;
         // The voxelized chord is within a layer of the exact one at each end.
         const double slack = (layerDepth(spans.layers, z0) + layerDepth(spans.layers, z1)) * len;
@@ -1453,9 +1455,7 @@ TEST(SPHVoxelizer, TranslucentColourIsTheLightAGreyScatteringSlabSendsBack)
           const double expected = sum * chord / steps;
           EXPECT_NEAR(px[c], expected, sigma * slack + 1e-4) << i << " " << j << " " << c;
         }
-        ++tested;
-      }
-    }
+      });
     EXPECT_GT(tested, 300);
   }
   // Seen through 2 radii of water at the default absorption (0.8, 0.35, 0.15) per unit and
