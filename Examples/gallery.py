@@ -399,7 +399,7 @@ def paraview_view():
 
 def dam_break_fluid_view():
     """The same dam break frame as water (vtkSPHFluidMapper, Zirr 2015): spheres of 0.8 h
-    voxelized into spans, at the mapper's defaults (smoothing 2 radii, translucent, the
+    voxelized into spans, at the mapper's defaults (smoothing 4 radii, translucent, the
     default absorption: grey where thin, blue where deep, white highlights; boundary-cell
     culling) with refraction (index 1.33) and a white solid colour."""
     from vtkmodules.vtkRenderingCore import vtkVolume, vtkVolumeProperty

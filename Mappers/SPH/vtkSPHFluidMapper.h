@@ -23,8 +23,8 @@
  * tiles that fit MemoryBudget, compresses each pixel's column into at most MaximumSpans
  * spans (the absorption beyond them stays exact), bridges gaps shorter than GapThreshold
  * (LengthUnit; 0: none), connects the spans of neighbouring pixels into surfaces, smooths
- * them with the radius SmoothingRadius (2 radii; 0: no smoothing pass; at most
- * SmoothingIterations iterations), takes normals with a Sobel operator along the links and
+ * them with the radius SmoothingRadius (4 radii; 0: no smoothing pass; at most
+ * SmoothingIterations iterations, 64), takes normals with a Sobel operator along the links and
  * renders (kernels: FluidCells.h, SpanVoxelizer.h, SurfaceLinks.h, FluidRenderer.h, which
  * give the formulas):
  *   - the front surface lit by the renderer's lights (all of its vtkLights: ParaView's
@@ -153,25 +153,29 @@ public:
   ///@}
   ///@{
   /**
-   * Surface smoothing (Zirr 2015, section 4.6): radius in LengthUnit (2 particle radii by
-   * default; 0: no smoothing pass) and the largest number of iterations (20, the paper's).
-   * The default is the knee of the curve measured by Testing/Benchmarks/
-   * fluid_smoothing_curve.py (PySPH's initial dam, a cubic lattice of 30 x 15 x 12 particles
-   * of radius = spacing, 640 x 480, the radius about 10 pixels). For R = 0, 0.5, 1, 1.5, 2, 3,
-   * 4 radii the RMS angle of the flat faces' normals to the box's (the lattice's bumps; the
-   * union of spheres has 24 degrees) is 19.6, 9.7, 5.4, 3.1, 1.75, 0.58, 0.20 degrees, the
-   * largest distance of the smoothed front surface to the union of spheres 0.03, 0.17, 0.21,
-   * 0.27, 0.33, 0.39, 0.41 radii (its largest change along the rays, at the silhouettes,
-   * 0.03, 1.2, 1.3, 1.4, 1.4, 1.5, 1.6 radii), at 0, 6, 11, 17, 22, 33, 43 iterations (the
-   * curve lifts the cap of 20, which R = 2 just reaches at this size). R = 2 is
-   * the first below 2 degrees, the normals' own error at the default AngleResolution
-   * (1.5 degrees mean): more smoothing shows no more and only rounds the fluid further. On
-   * the PySPH dam break at t = 0.3 s (same size, automatic radius) the surface moves at most
-   * 0.32 radii from the spheres' (99%: 0.18); along the rays 99% of the pixels move less than
-   * 0.5 radii, 45 of 33,000 more than 1 (thin sheets seen edge-on, where the ray grazes
-   * the surface). The filter's reach is R but its spread grows as the square root of its
-   * iterations, so at twice the pixels per radius the same R smooths less (at 1280 x 960:
-   * 6.1 degrees at R = 2 with its 43 iterations, 10.8 with the 20 of the default cap).
+   * Surface smoothing (Zirr 2015, section 4.6): radius in LengthUnit (4 particle radii by
+   * default; 0: no smoothing pass) and the largest number of iterations (64).
+   * The default is the knee of the curves measured by Testing/Benchmarks/
+   * fluid_smoothing_curve.py at 640 x 480 (the radius about 10 pixels), against the union of
+   * the spheres intersected in numpy. On PySPH's initial dam (a cubic lattice of 30 x 15 x 12
+   * particles, radius = spacing), for R = 0, 0.5, 1, 1.5, 2, 3, 4, 6 radii (0 to 65
+   * iterations): the RMS angle of the faces' normals to the box's (the lattice's bumps, on
+   * the faces seen within 60 degrees of their normal; the union of spheres has 24) is 19.6,
+   * 9.7, 5.4, 3.1, 1.75, 0.58, 0.20, 0.06 degrees; the largest distance of the smoothed front
+   * surface to the spheres' 0.03, 0.17, 0.21, 0.27, 0.33, 0.39, 0.41, 0.43 radii. On the dam
+   * break at t = 0.3 s (automatic radius 0.9 of the spacing) the rows of particles along the
+   * side wall, seen obliquely, still show at R = 2 and are gone at R = 4 (looked at); there
+   * the surface moves at most 0.32, 0.41, 0.42, 0.50 radii from the spheres' at R = 2, 3, 4,
+   * 6 (99%: 0.18, 0.21, 0.23, 0.29), and along the rays 99% of the pixels move less than 0.62
+   * radii at R = 4 (67 of 33,000 more than 1: thin sheets seen edge-on, where the ray grazes
+   * the surface and a small move in space is a long one along the ray). R = 4 is where the
+   * bumps are gone on faces seen obliquely too, at a distance from the spheres that has
+   * stopped growing (0.41 -> 0.43 radii for 1.5 times the iterations); 43 iterations there,
+   * about 34 ms at 640 x 480 on this machine's 2 cores, hence the cap of 64 (the paper's 20
+   * stop R = 4 at 2 radii at this size). The filter's reach is R but its spread grows as the
+   * square root of its iterations, so with more pixels per radius the same R smooths less,
+   * and beyond the cap the reach shrinks (at 1280 x 960 the lattice keeps 2.0 degrees at
+   * R = 4, its 86 iterations capped to 64: 3.5 degrees).
    */
   vtkRayMapperSetClampMacro(SmoothingRadius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingRadius, double);
@@ -284,8 +288,8 @@ protected:
   double MinimumImageSampleDistance = 1.0;
   double MaximumImageSampleDistance = 8.0;
   double FrameBudget = 0.0;
-  double SmoothingRadius = 2.0;
-  int SmoothingIterations = 20;
+  double SmoothingRadius = 4.0;
+  int SmoothingIterations = 64;
   double Color[3] = { 0.55, 0.75, 0.95 };
   vtkTypeBool ScalarVisibility = 0;
   char* ColorArrayName = nullptr;
