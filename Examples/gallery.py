@@ -399,8 +399,9 @@ def paraview_view():
 
 def dam_break_fluid_view():
     """The same dam break frame as water (vtkSPHFluidMapper, Zirr 2015): spheres of 0.8 h
-    voxelized into spans, smoothed over one particle spacing, translucent with refraction
-    (index 1.33), boundary-cell culling on (the default)."""
+    voxelized into spans, at the mapper's defaults (smoothing 4 radii, translucent, the
+    default absorption: grey where thin, blue where deep, white highlights; boundary-cell
+    culling) with refraction (index 1.33) and a white solid colour."""
     from vtkmodules.vtkRenderingCore import vtkVolume, vtkVolumeProperty
     reader = vtkPolyDataReader()
     reader.SetFileName(os.path.join(DATA, "dam_break_coarse_00674.vtk"))
@@ -410,9 +411,8 @@ def dam_break_fluid_view():
     mapper.SetInputData(reader.GetOutput())
     mapper.SetRadiusArrayName("h")
     mapper.SetRadiusScale(0.8)
-    mapper.SetSmoothingRadius(0.04)  # dx of the coarse run
     mapper.SetRefractiveIndex(1.33)
-    mapper.SetAbsorptionColor(4.0, 1.5, 0.8)
+    mapper.SetColor(1.0, 1.0, 1.0)
     prop = vtkVolumeProperty()
     prop.SetAmbient(0.25)
     prop.SetDiffuse(0.75)

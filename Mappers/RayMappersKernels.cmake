@@ -33,6 +33,7 @@ add_library(RayMappersKernels SHARED
   ${CMAKE_CURRENT_LIST_DIR}/Common/View.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/PerspectiveGrid.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidCells.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/SPH/FluidColors.cxx
   ${CMAKE_CURRENT_LIST_DIR}/SPH/SurfaceLinks.cxx)
 # Includes are path-prefixed from the source root ("Mappers/CGT/SphereSet.h"), so a kernel
 # header's name says its method and no bare "Frame.h" reaches a consumer.

@@ -158,7 +158,8 @@ SurfacePoint shadeHit(const SphereFrame& f, const Ray& ray, std::uint32_t id, fl
     const Vec3d vw = normalize(-mul3(mw, 4, d));
     const bool shadows = f.shadowSide > 0;
     sp.color =
-      shade(shadows ? f.areaLight : f.shading.lights, f.shading.material, sp.base, pw, nw, vw);
+      shadeParts(shadows ? f.areaLight : f.shading.lights, f.shading.material, sp.base, pw, nw, vw)
+        .total();
   }
   return sp;
 }

@@ -6,14 +6,14 @@
 namespace raymappers
 {
 
-Vec3d shade(const std::vector<Light>& lights,
+ShadedParts shadeParts(const std::vector<Light>& lights,
   const Material& m,
   const Vec3d& surfaceColor,
   const Vec3d& p,
   const Vec3d& n,
   const Vec3d& toEye)
 {
-  Vec3d result = surfaceColor * m.ambient;
+  ShadedParts result{ surfaceColor * m.ambient, Vec3d() };
   for (const Light& light : lights)
   {
     Vec3d l;
@@ -46,12 +46,12 @@ Vec3d shade(const std::vector<Light>& lights,
       continue;
     }
     const Vec3d c = light.color * attenuation;
-    result += c * surfaceColor * (m.diffuse * nl);
+    result.diffuse += c * surfaceColor * (m.diffuse * nl);
     if (m.specular > 0)
     {
       const Vec3d r = n * (2.0 * nl) - l;
       const double rv = std::max(0.0, dot(r, toEye));
-      result += c * m.specularColor * (m.specular * std::pow(rv, m.specularPower));
+      result.specular += c * m.specularColor * (m.specular * std::pow(rv, m.specularPower));
     }
   }
   return result;

@@ -36,9 +36,19 @@ struct Material
   Vec3d specularColor{ 1, 1, 1 };
 };
 
-/// Shaded colour (not clamped) of a surface point p (world) with unit normal n and unit
-/// direction toEye (minus the ray direction, which serves perspective and parallel views).
-Vec3d shade(const std::vector<Light>& lights,
+/// The two terms of the model above: `diffuse` (the ambient and diffuse terms, which carry the
+/// surface colour C) and `specular` (the specular terms, which carry S).
+struct ShadedParts
+{
+  Vec3d diffuse, specular;
+  /// The shaded colour: their sum.
+  Vec3d total() const { return diffuse + specular; }
+};
+
+/// The terms of the shaded colour (not clamped) of a surface point p (world) with unit normal
+/// n and unit direction toEye (minus the ray direction, which serves perspective and parallel
+/// views).
+ShadedParts shadeParts(const std::vector<Light>& lights,
   const Material& m,
   const Vec3d& surfaceColor,
   const Vec3d& p,

@@ -83,7 +83,8 @@ void Classifier::shadeColor(const float* grad,
   {
     n = -n; // two-sided: light the side facing the viewer
   }
-  const Vec3d s = shade(params->lights, params->material, Vec3d(c.r, c.g, c.b), pw, n, -dw);
+  const Vec3d s =
+    shadeParts(params->lights, params->material, Vec3d(c.r, c.g, c.b), pw, n, -dw).total();
   c.r = static_cast<float>(std::clamp(s.x, 0.0, 1.0));
   c.g = static_cast<float>(std::clamp(s.y, 0.0, 1.0));
   c.b = static_cast<float>(std::clamp(s.z, 0.0, 1.0));

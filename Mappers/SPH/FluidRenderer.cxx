@@ -41,7 +41,7 @@ Vec3d applyMatrix(const double* m, int stride, const Vec3d& v, bool affine)
 struct Tally
 {
   std::int64_t shaded = 0, translucent = 0, paths = 0, events = 0, tir = 0, columns = 0,
-               aoSamples = 0;
+               aoSamples = 0, colorSamples = 0;
 };
 
 /// Whether depth z lies in one of pixel p's stored spans.
@@ -408,27 +408,39 @@ std::vector<float> frontSurfaceOcclusion(const FluidSpans& spans,
   return occlusion;
 }
 
-/// The fluid's look: the lit colour L(p) of a surface point (Lighting.h, world space) and the
-/// transmittance exp(-kappa_c s) of a path of length s through the medium.
+/// The fluid's look (the file comment of FluidRenderer.h): the lit parts D and S of a surface
+/// point (Lighting.h, world space) with its surface colour C, the transmittance
+/// exp(-kappa_c s) of a path of length s through the medium and the albedo omega_c.
 struct FluidLook
 {
   const FluidRenderParameters& params;
   Vec3d origin;
   Vec3d kappa;
+  Vec3d omega;
 
   FluidLook(const FluidRenderParameters& p, const Vec3d& o)
     : params(p)
     , origin(o)
     , kappa(p.absorptionColor * p.density)
   {
+    // omega_c = min_k kappa_k / kappa_c: the grey scattering over channel c's extinction.
+    const double sigma = std::min({ kappa.x, kappa.y, kappa.z });
+    for (int c = 0; c < 3; ++c)
+    {
+      omega[c] = kappa[c] > 0 ? sigma / kappa[c] : 1.0;
+    }
   }
-  /// Point p, outward normal n and view direction d in model coordinates.
-  Vec3d litColour(const Vec3d& pModel, const Vec3d& nModel, const Vec3d& dModel) const
+  /// Point p, outward normal n and view direction d in model coordinates (p origin-relative).
+  ShadedParts lit(const Vec3d& pModel, const Vec3d& nModel, const Vec3d& dModel, Tally& t) const
   {
     const Vec3d nWorld = normalize(applyMatrix(params.normalToWorld, 3, nModel, false));
     const Vec3d dWorld = normalize(applyMatrix(params.modelToWorld, 4, dModel, false));
     const Vec3d pWorld = applyMatrix(params.modelToWorld, 4, pModel + origin, true);
-    return shade(params.lights, params.material, params.color, pWorld, nWorld, -dWorld);
+    const Vec3d C =
+      params.colors
+        ? fluidColorAt(*params.colorParticles, *params.colors, pModel, params.color, t.colorSamples)
+        : params.color;
+    return shadeParts(params.lights, params.material, C, pWorld, nWorld, -dWorld);
   }
   Vec3d attenuation(double s) const
   {
@@ -443,13 +455,14 @@ struct PixelLight
 };
 
 /// Traces pixel (i, j)'s refraction path (section 3.5, the file comment) from its front
-/// surface f (seen along the unit direction d, lit colour L) through at most `bounces` surface
-/// events. At each event at o with outward normal `normal`, the Fresnel reflectance R of the
-/// interface takes w R L to the pixel and the path refracts with weight w (1 - R) (under total
-/// internal reflection, R = 1, it reflects, keeping w); between events it marches to the next
-/// surface, absorbing inside the medium: w_c (1 - exp(-kappa_c s)) L_c to the pixel, w_c
-/// exp(-kappa_c s) left. A path still inside after its bounces is absorbed (w L to the pixel),
-/// one that left reaches the background with its weight. Inlined into the pixel loop: with
+/// surface f (seen along the unit direction d, diffuse lit colour D) through at most `bounces`
+/// surface events. At each event at o with outward normal `normal`, the Fresnel reflectance R
+/// of the interface takes w R D to the pixel and the path refracts with weight w (1 - R)
+/// (under total internal reflection, R = 1, it reflects, keeping w); between events it marches
+/// to the next surface, scattering and absorbing inside the medium: w_c omega_c (1 -
+/// exp(-kappa_c s)) D_c to the pixel, w_c exp(-kappa_c s) left. A path still inside after its
+/// bounces is absorbed (w omega D to the pixel), one that left reaches the background with its
+/// weight. Inlined into the pixel loop: with
 /// -march=native the compiler fuses multiplies and adds (FMA) differently in a call, and the
 /// chaotic paths (total internal reflection) then change a few pixels.
 [[gnu::always_inline]] inline PixelLight refract(const FluidSpans& spans,
@@ -458,7 +471,7 @@ struct PixelLight
   const FluidLook& look,
   const FrontSurface& f,
   const Vec3d& d,
-  const Vec3d& L,
+  const Vec3d& D,
   int i,
   int j,
   Tally& t)
@@ -483,7 +496,7 @@ struct PixelLight
     }
     else
     {
-      rgb += w * L * R;
+      rgb += w * D * R;
       w = w * (1.0 - R);
       const double ratio = inside ? eta : 1.0 / eta;
       dir = normalize(dir * ratio + facing * (ratio * cosI - cosT));
@@ -498,7 +511,7 @@ struct PixelLight
     if (inside)
     {
       const Vec3d a = look.attenuation(s);
-      rgb += w * L * (Vec3d(1, 1, 1) - a);
+      rgb += w * look.omega * D * (Vec3d(1, 1, 1) - a);
       w = w * a;
     }
     if (!hit.hit)
@@ -514,7 +527,7 @@ struct PixelLight
   }
   if (inside)
   {
-    rgb += w * L; // out of bounces inside the fluid: absorbed
+    rgb += w * look.omega * D; // out of bounces inside the fluid: absorbed
     return { rgb, Vec3d(0, 0, 0) };
   }
   return { rgb, w };
@@ -546,7 +559,8 @@ constexpr TallyField<Tally> Tallies[] = { { "shaded_pixels", &Tally::shaded },
   { "surface_events", &Tally::events },
   { "tir_events", &Tally::tir },
   { "march_columns", &Tally::columns },
-  { "ao_samples", &Tally::aoSamples } };
+  { "ao_samples", &Tally::aoSamples },
+  { "color_samples", &Tally::colorSamples } };
 }
 
 void renderFluidSpans(const FluidSpans& spans,
@@ -563,6 +577,7 @@ void renderFluidSpans(const FluidSpans& spans,
   stats.setEffect("translucency", params.translucency);
   stats.setEffect("refraction", refraction);
   stats.setEffect("ambient_occlusion", ao);
+  stats.setEffect("particle_colors", params.colors != nullptr);
   for (const TallyField<Tally>& f : Tallies)
   {
     stats.declareCounter(f.name);
@@ -589,19 +604,22 @@ void renderFluidSpans(const FluidSpans& spans,
     [&](int i, int j, std::size_t p, const FrontSurface& f, Tally& t)
     {
       const Vec3d d = normalize(f.B);
-      const Vec3d L = look.litColour(f.P, f.N, d) * (ao ? double(occlusion[p]) : 1.0);
+      const ShadedParts L = look.lit(f.P, f.N, d, t);
+      const double A = ao ? double(occlusion[p]) : 1.0;
+      const Vec3d D = L.diffuse * A, S = L.specular * A;
       ++t.shaded;
-      PixelLight light{ L, Vec3d(0, 0, 0) };
+      PixelLight light{ D + S, Vec3d(0, 0, 0) };
       if (params.translucency && !refraction)
       {
-        // Beer-Lambert over the whole thickness: the body scatters what it does not let through.
+        // Beer-Lambert over the whole thickness; the medium scatters omega D (1 - T) back.
         light.through = look.attenuation(spans.thickness(p) * length(f.B));
-        light.rgb = L * (Vec3d(1, 1, 1) - light.through);
+        light.rgb = S + look.omega * D * (Vec3d(1, 1, 1) - light.through);
         ++t.translucent;
       }
       else if (refraction)
       {
-        light = refract(spans, tiles, rays, look, f, d, L, i, j, t);
+        light = refract(spans, tiles, rays, look, f, d, D, i, j, t);
+        light.rgb += S;
       }
       writePixel(frame, rays, i, j, light, f.P);
     });
@@ -623,9 +641,8 @@ bool renderFluid(const FluidScene& scene,
     static_cast<std::int64_t>(particles.skippedNonFinite + particles.skippedBadRadius));
   // Opaque geometry drawn before ends the fluid: its window depths as depths along the rays.
   VoxelizerParameters voxelizer = params.voxelizer;
-  const std::vector<float> stop = view.opaqueDepth()
-                                    ? stopDepthsFromWindowDepth(rays, view.opaqueDepth())
-                                    : std::vector<float>();
+  const std::vector<float> stop =
+    view.opaqueDepth() ? stopDepthsFromWindowDepth(rays, view.opaqueDepth()) : std::vector<float>();
   if (view.opaqueDepth())
   {
     voxelizer.stopDepth = stop.data();

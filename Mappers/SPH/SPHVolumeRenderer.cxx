@@ -748,12 +748,12 @@ bool Raycast::shadeSample(const SlabCache& cache,
   {
     n = -n;
   }
-  const Vec3d lit = shade(params.lights,
+  const Vec3d lit = shadeParts(params.lights,
     params.material,
     Vec3d(colour.r, colour.g, colour.b),
     transformPoint(params.modelToWorld, pModel),
     n,
-    -dirWorld);
+    -dirWorld).total();
   colour.r = static_cast<float>(std::clamp(lit.x, 0.0, 1.0));
   colour.g = static_cast<float>(std::clamp(lit.y, 0.0, 1.0));
   colour.b = static_cast<float>(std::clamp(lit.z, 0.0, 1.0));

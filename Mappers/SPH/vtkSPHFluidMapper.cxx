@@ -1,6 +1,7 @@
 #include "vtkSPHFluidMapper.h"
 #include "vtkRayMapperPointArrays.h"
 
+#include "Mappers/SPH/FluidColors.h"
 #include "Mappers/SPH/FluidParticles.h"
 #include "Mappers/SPH/FluidRenderer.h"
 #include "Mappers/SPH/FluidSpans.h"
@@ -14,12 +15,16 @@
 
 #include "vtkDataArray.h"
 #include "vtkInformation.h"
+#include "vtkLookupTable.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
 #include "vtkRenderer.h"
+#include "vtkScalarsToColors.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
 #include "vtkVolume.h"
 #include "vtkVolumeProperty.h"
 
@@ -35,11 +40,16 @@ struct vtkSPHFluidMapper::Internals
 {
   raymappers::FluidParticles Particles;
   raymappers::FluidCells Cells;
+  raymappers::FluidColors Colors;
+  vtkSmartPointer<vtkScalarsToColors> LookupTable;
   raymappers::FluidSpans Spans;
   // The particles are built from the points and the radius settings, the culling cells from
   // the particles and the culling settings.
   vtkRayMapperStamp<double, double, std::string> ParticlesStamp;
   vtkRayMapperStamp<bool, double> CellsStamp;
+  // The colours from the particles, the colouring settings and the table's state.
+  vtkRayMapperStamp<bool, std::string, vtkScalarsToColors*, vtkMTimeType, vtkMTimeType>
+    ColorsStamp;
   // The memory budget, frame size and layer limit last warned about.
   std::tuple<double, int, int, int> WarnedBudget{ -1.0, 0, 0, 0 };
 };
@@ -52,7 +62,30 @@ vtkSPHFluidMapper::vtkSPHFluidMapper()
   this->GetInformation()->Set(vtkRayMapperRenderHelpers::WRITES_DEPTH(), 1);
 }
 
-vtkSPHFluidMapper::~vtkSPHFluidMapper() = default;
+vtkSPHFluidMapper::~vtkSPHFluidMapper()
+{
+  this->SetColorArrayName(nullptr);
+}
+
+void vtkSPHFluidMapper::SetLookupTable(vtkScalarsToColors* lut)
+{
+  if (Impl->LookupTable != lut)
+  {
+    Impl->LookupTable = lut;
+    this->Modified();
+  }
+}
+
+vtkScalarsToColors* vtkSPHFluidMapper::GetLookupTable()
+{
+  return Impl->LookupTable;
+}
+
+vtkMTimeType vtkSPHFluidMapper::GetMTime()
+{
+  const vtkMTimeType own = this->Superclass::GetMTime();
+  return Impl->LookupTable ? std::max(own, Impl->LookupTable->GetMTime()) : own;
+}
 
 double vtkSPHFluidMapper::GetSupportRadius(vtkPointSet* input)
 {
@@ -104,7 +137,53 @@ bool vtkSPHFluidMapper::UpdateParticles(vtkPointSet* input)
   this->WarnSkipped(Impl->Particles.skippedBadRadius,
     "particles have a zero, negative, non-finite or huge (above 1e15) radius");
   Impl->CellsStamp.Invalidate();
+  Impl->ColorsStamp.Invalidate();
   return true;
+}
+
+void vtkSPHFluidMapper::UpdateColors(vtkPointSet* input, raymappers::RenderStatistics& stats)
+{
+  const std::string name = vtkRayMapperString(this->ColorArrayName);
+  const bool wanted = this->ScalarVisibility && !name.empty();
+  vtkDataArray* array = wanted ? input->GetPointData()->GetArray(name.c_str()) : nullptr;
+  vtkScalarsToColors* lut = Impl->LookupTable;
+  const bool rebuild = Impl->ColorsStamp.Changed(this, input,
+    { wanted, name, lut, lut ? lut->GetMTime() : 0, array ? array->GetMTime() : 0 });
+  stats.addCounter("colors_built", rebuild ? 1 : 0);
+  if (!rebuild)
+  {
+    return;
+  }
+  Impl->Colors = raymappers::FluidColors();
+  if (wanted && !array)
+  {
+    vtkWarningMacro(<< "The color array '" << name
+                    << "' is not a point array of the input: the fluid has its solid Color.");
+  }
+  if (!array)
+  {
+    return;
+  }
+  vtkSmartPointer<vtkScalarsToColors> table = lut;
+  if (!table)
+  {
+    // vtkMapper's default: a lookup table over the array's range.
+    auto own = vtkSmartPointer<vtkLookupTable>::New();
+    own->SetRange(array->GetRange(0));
+    own->Build();
+    table = own;
+  }
+  vtkSmartPointer<vtkUnsignedCharArray> rgba = vtkSmartPointer<vtkUnsignedCharArray>::Take(
+    table->MapScalars(array, VTK_COLOR_MODE_MAP_SCALARS, -1, VTK_RGBA));
+  raymappers::ScopedPhase phase(stats, "colors");
+  raymappers::buildFluidColors(
+    Impl->Particles,
+    [&](std::uint32_t id)
+    {
+      const unsigned char* c = rgba->GetPointer(4 * static_cast<vtkIdType>(id));
+      return raymappers::Vec3d(c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
+    },
+    Impl->Colors);
 }
 
 void vtkSPHFluidMapper::UpdateCells(raymappers::RenderStatistics& stats)
@@ -143,6 +222,11 @@ raymappers::FluidRenderParameters vtkSPHFluidMapper::GatherParameters(vtkRendere
   params.smoothingRadius = this->SmoothingRadius * unit;
   params.smoothingIterations = this->SmoothingIterations;
   params.color = { this->Color[0], this->Color[1], this->Color[2] };
+  if (!Impl->Colors.empty())
+  {
+    params.colors = &Impl->Colors;
+    params.colorParticles = &Impl->Particles;
+  }
   params.translucency = this->Translucency;
   params.absorptionColor = { this->AbsorptionColor[0], this->AbsorptionColor[1],
     this->AbsorptionColor[2] };
@@ -188,6 +272,7 @@ void vtkSPHFluidMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointS
   stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
   stats.addCounter("particles_built", built ? 1 : 0);
   this->UpdateCells(stats);
+  this->UpdateColors(input, stats);
   if (!this->Core->GatherView(this, ren, vol, view))
   {
     this->Core->Skip(stats);
@@ -234,6 +319,9 @@ void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SmoothingIterations: " << this->SmoothingIterations << "\n";
   os << indent << "Color: " << this->Color[0] << " " << this->Color[1] << " " << this->Color[2]
      << "\n";
+  os << indent << "ScalarVisibility: " << this->ScalarVisibility << "\n";
+  os << indent << "ColorArrayName: " << vtkRayMapperString(this->ColorArrayName) << "\n";
+  os << indent << "LookupTable: " << Impl->LookupTable.Get() << "\n";
   os << indent << "Translucency: " << this->Translucency << "\n";
   os << indent << "AbsorptionColor: " << this->AbsorptionColor[0] << " "
      << this->AbsorptionColor[1] << " " << this->AbsorptionColor[2] << "\n";

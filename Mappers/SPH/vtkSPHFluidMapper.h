@@ -23,21 +23,27 @@
  * tiles that fit MemoryBudget, compresses each pixel's column into at most MaximumSpans
  * spans (the absorption beyond them stays exact), bridges gaps shorter than GapThreshold
  * (LengthUnit; 0: none), connects the spans of neighbouring pixels into surfaces, smooths
- * them with the radius SmoothingRadius (0: no smoothing pass; at most
- * SmoothingIterations iterations), takes normals with a Sobel operator along the links and
+ * them with the radius SmoothingRadius (4 radii; 0: no smoothing pass; at most
+ * SmoothingIterations iterations, 64), takes normals with a Sobel operator along the links and
  * renders (kernels: FluidCells.h, SpanVoxelizer.h, SurfaceLinks.h, FluidRenderer.h, which
  * give the formulas):
- *   - the front surface lit by the renderer's lights with Color and the vtkVolumeProperty's
- *     Ambient, Diffuse, Specular and SpecularPower;
+ *   - the front surface lit by the renderer's lights (all of its vtkLights: ParaView's
+ *     light kit and headlight) with Color (or the scalars' colours, ScalarVisibility) and
+ *     the vtkVolumeProperty's Ambient, Diffuse, Specular and SpecularPower: the diffuse part
+ *     D and the specular highlight S;
  *   - Translucency on (default): Beer-Lambert absorption kappa = Density * AbsorptionColor
- *     per LengthUnit over all spans; the background shows through by exp(-kappa l);
+ *     per LengthUnit over all spans; the background shows through by T = exp(-kappa l), the
+ *     highlight is reflected untinted and the body scatters omega D (1 - T) with the albedo
+ *     omega_c = min_k kappa_k / kappa_c (a grey scattering coefficient min_k kappa_k):
+ *     thin water is grey, deep water takes the colour it absorbs least (FluidRenderer.h);
  *   - RefractiveIndex != 1 (with Translucency): refraction, Fresnel reflection and total
  *     internal reflection by marching the rays through the columns, Bounces surface events;
  *   - AmbientOcclusion: deep screen-space occlusion over all layers, AmbientOcclusionSamples
  *     samples within AmbientOcclusionRadius.
  * Only the effects asked for run: no refraction march when the index is 1 or translucency
  * is off, no AO pass when it is off, no smoothing pass when the radius is 0 (statistics'
- * counters march_columns, ao_samples, filter_iterations stay 0).
+ * counters march_columns, ao_samples, filter_iterations stay 0), no colour lookup without
+ * scalar colouring (color_samples).
  *
  * Why a vtkAbstractVolumeMapper (used with a vtkVolume): the picture depends on everything
  * opaque behind and around the fluid. VTK draws volumes after all opaque (and translucent)
@@ -74,6 +80,7 @@
 #include <memory> // for std::unique_ptr
 
 class vtkPointSet;
+class vtkScalarsToColors;
 struct vtkRayMapperView;
 namespace raymappers
 {
@@ -145,8 +152,31 @@ public:
   vtkGetMacro(CellSize, double);
   ///@}
   ///@{
-  /** Surface smoothing: radius in LengthUnit (0, default: no smoothing pass) and the largest
-   * number of iterations (20). */
+  /**
+   * Surface smoothing (Zirr 2015, section 4.6): radius in LengthUnit (4 particle radii by
+   * default; 0: no smoothing pass) and the largest number of iterations (64).
+   * The default is the knee of the curves measured by Testing/Benchmarks/
+   * fluid_smoothing_curve.py at 640 x 480 (the radius about 10 pixels), against the union of
+   * the spheres intersected in numpy. On PySPH's initial dam (a cubic lattice of 30 x 15 x 12
+   * particles, radius = spacing), for R = 0, 0.5, 1, 1.5, 2, 3, 4, 6 radii (0 to 65
+   * iterations): the RMS angle of the faces' normals to the box's (the lattice's bumps, on
+   * the faces seen within 60 degrees of their normal; the union of spheres has 24) is 19.6,
+   * 9.7, 5.4, 3.1, 1.75, 0.58, 0.20, 0.06 degrees; the largest distance of the smoothed front
+   * surface to the spheres' 0.03, 0.17, 0.21, 0.27, 0.33, 0.39, 0.41, 0.43 radii. On the dam
+   * break at t = 0.3 s (automatic radius 0.9 of the spacing) the rows of particles along the
+   * side wall, seen obliquely, still show at R = 2 and are gone at R = 4 (looked at); there
+   * the surface moves at most 0.32, 0.41, 0.42, 0.50 radii from the spheres' at R = 2, 3, 4,
+   * 6 (99%: 0.18, 0.21, 0.23, 0.29), and along the rays 99% of the pixels move less than 0.62
+   * radii at R = 4 (67 of 33,000 more than 1: thin sheets seen edge-on, where the ray grazes
+   * the surface and a small move in space is a long one along the ray). R = 4 is where the
+   * bumps are gone on faces seen obliquely too, at a distance from the spheres that has
+   * stopped growing (0.41 -> 0.43 radii for 1.5 times the iterations); 43 iterations there,
+   * about 34 ms at 640 x 480 on this machine's 2 cores, hence the cap of 64 (the paper's 20
+   * stop R = 4 at 2 radii at this size). The filter's reach is R but its spread grows as the
+   * square root of its iterations, so with more pixels per radius the same R smooths less,
+   * and beyond the cap the reach shrinks (at 1280 x 960 the lattice keeps 2.0 degrees at
+   * R = 4, its 86 iterations capped to 64: 3.5 degrees).
+   */
   vtkRayMapperSetClampMacro(SmoothingRadius, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(SmoothingRadius, double);
   vtkRayMapperSetClampMacro(SmoothingIterations, int, 0, 1000);
@@ -154,10 +184,34 @@ public:
   ///@}
 
   ///@{
-  /** Surface colour (0.55, 0.75, 0.95). */
+  /** The solid colour of the fluid (0.55, 0.75, 0.95), used unless it is coloured by scalars. */
   vtkRayMapperSetVector3ClampMacro(Color, double, 0.0, 1.0);
   vtkGetVector3Macro(Color, double);
   ///@}
+
+  ///@{
+  /**
+   * Colouring by scalars, as vtkMapper colours: with ScalarVisibility on (default off) and a
+   * point array ColorArrayName, each particle's colour is its value mapped through the
+   * LookupTable (its own range; without one, a vtkLookupTable over the array's range; alpha
+   * ignored), and the fluid's surface colour at a point is the normalized SPH interpolation of
+   * the particles' colours there (FluidColors.h: Wendland C2 of support 2 r_i, weights
+   * V_i W), taken at the front surface and kept along the pixel's ray (the medium stays
+   * homogeneous per pixel). Otherwise, or when the array is missing (one warning), Color.
+   * The colours are rebuilt when the particles, the array, the table or these settings
+   * change (counter colors_built); effect particle_colors, counter color_samples.
+   */
+  vtkSetMacro(ScalarVisibility, vtkTypeBool);
+  vtkGetMacro(ScalarVisibility, vtkTypeBool);
+  vtkBooleanMacro(ScalarVisibility, vtkTypeBool);
+  vtkSetStringMacro(ColorArrayName);
+  vtkGetStringMacro(ColorArrayName);
+  void SetLookupTable(vtkScalarsToColors* lut);
+  vtkScalarsToColors* GetLookupTable();
+  ///@}
+
+  /** The mapper's MTime, and the LookupTable's (as vtkMapper's). */
+  vtkMTimeType GetMTime() override;
 
   ///@{
   /** Translucency (on): absorption per LengthUnit Density (0.5) * AbsorptionColor
@@ -234,9 +288,11 @@ protected:
   double MinimumImageSampleDistance = 1.0;
   double MaximumImageSampleDistance = 8.0;
   double FrameBudget = 0.0;
-  double SmoothingRadius = 0.0;
-  int SmoothingIterations = 20;
+  double SmoothingRadius = 4.0;
+  int SmoothingIterations = 64;
   double Color[3] = { 0.55, 0.75, 0.95 };
+  vtkTypeBool ScalarVisibility = 0;
+  char* ColorArrayName = nullptr;
   bool Translucency = true;
   double AbsorptionColor[3] = { 0.8, 0.35, 0.15 };
   double Density = 0.5;
@@ -253,6 +309,9 @@ private:
   /// Rebuilds the particles when the input, the radius array or the radius settings changed;
   /// returns whether it did.
   bool UpdateParticles(vtkPointSet* input);
+  /// Rebuilds the particles' colours when the particles or the colouring changed; none
+  /// (solid colour) without scalar colouring.
+  void UpdateColors(vtkPointSet* input, raymappers::RenderStatistics& stats);
   /// Rebuilds the boundary-culling cells when the particles or the culling settings changed.
   void UpdateCells(raymappers::RenderStatistics& stats);
   /// The model-space length of LengthUnit: the particles' mean radius, or 1 for WORLD.

@@ -73,10 +73,28 @@ vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetAmbientOcclusionRadius, d
 vtkRayMapperForwardMacro(vtkSPHFluidRepresentation, SetAmbientOcclusionSamples, int, SetAmbientOcclusionSamples)
 // clang-format on
 
-void vtkSPHFluidRepresentation::SetFluidColor(double r, double g, double b)
+void vtkSPHFluidRepresentation::SetDiffuseColor(double r, double g, double b)
 {
   this->Mapper->SetColor(r, g, b);
   this->Modified();
+}
+
+void vtkSPHFluidRepresentation::SetFluidSpecular(double value)
+{
+  this->Superclass::SetSpecular(value);
+}
+
+void vtkSPHFluidRepresentation::SetLookupTable(vtkScalarsToColors* lut)
+{
+  this->Mapper->SetLookupTable(lut);
+}
+
+void vtkSPHFluidRepresentation::UpdateMapperParameters()
+{
+  // Only point arrays color particles: anything else shows the solid color.
+  const char* colorArrayName = this->GetColorPointArrayName();
+  this->Mapper->SetScalarVisibility(colorArrayName != nullptr);
+  this->Mapper->SetColorArrayName(colorArrayName);
 }
 
 void vtkSPHFluidRepresentation::SetAbsorptionColor(double r, double g, double b)

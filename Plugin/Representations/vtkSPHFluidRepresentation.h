@@ -6,9 +6,13 @@
  * Every point of the input (any vtkDataSet or composite of them; cells are ignored) is a
  * sphere of a constant radius or of a point array's value (times a scale); vtkSPHFluidMapper
  * voxelizes their union per frame (Zirr and Dachsbacher 2015) and renders its surfaces with
- * the view's lights, the solid FluidColor and the Ambient / Diffuse / Specular settings,
- * translucent with Beer-Lambert absorption (AbsorptionColor times Density per world unit),
- * refracting when the index of refraction is not 1, with ambient occlusion when asked.
+ * the view's lights (the light kit and the headlight) and the Ambient / Diffuse / Specular
+ * settings, translucent with Beer-Lambert absorption (AbsorptionColor times Density per
+ * LengthUnit), refracting when the index of refraction is not 1, with ambient occlusion when
+ * asked. Coloring follows ParaView's rules as the surface representation's: a point array
+ * (ColorArrayName) mapped through the LookupTable colors the particles, and the fluid the
+ * normalized SPH average of their colors at its front surface (vtkSPHFluidMapper's
+ * ScalarVisibility); otherwise the solid DiffuseColor.
  *
  * The particles, their radii (Radius, the radius array whenever one is selected,
  * RadiusScale) and the material come from vtkRayMapperParticleRepresentation.
@@ -23,6 +27,7 @@
 #include "vtkRayMapperParticleRepresentation.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
 
+class vtkScalarsToColors;
 class vtkSPHFluidMapper;
 class vtkVolume;
 
@@ -50,7 +55,19 @@ public:
   void SetNumberOfThreads(int threads);
   void SetSmoothingRadius(double radius);
   void SetSmoothingIterations(int iterations);
-  void SetFluidColor(double r, double g, double b);
+  /** The solid color (ParaView's Solid Color): the mapper's Color. */
+  void SetDiffuseColor(double r, double g, double b);
+  /** The color map of the color array. */
+  void SetLookupTable(vtkScalarsToColors* lut);
+  ///@{
+  /**
+   * The highlights' strength (the volume property's Specular) is FluidSpecular (0.5 in the
+   * XML: the water's highlights show), not the Specular ParaView shares with the surface
+   * representation (0 by default), which the fluid ignores.
+   */
+  void SetFluidSpecular(double value);
+  void SetSpecular(double) {}
+  ///@}
   void SetTranslucency(bool on);
   void SetAbsorptionColor(double r, double g, double b);
   void SetDensity(double density);
@@ -71,6 +88,8 @@ protected:
   ~vtkSPHFluidRepresentation() override;
 
   void PushRadius(double& radius, double& scale, const char* radiusArray) override;
+  /// The mapper colors by the color array when a point array is selected.
+  void UpdateMapperParameters() override;
   double GetAutomaticRadiusPerSpacing() override;
   Distribution GetDistribution() override { return Distribution::GatherToFirst; }
 

@@ -409,9 +409,10 @@ def sph_config(rep):
 def fluid_config(rep):
     rep.SPHFluidRadius = 0.3
     rep.SPHFluidRadiusArray = ['POINTS', 'radius']
-    # A grey absorption: with a coloured one the fluid's premultiplied frame has colours
-    # above their alpha (its alpha is the mean of the three channels' transmittances).
-    rep.SPHFluidAbsorptionColor = [0.5, 0.5, 0.5]
+    # No highlight: it is light added over the body, a premultiplied colour above its alpha
+    # that the frame validation counts as out of range. The default coloured absorption
+    # stays: with the albedo the body never exceeds its alpha.
+    rep.SPHFluidSpecular = 0.0
 
 
 def zsweep_config(rep):
@@ -519,10 +520,11 @@ SPECS = {
             ('SPHFluidAngleResolution', {}, NAN, None, NOT_A_NUMBER, (0, '')),
             ('SPHFluidDensity', {}, NAN, None, NOT_A_NUMBER, (0, '')),
             ('SPHFluidRefractiveIndex', {}, NAN, None, NOT_A_NUMBER, (0, '')),
-            ('SPHFluidColor', {}, [0.5, NAN, 0.5], None, 'not a number', (0, '')),
+            ('DiffuseColor', {'ColorArrayName': ['POINTS', '']}, [0.5, NAN, 0.5], None,
+             'not a number', (0, '')),
             ('SPHFluidAORadius', {'SPHFluidAmbientOcclusion': 1}, NAN, None, NOT_A_NUMBER,
              (0, '')),
-            ('Specular', {}, NAN, None, NOT_A_NUMBER, (0, '')),
+            ('SPHFluidSpecular', {}, NAN, None, NOT_A_NUMBER, (0, '')),
             ('SPHFluidDensity', {}, 1e300, 1e15, 'Density 1e+300 is outside', (0, '')),
             ('SPHFluidRefractiveIndex', {}, 100.0, 10.0, 'RefractiveIndex 100 is outside', (0, '')),
             ('SPHFluidRadiusScale', {}, -1.0, 0.0, 'ScaleFactor -1 is outside',

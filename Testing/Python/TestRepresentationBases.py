@@ -13,7 +13,8 @@ Checks:
 - each lighting coefficient of the particles' material
   reaches the picture of each particle representation ("Ray-Traced Spheres", "RBF Volume",
   "SPH Volume", "SPH Fluid"): a larger Ambient brightens it, a smaller Diffuse darkens it, a
-  larger Specular brightens it and a smaller SpecularPower (a wider highlight) brightens it
+  larger Specular (the fluid's SPHFluidSpecular) brightens it and a smaller SpecularPower (a
+  wider highlight) brightens it
   (each by more than 0.5 of 255 in the mean);
 - NumberOfThreads (1, 2) reaches each particle type's mapper: its render ran in a task
   arena of that many threads (the statistics' counter "threads");
@@ -129,9 +130,12 @@ def check_material(view, rep, kind, stem):
     """Each lighting coefficient changes the mean brightness in the direction it should."""
     def mean(tag):
         return float(screenshot(view, '%s-%s.png' % (stem, tag), SIZE).mean())
+    # The fluid's highlight is its own SPHFluidSpecular (it ignores the surface's Specular).
+    specular = 'SPHFluidSpecular' if kind == 'SPH Fluid' else 'Specular'
     steps = [('Ambient', 0.5, 'brighter'), ('Diffuse', 0.2, 'darker'),
-             ('Specular', 0.8, 'brighter'), ('SpecularPower', 2.0, 'brighter')]
-    rep.Ambient, rep.Diffuse, rep.Specular, rep.SpecularPower = 0.0, 1.0, 0.0, 10.0
+             (specular, 0.8, 'brighter'), ('SpecularPower', 2.0, 'brighter')]
+    rep.Ambient, rep.Diffuse, rep.SpecularPower = 0.0, 1.0, 10.0
+    rep.SetPropertyWithName(specular, 0.0)
     last = mean('start')
     for name, value, direction in steps:
         rep.SetPropertyWithName(name, value)

@@ -170,8 +170,9 @@ inline std::vector<double> renderReference(const SPHParticles& P,
               {
                 nrm = -nrm;
               }
-              const Vec3d s =
-                shade(params.lights, params.material, Vec3d(cr, cg, cb), x + P.origin, nrm, -dir);
+              const Vec3d s = shadeParts(
+                params.lights, params.material, Vec3d(cr, cg, cb), x + P.origin, nrm, -dir)
+                                .total();
               cr = std::clamp(s.x, 0.0, 1.0);
               cg = std::clamp(s.y, 0.0, 1.0);
               cb = std::clamp(s.z, 0.0, 1.0);

@@ -3,6 +3,7 @@
 // and its hard cases.
 #include "CameraFixtures.h"
 #include "Mappers/SPH/FluidCells.h"
+#include "Mappers/SPH/FluidColors.h"
 #include "Mappers/SPH/FluidRenderer.h"
 #include "Mappers/SPH/SpanVoxelizer.h"
 #include "Mappers/SPH/SurfaceLinks.h"
@@ -73,6 +74,28 @@ bool raySphere(const ViewRays& rays, int i, int j, const Sphere& s, double& z0, 
   z0 = (-b - std::sqrt(disc)) / a;
   z1 = (-b + std::sqrt(disc)) / a;
   return true;
+}
+
+/// Calls fn(i, j, z0, z1, len) for each pixel of a w x h view whose centre ray meets the
+/// sphere ([z0, z1] its depths there, len = |B| the ray's length per unit of depth); returns
+/// how many pixels it called it for.
+template<typename Fn>
+int forEachPixelOnSphere(const ViewRays& rays, int w, int h, const Sphere& s, Fn fn)
+{
+  int count = 0;
+  for (int j = 0; j < h; ++j)
+  {
+    for (int i = 0; i < w; ++i)
+    {
+      double z0, z1;
+      if (raySphere(rays, i, j, s, z0, z1))
+      {
+        fn(i, j, z0, z1, length(rays.direction(i + 0.5, j + 0.5)));
+        ++count;
+      }
+    }
+  }
+  return count;
 }
 
 /// The depth of the layer holding z.
@@ -774,18 +797,9 @@ TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSeve
   const ViewRays wide = perspectiveRays({ 0, 0, 3 }, { 0, 0, 0 }, W, H, 0.1, 100, 90);
   Frame frame;
   ASSERT_TRUE(renderFluid({ makeParticles({ corner }), allSpans }, viewOf(wide), fp, frame, stats));
-  int tested = 0;
-  for (int j = 0; j < H; ++j)
-  {
-    for (int i = 0; i < W; ++i)
+  const int tested = forEachPixelOnSphere(wide, W, H, corner,
+    [&](int i, int j, double z0, double z1, double len)
     {
-      double z0, z1;
-      if (!raySphere(wide, i, j, corner, z0, z1))
-      {
-        continue;
-      }
-      ++tested;
-      const double len = length(wide.direction(i + 0.5, j + 0.5));
       const double chord = (z1 - z0) * len;
       const double beer =
         1 -
@@ -794,8 +808,7 @@ TEST(SPHVoxelizer, TranslucencyThroughTwentyFourLayersIsExactBeerLambertWithSeve
         (layerDepth(allSpans.layers, z0) + layerDepth(allSpans.layers, z1)) * len;
       EXPECT_NEAR(frame.rgba[4 * frame.index(i, j) + 3], beer, kappa.x * slack + 1e-6)
         << i << " " << j;
-    }
-  }
+    });
   EXPECT_GT(tested, 100);
 }
 
@@ -836,7 +849,7 @@ TEST(SPHVoxelizer, OpaqueFrontSurfaceIsLitWithTheSphereNormalAtItsDepth)
         continue; // near the silhouette the normal's error grows
       }
       ++tested;
-      const Vec3d ref = shade(fp.lights, fp.material, fp.color, x, n, -d);
+      const Vec3d ref = shadeParts(fp.lights, fp.material, fp.color, x, n, -d).total();
       for (int c = 0; c < 3; ++c)
       {
         const double e = std::abs(frame.rgba[4 * p + c] - ref[c]);
@@ -1390,4 +1403,153 @@ TEST(SPHVoxelizer, CameraInsideAParticleFluid)
     EXPECT_GT(frame.rgba[4 * p + 3], 0.f);
     EXPECT_LT(frame.depth[p], 1e-6f);
   }
+}
+
+namespace
+{
+/// A material that shows the surface colour unlit (ambient 1, no diffuse or specular): the
+/// frame's colour is the medium's model alone.
+FluidRenderParameters unlitFluid()
+{
+  FluidRenderParameters fp = litFluid();
+  fp.material = Material{ 1.0, 0.0, 0.0 };
+  fp.color = { 1.0, 0.9, 0.8 };
+  return fp;
+}
+}
+
+TEST(SPHVoxelizer, TranslucentColourIsTheLightAGreyScatteringSlabSendsBack)
+{
+  // One sphere: along each pixel's chord l the medium absorbs kappa_c and scatters the grey
+  // sigma = min_k kappa_k of the lit colour C back, so the pixel is the integral of
+  // sigma C_c exp(-kappa_c t) over [0, l] (summed here with the midpoint rule, not the closed
+  // form the renderer uses), its alpha 1 - mean_c exp(-kappa_c l).
+  const Sphere s{ { 0, 0, 0 }, 1.0 };
+  const int W = 48, H = 48;
+  const ViewRays rays = perspectiveRays({ 0, 0, 4 }, { 0, 0, 0 }, W, H, 0.5, 20, 40);
+  FluidRenderParameters fp = unlitFluid();
+  for (const double density : { 0.3, 3.0 })
+  {
+    fp.density = density;
+    const Vec3d kappa = fp.absorptionColor * density;
+    const double sigma = std::min({ kappa.x, kappa.y, kappa.z });
+    FluidSpans spans;
+    Frame frame;
+    RenderStatistics stats;
+    ASSERT_TRUE(renderFluid({ makeParticles({ s }), spans }, viewOf(rays), fp, frame, stats));
+    const int tested = forEachPixelOnSphere(rays, W, H, s,
+      [&](int i, int j, double z0, double z1, double len)
+      {
+        const double chord = (z1 - z0) * len;
+        // The voxelized chord is within a layer of the exact one at each end.
+        const double slack = (layerDepth(spans.layers, z0) + layerDepth(spans.layers, z1)) * len;
+        const float* px = &frame.rgba[4 * frame.index(i, j)];
+        for (int c = 0; c < 3; ++c)
+        {
+          double sum = 0;
+          const int steps = 2000;
+          for (int k = 0; k < steps; ++k)
+          {
+            sum += sigma * fp.color[c] * std::exp(-kappa[c] * chord * (k + 0.5) / steps);
+          }
+          const double expected = sum * chord / steps;
+          EXPECT_NEAR(px[c], expected, sigma * slack + 1e-4) << i << " " << j << " " << c;
+        }
+      });
+    EXPECT_GT(tested, 300);
+  }
+  // Seen through 2 radii of water at the default absorption (0.8, 0.35, 0.15) per unit and
+  // density 3, white light comes back blue (the channel water absorbs least), not orange.
+  fp.color = { 1, 1, 1 };
+  FluidSpans spans;
+  Frame frame;
+  RenderStatistics stats;
+  ASSERT_TRUE(renderFluid({ makeParticles({ s }), spans }, viewOf(rays), fp, frame, stats));
+  const float* centre = &frame.rgba[4 * frame.index(W / 2, H / 2)];
+  EXPECT_GT(centre[2], 1.5f * centre[1]);
+  EXPECT_GT(centre[1], 1.5f * centre[0]);
+  // Grey absorption: the albedo is 1 and the body is C (1 - T), white here: its alpha.
+  fp.absorptionColor = { 0.5, 0.5, 0.5 };
+  ASSERT_TRUE(renderFluid({ makeParticles({ s }), spans }, viewOf(rays), fp, frame, stats));
+  const double alpha = frame.rgba[4 * frame.index(W / 2, H / 2) + 3];
+  EXPECT_GT(alpha, 0.9);
+  for (int c = 0; c < 3; ++c)
+  {
+    EXPECT_NEAR(frame.rgba[4 * frame.index(W / 2, H / 2) + c], alpha, 1e-6) << c;
+  }
+}
+
+TEST(SPHVoxelizer, ParticleColoursAreTheNormalizedKernelAverageAtTheFrontSurface)
+{
+  // A block of particles, red for x < 0 and blue beyond, drawn opaque and unlit: each pixel
+  // shows the colour at its front surface point p, against a brute-force reference that
+  // intersects every sphere and sums every particle's Wendland C2 weight
+  // (1 - q)^4 (1 + 4q), q = |p - x_i| / (2 r_i) (the same r for all here).
+  std::vector<Sphere> block;
+  const double spacing = 0.1, r = 0.1;
+  for (int a = -6; a < 6; ++a)
+    for (int b = -3; b <= 3; ++b)
+      for (int c = -3; c <= 3; ++c)
+        block.push_back({ { (a + 0.5) * spacing, b * spacing, c * spacing }, r });
+  const FluidParticles P = makeParticles(block);
+  FluidColors colors;
+  buildFluidColors(
+    P,
+    [&](std::uint32_t id) { return block[id].c.x < 0 ? Vec3d(1, 0, 0) : Vec3d(0, 0, 1); },
+    colors);
+  FluidRenderParameters fp = unlitFluid();
+  fp.translucency = false;
+  fp.colors = &colors;
+  fp.colorParticles = &P;
+  const int W = 96, H = 64;
+  const ViewRays rays = perspectiveRays({ 0.1, 0.2, 3 }, { 0, 0, 0 }, W, H, 0.5, 20, 30);
+  FluidSpans spans;
+  Frame frame;
+  RenderStatistics stats;
+  ASSERT_TRUE(renderFluid({ P, spans }, viewOf(rays), fp, frame, stats));
+  EXPECT_TRUE(stats.effect("particle_colors"));
+  EXPECT_GT(stats.counter("color_samples"), stats.counter("shaded_pixels"));
+  int tested = 0, red = 0, blue = 0;
+  double maxError = 0;
+  for (int j = 0; j < H; ++j)
+  {
+    for (int i = 0; i < W; ++i)
+    {
+      const auto iv = analyticIntervals(rays, i, j, block, 0, 1e30);
+      if (iv.empty() || frame.rgba[4 * frame.index(i, j) + 3] == 0.f)
+      {
+        continue;
+      }
+      const Vec3d p = rays.pointAt(i + 0.5, j + 0.5, iv.front().first);
+      Vec3d sum;
+      double weights = 0;
+      for (const Sphere& s : block)
+      {
+        const double q = length(p - s.c) / (2 * s.r);
+        const double w = q < 1 ? std::pow(1 - q, 4) * (1 + 4 * q) : 0.0;
+        sum += (s.c.x < 0 ? Vec3d(1, 0, 0) : Vec3d(0, 0, 1)) * w;
+        weights += w;
+      }
+      const Vec3d ref = sum * (1 / weights);
+      const float* px = &frame.rgba[4 * frame.index(i, j)];
+      for (int c = 0; c < 3; ++c)
+      {
+        maxError = std::max(maxError, std::abs(px[c] - ref[c]));
+      }
+      ++tested;
+      red += px[0] > 0.99f && p.x < -0.25;
+      blue += px[2] > 0.99f && p.x > 0.25;
+    }
+  }
+  EXPECT_GT(tested, 1000);
+  EXPECT_GT(red, 200);
+  EXPECT_GT(blue, 200);
+  // The front point is the voxel layer's, within a layer of the exact one.
+  EXPECT_LT(maxError, 0.05);
+  // Without colours nothing is looked up.
+  fp.colors = nullptr;
+  stats.clear();
+  ASSERT_TRUE(renderFluid({ P, spans }, viewOf(rays), fp, frame, stats));
+  EXPECT_FALSE(stats.effect("particle_colors"));
+  EXPECT_EQ(stats.counter("color_samples"), 0);
 }

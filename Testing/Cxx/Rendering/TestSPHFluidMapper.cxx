@@ -7,7 +7,9 @@
 // opaque); the picture matches the baseline. Then a closed-form case: one sphere of radius 1
 // with a black fluid colour and grey absorption kappa over a white background shows
 // exp(-kappa 2) of it on the central pixel, and exp(-kappa 1) when an opaque white plane
-// through the centre ends the fluid there.
+// through the centre ends the fluid there; a white fluid with the default coloured absorption
+// over black shows omega_c (1 - exp(-kappa_c 2)) per channel, omega_c = min_k kappa_k /
+// kappa_c. Last, colouring by a point array (CheckColorBy).
 //
 // usage: TestSPHFluidMapper -D <Data dir> -T <tmp> -V <png>
 #include "RenderingTestHelpers.h"
@@ -16,7 +18,10 @@
 #include "vtkSPHVoxelizer.h"
 
 #include "vtkActor.h"
+#include "vtkDoubleArray.h"
 #include "vtkImageData.h"
+#include "vtkLookupTable.h"
+#include "vtkPointData.h"
 #include "vtkPlaneSource.h"
 #include "vtkPolyDataMapper.h"
 #include "vtkPolyDataReader.h"
@@ -109,6 +114,123 @@ bool CheckBeerLambert(double scale)
   std::printf("to the plane: %d %d %d, exp(-kappa 1) = %.1f\n", centre[0], centre[1], centre[2],
     half);
   check(std::abs(centre[0] - half) <= 2, "an opaque plane through the centre: exp(-kappa r)");
+  // A white fluid with the default coloured absorption kappa = (0.8, 0.35, 0.15) per radius,
+  // unlit, over black: through the 2 radii at the centre the medium sends back
+  // omega_c (1 - exp(-2 kappa_c)), omega_c = min_k kappa_k / kappa_c (in closed form here).
+  fluid->SetColor(1, 1, 1);
+  fluid->SetAbsorptionColor(0.8, 0.35, 0.15);
+  flat->SetAmbient(1);
+  flat->SetDiffuse(0);
+  r2->RemoveActor(planeActor);
+  r2->SetBackground(0, 0, 0);
+  w2->Render();
+  rgb = rmtest::ReadRGB(w2);
+  centre = Pixel(rgb, 101, 50, 50);
+  const double k[3] = { 0.8, 0.35, 0.15 };
+  bool tinted = true;
+  for (int c = 0; c < 3; ++c)
+  {
+    const double body = 255 * (0.15 / k[c]) * (1 - std::exp(-2 * k[c]));
+    std::printf("channel %d: %d, omega (1 - exp(-2 kappa)) = %.1f\n", c, centre[c], body);
+    tinted = tinted && std::abs(centre[c] - body) <= 2;
+  }
+  check(tinted, "coloured absorption: the albedo's tint, omega (1 - T), per channel");
+  return ok;
+}
+
+// Colouring by scalars: a block of particles, "side" 0 for x < 0 and 1 beyond, opaque and
+// unlit (ambient 1), mapped through a red-to-blue lookup table: the fluid shows the table's
+// colour of each side away from the middle (the kernel average there holds one side's
+// particles only), a mix in the middle; the solid Color without ScalarVisibility; one warning
+// and the solid Color for a missing array.
+bool CheckColorBy()
+{
+  bool ok = true;
+  auto check = [&](bool condition, const char* what) {
+    std::printf("%s %s\n", condition ? "ok  " : "FAIL", what);
+    ok = ok && condition;
+  };
+  std::vector<std::array<double, 3>> centres;
+  for (int i = -8; i < 8; ++i)
+    for (int j = -3; j <= 3; ++j)
+      for (int k = -3; k <= 3; ++k)
+        centres.push_back({ (i + 0.5) * 0.1, j * 0.1, k * 0.1 });
+  auto block = rmtest::MakeSpheres(centres, std::vector<double>(centres.size(), 0.1));
+  vtkNew<vtkDoubleArray> side;
+  side->SetName("side");
+  for (const auto& c : centres)
+  {
+    side->InsertNextValue(c[0] < 0 ? 0.0 : 1.0);
+  }
+  block->GetPointData()->AddArray(side);
+  vtkNew<vtkLookupTable> lut;
+  lut->SetRange(0, 1);
+  lut->SetHueRange(0.0, 0.6667); // red to blue
+  lut->Build();
+  vtkNew<vtkSPHFluidMapper> fluid;
+  fluid->SetInputData(block);
+  fluid->SetRadius(0.1);
+  fluid->TranslucencyOff();
+  fluid->SetColor(0.2, 0.8, 0.2);
+  fluid->SetLookupTable(lut);
+  fluid->SetColorArrayName("side");
+  fluid->ScalarVisibilityOn();
+  rmtest::EventCounter events;
+  events.Observe(fluid);
+  vtkNew<vtkVolumeProperty> unlit;
+  unlit->SetAmbient(1);
+  unlit->SetDiffuse(0);
+  unlit->SetSpecular(0);
+  vtkNew<vtkVolume> v;
+  v->SetMapper(fluid);
+  v->SetProperty(unlit);
+  vtkNew<vtkRenderer> r;
+  r->AddVolume(v);
+  vtkNew<vtkRenderWindow> w;
+  w->SetSize(200, 100);
+  w->AddRenderer(r);
+  r->GetActiveCamera()->SetPosition(0, 0, 4);
+  r->GetActiveCamera()->SetFocalPoint(0, 0, 0);
+  r->ResetCameraClippingRange();
+  w->Render();
+  auto rgb = rmtest::ReadRGB(w);
+  double left[3], right[3], middle[3], x0[3] = { -0.55, 0, 0.3 }, x1[3] = { 0.55, 0, 0.3 },
+                                        xm[3] = { 0, 0, 0.3 };
+  rmtest::DisplayOf(r, x0, left);
+  rmtest::DisplayOf(r, x1, right);
+  rmtest::DisplayOf(r, xm, middle);
+  auto at = [&](const double* d) { return Pixel(rgb, 200, int(d[0]), int(d[1])); };
+  const unsigned char *a = at(left), *b = at(right), *m = at(middle);
+  std::printf("by side: left %d %d %d, right %d %d %d, middle %d %d %d\n", a[0], a[1], a[2], b[0],
+    b[1], b[2], m[0], m[1], m[2]);
+  vtkRayMapperStatistics* stats = fluid->GetStatistics();
+  check(a[0] >= 253 && a[1] <= 2 && a[2] <= 2 && b[0] <= 2 && b[1] <= 2 && b[2] >= 253,
+    "coloured by side: the table's red on the left, its blue on the right");
+  check(m[0] > 40 && m[2] > 40 && stats->GetEffect("particle_colors") &&
+      stats->GetCounter("colors_built") == 1,
+    "between the sides the kernel average mixes them");
+  w->Render();
+  check(stats->GetCounter("colors_built") == 0, "a second frame reuses the colours");
+  lut->SetHueRange(0.6667, 0.0);
+  lut->Build();
+  w->Render();
+  rgb = rmtest::ReadRGB(w);
+  check(stats->GetCounter("colors_built") == 1 && at(left)[2] >= 253 && at(right)[0] >= 253,
+    "a new lookup table recolours");
+  fluid->ScalarVisibilityOff();
+  w->Render();
+  rgb = rmtest::ReadRGB(w);
+  const unsigned char* solid = at(left);
+  check(std::abs(solid[0] - 51) <= 1 && std::abs(solid[1] - 204) <= 1 &&
+      !stats->GetEffect("particle_colors") && stats->GetCounter("color_samples") == 0 &&
+      events.Warnings == 0,
+    "ScalarVisibility off: the solid Color, nothing looked up");
+  fluid->ScalarVisibilityOn();
+  fluid->SetColorArrayName("missing");
+  w->Render();
+  rgb = rmtest::ReadRGB(w);
+  check(events.Warnings == 1 && at(left)[1] >= 203 && !stats->GetEffect("particle_colors"),
+    "a missing colour array: one warning, the solid Color");
   return ok;
 }
 }
@@ -350,5 +472,6 @@ int TestSPHFluidMapper(int argc, char* argv[])
   {
     check(CheckBeerLambert(scale), "Beer-Lambert per particle radius at this scale");
   }
+  check(CheckColorBy(), "coloured by a point array through a lookup table");
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }
