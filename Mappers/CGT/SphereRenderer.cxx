@@ -282,19 +282,26 @@ int makePrimaryPacket(const SphereFrame& f, const Tile& tile, int bx, int by, Ra
   return rays;
 }
 
+// A primary ray's hit: the ray, the sphere, the accelerator's distance and the pixel.
+struct PrimaryHit
+{
+  const Ray& ray;
+  std::uint32_t id;
+  float t;
+  std::size_t idx;
+};
+
 // A hit's colour: its shaded colour, darkened by its shadows (the visible share scales the
 // direct, non-ambient light) and its occlusion; `sp` receives the hit.
 Vec3d hitColor(const SphereFrame& f,
-  const Ray& ray,
-  std::uint32_t id,
-  float tHit,
-  std::uint32_t pixel,
+  const PrimaryHit& hit,
   SecondaryPackets& secondary,
   SphereCounts& counts,
   SurfacePoint& sp)
 {
-  sp = shadeHit(f, ray, id, tHit);
+  sp = shadeHit(f, hit.ray, hit.id, hit.t);
   Vec3d color = sp.color;
+  const auto pixel = static_cast<std::uint32_t>(hit.idx);
   if (f.shadowSide > 0)
   {
     const double visible = lightVisibility(f, sp, pixel, secondary, counts);
@@ -328,17 +335,13 @@ void writePixel(const SphereFrame& f,
 
 // An opaque hit's pixel.
 void renderHit(const SphereFrame& f,
-  const Ray& ray,
-  std::uint32_t id,
-  float tHit,
-  std::size_t idx,
+  const PrimaryHit& hit,
   SecondaryPackets& secondary,
   SphereCounts& counts)
 {
   SurfacePoint sp;
-  const Vec3d color =
-    hitColor(f, ray, id, tHit, static_cast<std::uint32_t>(idx), secondary, counts, sp);
-  writePixel(f, ray, idx, color, 1.0, sp.t);
+  const Vec3d color = hitColor(f, hit, secondary, counts, sp);
+  writePixel(f, hit.ray, hit.idx, color, 1.0, sp.t);
 }
 
 // The front-to-back composite of one translucent ray: premultiplied colour C and alpha A,
@@ -367,26 +370,22 @@ bool firstSurface(const SphereFrame& f, const Ray& ray, const RayComposite& rc, 
 
 // One surface met by a translucent ray: composited when it is its sphere's first (a_i > 0).
 void addLayer(const SphereFrame& f,
-  const Ray& ray,
-  std::uint32_t id,
-  float tHit,
-  std::size_t idx,
+  const PrimaryHit& hit,
   RayComposite& rc,
   SecondaryPackets& secondary,
   SphereCounts& counts)
 {
-  const double a = f.opacityOf(id);
-  if (!(a > 0.0) || !firstSurface(f, ray, rc, id, tHit))
+  const double a = f.opacityOf(hit.id);
+  if (!(a > 0.0) || !firstSurface(f, hit.ray, rc, hit.id, hit.t))
   {
     return;
   }
   SurfacePoint sp;
-  const Vec3d color =
-    hitColor(f, ray, id, tHit, static_cast<std::uint32_t>(idx), secondary, counts, sp);
+  const Vec3d color = hitColor(f, hit, secondary, counts, sp);
   const double w = (1.0 - rc.alpha) * a; // C += (1 - A) a_i c_i, A += (1 - A) a_i
   rc.color = rc.color + color * w;
   rc.alpha += w;
-  rc.last = id;
+  rc.last = hit.id;
   rc.tFirst = rc.tFirst < 0.0 ? sp.t : rc.tFirst;
   ++counts.layers;
 }
@@ -438,7 +437,7 @@ void renderTranslucentPacket(const SphereFrame& f,
         packet.valid[k] = false;
         continue;
       }
-      addLayer(f, packet.rays[k], result.prim[k], result.t[k], idx[k], rc[k], secondary, counts);
+      addLayer(f, { packet.rays[k], result.prim[k], result.t[k], idx[k] }, rc[k], secondary, counts);
       packet.rays[k].tnear = std::nextafter(result.t[k], std::numeric_limits<float>::infinity());
       packet.valid[k] = rc[k].alpha < TranslucentTerminationAlpha;
       counts.terminated += packet.valid[k] ? 0 : 1;
@@ -484,7 +483,7 @@ void renderTile(const SphereFrame& f, const Tile& tile, SphereCounts& counts)
         }
         ++counts.hits;
         const std::size_t idx = f.frame.index(bx + k % side, by + k / side);
-        renderHit(f, packet.rays[k], result.prim[k], result.t[k], idx, secondary, counts);
+        renderHit(f, { packet.rays[k], result.prim[k], result.t[k], idx }, secondary, counts);
       }
     }
   }

@@ -141,11 +141,12 @@ def screenshot(view, path, size):
 def reference_spheres(args, source, rep, opacity_of):
     """The reference's sphere lines: every point of every block, radius RadiusScale times
     the radius array, coloured by the color map, opacity opacity_of(colour value)."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
     return raymappers_reference.sphere_lines(
         source, args.color_array, rep.LookupTable.GetClientSideObject(),
-        lambda block: vtk_to_numpy(block.GetPointData().GetArray(args.radius_array))
-        * args.radius_scale, opacity_of)
+        lambda block: raymappers_reference.point_values(block, args.radius_array)
+        * args.radius_scale,
+        lambda block: [opacity_of(float(v))
+                       for v in raymappers_reference.point_values(block, args.color_array)])
 
 
 def check_reference(args, source, view, rep, stem):

@@ -85,10 +85,10 @@ def leaves(data):
     return found
 
 
-def sphere_lines(source, color_array, lut, radii_of, opacity_of):
+def sphere_lines(source, color_array, lut, radii_of, opacities_of):
     """'sphere' lines of every point of every block of the source's data: radius
     radii_of(block)[i], coloured by the point array color_array (its first component)
-    through the lookup table lut (a VTK object), opacity opacity_of(that value)."""
+    through the lookup table lut (a VTK object), opacity opacities_of(block)[i]."""
     from paraview import servermanager
     from vtkmodules.util.numpy_support import vtk_to_numpy
     lines = []
@@ -96,14 +96,20 @@ def sphere_lines(source, color_array, lut, radii_of, opacity_of):
         if block is None or block.GetNumberOfPoints() == 0:
             continue
         xyz = vtk_to_numpy(block.GetPoints().GetData())
-        values = vtk_to_numpy(block.GetPointData().GetArray(color_array))
-        values = values[:, 0] if values.ndim > 1 else values
+        values = point_values(block, color_array)
         c = [0.0, 0.0, 0.0]
-        for x, r, v in zip(xyz, radii_of(block), values):
+        for x, r, v, a in zip(xyz, radii_of(block), values, opacities_of(block)):
             lut.GetColor(float(v), c)
             lines.append('sphere %r %r %r %r %r %r %r %r' % (
-                x[0], x[1], x[2], float(r), c[0], c[1], c[2], opacity_of(float(v))))
+                x[0], x[1], x[2], float(r), c[0], c[1], c[2], float(a)))
     return lines
+
+
+def point_values(block, name):
+    """The first component of the block's point array `name`, as numpy."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    values = vtk_to_numpy(block.GetPointData().GetArray(name))
+    return values[:, 0] if values.ndim > 1 else values
 
 
 def render(lines, size, stem):
