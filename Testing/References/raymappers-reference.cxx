@@ -101,9 +101,9 @@ void readDirective(const std::string& key, std::istringstream& words, std::istre
     ReferenceSphere b;
     words >> b.center.x >> b.center.y >> b.center.z >> b.radius >> b.color.x >> b.color.y >>
       b.color.z;
-    if (!(words >> b.opacity))
+    if (!words.eof() && !(words >> std::ws).eof())
     {
-      b.opacity = 1;
+      words >> b.opacity;
     }
     s.spheres.push_back(b);
   }
