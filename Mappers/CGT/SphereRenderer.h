@@ -70,8 +70,6 @@ struct SphereScene
   const SphereAccelerator& accel;
 };
 
-/// How it draws them: the shading, rays traced in packets of packetSide x packetSide
-/// (clamped to [1, MaxPacketSide]) and scheduled in tiles of tileSize x tileSize pixels.
 /// Early termination of translucent compositing: a ray stops once its accumulated alpha A
 /// reaches this. The layers left out add at most (1 - A) to every premultiplied channel and
 /// to alpha (their weights (1 - A) a_j sum to at most 1 - A), so the error is below
@@ -79,6 +77,8 @@ struct SphereScene
 /// the exact composite.
 constexpr float TranslucentTerminationAlpha = 1.f - 1.f / 512.f;
 
+/// How it draws them: the shading, rays traced in packets of packetSide x packetSide
+/// (clamped to [1, MaxPacketSide]) and scheduled in tiles of tileSize x tileSize pixels.
 struct SphereRenderParameters
 {
   SphereShading shading;
@@ -98,8 +98,9 @@ inline bool drawsTranslucent(const SphereSet& spheres, const SphereRenderParamet
 
 /// Renders the spheres seen by the view's camera into `frame` (resized to the view's grid).
 /// Counters: rays, packets, hits, cells, culled, sphere_tests, range_culled, ao_rays,
-/// shadow_rays, translucent_layers (spheres composited), translucent_queries (packet queries of
-/// the translucent path, each packet's first included), translucent_terminated (rays stopped by TranslucentTerminationAlpha).
+/// shadow_rays, translucent_layers (spheres composited), translucent_queries (packet queries
+/// of the translucent path, each packet's first included), translucent_terminated (rays
+/// stopped by TranslucentTerminationAlpha).
 /// Effects: shading, specular, range_culling, ambient_occlusion, soft_shadows,
 /// translucency. A translucent render stops its rays at the view's opaque depth; an opaque
 /// one writes depth and leaves the depth test to the caller.
