@@ -264,9 +264,9 @@ double unoccluded(const SphereFrame& f,
 
 // The primary packet of the pixel block at (bx, by): the rays of its pixels inside the tile.
 // Returns how many there are.
-int makePrimaryPacket(const SphereFrame& f, const Tile& tile, int bx, int by, RayPacket& packet)
+int makePrimaryPacket(
+  const RayCamera& camera, int side, const Tile& tile, int bx, int by, RayPacket& packet)
 {
-  const int side = f.side;
   int rays = 0;
   for (int k = 0; k < side * side; ++k)
   {
@@ -275,7 +275,7 @@ int makePrimaryPacket(const SphereFrame& f, const Tile& tile, int bx, int by, Ra
     packet.valid[k] = i < tile.x1 && j < tile.y1;
     if (packet.valid[k])
     {
-      packet.rays[k] = f.camera.pixelRay(i, j);
+      packet.rays[k] = camera.pixelRay(i, j);
       ++rays;
     }
   }
@@ -467,7 +467,7 @@ void renderTile(const SphereFrame& f, const Tile& tile, SphereCounts& counts)
   {
     for (int bx = tile.x0; bx < tile.x1; bx += side)
     {
-      counts.rays += makePrimaryPacket(f, tile, bx, by, packet);
+      counts.rays += makePrimaryPacket(f.camera, side, tile, bx, by, packet);
       ++counts.packets;
       if (f.translucent)
       {
@@ -606,6 +606,79 @@ void renderSpheres(const SphereScene& scene,
   {
     stats.addCounter(counterNames[c], counts[c]);
   }
+}
+
+namespace
+{
+// A tile of a selection pass: the closest hit of each pixel's ray, as the sphere's input
+// point + 1 and the hit's window depth (the exact root, as renderHit writes it).
+void pickTile(const SphereScene& scene, const RayCamera& camera, int side, const Tile& tile,
+  IdFrame& picks, SphereCounts& counts)
+{
+  RayPacket packet;
+  packet.side = side;
+  PacketHits result;
+  for (int by = tile.y0; by < tile.y1; by += side)
+  {
+    for (int bx = tile.x0; bx < tile.x1; bx += side)
+    {
+      counts.rays += makePrimaryPacket(camera, side, tile, bx, by, packet);
+      ++counts.packets;
+      scene.accel.intersect(packet, result, counts.traversal);
+      for (int k = 0; k < side * side; ++k)
+      {
+        if (!packet.valid[k] || result.prim[k] == NoHit)
+        {
+          continue;
+        }
+        ++counts.hits;
+        const std::uint32_t id = result.prim[k];
+        const Ray& ray = packet.rays[k];
+        const double t = refineSphereHit(Vec3d(ray.org), Vec3d(ray.dir),
+          Vec3d(scene.spheres.centers[id]), scene.spheres.radii[id], result.t[k]);
+        const std::size_t idx = static_cast<std::size_t>(by + k / side) * picks.width +
+          static_cast<std::size_t>(bx + k % side);
+        picks.ids[idx] = scene.spheres.sourceIds[id] + 1u;
+        picks.depth[idx] =
+          static_cast<float>(std::clamp(camera.depthMap(ray).depthOf(t), 0.0, 1.0));
+      }
+    }
+  }
+}
+}
+
+void pickSpheres(const SphereScene& scene,
+  const View& view,
+  int packetSide,
+  int tileSize,
+  IdFrame& picks,
+  RenderStatistics& stats)
+{
+  picks.resize(view.width(), view.height());
+  for (const char* c : { "rays", "packets", "hits" })
+  {
+    stats.declareCounter(c);
+  }
+  stats.setEffect("selection_ids", true);
+  if (scene.accel.empty() || picks.width <= 0 || picks.height <= 0)
+  {
+    return;
+  }
+  const int side = std::clamp(packetSide, 1, MaxPacketSide);
+  SphereCounters counters;
+  {
+    ScopedPhase phase(stats, "pick");
+    forEachTile(picks.width, picks.height, tileSize,
+      [&](const Tile& tile)
+      {
+        SphereCounts counts;
+        pickTile(scene, view.camera(), side, tile, picks, counts);
+        counters.add(counts);
+      });
+  }
+  stats.addCounter("rays", counters.rays);
+  stats.addCounter("packets", counters.packets);
+  stats.addCounter("hits", counters.hits);
 }
 
 } // namespace raymappers

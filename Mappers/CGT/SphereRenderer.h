@@ -82,11 +82,11 @@ constexpr float TranslucentTerminationAlpha = 1.f - 1.f / 512.f;
 struct SphereRenderParameters
 {
   SphereShading shading;
+  int packetSide = 8;
+  int tileSize = 32;
   /// Opacity of every sphere (the actor's), times its own (SphereSet::opacities) when set;
   /// 0 (or NaN) draws nothing.
   double opacity = 1.0;
-  int packetSide = 8;
-  int tileSize = 32;
 };
 
 /// Whether renderSpheres composites translucent spheres (an opacity below 1 or per-sphere
@@ -119,6 +119,17 @@ struct SphereRoots
   double disc, t0, t1;
 };
 SphereRoots sphereRoots(const Vec3d& org, const Vec3d& dir, const Vec3d& center, double radius);
+/// A hardware-selection pass: for every pixel of the view, the input point (sourceIds) + 1
+/// of the sphere its primary ray hits first and that hit's window depth (0 and depth 1 where
+/// the ray meets nothing), traced like renderSpheres (same packets, accelerator, range
+/// culling and exact root) without shading. Counters rays, packets, hits; effect
+/// selection_ids.
+void pickSpheres(const SphereScene& scene,
+  const View& view,
+  int packetSide,
+  int tileSize,
+  IdFrame& picks,
+  RenderStatistics& stats);
 
 /// Exact closest intersection of a ray (unit direction) with a sphere, in double:
 /// returns the root nearest to `tGuess` (the accelerator's float estimate), or tGuess

@@ -11,13 +11,17 @@
 #include "vtkRayMapperCore.h"
 #include "vtkRayMapperRenderHelpers.h"
 #include "vtkRayMapperScalarArray.h"
+#include "vtkRayMapperSelectionPass.h"
 
 #include "vtkActor.h"
 #include "vtkCommand.h"
+#include "vtkCellArray.h"
+#include "vtkCellArrayIterator.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkHardwareSelector.h"
+#include "vtkIdTypeArray.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
@@ -26,8 +30,11 @@
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
 #include "vtkRenderer.h"
+#include "vtkSmartPointer.h"
+#include "vtkTimeStamp.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkWeakPointer.h"
+#include "vtkUnsignedIntArray.h"
 
 #include <algorithm>
 #include <array>
@@ -69,6 +76,15 @@ struct vtkCGTSphereMapper::Internals
   vtkWeakPointer<vtkRenderer> Observed;
   unsigned long ObserverTag = 0;
   vtkWeakPointer<vtkActor> Pending;
+  // Hardware selection: the ids of the last pass, and each point's vertex cell + 1 (0: none)
+  // for cell selection, built for the input's MTime.
+  raymappers::IdFrame Picks;
+  std::vector<std::uint32_t> VertexCellOfPoint;
+  vtkMTimeType VertexCellsTime = 0;
+  // Highlighted points (SetSelectedPoints), and a mask of them by point id.
+  std::vector<vtkIdType> SelectedIds;
+  vtkTimeStamp SelectedTime;
+  std::vector<bool> SelectedMask;
 };
 
 vtkCGTSphereMapper::vtkCGTSphereMapper()
@@ -85,6 +101,8 @@ vtkCGTSphereMapper::~vtkCGTSphereMapper()
   this->SetScaleArray(nullptr);
   this->SetOpacityArray(nullptr);
   this->SetScalarOpacityFunction(nullptr);
+  this->SetPointIdArrayName(nullptr);
+  this->SetProcessIdArrayName(nullptr);
 }
 
 void vtkCGTSphereMapper::SetRange(int index, const char* arrayName, double minimum, double maximum)
@@ -222,20 +240,34 @@ double vtkCGTSphereMapper::GetRadiusInUse()
 
 // A sphere's colour: its point's mapped scalar colour (RGB or grey, opaque), or the actor's
 // diffuse colour when nothing is mapped.
+namespace
+{
+std::uint32_t PackColor(const double* rgb)
+{
+  return raymappers::packRGBA8(
+    static_cast<unsigned>(std::lround(std::clamp(rgb[0], 0.0, 1.0) * 255)),
+    static_cast<unsigned>(std::lround(std::clamp(rgb[1], 0.0, 1.0) * 255)),
+    static_cast<unsigned>(std::lround(std::clamp(rgb[2], 0.0, 1.0) * 255)), 255);
+}
+}
+
 struct vtkCGTSphereMapper::SphereColors
 {
-  SphereColors(vtkUnsignedCharArray* colors, const double* actorColor)
+  SphereColors(vtkUnsignedCharArray* colors, const double* actorColor,
+    const std::vector<bool>& selected, const double* selectionColor)
     : Rgba(colors ? colors->GetPointer(0) : nullptr)
     , Components(colors ? colors->GetNumberOfComponents() : 0)
-    , ActorColor(raymappers::packRGBA8(
-        static_cast<unsigned>(std::lround(std::clamp(actorColor[0], 0.0, 1.0) * 255)),
-        static_cast<unsigned>(std::lround(std::clamp(actorColor[1], 0.0, 1.0) * 255)),
-        static_cast<unsigned>(std::lround(std::clamp(actorColor[2], 0.0, 1.0) * 255)),
-        255))
+    , ActorColor(PackColor(actorColor))
+    , Selected(selected)
+    , SelectionColor(PackColor(selectionColor))
   {
   }
   std::uint32_t operator()(std::size_t i) const
   {
+    if (i < Selected.size() && Selected[i])
+    {
+      return SelectionColor;
+    }
     if (!Rgba)
     {
       return ActorColor;
@@ -247,11 +279,51 @@ struct vtkCGTSphereMapper::SphereColors
   const unsigned char* Rgba;
   int Components;
   std::uint32_t ActorColor;
+  const std::vector<bool>& Selected; // by point id
+  std::uint32_t SelectionColor;
 };
+
+void vtkCGTSphereMapper::SetSelectedPoints(vtkIdTypeArray* pointIds)
+{
+  std::vector<vtkIdType> ids;
+  for (vtkIdType k = 0; pointIds && k < pointIds->GetNumberOfValues(); ++k)
+  {
+    ids.push_back(pointIds->GetValue(k));
+  }
+  if (ids != Impl->SelectedIds)
+  {
+    Impl->SelectedIds = std::move(ids);
+    Impl->SelectedTime.Modified();
+  }
+}
+
+void vtkCGTSphereMapper::SetSelectionColor(double r, double g, double b)
+{
+  if (r != this->SelectionColor[0] || g != this->SelectionColor[1] || b != this->SelectionColor[2])
+  {
+    this->SelectionColor[0] = r;
+    this->SelectionColor[1] = g;
+    this->SelectionColor[2] = b;
+    Impl->SelectedTime.Modified();
+    this->Modified();
+  }
+}
+
+void vtkCGTSphereMapper::UpdateSelectedMask(vtkIdType numberOfPoints)
+{
+  Impl->SelectedMask.assign(Impl->SelectedIds.empty() ? 0 : numberOfPoints, false);
+  for (vtkIdType id : Impl->SelectedIds)
+  {
+    if (id >= 0 && id < numberOfPoints)
+    {
+      Impl->SelectedMask[static_cast<std::size_t>(id)] = true;
+    }
+  }
+}
 
 void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
 {
-  if (actor->HasTranslucentPolygonalGeometry() && !ren->GetSelector())
+  if (actor->HasTranslucentPolygonalGeometry() && !vtkRayMapperSelectionPass::Of(ren))
   {
     // VTK's translucent pass draws into the targets of its order-independent blending or
     // depth peeling, whose shaders a frame drawn by a quad does not take part in: the
@@ -283,52 +355,127 @@ void vtkCGTSphereMapper::DrawDeferred(vtkObject* caller, unsigned long, void*)
   }
 }
 
-void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)
+raymappers::SphereAccelerator* vtkCGTSphereMapper::PrepareScene(vtkRenderer* ren,
+  vtkActor* actor,
+  vtkRayMapperView& view,
+  raymappers::RenderStatistics& stats)
 {
-  if (ren->GetSelector())
-  {
-    // A hardware selection pass asks for ids, not colours: spheres are not pickable yet,
-    // and colours written there would be read as ids.
-    return;
-  }
-  raymappers::RenderStatistics stats;
   vtkPolyData* input = this->GetInput();
-  vtkRayMapperView view;
   if (!input || input->GetNumberOfPoints() == 0)
   {
-    Impl->Core.Skip(stats);
-    return;
+    return nullptr;
   }
   // 1. Update: the sphere set and its opacities, then the accelerator over it.
   this->UpdateSpheres(input, actor, stats);
   this->UpdateOpacities(input, stats);
   const bool grid = this->UpdateAccelerator(stats);
-  // 2. Gather the camera, lights and material.
+  // 2. Gather the camera.
   if (!Impl->Core.GatherView(this, ren, actor, view))
+  {
+    return nullptr;
+  }
+  raymappers::SphereAccelerator& accelerator =
+    grid ? static_cast<raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
+  this->SetRangeFilter(accelerator);
+  return &accelerator;
+}
+
+void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)
+{
+  raymappers::RenderStatistics stats;
+  vtkRayMapperView view;
+  raymappers::SphereAccelerator* accelerator = this->PrepareScene(ren, actor, view, stats);
+  if (!accelerator)
   {
     Impl->Core.Skip(stats);
     return;
   }
+  const int packetSide = accelerator == &Impl->Grid ? this->PacketSize : 4;
+  if (vtkHardwareSelector* selector = vtkRayMapperSelectionPass::Of(ren))
+  {
+    // A hardware selection pass: the ids of the spheres in front instead of colours.
+    raymappers::pickSpheres({ Impl->Spheres, *accelerator },
+      Impl->Core.KernelView(ren, view, 1.0, Impl->Spheres.origin, false, stats), packetSide,
+      this->TileSize, Impl->Picks, stats);
+    this->PresentSelection(ren, selector, stats);
+    return;
+  }
+  // 3. Gather the lights and material.
   raymappers::SphereRenderParameters params;
   std::copy(view.model.modelToWorld, view.model.modelToWorld + 16, params.shading.modelToWorld);
   std::copy(view.model.normalToWorld, view.model.normalToWorld + 9, params.shading.normalToWorld);
   this->GatherShading(ren, actor, view.model, params.shading);
-  params.packetSide = grid ? this->PacketSize : 4;
+  params.packetSide = packetSide;
   params.tileSize = this->TileSize;
   params.opacity = actor->GetProperty()->GetOpacity();
   // Translucent spheres stop at the opaque depth and are blended over what is drawn.
   const bool translucent = raymappers::drawsTranslucent(Impl->Spheres, params);
-  // 3. Trace, 4. show.
-  raymappers::SphereAccelerator& accelerator =
-    grid ? static_cast<raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
-  this->SetRangeFilter(accelerator);
-  raymappers::renderSpheres({ Impl->Spheres, accelerator },
+  // 4. Trace, 5. show.
+  raymappers::renderSpheres({ Impl->Spheres, *accelerator },
     Impl->Core.KernelView(ren, view, 1.0, Impl->Spheres.origin, translucent, stats), params,
     Impl->Core.Target(), stats);
   Impl->Core.Present(ren, view,
     translucent ? vtkRayMapperFrameDrawer::Mode::BlendPremultiplied
                 : vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth,
     false, stats);
+}
+
+void vtkCGTSphereMapper::PresentSelection(vtkRenderer* ren,
+  vtkHardwareSelector* selector,
+  raymappers::RenderStatistics& stats)
+{
+  vtkPolyData* input = this->GetInput();
+  vtkRayMapperSelectionPass::Origins origins;
+  vtkIdType maximumId = input->GetNumberOfPoints() - 1;
+  if (!vtkRayMapperSelectionPass::SelectsPoints(selector))
+  {
+    maximumId = this->PicksToVertexCells(input);
+  }
+  else
+  {
+    vtkPointData* pd = input->GetPointData();
+    origins.ids = this->PointIdArrayName
+      ? vtkArrayDownCast<vtkIdTypeArray>(pd->GetAbstractArray(this->PointIdArrayName))
+      : nullptr;
+    origins.processes = this->ProcessIdArrayName
+      ? vtkArrayDownCast<vtkUnsignedIntArray>(pd->GetAbstractArray(this->ProcessIdArrayName))
+      : nullptr;
+    if (origins.ids && origins.ids->GetNumberOfTuples() > 0)
+    {
+      maximumId = std::max(maximumId, origins.ids->GetValueRange()[1]);
+    }
+  }
+  Impl->Core.PresentSelection(ren, selector, Impl->Picks, origins, maximumId, stats);
+}
+
+vtkIdType vtkCGTSphereMapper::PicksToVertexCells(vtkPolyData* input)
+{
+  // A vtkPolyData numbers its vertex cells (verts) first, so the k-th cell of GetVerts()
+  // is cell k. A sphere stands for the first vertex cell holding its point; a point in no
+  // vertex cell has no cell to select, and its pixels select nothing.
+  vtkCellArray* verts = input->GetVerts();
+  if (Impl->VertexCellsTime != input->GetMTime())
+  {
+    Impl->VertexCellOfPoint.assign(static_cast<std::size_t>(input->GetNumberOfPoints()), 0u);
+    auto cells = vtk::TakeSmartPointer(verts->NewIterator());
+    for (cells->GoToFirstCell(); !cells->IsDoneWithTraversal(); cells->GoToNextCell())
+    {
+      vtkIdType count;
+      const vtkIdType* points;
+      cells->GetCurrentCell(count, points);
+      for (vtkIdType k = 0; k < count; ++k)
+      {
+        std::uint32_t& cell = Impl->VertexCellOfPoint[static_cast<std::size_t>(points[k])];
+        cell = cell != 0 ? cell : static_cast<std::uint32_t>(cells->GetCurrentCellId() + 1);
+      }
+    }
+    Impl->VertexCellsTime = input->GetMTime();
+  }
+  for (std::uint32_t& id : Impl->Picks.ids)
+  {
+    id = id != 0 ? Impl->VertexCellOfPoint[id - 1] : 0u;
+  }
+  return verts->GetNumberOfCells() - 1;
 }
 
 void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
@@ -339,7 +486,7 @@ void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
   // scalars, lookup table and actor colour; a camera or light change reuses both.
   this->MapScalars(input, 1.0);
   vtkMTimeType colorTime = this->Colors ? this->Colors->GetMTime() : 0;
-  colorTime = std::max(colorTime, actor->GetProperty()->GetMTime());
+  colorTime = std::max({ colorTime, actor->GetProperty()->GetMTime(), Impl->SelectedTime.GetMTime() });
   const bool geometryChanged = Impl->SpheresStamp.Changed(this, input,
     { this->Radius, this->ScaleFactor, vtkRayMapperString(this->ScaleArray),
       Impl->RangeArrays });
@@ -356,7 +503,9 @@ void vtkCGTSphereMapper::UpdateSpheres(vtkPolyData* input,
                        "data is ignored and the actor color is used.");
     colors = nullptr;
   }
-  const SphereColors colorOf(colors, actor->GetProperty()->GetDiffuseColor());
+  this->UpdateSelectedMask(input->GetNumberOfPoints());
+  const SphereColors colorOf(
+    colors, actor->GetProperty()->GetDiffuseColor(), Impl->SelectedMask, this->SelectionColor);
   if (geometryChanged)
   {
     this->BuildSpheres(input, colorOf);
@@ -609,6 +758,10 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ScaleFactor: " << this->ScaleFactor << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
+  os << indent << "PointIdArrayName: " << (this->PointIdArrayName ? this->PointIdArrayName : "(none)")
+     << "\n";
+  os << indent << "ProcessIdArrayName: "
+     << (this->ProcessIdArrayName ? this->ProcessIdArrayName : "(none)") << "\n";
   os << indent << "Accelerator: "
      << (this->Accelerator == VTK_CGT_ACCELERATOR_GRID ? "coherent grid" : "Embree") << "\n";
   os << indent << "PacketSize: " << this->PacketSize << "\n";

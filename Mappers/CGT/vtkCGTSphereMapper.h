@@ -68,7 +68,10 @@
 
 class vtkDataArray;
 class vtkPiecewiseFunction;
+class vtkHardwareSelector;
+class vtkIdTypeArray;
 class vtkRayMapperStatistics;
+struct vtkRayMapperView;
 namespace vtkRayMapperRenderHelpers
 {
 struct ModelTransform;
@@ -262,6 +265,35 @@ public:
   void SetRange(int index, const char* arrayName, double minimum, double maximum);
   void RemoveAllRanges();
 
+  ///@{
+  /**
+   * Hardware selection (vtkHardwareSelector: ParaView's Select Points On, Hover Points,
+   * Interactive Select): a selection pass draws, for each pixel, the id of the point whose
+   * sphere is in front (the cell selection passes: the id of its vertex cell; a point in no
+   * vertex cell selects nothing). PointIdArrayName and ProcessIdArrayName name point arrays
+   * (vtkIdTypeArray, vtkUnsignedIntArray) giving each point's id in, and the process of, the
+   * data it was taken from, as for vtkOpenGLPolyDataMapper; unset (default) or absent: the
+   * input's own ids.
+   */
+  vtkSetStringMacro(PointIdArrayName);
+  vtkGetStringMacro(PointIdArrayName);
+  vtkSetStringMacro(ProcessIdArrayName);
+  vtkGetStringMacro(ProcessIdArrayName);
+  ///@}
+
+  ///@{
+  /**
+   * Highlighted points: the spheres of these point ids (nullptr or empty: none; ids outside
+   * the input are ignored) get SelectionColor (default magenta, ParaView's) instead of their
+   * colour, and are lit like the others. ParaView's Ray-Traced Spheres set them from the
+   * view's selection, which ParaView draws as points that the spheres would hide.
+   */
+  void SetSelectedPoints(vtkIdTypeArray* pointIds);
+  void SetSelectionColor(double r, double g, double b);
+  void SetSelectionColor(const double rgb[3]) { this->SetSelectionColor(rgb[0], rgb[1], rgb[2]); }
+  vtkGetVector3Macro(SelectionColor, double);
+  ///@}
+
   /**
    * Statistics of the last render: phase times, counters, effects that ran.
    */
@@ -304,6 +336,9 @@ protected:
   char* OpacityArray = nullptr;
   int OpacityArrayComponent = 0;
   vtkPiecewiseFunction* ScalarOpacityFunction = nullptr;
+  char* PointIdArrayName = nullptr;
+  char* ProcessIdArrayName = nullptr;
+  double SelectionColor[3] = { 1.0, 0.0, 1.0 };
 
 private:
   vtkCGTSphereMapper(const vtkCGTSphereMapper&) = delete;
@@ -316,6 +351,7 @@ private:
   struct SphereColors;
   void UpdateSpheres(vtkPolyData* input, vtkActor* actor, raymappers::RenderStatistics& stats);
   void BuildSpheres(vtkPolyData* input, const SphereColors& colorOf);
+  void UpdateSelectedMask(vtkIdType numberOfPoints);
   void ReadRangeAttributes(vtkPolyData* input);
   /// The opacity array in use (nullptr: none), with one warning per input change when it
   /// is named but missing or not numeric (`warn`).
@@ -329,10 +365,25 @@ private:
   void SetRangeFilter(raymappers::SphereAccelerator& accelerator);
   void operator=(const vtkCGTSphereMapper&) = delete;
 
-  /// One render, in the mapper's task arena (RenderPiece runs it there).
+  /// One render, in the mapper's task arena (RenderPiece runs it there): an image, or in a
+  /// hardware selection pass (vtkRayMapperSelectionPass.h) the ids of the spheres in front:
+  /// point ids for point selection, the ids of their vertex cells for cell selection.
   void RenderFrame(vtkRenderer* ren, vtkActor* actor);
   /// The renderer's EndEvent: the translucent frame RenderPiece deferred.
   void DrawDeferred(vtkObject* caller, unsigned long event, void* data);
+  /// The updated spheres and accelerator (range filter set) and the camera of a render; null
+  /// when there is nothing to draw.
+  raymappers::SphereAccelerator* PrepareScene(vtkRenderer* ren,
+    vtkActor* actor,
+    vtkRayMapperView& view,
+    raymappers::RenderStatistics& stats);
+  /// The last selection pass's picks drawn as the ids of the selector's pass.
+  void PresentSelection(vtkRenderer* ren,
+    vtkHardwareSelector* selector,
+    raymappers::RenderStatistics& stats);
+  /// The last selection pass's point ids replaced by their vertex cells' ids; returns the
+  /// largest cell id.
+  vtkIdType PicksToVertexCells(vtkPolyData* input);
 
   struct Internals;
   std::unique_ptr<Internals> Impl;

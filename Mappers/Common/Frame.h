@@ -4,6 +4,7 @@
 #define RayMappers_Frame_h
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace raymappers
@@ -38,6 +39,26 @@ struct Frame
   {
     return static_cast<std::size_t>(j) * static_cast<std::size_t>(width) +
            static_cast<std::size_t>(i);
+  }
+};
+
+/// What each pixel of a hardware-selection pass shows: 0 for nothing, else the id + 1 of the
+/// element in front (a point id for spheres), with the window depth of that element (1 for
+/// nothing); row 0 at the bottom, like Frame.
+struct IdFrame
+{
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint32_t> ids;
+  std::vector<float> depth;
+
+  void resize(int w, int h)
+  {
+    width = w;
+    height = h;
+    const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    ids.assign(n, 0u);
+    depth.assign(n, 1.f);
   }
 };
 

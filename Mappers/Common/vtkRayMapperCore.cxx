@@ -1,4 +1,5 @@
 #include "vtkRayMapperCore.h"
+#include "vtkRayMapperSelectionPass.h"
 #include "vtkRayMapperPointArrays.h"
 
 #include "Mappers/Common/FrameResample.h"
@@ -238,4 +239,44 @@ void vtkRayMapperCore::Present(vtkRenderer* ren,
     raymappers::enlargeDepth(this->CoarseFrame, this->FullFrame);
   }
   this->Show(ren, mode, stats);
+}
+
+void vtkRayMapperCore::PresentSelection(vtkRenderer* ren,
+  vtkHardwareSelector* selector,
+  const raymappers::IdFrame& picks,
+  const vtkRayMapperSelectionPass::Origins& origins,
+  vtkIdType maximumId,
+  raymappers::RenderStatistics& stats)
+{
+  vtkRayMapperSelectionPass::Begin(selector, maximumId);
+  vtkRayMapperSelectionPass::Encode(selector, picks, origins, this->FullFrame);
+  {
+    raymappers::ScopedPhase phase(stats, "draw");
+    this->Drawer.Draw(
+      ren, this->FullFrame, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth, false, stats);
+  }
+  vtkRayMapperSelectionPass::End(selector);
+  stats.addCounter("threads", this->Concurrency);
+  this->Statistics->Set(stats);
+}
+
+void vtkRayMapperCore::PresentSelectionFootprint(vtkRenderer* ren)
+{
+  int width = 0, height = 0;
+  ren->GetTiledSize(&width, &height);
+  const raymappers::Frame& last = this->FullFrame;
+  if (last.width != width || last.height != height || last.rgba.empty())
+  {
+    return;
+  }
+  raymappers::Frame& footprint = this->FootprintFrame;
+  footprint.resize(width, height);
+  for (std::size_t p = 0; p < last.depth.size(); ++p)
+  {
+    // Opaque black, premultiplied: the blend writes 0, "no prop", in every pass.
+    footprint.rgba[4 * p + 3] = last.rgba[4 * p + 3] > 0.f ? 1.f : 0.f;
+  }
+  raymappers::RenderStatistics ignored;
+  this->Drawer.Draw(
+    ren, footprint, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, ignored);
 }

@@ -15,6 +15,7 @@
 #include "Mappers/Common/View.h"
 #include "vtkRayMapperFrameDrawer.h"
 #include "vtkRayMapperRenderHelpers.h"
+#include "vtkRayMapperSelectionPass.h"
 #include "vtkRayMapperStatistics.h"
 
 #include "vtkNew.h"
@@ -31,6 +32,7 @@
 
 class vtkAbstractVolumeMapper;
 class vtkDataObject;
+class vtkHardwareSelector;
 class vtkPointSet;
 class vtkProp3D;
 class vtkRenderer;
@@ -219,6 +221,23 @@ public:
     vtkRayMapperFrameDrawer::Mode mode,
     bool withDepth,
     raymappers::RenderStatistics& stats);
+  /// A hardware-selection pass (vtkRayMapperSelectionPass.h): `picks` (the view's size, an
+  /// id + 1 per pixel) drawn with their depth as the colours of the selector's current pass,
+  /// the ids standing for `origins`, `maximumId` the largest id the prop can write; then the
+  /// statistics published.
+  void PresentSelection(vtkRenderer* ren,
+    vtkHardwareSelector* selector,
+    const raymappers::IdFrame& picks,
+    const vtkRayMapperSelectionPass::Origins& origins,
+    vtkIdType maximumId,
+    raymappers::RenderStatistics& stats);
+  /// A volume's part in a hardware-selection pass: it selects nothing and hides what is
+  /// behind it, as ParaView's Volume of an unstructured grid does (its projected tetrahedra
+  /// draw their colours in every pass, which the selector reads as no known prop). The
+  /// footprint is the last frame's (the selection renders right after a render, with its
+  /// camera): "nothing" (0) is drawn over its pixels of alpha > 0, none when the last frame
+  /// is not of the viewport's size.
+  void PresentSelectionFootprint(vtkRenderer* ren);
   /// A render that draws nothing: the statistics published.
   void Skip(const raymappers::RenderStatistics& stats) { this->Statistics->Set(stats); }
 
@@ -234,6 +253,7 @@ private:
 
   raymappers::Frame FullFrame;
   raymappers::Frame CoarseFrame;
+  raymappers::Frame FootprintFrame; // a volume's footprint in a selection pass
   vtkRayMapperFrameDrawer Drawer;
   vtkRayMapperRenderHelpers::CameraCheck Camera;
   vtkNew<vtkRayMapperStatistics> Statistics;

@@ -1,4 +1,5 @@
 #include "vtkRayMapperParticleVolumeMapper.h"
+#include "vtkRayMapperSelectionPass.h"
 
 #include "vtkRayMapperCore.h"
 
@@ -61,6 +62,12 @@ double* vtkRayMapperParticleVolumeMapper::GetBounds()
 
 void vtkRayMapperParticleVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
+  if (vtkRayMapperSelectionPass::Of(ren))
+  {
+    // A hardware selection pass: selects nothing, hides what is behind.
+    this->Core->PresentSelectionFootprint(ren);
+    return;
+  }
   this->Core->Execute(this->NumberOfThreads,
     [&]
     {

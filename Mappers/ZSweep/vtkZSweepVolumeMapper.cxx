@@ -1,4 +1,5 @@
 #include "vtkZSweepVolumeMapper.h"
+#include "vtkRayMapperSelectionPass.h"
 #include "vtkRayMapperPointArrays.h"
 
 #include "Mappers/Common/Frame.h"
@@ -391,6 +392,12 @@ raymappers::ZSweepParameters vtkZSweepVolumeMapper::GatherParameters() const
 
 void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
 {
+  if (vtkRayMapperSelectionPass::Of(ren))
+  {
+    // A hardware selection pass: selects nothing, hides what is behind.
+    Impl->Core.PresentSelectionFootprint(ren);
+    return;
+  }
   Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
 }
 

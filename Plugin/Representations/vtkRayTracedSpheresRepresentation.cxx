@@ -1,6 +1,14 @@
 #include "vtkRayTracedSpheresRepresentation.h"
 
 #include "vtkActor.h"
+#include "vtkAlgorithmOutput.h"
+#include "vtkDataSet.h"
+#include "vtkGeometryRepresentation.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkPVLODActor.h"
+#include "vtkPVView.h"
+#include "vtkPointData.h"
 #include "vtkCGTSphereMapper.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
@@ -39,6 +47,67 @@ void vtkRayTracedSpheresRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "WarnedLocalShadows: " << this->WarnedLocalShadows << "\n";
+}
+
+//----------------------------------------------------------------------------
+int vtkRayTracedSpheresRepresentation::ProcessViewRequest(
+  vtkInformationRequestKey* request_type, vtkInformation* inInfo, vtkInformation* outInfo)
+{
+  const int shown = this->Superclass::ProcessViewRequest(request_type, inInfo, outInfo);
+  if (shown && request_type == vtkPVView::REQUEST_RENDER())
+  {
+    this->UpdateSelectionHighlight();
+  }
+  return shown;
+}
+
+namespace
+{
+/// The output port that `port` shows, past the vtkPVPostFilter that ParaView puts between
+/// a source and its representations.
+vtkAlgorithmOutput* SourceOf(vtkAlgorithmOutput* port)
+{
+  while (port && port->GetProducer()->IsA("vtkPVPostFilter") &&
+    port->GetProducer()->GetNumberOfInputConnections(0) > 0)
+  {
+    port = port->GetProducer()->GetInputConnection(0, 0);
+  }
+  return port;
+}
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::UpdateSelectionHighlight()
+{
+  vtkView* view = this->GetView();
+  vtkAlgorithmOutput* input =
+    this->GetNumberOfInputConnections(0) > 0 ? SourceOf(this->GetInputConnection(0, 0)) : nullptr;
+  vtkIdTypeArray* selected = nullptr;
+  for (int r = 0; view && input && !selected && r < view->GetNumberOfRepresentations(); ++r)
+  {
+    // The selection representation's geometry: its input is the extraction of our input.
+    auto* geometry = vtkGeometryRepresentation::SafeDownCast(view->GetRepresentation(r));
+    vtkAlgorithmOutput* extracted = geometry && geometry->GetVisibility() &&
+        geometry->GetNumberOfInputConnections(0) > 0
+      ? SourceOf(geometry->GetInputConnection(0, 0))
+      : nullptr;
+    vtkAlgorithm* extract = extracted ? extracted->GetProducer() : nullptr;
+    if (!extract || !extract->IsA("vtkPVExtractSelection") ||
+      extract->GetNumberOfInputConnections(0) < 1 ||
+      SourceOf(extract->GetInputConnection(0, 0)) != input)
+    {
+      continue;
+    }
+    auto* points = vtkDataSet::SafeDownCast(extract->GetOutputDataObject(0));
+    selected = points ? vtkIdTypeArray::SafeDownCast(
+                          points->GetPointData()->GetArray("vtkOriginalPointIds"))
+                      : nullptr;
+    if (selected)
+    {
+      this->Mapper->SetSelectionColor(geometry->GetActor()->GetProperty()->GetColor());
+    }
+  }
+  this->Mapper->SetSelectedPoints(selected);
 }
 
 //----------------------------------------------------------------------------

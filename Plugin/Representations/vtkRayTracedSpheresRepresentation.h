@@ -123,9 +123,26 @@ public:
   vtkActor* GetActor();
   ///@}
 
+  /**
+   * The view's render request also highlights the selected spheres
+   * (UpdateSelectionHighlight).
+   */
+  int ProcessViewRequest(vtkInformationRequestKey* request_type,
+    vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+
 protected:
   vtkRayTracedSpheresRepresentation();
   ~vtkRayTracedSpheresRepresentation() override;
+
+  /**
+   * ParaView shows a selection by a selection representation that draws the extracted
+   * points (vtkPVExtractSelection of this representation's input) as points, which the
+   * spheres around them hide. So the mapper colours the spheres of those points
+   * (vtkOriginalPointIds of this process's extraction) in that representation's colour
+   * (ParaView's SelectionColor); no visible selection representation: no highlight.
+   */
+  void UpdateSelectionHighlight();
 
   void UpdateMapperParameters() override;
   void PushRadius(double& radius, double& scale, const char* radiusArray) override;

@@ -8,6 +8,8 @@ the same as the C++ and pvpython tests'):
   background, and the pictures before the edits are not;
 - a check of the check: the SPH volume with the top opacity typed as 0.9 instead of 1 does
   NOT match the baseline of opacity 1;
+- Select Points On dragged over the spheres selected points, and the shot after it shows
+  magenta (the selection colour) where the shot before it shows none;
 - the spheres with Opacity By Array checked match the independent reference of the
   translucent spheres (raymappers-reference, written by the playback), and differ from the
   opaque spheres; unchecked again they match the opaque baseline.
@@ -17,6 +19,7 @@ usage: pvpython TestRayMappersGUI.py --driver SMTESTDRIVER --client PARAVIEW --p
          --reference TOOL
 """
 import argparse
+import json
 import os
 import subprocess
 import sys
@@ -54,11 +57,12 @@ def run(command, expect=0, what=''):
 
 # The shots go where the perturbation check of all baselines reads the tests' pictures.
 shots = args.output
-for name in MATCHED + EMPTIED + [NEGATIVE[0], TRANSLUCENT, TRANSLUCENT + '-reference',
+SELECTION = 'TestRayMappersGUI_Selection'
+for name in MATCHED + EMPTIED + [NEGATIVE[0], SELECTION, TRANSLUCENT, TRANSLUCENT + '-reference',
                                   OPAQUE_AGAIN[0]]:
-    path = os.path.join(shots, name + '.png')
-    if os.path.exists(path):
-        os.remove(path)
+    for path in (os.path.join(shots, name + '.png'), os.path.join(shots, name + '.json')):
+        if os.path.exists(path):
+            os.remove(path)
 
 # The client must not inherit pvpython's MPI singleton (its Open MPI / PMIx variables).
 env = {k: v for k, v in os.environ.items()
@@ -100,5 +104,29 @@ run([args.compare, '--expect-difference', shot(TRANSLUCENT),
 run([args.compare, shot(OPAQUE_AGAIN[0]), os.path.join(args.baselines, OPAQUE_AGAIN[1] + '.png')],
     what='Opacity By Array unchecked: the opaque spheres again')
 
+
+def magenta_pixels(png):
+    from raymappers_testing import pixels
+    rgb = pixels(png)
+    return int(((rgb[:, 0] > rgb[:, 1] + 60) & (rgb[:, 2] > rgb[:, 1] + 60)).sum())
+
+
+def check_selection():
+    report = os.path.join(shots, SELECTION + '.json')
+    selected = json.load(open(report))['selected_points'] if os.path.exists(report) else []
+    before, after = magenta_pixels(shot(MATCHED[0])), magenta_pixels(shot(SELECTION))
+    ok = len(selected) > 0 and after > 50 and before == 0
+    print(('ok    ' if ok else 'FAIL  ') + 'Select Points On selected %d spheres; magenta pixels '
+          '%d after, %d before' % (len(selected), after, before))
+    if not ok:
+        failures.append('the selection')
+
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+if os.path.exists(shot(SELECTION)) and os.path.exists(shot(MATCHED[0])):
+    check_selection()
+else:
+    failures.append('the selection shot')
+    print('FAIL  no selection shot')
 print('%d check(s) failed' % len(failures) if failures else 'all checks passed')
 sys.exit(1 if failures else 0)

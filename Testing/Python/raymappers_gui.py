@@ -3,12 +3,14 @@
 
 shot(name) saves the active view as $RAYMAPPERS_GUI_OUTPUT/name.png at 300 x 300 the way
 ParaView's own pqcompareview captures it: the view's size set to the image's (so no
-magnification tiles), the PPI to 72, both restored after.
+magnification tiles), the PPI to 72, both restored after. selection_report(name) saves
+the shot and, as name.json, the point ids the active source's selection names.
 
 translucent_shot(name) takes the shot of the active Ray-Traced Spheres representation without
 FXAA and renders its reference (Testing/References, 'render translucent', through
 raymappers_reference) as name-reference.png: the spheres of its constant radius, coloured by
 its color map, their opacity its opacity array through its opacity function times Opacity."""
+import json
 import os
 
 import paraview.simple
@@ -57,3 +59,17 @@ def shot(name):
                    ImageResolution=SIZE, TransparentBackground=0)
     view.ViewSize, view.PPI = size, ppi
     view.StillRender()
+
+
+def selection_report(name):
+    from paraview.simple import GetActiveSource
+    selection = GetActiveSource().GetSelectionInput(0)
+    ids = []
+    if selection is not None:
+        # ParaView 5.11 wraps a selection in AppendSelections, (process, id) pairs inside.
+        inputs = selection.Input if selection.GetXMLName() == 'AppendSelections' else [selection]
+        for s in inputs:
+            ids += list(s.IDs)[1::2]
+    with open(os.path.join(os.environ['RAYMAPPERS_GUI_OUTPUT'], name + '.json'), 'w') as f:
+        json.dump({'selected_points': sorted(set(ids))}, f)
+    shot(name)

@@ -1,6 +1,7 @@
 // The sphere glyph kernel against closed-form hits and a brute-force reference renderer
 // that tests every sphere at every pixel in double precision.
 #include "CameraFixtures.h"
+#include "Mappers/CGT/CoherentGridAccelerator.h"
 #include "Mappers/CGT/EmbreeSphereAccelerator.h"
 #include "SphereReference.h"
 #include "Mappers/CGT/SphereRenderer.h"
@@ -114,6 +115,75 @@ TEST(SphereRenderer, MatchesBruteForceReference)
   EXPECT_GT(checked, 100 * 80 * 99 / 100);
   EXPECT_GT(hits, 1000);
   EXPECT_EQ(stats.counter("hits") >= hits, true);
+}
+
+// A selection pass answers, for every pixel, which input point's sphere is in front: the
+// brute-force reference's front sphere, as its input point + 1, at the same window depth,
+// on both accelerators. The first input point has a NaN centre and is skipped, so a sphere's
+// index in the set is not its point id (the grid's build also sorts the set): writing the
+// index would fail here (seen failing with `spheres.sourceIds[id]` replaced by `id`).
+TEST(SpherePicking, IdsAreTheInputPointsOfTheFrontSpheres)
+{
+  Scene scene = randomScene(300, 11);
+  SphereSet& spheres = scene.spheres;
+  const std::vector<Vec3f> centers = spheres.centers;
+  const std::vector<float> radii = spheres.radii;
+  buildSphereSet(
+    centers.size() + 1,
+    spheres.origin,
+    [&](std::size_t i)
+    {
+      return i == 0 ? Vec3d(std::nan(""), 0, 0) : Vec3d(centers[i - 1]) + spheres.origin;
+    },
+    [&](std::size_t i) { return i == 0 ? 1.0 : double(radii[i - 1]); },
+    [&](std::size_t) { return packRGBA8(255, 255, 255, 255); },
+    spheres);
+  ASSERT_EQ(spheres.skippedNonFinite, 1u);
+  const RayCamera camera(scene.matrix, 96, 72, spheres.origin);
+  // The grid's build sorts the spheres (sourceIds keep their points): build it first.
+  CoherentGridAccelerator grid;
+  grid.build(spheres, CoherentGridParameters{});
+  EmbreeSphereAccelerator embree;
+  embree.build(spheres);
+  const double radius = sceneRadius(spheres);
+  for (const SphereAccelerator* accel : { static_cast<const SphereAccelerator*>(&embree),
+         static_cast<const SphereAccelerator*>(&grid) })
+  {
+    IdFrame picks;
+    RenderStatistics stats;
+    pickSpheres({ spheres, *accel }, viewOf(camera), 8, 16, picks, stats);
+    ASSERT_EQ(picks.ids.size(), 96u * 72u);
+    EXPECT_TRUE(stats.effect("selection_ids"));
+    int checked = 0, hits = 0;
+    for (int j = 0; j < 72; ++j)
+    {
+      for (int i = 0; i < 96; ++i)
+      {
+        const Ray ray = camera.pixelRay(i, j);
+        const ReferenceHit ref = exactHit(spheres, ray, radius);
+        if (ref.bands < 1)
+        {
+          continue; // within float resolution of a silhouette
+        }
+        ++checked;
+        const std::size_t k = static_cast<std::size_t>(j) * 96 + static_cast<std::size_t>(i);
+        if (ref.id < 0)
+        {
+          EXPECT_EQ(picks.ids[k], 0u) << i << "," << j;
+          EXPECT_EQ(picks.depth[k], 1.f);
+          continue;
+        }
+        ++hits;
+        const std::uint32_t point = spheres.sourceIds[static_cast<std::size_t>(ref.id)];
+        EXPECT_GE(point, 1u); // the first point is skipped
+        EXPECT_EQ(picks.ids[k], point + 1u) << i << "," << j;
+        EXPECT_NEAR(picks.depth[k], camera.depthMap(ray).depthOf(ref.t), 1e-6) << i << "," << j;
+      }
+    }
+    EXPECT_GT(checked, 96 * 72 * 99 / 100);
+    EXPECT_GT(hits, 1000);
+    EXPECT_EQ(stats.counter("rays"), 96 * 72);
+  }
 }
 
 TEST(SphereRenderer, AnyTileSizeGivesTheSameImage)
