@@ -124,6 +124,8 @@ void permute(SphereSet& spheres, const std::vector<std::uint32_t>& perm)
   sorted.colors.resize(n);
   sorted.sourceIds.resize(n);
   sorted.attributes.resize(spheres.attributes.size());
+  sorted.opacities.resize(spheres.opacities.size());
+  const bool translucent = !spheres.opacities.empty();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
     [&](const tbb::blocked_range<std::size_t>& range)
     {
@@ -134,6 +136,10 @@ void permute(SphereSet& spheres, const std::vector<std::uint32_t>& perm)
         sorted.radii[i] = spheres.radii[from];
         sorted.colors[i] = spheres.colors[from];
         sorted.sourceIds[i] = spheres.sourceIds[from];
+        if (translucent)
+        {
+          sorted.opacities[i] = spheres.opacities[from];
+        }
         for (int a = 0; a < na; ++a)
         {
           sorted.attributes[i * na + a] = spheres.attributes[from * na + a];
@@ -145,6 +151,7 @@ void permute(SphereSet& spheres, const std::vector<std::uint32_t>& perm)
   spheres.colors.swap(sorted.colors);
   spheres.sourceIds.swap(sorted.sourceIds);
   spheres.attributes.swap(sorted.attributes);
+  spheres.opacities.swap(sorted.opacities);
 }
 
 // Widens the extrema mn, mx of the macrocell by the attributes of spheres [begin, end) (NaN

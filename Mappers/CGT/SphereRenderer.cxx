@@ -11,27 +11,28 @@
 namespace raymappers
 {
 
+SphereRoots sphereRoots(const Vec3d& org, const Vec3d& dir, const Vec3d& center, double radius)
+{
+  const Vec3d f = org - center;
+  const double b = dot(f, dir);
+  const Vec3d l = f - dir * b;
+  const double disc = radius * radius - dot(l, l);
+  const double s = std::sqrt(std::max(disc, 0.0));
+  return { disc, -b - s, -b + s };
+}
+
 double refineSphereHit(const Vec3d& org,
   const Vec3d& dir,
   const Vec3d& center,
   double radius,
   double tGuess)
 {
-  // |f + t d|^2 = r^2 with f = o - c and |d| = 1. With b = f.d and the perpendicular part
-  // l = f - b d, the roots are t = -b -+ sqrt(r^2 - |l|^2); this form avoids the
-  // cancellation of |f|^2 - r^2 when the sphere is far from the ray origin.
-  const Vec3d f = org - center;
-  const double b = dot(f, dir);
-  const Vec3d l = f - dir * b;
-  const double disc = radius * radius - dot(l, l);
-  if (disc < 0)
+  const SphereRoots roots = sphereRoots(org, dir, center, radius);
+  if (roots.disc < 0)
   {
     return tGuess;
   }
-  const double s = std::sqrt(disc);
-  const double t0 = -b - s;
-  const double t1 = -b + s;
-  return std::fabs(t0 - tGuess) <= std::fabs(t1 - tGuess) ? t0 : t1;
+  return std::fabs(roots.t0 - tGuess) <= std::fabs(roots.t1 - tGuess) ? roots.t0 : roots.t1;
 }
 
 namespace
@@ -109,12 +110,21 @@ struct SphereFrame
   int aoSamples;                // ambient-occlusion rays per hit (0: none)
   int aoSide;                   // the ambient-occlusion packet's side
   std::vector<Light> areaLight; // the area light's centre as the direct light (shadows)
+  bool translucent;             // front-to-back compositing (see the header)
+  double opacity;               // every sphere's opacity factor
+  const float* opaqueDepth;     // window depth per pixel where translucent rays stop, or null
+
+  double opacityOf(std::uint32_t id) const
+  {
+    return spheres.opacities.empty() ? opacity : opacity * spheres.opacities[id];
+  }
 };
 
 // The counts of a tile, summed into the frame's counters.
 struct SphereCounts
 {
   std::int64_t rays = 0, packets = 0, hits = 0, aoRays = 0, shadowRays = 0;
+  std::int64_t layers = 0, queries = 0, terminated = 0;
   TraversalCounters traversal;
 };
 
@@ -273,19 +283,26 @@ int makePrimaryPacket(
   return rays;
 }
 
-// A hit's pixel: its shaded colour, darkened by its shadows (the visible share scales the
-// direct, non-ambient light) and its occlusion, and the window depth of the hit.
-void renderHit(const SphereFrame& f,
-  const Ray& ray,
-  std::uint32_t id,
-  float tHit,
-  std::size_t idx,
-  SecondaryPackets& secondary,
-  SphereCounts& counts)
+// A primary ray's hit: the ray, the sphere, the accelerator's distance and the pixel.
+struct PrimaryHit
 {
-  const SurfacePoint sp = shadeHit(f, ray, id, tHit);
+  const Ray& ray;
+  std::uint32_t id;
+  float t;
+  std::size_t idx;
+};
+
+// A hit's colour: its shaded colour, darkened by its shadows (the visible share scales the
+// direct, non-ambient light) and its occlusion; `sp` receives the hit.
+Vec3d hitColor(const SphereFrame& f,
+  const PrimaryHit& hit,
+  SecondaryPackets& secondary,
+  SphereCounts& counts,
+  SurfacePoint& sp)
+{
+  sp = shadeHit(f, hit.ray, hit.id, hit.t);
   Vec3d color = sp.color;
-  const auto pixel = static_cast<std::uint32_t>(idx);
+  const auto pixel = static_cast<std::uint32_t>(hit.idx);
   if (f.shadowSide > 0)
   {
     const double visible = lightVisibility(f, sp, pixel, secondary, counts);
@@ -296,13 +313,146 @@ void renderHit(const SphereFrame& f,
   {
     color = color * unoccluded(f, sp, pixel, secondary, counts);
   }
+  return { std::clamp(color.x, 0.0, 1.0), std::clamp(color.y, 0.0, 1.0),
+    std::clamp(color.z, 0.0, 1.0) };
+}
+
+// Pixel idx: premultiplied colour and alpha, and the window depth at distance t on the ray.
+void writePixel(const SphereFrame& f,
+  const Ray& ray,
+  std::size_t idx,
+  const Vec3d& premultiplied,
+  double alpha,
+  double t)
+{
   Frame& frame = f.frame;
-  frame.rgba[4 * idx] = static_cast<float>(std::clamp(color.x, 0.0, 1.0));
-  frame.rgba[4 * idx + 1] = static_cast<float>(std::clamp(color.y, 0.0, 1.0));
-  frame.rgba[4 * idx + 2] = static_cast<float>(std::clamp(color.z, 0.0, 1.0));
-  frame.rgba[4 * idx + 3] = 1.f;
-  const double depth = f.camera.depthMap(ray).depthOf(sp.t);
+  frame.rgba[4 * idx] = static_cast<float>(premultiplied.x);
+  frame.rgba[4 * idx + 1] = static_cast<float>(premultiplied.y);
+  frame.rgba[4 * idx + 2] = static_cast<float>(premultiplied.z);
+  frame.rgba[4 * idx + 3] = static_cast<float>(alpha);
+  const double depth = f.camera.depthMap(ray).depthOf(t);
   frame.depth[idx] = static_cast<float>(std::clamp(depth, 0.0, 1.0));
+}
+
+// An opaque hit's pixel.
+void renderHit(const SphereFrame& f,
+  const PrimaryHit& hit,
+  SecondaryPackets& secondary,
+  SphereCounts& counts)
+{
+  SurfacePoint sp;
+  const Vec3d color = hitColor(f, hit, secondary, counts, sp);
+  writePixel(f, hit.ray, hit.idx, color, 1.0, sp.t);
+}
+
+// The front-to-back composite of one translucent ray: premultiplied colour C and alpha A,
+// the ray's start, the distance of its first layer and the sphere composited last.
+struct RayComposite
+{
+  Vec3d color;
+  double alpha = 0.0;
+  float tStart = 0.f;
+  double tFirst = -1.0;
+  std::uint32_t last = NoHit;
+};
+
+// Whether the hit at tHit on sphere id is that sphere's first surface at or after the ray's
+// start (see the header): the hit is its near root, or its far root while the near one lies
+// before the start; never the sphere composited just before (the two float roots of a ray
+// grazing it, which double precision may not tell apart).
+bool firstSurface(const SphereFrame& f, const Ray& ray, const RayComposite& rc, std::uint32_t id, float tHit)
+{
+  const Vec3d o(ray.org), d(ray.dir), c(f.spheres.centers[id]);
+  const double r = f.spheres.radii[id];
+  const SphereRoots roots = sphereRoots(o, d, c, r);
+  const bool farRoot = refineSphereHit(o, d, c, r, tHit) > 0.5 * (roots.t0 + roots.t1);
+  return id != rc.last && (!farRoot || roots.t0 < rc.tStart);
+}
+
+// One surface met by a translucent ray: composited when it is its sphere's first (a_i > 0).
+void addLayer(const SphereFrame& f,
+  const PrimaryHit& hit,
+  RayComposite& rc,
+  SecondaryPackets& secondary,
+  SphereCounts& counts)
+{
+  const double a = f.opacityOf(hit.id);
+  if (!(a > 0.0) || !firstSurface(f, hit.ray, rc, hit.id, hit.t))
+  {
+    return;
+  }
+  SurfacePoint sp;
+  const Vec3d color = hitColor(f, hit, secondary, counts, sp);
+  const double w = (1.0 - rc.alpha) * a; // C += (1 - A) a_i c_i, A += (1 - A) a_i
+  rc.color = rc.color + color * w;
+  rc.alpha += w;
+  rc.last = hit.id;
+  rc.tFirst = rc.tFirst < 0.0 ? sp.t : rc.tFirst;
+  ++counts.layers;
+}
+
+// A translucent ray ends at the opaque geometry drawn before: tfar at its window depth.
+void stopAtOpaque(const SphereFrame& f, std::size_t idx, Ray& ray)
+{
+  const float depth = f.opaqueDepth ? f.opaqueDepth[idx] : 1.f;
+  if (depth < 1.f)
+  {
+    const double t = f.camera.depthMap(ray).distanceOf(static_cast<double>(depth));
+    ray.tfar = std::min(ray.tfar, static_cast<float>(t));
+  }
+}
+
+// The translucent packet of the pixel block at (bx, by), made by makePrimaryPacket: traced
+// again from just past every lane's last hit until each lane has nothing left before its
+// end or reached TranslucentTerminationAlpha; then every pixel gets its composite.
+void renderTranslucentPacket(const SphereFrame& f,
+  int bx,
+  int by,
+  RayPacket& packet,
+  PacketHits& result,
+  SecondaryPackets& secondary,
+  SphereCounts& counts)
+{
+  const int n = f.side * f.side;
+  RayComposite rc[MaxPacketRays];
+  bool drawn[MaxPacketRays];
+  std::size_t idx[MaxPacketRays];
+  for (int k = 0; k < n; ++k)
+  {
+    drawn[k] = packet.valid[k];
+    idx[k] = drawn[k] ? f.frame.index(bx + k % f.side, by + k / f.side) : 0;
+    if (drawn[k])
+    {
+      stopAtOpaque(f, idx[k], packet.rays[k]);
+      rc[k].tStart = packet.rays[k].tnear;
+    }
+  }
+  for (bool any = true; any; ++counts.queries)
+  {
+    f.accel.intersect(packet, result, counts.traversal);
+    any = false;
+    for (int k = 0; k < n; ++k)
+    {
+      if (!packet.valid[k] || result.prim[k] == NoHit)
+      {
+        packet.valid[k] = false;
+        continue;
+      }
+      addLayer(f, { packet.rays[k], result.prim[k], result.t[k], idx[k] }, rc[k], secondary, counts);
+      packet.rays[k].tnear = std::nextafter(result.t[k], std::numeric_limits<float>::infinity());
+      packet.valid[k] = rc[k].alpha < TranslucentTerminationAlpha;
+      counts.terminated += packet.valid[k] ? 0 : 1;
+      any = any || packet.valid[k];
+    }
+  }
+  for (int k = 0; k < n; ++k)
+  {
+    if (drawn[k] && rc[k].tFirst >= 0.0)
+    {
+      ++counts.hits;
+      writePixel(f, packet.rays[k], idx[k], rc[k].color, rc[k].alpha, rc[k].tFirst);
+    }
+  }
 }
 
 // A tile: primary packets of side x side pixels, the closest hits from the accelerator
@@ -320,6 +470,11 @@ void renderTile(const SphereFrame& f, const Tile& tile, SphereCounts& counts)
     {
       counts.rays += makePrimaryPacket(f.camera, side, tile, bx, by, packet);
       ++counts.packets;
+      if (f.translucent)
+      {
+        renderTranslucentPacket(f, bx, by, packet, result, secondary, counts);
+        continue;
+      }
       f.accel.intersect(packet, result, counts.traversal);
       for (int k = 0; k < side * side; ++k)
       {
@@ -329,7 +484,7 @@ void renderTile(const SphereFrame& f, const Tile& tile, SphereCounts& counts)
         }
         ++counts.hits;
         const std::size_t idx = f.frame.index(bx + k % side, by + k / side);
-        renderHit(f, packet.rays[k], result.prim[k], result.t[k], idx, secondary, counts);
+        renderHit(f, { packet.rays[k], result.prim[k], result.t[k], idx }, secondary, counts);
       }
     }
   }
@@ -339,7 +494,7 @@ void renderTile(const SphereFrame& f, const Tile& tile, SphereCounts& counts)
 struct SphereCounters
 {
   std::atomic<std::int64_t> rays{ 0 }, packets{ 0 }, hits{ 0 }, cells{ 0 }, culled{ 0 }, tests{ 0 },
-    rangeCulled{ 0 }, aoRays{ 0 }, shadowRays{ 0 };
+    rangeCulled{ 0 }, aoRays{ 0 }, shadowRays{ 0 }, layers{ 0 }, queries{ 0 }, terminated{ 0 };
 
   void add(const SphereCounts& c)
   {
@@ -352,6 +507,9 @@ struct SphereCounters
     rangeCulled += c.traversal.rangeCulled;
     aoRays += c.aoRays;
     shadowRays += c.shadowRays;
+    layers += c.layers;
+    queries += c.queries;
+    terminated += c.terminated;
   }
 };
 }
@@ -376,6 +534,8 @@ void renderSpheres(const SphereScene& scene,
   stats.setEffect("ambient_occlusion", ao);
   const int shadowSide = std::clamp(shading.shadowSide, 0, MaxPacketSide);
   stats.setEffect("soft_shadows", shadowSide > 0);
+  const bool translucent = drawsTranslucent(scene.spheres, params);
+  stats.setEffect("translucency", translucent);
   const char* const counterNames[] = { "rays",
     "packets",
     "hits",
@@ -384,12 +544,15 @@ void renderSpheres(const SphereScene& scene,
     "sphere_tests",
     "range_culled",
     "ao_rays",
-    "shadow_rays" };
+    "shadow_rays",
+    "translucent_layers",
+    "translucent_queries",
+    "translucent_terminated" };
   for (const char* c : counterNames)
   {
     stats.declareCounter(c);
   }
-  if (accel.empty() || width <= 0 || height <= 0)
+  if (accel.empty() || width <= 0 || height <= 0 || !(params.opacity > 0.0))
   {
     return;
   }
@@ -403,7 +566,10 @@ void renderSpheres(const SphereScene& scene,
     shadowSide,
     ao ? aoSamples : 0,
     aoSamples <= 16 ? 4 : (aoSamples <= 64 ? 8 : MaxPacketSide),
-    {} };
+    {},
+    translucent,
+    std::clamp(params.opacity, 0.0, 1.0),
+    view.opaqueDepth() };
   if (shadowSide > 0)
   {
     Light l;
@@ -433,7 +599,10 @@ void renderSpheres(const SphereScene& scene,
     counters.tests,
     counters.rangeCulled,
     counters.aoRays,
-    counters.shadowRays };
+    counters.shadowRays,
+    counters.layers,
+    counters.queries,
+    counters.terminated };
   for (std::size_t c = 0; c < std::size(counts); ++c)
   {
     stats.addCounter(counterNames[c], counts[c]);

@@ -1,6 +1,21 @@
 // Ray casts a SphereSet into a Frame: primary rays in square packets per screen tile (TBB),
 // closest hits from an accelerator (Embree's BVH or the coherent grid), the exact hit refined in
 // double precision, Lambert + Phong shading in world space, and the window depth of the hit.
+//
+// Translucent spheres (a global opacity below 1 or per-sphere opacities; not in Gribble et
+// al., whose glyphs are opaque) are composited exactly along each ray, front to back: the
+// packet is traced again from just past each hit (t_near = the next float after it), so the
+// surfaces come in increasing t, and sphere i, met at its first surface, adds
+//   C += (1 - A) a_i c_i,   A += (1 - A) a_i        (premultiplied "over", Porter-Duff)
+// to the pixel. Each sphere counts once per ray, at its first surface at or after the ray's
+// start: its front surface, or its back surface when the ray starts inside it (the near plane
+// cuts it, as the opaque path shows it); a hit on a sphere's back surface after its front is
+// skipped. Two spheres whose surfaces the ray meets at the same float distance count once (the
+// second is passed over with the first). A ray stops when A >= TranslucentTerminationAlpha,
+// at the opaque depth of the view, or when nothing is left. Shadow and ambient-occlusion rays
+// treat every sphere as opaque (any sphere in the way blocks), whatever its opacity.
+// With no opacity below 1 and no per-sphere opacities the opaque closest-hit path runs, one
+// query per packet (effect "translucency" off, counter "translucent_layers" 0).
 #ifndef RayMappers_SphereRenderer_h
 #define RayMappers_SphereRenderer_h
 
@@ -55,6 +70,13 @@ struct SphereScene
   const SphereAccelerator& accel;
 };
 
+/// Early termination of translucent compositing: a ray stops once its accumulated alpha A
+/// reaches this. The layers left out add at most (1 - A) to every premultiplied channel and
+/// to alpha (their weights (1 - A) a_j sum to at most 1 - A), so the error is below
+/// 1/512, under half a step of an 8-bit channel: the 8-bit picture is within one level of
+/// the exact composite.
+constexpr float TranslucentTerminationAlpha = 1.f - 1.f / 512.f;
+
 /// How it draws them: the shading, rays traced in packets of packetSide x packetSide
 /// (clamped to [1, MaxPacketSide]) and scheduled in tiles of tileSize x tileSize pixels.
 struct SphereRenderParameters
@@ -62,17 +84,41 @@ struct SphereRenderParameters
   SphereShading shading;
   int packetSide = 8;
   int tileSize = 32;
+  /// Opacity of every sphere (the actor's), times its own (SphereSet::opacities) when set;
+  /// 0 (or NaN) draws nothing.
+  double opacity = 1.0;
 };
+
+/// Whether renderSpheres composites translucent spheres (an opacity below 1 or per-sphere
+/// opacities) rather than drawing the opaque closest hits.
+inline bool drawsTranslucent(const SphereSet& spheres, const SphereRenderParameters& params)
+{
+  return params.opacity < 1.0 || !spheres.opacities.empty();
+}
 
 /// Renders the spheres seen by the view's camera into `frame` (resized to the view's grid).
 /// Counters: rays, packets, hits, cells, culled, sphere_tests, range_culled, ao_rays,
-/// shadow_rays. Effects: shading, specular, range_culling, ambient_occlusion, soft_shadows.
+/// shadow_rays, translucent_layers (spheres composited), translucent_queries (packet queries
+/// of the translucent path, each packet's first included), translucent_terminated (rays
+/// stopped by TranslucentTerminationAlpha).
+/// Effects: shading, specular, range_culling, ambient_occlusion, soft_shadows,
+/// translucency. A translucent render stops its rays at the view's opaque depth; an opaque
+/// one writes depth and leaves the depth test to the caller.
 void renderSpheres(const SphereScene& scene,
   const View& view,
   const SphereRenderParameters& params,
   Frame& frame,
   RenderStatistics& stats);
 
+/// The roots t0 <= t1 of |o + t d - c|^2 = r^2 (unit d), in double: t = -b -+ sqrt(disc)
+/// with b = (o - c).d and disc = r^2 - |(o - c) - b d|^2 (the squared distance from the centre
+/// to the ray's line; this form avoids the cancellation of |o - c|^2 - r^2 far from the
+/// sphere). disc < 0: the line misses (t0 = t1 = -b, the closest approach).
+struct SphereRoots
+{
+  double disc, t0, t1;
+};
+SphereRoots sphereRoots(const Vec3d& org, const Vec3d& dir, const Vec3d& center, double radius);
 /// A hardware-selection pass: for every pixel of the view, the input point (sourceIds) + 1
 /// of the sphere its primary ray hits first and that hit's window depth (0 and depth 1 where
 /// the ray meets nothing), traced like renderSpheres (same packets, accelerator, range

@@ -9,6 +9,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
@@ -63,6 +64,9 @@ struct SphereSet
   std::vector<std::uint32_t> sourceIds; // the input point of each sphere
   int numAttributes = 0;                // values per sphere for range culling (<= 4)
   std::vector<float> attributes;        // numAttributes per sphere, interleaved
+  /// Opacity per sphere in [0, 1] (its own array mapped through its transfer function);
+  /// empty: every sphere has opacity 1 (the renderer's global opacity still applies).
+  std::vector<float> opacities;
 
   const float* attributesOf(std::size_t i) const
   {
@@ -94,6 +98,7 @@ void buildSphereSet(std::size_t n,
   out.origin = origin;
   out.numAttributes = 0;
   out.attributes.clear();
+  out.opacities.clear();
   out.centers.resize(n);
   out.radii.resize(n);
   out.colors.resize(n);
@@ -114,6 +119,28 @@ void buildSphereSet(std::size_t n,
   out.skippedBadRadius = tally.badRadius;
   out.maxRadius = tally.maxRadius;
   dropSkipped(tally, out.radii, out.centers, out.radii, out.colors, out.sourceIds);
+}
+
+/// Sets every sphere's opacity to opacity(sourceId), clamped to [0, 1] (NaN: 0, the
+/// sphere not drawn), in parallel; returns how many were NaN.
+template<typename OpacityFn>
+std::size_t setSphereOpacities(SphereSet& s, OpacityFn opacity)
+{
+  s.opacities.resize(s.size());
+  return tbb::parallel_reduce(
+    tbb::blocked_range<std::size_t>(0, s.size(), 16384),
+    std::size_t(0),
+    [&](const tbb::blocked_range<std::size_t>& range, std::size_t nan)
+    {
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      {
+        const double a = opacity(s.sourceIds[i]);
+        nan += std::isnan(a) ? 1 : 0;
+        s.opacities[i] = std::isnan(a) ? 0.f : static_cast<float>(std::clamp(a, 0.0, 1.0));
+      }
+      return nan;
+    },
+    [](std::size_t x, std::size_t y) { return x + y; });
 }
 
 /// Sets `count` attributes per sphere from value(sourceId, a), in parallel.

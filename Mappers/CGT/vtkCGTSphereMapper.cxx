@@ -14,6 +14,7 @@
 #include "vtkRayMapperSelectionPass.h"
 
 #include "vtkActor.h"
+#include "vtkCommand.h"
 #include "vtkCellArray.h"
 #include "vtkCellArrayIterator.h"
 #include "vtkDataArray.h"
@@ -23,6 +24,7 @@
 #include "vtkIdTypeArray.h"
 #include "vtkMath.h"
 #include "vtkObjectFactory.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -31,6 +33,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkTimeStamp.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkWeakPointer.h"
 #include "vtkUnsignedIntArray.h"
 
 #include <algorithm>
@@ -41,6 +44,7 @@
 #include <vector>
 
 vtkStandardNewMacro(vtkCGTSphereMapper);
+vtkCxxSetObjectMacro(vtkCGTSphereMapper, ScalarOpacityFunction, vtkPiecewiseFunction);
 
 struct vtkCGTSphereMapper::Internals
 {
@@ -62,8 +66,16 @@ struct vtkCGTSphereMapper::Internals
     SpheresStamp;
   vtkMTimeType BuiltColorTime = 0;
   vtkRayMapperStamp<int, double, int, int> AcceleratorStamp;
+  // The opacities: the latest MTime of the input, the mapper and the opacity function they
+  // were set at (0: to be set, after a rebuild of the spheres).
+  vtkMTimeType OpacityTime = 0;
   // The typical spacing of the input's points, for the automatic radius.
   vtkRayMapperParticleSizes::SpacingCache Spacing;
+  // The translucent draw deferred to the end of the renderer's render (RenderPiece): the
+  // renderer observed (and its observer's tag), the actor waiting to be drawn there.
+  vtkWeakPointer<vtkRenderer> Observed;
+  unsigned long ObserverTag = 0;
+  vtkWeakPointer<vtkActor> Pending;
   // Hardware selection: the ids of the last pass, and each point's vertex cell + 1 (0: none)
   // for cell selection, built for the input's MTime.
   raymappers::IdFrame Picks;
@@ -82,7 +94,13 @@ vtkCGTSphereMapper::vtkCGTSphereMapper()
 
 vtkCGTSphereMapper::~vtkCGTSphereMapper()
 {
+  if (Impl->Observed)
+  {
+    Impl->Observed->RemoveObserver(Impl->ObserverTag);
+  }
   this->SetScaleArray(nullptr);
+  this->SetOpacityArray(nullptr);
+  this->SetScalarOpacityFunction(nullptr);
   this->SetPointIdArrayName(nullptr);
   this->SetProcessIdArrayName(nullptr);
 }
@@ -305,7 +323,36 @@ void vtkCGTSphereMapper::UpdateSelectedMask(vtkIdType numberOfPoints)
 
 void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
 {
+  if (actor->HasTranslucentPolygonalGeometry() && !vtkRayMapperSelectionPass::Of(ren))
+  {
+    // VTK's translucent pass draws into the targets of its order-independent blending or
+    // depth peeling, whose shaders a frame drawn by a quad does not take part in: the
+    // spheres are drawn when the renderer's render ends (DrawDeferred), blended over all it
+    // drew, their rays stopped at the depth of its opaque geometry.
+    if (Impl->Observed != ren)
+    {
+      if (Impl->Observed)
+      {
+        Impl->Observed->RemoveObserver(Impl->ObserverTag);
+      }
+      Impl->Observed = ren;
+      Impl->ObserverTag = ren->AddObserver(vtkCommand::EndEvent, this, &vtkCGTSphereMapper::DrawDeferred);
+    }
+    Impl->Pending = actor;
+    return;
+  }
   Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); });
+}
+
+void vtkCGTSphereMapper::DrawDeferred(vtkObject* caller, unsigned long, void*)
+{
+  auto* ren = vtkRenderer::SafeDownCast(caller);
+  vtkActor* actor = Impl->Pending;
+  Impl->Pending = nullptr;
+  if (ren && actor)
+  {
+    Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); });
+  }
 }
 
 raymappers::SphereAccelerator* vtkCGTSphereMapper::PrepareScene(vtkRenderer* ren,
@@ -318,8 +365,9 @@ raymappers::SphereAccelerator* vtkCGTSphereMapper::PrepareScene(vtkRenderer* ren
   {
     return nullptr;
   }
-  // 1. Update: the sphere set, then the accelerator over it.
+  // 1. Update: the sphere set and its opacities, then the accelerator over it.
   this->UpdateSpheres(input, actor, stats);
+  this->UpdateOpacities(input, stats);
   const bool grid = this->UpdateAccelerator(stats);
   // 2. Gather the camera.
   if (!Impl->Core.GatherView(this, ren, actor, view))
@@ -359,11 +407,17 @@ void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)
   this->GatherShading(ren, actor, view.model, params.shading);
   params.packetSide = packetSide;
   params.tileSize = this->TileSize;
+  params.opacity = actor->GetProperty()->GetOpacity();
+  // Translucent spheres stop at the opaque depth and are blended over what is drawn.
+  const bool translucent = raymappers::drawsTranslucent(Impl->Spheres, params);
   // 4. Trace, 5. show.
   raymappers::renderSpheres({ Impl->Spheres, *accelerator },
-    Impl->Core.KernelView(ren, view, 1.0, Impl->Spheres.origin, false, stats), params,
+    Impl->Core.KernelView(ren, view, 1.0, Impl->Spheres.origin, translucent, stats), params,
     Impl->Core.Target(), stats);
-  Impl->Core.Present(ren, view, vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth, false, stats);
+  Impl->Core.Present(ren, view,
+    translucent ? vtkRayMapperFrameDrawer::Mode::BlendPremultiplied
+                : vtkRayMapperFrameDrawer::Mode::OpaqueWithDepth,
+    false, stats);
 }
 
 void vtkCGTSphereMapper::PresentSelection(vtkRenderer* ren,
@@ -489,6 +543,7 @@ void vtkCGTSphereMapper::BuildSpheres(vtkPolyData* input, const SphereColors& co
     colorOf,
     Impl->Spheres);
   this->ReadRangeAttributes(input);
+  Impl->OpacityTime = 0;
   if (Impl->Spheres.skippedNonFinite > 0)
   {
     vtkWarningMacro(<< Impl->Spheres.skippedNonFinite
@@ -532,6 +587,79 @@ void vtkCGTSphereMapper::ReadRangeAttributes(vtkPolyData* input)
   {
     Impl->RangeArrayFound[r] = rangeArrays[r] != nullptr;
   }
+}
+
+vtkDataArray* vtkCGTSphereMapper::FindOpacityArray(vtkPolyData* input, bool warn)
+{
+  if (!this->OpacityArray || !*this->OpacityArray || !input)
+  {
+    return nullptr;
+  }
+  vtkAbstractArray* named = input->GetPointData()->GetAbstractArray(this->OpacityArray);
+  vtkDataArray* array = vtkDataArray::SafeDownCast(named);
+  if (!array && warn)
+  {
+    vtkWarningMacro(<< "opacity array '" << this->OpacityArray << "' is "
+                    << (named ? std::string("a ") + named->GetClassName() + ", not a numeric array"
+                              : std::string("not a point array of the input"))
+                    << "; the spheres have the actor's opacity only.");
+  }
+  return array;
+}
+
+void vtkCGTSphereMapper::UpdateOpacities(vtkPolyData* input, raymappers::RenderStatistics& stats)
+{
+  // The opacities depend on the input, the opacity settings and the function (their latest
+  // MTime), and are set again after the spheres are rebuilt.
+  vtkPiecewiseFunction* function = this->ScalarOpacityFunction;
+  const vtkMTimeType time =
+    std::max({ input->GetMTime(), this->GetMTime(), function ? function->GetMTime() : 0 });
+  if (Impl->OpacityTime == time)
+  {
+    return;
+  }
+  Impl->OpacityTime = time;
+  Impl->Spheres.opacities.clear();
+  vtkDataArray* array = this->FindOpacityArray(input, true);
+  if (!array)
+  {
+    return;
+  }
+  raymappers::ScopedPhase phase(stats, "opacities");
+  int component = this->OpacityArrayComponent;
+  if (component >= array->GetNumberOfComponents())
+  {
+    vtkWarningMacro(<< "OpacityArrayComponent " << component << " is beyond the "
+                    << array->GetNumberOfComponents() << " components of the opacity array '"
+                    << this->OpacityArray << "'; component 0 is used.");
+    component = 0;
+  }
+  // The function is evaluated here, serially (vtkPiecewiseFunction is not thread-safe),
+  // once per point; the spheres then read their point's value in parallel.
+  const vtkIdType n = input->GetNumberOfPoints();
+  std::vector<double> opacity(static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    const double v = array->GetComponent(i, component);
+    opacity[static_cast<std::size_t>(i)] = function && !std::isnan(v) ? function->GetValue(v) : v;
+  }
+  const std::size_t nan =
+    raymappers::setSphereOpacities(Impl->Spheres, [&](std::uint32_t id) { return opacity[id]; });
+  if (nan > 0)
+  {
+    vtkWarningMacro(<< nan << " values of the opacity array '" << this->OpacityArray
+                    << "' are NaN: those spheres are not drawn.");
+  }
+}
+
+bool vtkCGTSphereMapper::HasOpaqueGeometry()
+{
+  return !this->HasTranslucentPolygonalGeometry();
+}
+
+bool vtkCGTSphereMapper::HasTranslucentPolygonalGeometry()
+{
+  return this->FindOpacityArray(this->GetInput(), false) != nullptr;
 }
 
 bool vtkCGTSphereMapper::UpdateAccelerator(raymappers::RenderStatistics& stats)
@@ -649,4 +777,8 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
      << this->ShadowLightPosition[1] << " " << this->ShadowLightPosition[2] << "\n";
   os << indent << "ShadowLightSize: " << this->ShadowLightSize << "\n";
   os << indent << "ShadowLightIntensity: " << this->ShadowLightIntensity << "\n";
+  os << indent << "OpacityArray: " << (this->OpacityArray ? this->OpacityArray : "(none)")
+     << "\n";
+  os << indent << "OpacityArrayComponent: " << this->OpacityArrayComponent << "\n";
+  os << indent << "ScalarOpacityFunction: " << this->ScalarOpacityFunction << "\n";
 }

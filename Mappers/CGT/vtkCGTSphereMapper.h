@@ -32,6 +32,27 @@
  * as a scalar gives its first component (one warning when they differ); a degenerate camera
  * (the eye at the focal point, a NaN position) gives one warning and nothing drawn.
  *
+ * Translucency: every sphere's opacity is the actor's Opacity times, when OpacityArray names
+ * a numeric point array, its component OpacityArrayComponent mapped through
+ * ScalarOpacityFunction (vtkPointGaussianMapper's names and rule). Translucent spheres are
+ * composited exactly by the ray tracer, front to back along every ray, each sphere once
+ * at its front surface, with early termination within 1/512 of the exact composite
+ * (SphereRenderer.h); the frame is blended over what is drawn, premultiplied, and the rays
+ * stop at the depth of the opaque geometry drawn before. Shadow and ambient-occlusion rays
+ * see every sphere as opaque. The actor is then drawn in VTK's translucent pass (the
+ * mapper says HasTranslucentPolygonalGeometry when the opacity array is in use; vtkActor
+ * itself when Opacity < 1). There the mapper only notes the actor: VTK's translucent pass
+ * (order-independent blending or depth peeling) composites through shader code that a
+ * frame drawn by a quad has no part in, so the translucent spheres are drawn when the
+ * renderer's render ends (its EndEvent), blended over everything it drew, opaque and
+ * translucent: other translucent geometry shows behind the spheres wherever it is, and
+ * 2D props of the same renderer (a scalar bar) are drawn over too; the rays stop at the
+ * opaque geometry's depth, so the spheres are exact against opaque geometry.
+ * With Opacity 1 and no opacity array the opaque closest-hit path runs (effect
+ * "translucency" off). A NaN opacity value hides its sphere (one warning per input change);
+ * a missing or non-numeric opacity array, or a component beyond its components, gives one
+ * warning and the actor's opacity alone.
+ *
  * After each render, GetStatistics() reports the time per phase, the counters (rays,
  * hits, spheres) and which effects ran.
  */
@@ -45,6 +66,8 @@
 
 #include <memory> // for std::unique_ptr
 
+class vtkDataArray;
+class vtkPiecewiseFunction;
 class vtkHardwareSelector;
 class vtkIdTypeArray;
 class vtkRayMapperStatistics;
@@ -106,6 +129,31 @@ public:
   ///@{
   /** @deprecated RadiusArrayName and RadiusScale (vtkRayMapperDeprecatedRadiusNamesMacro). */
   vtkRayMapperDeprecatedRadiusNamesMacro();
+  ///@}
+
+  ///@{
+  /**
+   * Per-sphere opacity (vtkPointGaussianMapper's names): OpacityArray, a numeric point
+   * array (nullptr, the default: none), its component OpacityArrayComponent (default 0),
+   * mapped through ScalarOpacityFunction (nullptr: the value itself), clamped to [0, 1] and
+   * multiplied by the actor's Opacity.
+   */
+  vtkSetStringMacro(OpacityArray);
+  vtkGetStringMacro(OpacityArray);
+  vtkRayMapperSetClampMacro(OpacityArrayComponent, int, 0, VTK_INT_MAX);
+  vtkGetMacro(OpacityArrayComponent, int);
+  void SetScalarOpacityFunction(vtkPiecewiseFunction* function);
+  vtkGetObjectMacro(ScalarOpacityFunction, vtkPiecewiseFunction);
+  ///@}
+
+  ///@{
+  /**
+   * Whether the spheres are opaque or translucent for VTK's render passes: translucent when
+   * OpacityArray names a numeric point array of the input (vtkActor adds its own Opacity);
+   * the lookup table's alpha, which the spheres do not draw, is not looked at.
+   */
+  bool HasOpaqueGeometry() override;
+  bool HasTranslucentPolygonalGeometry() override;
   ///@}
 
   ///@{
@@ -285,6 +333,9 @@ protected:
   double AmbientOcclusionRadius = 0.0;
 
   int NumberOfThreads = 0;
+  char* OpacityArray = nullptr;
+  int OpacityArrayComponent = 0;
+  vtkPiecewiseFunction* ScalarOpacityFunction = nullptr;
   char* PointIdArrayName = nullptr;
   char* ProcessIdArrayName = nullptr;
   double SelectionColor[3] = { 1.0, 0.0, 1.0 };
@@ -302,6 +353,10 @@ private:
   void BuildSpheres(vtkPolyData* input, const SphereColors& colorOf);
   void UpdateSelectedMask(vtkIdType numberOfPoints);
   void ReadRangeAttributes(vtkPolyData* input);
+  /// The opacity array in use (nullptr: none), with one warning per input change when it
+  /// is named but missing or not numeric (`warn`).
+  vtkDataArray* FindOpacityArray(vtkPolyData* input, bool warn);
+  void UpdateOpacities(vtkPolyData* input, raymappers::RenderStatistics& stats);
   bool UpdateAccelerator(raymappers::RenderStatistics& stats);
   void GatherShading(vtkRenderer* ren,
     vtkActor* actor,
@@ -314,6 +369,8 @@ private:
   /// hardware selection pass (vtkRayMapperSelectionPass.h) the ids of the spheres in front:
   /// point ids for point selection, the ids of their vertex cells for cell selection.
   void RenderFrame(vtkRenderer* ren, vtkActor* actor);
+  /// The renderer's EndEvent: the translucent frame RenderPiece deferred.
+  void DrawDeferred(vtkObject* caller, unsigned long event, void* data);
   /// The updated spheres and accelerator (range filter set) and the camera of a render; null
   /// when there is nothing to draw.
   raymappers::SphereAccelerator* PrepareScene(vtkRenderer* ren,

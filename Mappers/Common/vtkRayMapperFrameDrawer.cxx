@@ -159,6 +159,14 @@ void vtkRayMapperFrameDrawer::Draw(vtkRenderer* ren,
   vtkOpenGLState::ScopedglDepthMask depthMask(ostate);
   vtkOpenGLState::ScopedglDepthFunc depthFunc(ostate);
   vtkOpenGLState::ScopedglBlendFuncSeparate blendFunc(ostate);
+  // The quad covers the renderer's tiled viewport, set here: after the renderer's passes
+  // (a translucent frame drawn at its EndEvent) the viewport may be the whole window's.
+  vtkOpenGLState::ScopedglViewport viewport(ostate);
+  vtkOpenGLState::ScopedglScissor scissor(ostate);
+  int size[2], origin[2];
+  ren->GetTiledSizeAndOrigin(&size[0], &size[1], &origin[0], &origin[1]);
+  ostate->vtkglViewport(origin[0], origin[1], size[0], size[1]);
+  ostate->vtkglScissor(origin[0], origin[1], size[0], size[1]);
   if (opaque)
   {
     ostate->vtkglEnable(GL_DEPTH_TEST);

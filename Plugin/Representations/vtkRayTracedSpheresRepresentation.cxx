@@ -12,6 +12,7 @@
 #include "vtkCGTSphereMapper.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
+#include "vtkPiecewiseFunction.h"
 #include "vtkProperty.h"
 #include "vtkRayMapperForward.h"
 #include "vtkRayMapperGatherPoints.h"
@@ -31,10 +32,6 @@ vtkRayTracedSpheresRepresentation::vtkRayTracedSpheresRepresentation()
   this->SetProp(this->Actor, true);
   this->SetParticleMapper(this->Mapper);
   this->WarnOnlyWhenShown(this->Mapper);
-  // vtkCGTSphereMapper draws an opaque frame that writes depth: it must run in the
-  // opaque pass even when Opacity < 1 or the lookup table maps opacity (a translucent
-  // actor would be drawn by ParaView's depth peeling, which the mapper does not support).
-  this->Actor->ForceOpaqueOn();
   // Until a color array is chosen, the spheres have the solid color: do not let the
   // mapper pick the active scalars of the data on its own.
   this->Mapper->SetScalarVisibility(0);
@@ -278,7 +275,38 @@ void vtkRayTracedSpheresRepresentation::SetOpacity(double val)
   {
     return;
   }
-  // Kept on the property for the mapper; the actor stays in the opaque pass (see the
-  // constructor), so the spheres are drawn opaque until the mapper blends.
+  // Below 1 the actor is translucent (vtkActor) and the mapper composites the spheres.
   this->Actor->GetProperty()->SetOpacity(val);
+}
+
+void vtkRayTracedSpheresRepresentation::SetOpacityByArray(bool byArray)
+{
+  this->OpacityByArray = byArray;
+  this->UpdateOpacityArray();
+}
+
+void vtkRayTracedSpheresRepresentation::SelectOpacityArray(int, int, int, int, const char* name)
+{
+  this->OpacityArrayName = name ? name : "";
+  this->UpdateOpacityArray();
+}
+
+void vtkRayTracedSpheresRepresentation::SelectOpacityArrayComponent(int component)
+{
+  this->OpacityArrayComponent = component;
+  this->UpdateOpacityArray();
+}
+
+void vtkRayTracedSpheresRepresentation::UpdateOpacityArray()
+{
+  const bool used = this->OpacityByArray && !this->OpacityArrayName.empty();
+  this->Mapper->SetOpacityArray(used ? this->OpacityArrayName.c_str() : nullptr);
+  this->Mapper->SetOpacityArrayComponent(used ? this->OpacityArrayComponent : 0);
+  this->Modified();
+}
+
+void vtkRayTracedSpheresRepresentation::SetOpacityTransferFunction(vtkPiecewiseFunction* function)
+{
+  this->Mapper->SetScalarOpacityFunction(function);
+  this->Modified();
 }

@@ -17,9 +17,11 @@
  * Coloring follows ParaView's usual rules (ColorArrayName + LookupTable + MapScalars, or
  * the solid DiffuseColor when no point array is selected; cell arrays cannot color
  * points, the solid color is used then). Lighting comes from the actor's vtkProperty
- * (Ambient, Diffuse, Specular, SpecularPower, SpecularColor). Opacity is passed to the
- * property, but the actor is forced opaque: the mapper draws opaque spheres that write
- * depth, and ParaView's translucent pass (depth peeling) cannot draw them.
+ * (Ambient, Diffuse, Specular, SpecularPower, SpecularColor). Translucency as Point
+ * Gaussian's: Opacity, and with OpacityByArray the OpacityArray (its component
+ * OpacityArrayComponent) through the OpacityTransferFunction; the mapper composites
+ * translucent spheres exactly and the actor is drawn in the translucent pass then
+ * (vtkCGTSphereMapper), opaque otherwise.
  *
  * The sphere radius is RadiusScale * (UseRadiusArray ? the value of the selected
  * 1-component point array : Radius) (vtkRayMapperParticleRepresentation).
@@ -41,6 +43,7 @@
 class vtkActor;
 class vtkCGTSphereMapper;
 class vtkDataSet;
+class vtkPiecewiseFunction;
 class vtkPolyData;
 class vtkScalarsToColors;
 
@@ -102,6 +105,18 @@ public:
 
   ///@{
   /**
+   * Opacity by array, as vtkPointGaussianRepresentation: with OpacityByArray the point
+   * array chosen with SelectOpacityArray (its component SelectOpacityArrayComponent)
+   * through the OpacityTransferFunction gives each sphere its opacity (times Opacity).
+   */
+  void SetOpacityByArray(bool byArray);
+  void SelectOpacityArray(int, int, int, int, const char* name);
+  void SelectOpacityArrayComponent(int component);
+  void SetOpacityTransferFunction(vtkPiecewiseFunction* function);
+  ///@}
+
+  ///@{
+  /**
    * The mapper and the actor, for tests and for C++ users.
    */
   vtkCGTSphereMapper* GetMapper();
@@ -143,6 +158,11 @@ protected:
   std::string RangeArrayNames[4];
   double RangeBounds[4][2] = { { 0, 1 }, { 0, 1 }, { 0, 1 }, { 0, 1 } };
   void SetRangeBounds(int slot, double minimum, double maximum);
+  // The opacity array chosen in the panel, given to the mapper while OpacityByArray is on.
+  bool OpacityByArray = false;
+  std::string OpacityArrayName;
+  int OpacityArrayComponent = 0;
+  void UpdateOpacityArray();
   void UpdateRange(int slot);
   bool WarnedLocalShadows = false;
 

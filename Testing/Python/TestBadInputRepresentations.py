@@ -435,6 +435,8 @@ SPECS = {
              0, ''),
             ('a 3-component radius array', {'RadiusArray': ['POINTS', 'radius3']}, 1,
              "radius array 'radius3' has 3 components that differ: the first is used"),
+            ('a missing opacity array', {'OpacityByArray': 1, 'OpacityArray': ['POINTS', 'nosuch']},
+             1, "opacity array 'nosuch' is not a point array of the input"),
         ],
         properties=[
             ('RadiusScale', {}, NAN, None, NOT_A_NUMBER, (0, '')),

@@ -28,6 +28,11 @@ What it checks, failing with a non-zero exit code otherwise:
      200 x 200. Measured on this machine, the same for the three: 2LYZ rmse 0.0082 levels,
      max error 1, no pixel beyond 2 levels; disk_out_ref rmse 0.0041, max error 1, none.
      The bounds leave room for a few silhouette pixels and no more.
+  8. translucency, against the reference's exact front-to-back composite of every sphere
+     ('render translucent'): Opacity 0.5, then Opacity By Array (OpacityByArray,
+     OpacityArray, OpacityTransferFunction as on Point Gaussian: the colour array through
+     a ramp from 0.1 to 0.9) times Opacity 0.8; the statistics say "translucency" on, and
+     off again with Opacity 1 and OpacityByArray off.
 Side images (constant radius, hidden, solid color, glyph reference) are written next to
 OUTPUT.
 """
@@ -51,6 +56,9 @@ BACKGROUND = [0.1, 0.1, 0.15]
 REFERENCE_SIZE = [200, 200]
 # (rmse, differing fraction, tolerance, max error) against the reference.
 REFERENCE_BOUNDS = (0.05, 0.0005, 2, 3)
+# The translucent spheres against the reference: early termination leaves out at most 1/512
+# of every channel (SphereRenderer.h), so a level's rounding may differ more often.
+TRANSLUCENT_BOUNDS = (0.75, 0.001, 2, 3)
 
 
 
@@ -130,36 +138,22 @@ def screenshot(view, path, size):
 
 
 
-def leaves(data):
-    """The non-composite datasets of the fetched data."""
-    if not data.IsA('vtkCompositeDataSet'):
-        return [data]
-    found, it = [], data.NewIterator()
-    it.InitTraversal()
-    while not it.IsDoneWithTraversal():
-        found.append(it.GetCurrentDataObject())
-        it.GoToNextItem()
-    return found
+def reference_spheres(args, source, rep, opacity_of):
+    """The reference's sphere lines: every point of every block, radius RadiusScale times
+    the radius array, coloured by the color map, opacity opacity_of(colour value)."""
+    return raymappers_reference.sphere_lines(
+        source, args.color_array, rep.LookupTable.GetClientSideObject(),
+        lambda block: raymappers_reference.point_values(block, args.radius_array)
+        * args.radius_scale,
+        lambda block: [opacity_of(float(v))
+                       for v in raymappers_reference.point_values(block, args.color_array)])
 
 
 def check_reference(args, source, view, rep, stem):
     """The picture against the reference spheres: every point of every block, radius
     RadiusScale times the radius array, coloured by the color map."""
-    from paraview import servermanager
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    lut = rep.LookupTable.GetClientSideObject()
     view.ViewSize = REFERENCE_SIZE
-    spheres = []
-    for block in leaves(servermanager.Fetch(source)):
-        if block is None or block.GetNumberOfPoints() == 0:
-            continue
-        xyz = vtk_to_numpy(block.GetPoints().GetData())
-        radii = vtk_to_numpy(block.GetPointData().GetArray(args.radius_array)) * args.radius_scale
-        values = vtk_to_numpy(block.GetPointData().GetArray(args.color_array))
-        c = [0.0, 0.0, 0.0]
-        for x, r, v in zip(xyz, radii, values):
-            lut.GetColor(float(v), c)
-            spheres.append('sphere %r %r %r %r %r %r %r' % (x[0], x[1], x[2], float(r), c[0], c[1], c[2]))
+    spheres = reference_spheres(args, source, rep, lambda v: 1.0)
     # The accelerator and the packets change nothing in the reference: one picture for all.
     Render(view)
     lines = raymappers_reference.camera_lines(view, REFERENCE_SIZE)
@@ -180,6 +174,47 @@ def check_reference(args, source, view, rep, stem):
         for key, value in before.items():
             setattr(rep, key, value)
     view.ViewSize = args.size
+
+
+def check_translucent(args, source, view, rep, stem, name, opacity_of):
+    """The picture against the reference composite of the translucent spheres."""
+    view.ViewSize = REFERENCE_SIZE
+    Render(view)
+    lines = raymappers_reference.camera_lines(view, REFERENCE_SIZE)
+    lines += raymappers_reference.light_lines(view)
+    lines += [raymappers_reference.material_line(rep), 'render translucent']
+    lines += reference_spheres(args, source, rep, opacity_of)
+    tag = stem + '-translucent-' + name.replace(' ', '-')
+    expected = raymappers_reference.render(lines, REFERENCE_SIZE, tag + '-reference')
+    raymappers_reference.write_over(expected, BACKGROUND, REFERENCE_SIZE, tag + '-reference.png')
+    SaveScreenshot(tag + '.png', view, ImageResolution=REFERENCE_SIZE, TransparentBackground=0)
+    raymappers_reference.check_against(tag + '.png', tag + '-reference.png', TRANSLUCENT_BOUNDS,
+                                       'Ray-Traced Spheres, ' + name)
+    stats = raymappers_testing.statistics(rep, 'SpheresRenderStatistics')
+    check(stats.get('translucency') == 'on' and stats.get('translucent_layers', 0) > 0,
+          '%s: translucency on, %d layers composited' % (name, stats.get('translucent_layers', 0)))
+    view.ViewSize = args.size
+
+
+def check_translucency(args, source, view, rep, stem):
+    """Opacity, then Opacity By Array (Point Gaussian's property names), then neither."""
+    rep.Opacity = 0.5
+    check_translucent(args, source, view, rep, stem, 'Opacity 0.5', lambda v: 0.5)
+    lo, hi = source.PointData[args.color_array].GetRange()
+    rep.OpacityByArray = 1
+    rep.OpacityArray = ['POINTS', args.color_array]
+    rep.OpacityTransferFunction.Points = [lo, 0.1, 0.5, 0.0, hi, 0.9, 0.5, 0.0]
+    rep.Opacity = 0.8
+    function = rep.OpacityTransferFunction.GetClientSideObject()
+    check_translucent(args, source, view, rep, stem, 'Opacity By Array x 0.8',
+                      lambda v: 0.8 * function.GetValue(v))
+    rep.OpacityByArray = 0
+    rep.Opacity = 1.0
+    Render(view)
+    stats = raymappers_testing.statistics(rep, 'SpheresRenderStatistics')
+    check(stats.get('translucency') == 'off' and stats.get('translucent_layers') == 0,
+          'Opacity 1 and Opacity By Array off: the opaque path (translucency %s, %s layers)'
+          % (stats.get('translucency'), stats.get('translucent_layers')))
 
 
 def main():
@@ -236,7 +271,7 @@ def run_checks(args, source, view, stem):
     check(rep.Radius == 0.0, 'default Radius 0: automatic')
     Render(view)
     points = [vtk_to_numpy(leaf.GetPoints().GetData())
-              for leaf in leaves(servermanager.Fetch(source)) if leaf.GetNumberOfPoints()]
+              for leaf in raymappers_reference.leaves(servermanager.Fetch(source)) if leaf.GetNumberOfPoints()]
     raymappers_testing.check_automatic_size(
         rep, 'RadiusInUse', numpy.concatenate(points), 0.5, 'radius')
     check(rep.UseRadiusArray == 0 and rep.RadiusScale == 1.0,
@@ -308,6 +343,7 @@ def run_checks(args, source, view, stem):
     if not compare_with_baseline(args.output, args.baseline):
         failures.append('baseline comparison')
     check_reference(args, source, view, rep, stem)
+    check_translucency(args, source, view, rep, stem)
 
     # The accelerator and its parameters change the speed, not the picture: Embree's BVH
     # and the coherent grid with other packet sizes and grid resolutions draw the same

@@ -73,6 +73,45 @@ def node_lines(color, opacity, unit, n):
     return lines
 
 
+def leaves(data):
+    """The non-composite datasets of fetched data."""
+    if not data.IsA('vtkCompositeDataSet'):
+        return [data]
+    found, it = [], data.NewIterator()
+    it.InitTraversal()
+    while not it.IsDoneWithTraversal():
+        found.append(it.GetCurrentDataObject())
+        it.GoToNextItem()
+    return found
+
+
+def sphere_lines(source, color_array, lut, radii_of, opacities_of):
+    """'sphere' lines of every point of every block of the source's data: radius
+    radii_of(block)[i], coloured by the point array color_array (its first component)
+    through the lookup table lut (a VTK object), opacity opacities_of(block)[i]."""
+    from paraview import servermanager
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    lines = []
+    for block in leaves(servermanager.Fetch(source)):
+        if block is None or block.GetNumberOfPoints() == 0:
+            continue
+        xyz = vtk_to_numpy(block.GetPoints().GetData())
+        values = point_values(block, color_array)
+        c = [0.0, 0.0, 0.0]
+        for x, r, v, a in zip(xyz, radii_of(block), values, opacities_of(block)):
+            lut.GetColor(float(v), c)
+            lines.append('sphere %r %r %r %r %r %r %r %r' % (
+                x[0], x[1], x[2], float(r), c[0], c[1], c[2], float(a)))
+    return lines
+
+
+def point_values(block, name):
+    """The first component of the block's point array `name`, as numpy."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    values = vtk_to_numpy(block.GetPointData().GetArray(name))
+    return values[:, 0] if values.ndim > 1 else values
+
+
 def render(lines, size, stem):
     """Writes the scene to stem.scene.txt, renders it; returns (W*H, 5) (premultiplied
     RGBA and window depth, rows from the bottom)."""

@@ -271,6 +271,81 @@ ReferenceImage renderSpheres(const ReferenceCamera& camera,
   return image;
 }
 
+namespace
+{
+// A layer of a translucent ray: its distance, straight colour and opacity.
+struct Layer
+{
+  double t;
+  Point color;
+  double opacity;
+};
+
+// The layers of a ray, unsorted: every sphere at its first surface, every plane it crosses.
+std::vector<Layer> layersAlong(const PixelRay& ray,
+  const std::vector<ReferenceSphere>& spheres,
+  const std::vector<ReferenceLight>& lights,
+  const ReferenceMaterial& material,
+  const std::vector<ReferencePlane>& planes)
+{
+  std::vector<Layer> layers;
+  for (const ReferenceSphere& s : spheres)
+  {
+    double t0, t1;
+    if (!sphereRoots(ray, s.center, s.radius, t0, t1))
+    {
+      continue;
+    }
+    const double t = t0 >= 0 ? t0 : t1;
+    if (t >= 0 && t <= ray.length)
+    {
+      Point n = unit(ray.origin + ray.direction * t - s.center);
+      n = dot(n, ray.direction) > 0 ? n * -1.0 : n;
+      layers.push_back({ t, phong(lights, material, s.color, n, ray.direction * -1.0), s.opacity });
+    }
+  }
+  for (const ReferencePlane& p : planes)
+  {
+    const double t = (p.offset - dot(p.normal, ray.origin)) / dot(p.normal, ray.direction);
+    if (t >= 0 && t <= ray.length)
+    {
+      layers.push_back({ t, p.color, p.opacity });
+    }
+  }
+  return layers;
+}
+}
+
+ReferenceImage renderTranslucentSpheres(const ReferenceCamera& camera,
+  const std::vector<ReferenceSphere>& spheres,
+  const std::vector<ReferenceLight>& lights,
+  const ReferenceMaterial& material,
+  const std::vector<ReferencePlane>& planes)
+{
+  ReferenceImage image(camera.width(), camera.height());
+  forEachPixel(camera,
+    [&](int i, int j)
+    {
+      const PixelRay ray = camera.ray(i, j);
+      std::vector<Layer> layers = layersAlong(ray, spheres, lights, material, planes);
+      if (layers.empty())
+      {
+        return;
+      }
+      std::sort(layers.begin(), layers.end(), [](const Layer& a, const Layer& b) { return a.t < b.t; });
+      std::array<double, 4> c{ 0, 0, 0, 0 };
+      for (const Layer& l : layers)
+      {
+        const double w = (1.0 - c[3]) * l.opacity;
+        c = { c[0] + w * l.color.x, c[1] + w * l.color.y, c[2] + w * l.color.z, c[3] + w };
+      }
+      image.at(i, j) = c;
+      image.depth[static_cast<std::size_t>(j) * image.width + i] =
+        camera.windowDepth(ray.origin + ray.direction * layers.front().t);
+    });
+  return image;
+}
+
 ReferenceImage renderUnionSurface(const ReferenceCamera& camera,
   const std::vector<ReferenceSphere>& spheres)
 {

@@ -26,6 +26,7 @@ struct ReferenceSphere
   Point center;
   double radius = 1;
   Point color{ 1, 1, 1 };
+  double opacity = 1; // renderTranslucentSpheres only
 };
 
 /// Straight colour with opacity 1 where a sphere is hit (the far root where the ray starts
@@ -34,6 +35,28 @@ ReferenceImage renderSpheres(const ReferenceCamera& camera,
   const std::vector<ReferenceSphere>& spheres,
   const std::vector<ReferenceLight>& lights,
   const ReferenceMaterial& material);
+
+/// An unlit plane {x : normal . x = offset} (world) of straight colour and opacity, met
+/// by the rays of renderTranslucentSpheres as one more layer (opacity 1: opaque geometry).
+struct ReferencePlane
+{
+  Point normal;
+  double offset = 0;
+  Point color;
+  double opacity = 1;
+};
+
+/// Translucent spheres, composited by definition: along each pixel's ray every layer in
+/// [0, length] (each sphere once, at its first surface: the near root, or the far root where
+/// the ray starts inside it; each plane where the ray crosses it) sorted by distance, then
+///   C += (1 - A) a c,   A += (1 - A) a
+/// front to back over all of them (no early termination), c the Phong colour of a sphere
+/// (a plane's own colour). The depth is the first layer's.
+ReferenceImage renderTranslucentSpheres(const ReferenceCamera& camera,
+  const std::vector<ReferenceSphere>& spheres,
+  const std::vector<ReferenceLight>& lights,
+  const ReferenceMaterial& material,
+  const std::vector<ReferencePlane>& planes);
 
 /// Opacity 1 and the window depth of the first hit over the union of the spheres (colour
 /// white): the front surface of a fluid of these particles.

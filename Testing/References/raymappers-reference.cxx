@@ -5,10 +5,11 @@
 //
 // The scene is one directive a line ('#' starts a comment):
 //   camera W H m00 m01 ... m33         world-to-NDC matrix, row-major
-//   render spheres|union|rbf|sph        which picture
+//   render spheres|translucent|union|rbf|sph  which picture (translucent: the spheres
+//                                       composited with their opacities)
 //   light tx ty tz r g b                a directional light: unit vector to it, colour
 //   material ambient diffuse specular power sr sg sb
-//   sphere x y z radius r g b
+//   sphere x y z radius r g b [opacity]  (opacity 1 when left out)
 //   gaussian x y z radius weight
 //   rbf kappa cutoff step
 //   sph_particle x y z support quantity volume
@@ -100,6 +101,10 @@ void readDirective(const std::string& key, std::istringstream& words, std::istre
     ReferenceSphere b;
     words >> b.center.x >> b.center.y >> b.center.z >> b.radius >> b.color.x >> b.color.y >>
       b.color.z;
+    if (!words.eof() && !(words >> std::ws).eof())
+    {
+      words >> b.opacity;
+    }
     s.spheres.push_back(b);
   }
   else if (key == "gaussian")
@@ -228,6 +233,10 @@ ReferenceImage render(const Scene& s)
   if (s.render == "spheres")
   {
     return renderSpheres(camera, s.spheres, s.lights, s.material);
+  }
+  if (s.render == "translucent")
+  {
+    return renderTranslucentSpheres(camera, s.spheres, s.lights, s.material, {});
   }
   if (s.render == "union")
   {

@@ -8,6 +8,9 @@
 //     a 3-component radius array (one warning, its first component used; equal
 //     components: no warning);
 //   - a NaN colour scalar: the lookup table's NaN colour, the sphere drawn;
+//   - opacity arrays: NaN values (one warning, those spheres hidden: the picture of
+//     opacity 0 there), a missing array, a string array, a component beyond the array's
+//     (one warning each, the picture without the array or of component 0);
 //   - NaN, negative and huge property values (one warning each; NaN keeps the value, the
 //     others are clamped: the picture of the bound set directly);
 //   - degenerate cameras: a zero view angle (VTK clamps it; drawn, no warning), the eye at
@@ -20,6 +23,7 @@
 #include "vtkIntArray.h"
 #include "vtkLookupTable.h"
 #include "vtkProperty.h"
+#include "vtkStringArray.h"
 
 #include <functional>
 #include <limits>
@@ -227,6 +231,60 @@ void NaNColour(Viewer& reference, vtkPolyData* clean)
   reference.Show(clean);
 }
 
+// A copy of the lattice with the opacity array "alpha" (0.5, `odd` at sphere 13) and a
+// string array "names".
+vtkSmartPointer<vtkPolyData> WithOpacities(vtkPolyData* clean, double odd)
+{
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  data->DeepCopy(clean);
+  vtkNew<vtkDoubleArray> alpha;
+  alpha->SetName("alpha");
+  vtkNew<vtkStringArray> names;
+  names->SetName("names");
+  for (vtkIdType i = 0; i < data->GetNumberOfPoints(); ++i)
+  {
+    alpha->InsertNextValue(i == 13 ? odd : 0.5);
+    names->InsertNextValue("sphere");
+  }
+  data->GetPointData()->AddArray(alpha);
+  data->GetPointData()->AddArray(names);
+  return data;
+}
+
+// Bad opacity arrays: the rest drawn, one warning each, no NaN in the frame.
+void Opacities(Viewer& reference, const RGBImage& expected, vtkPolyData* clean)
+{
+  auto& log = reference.Log;
+  vtkCGTSphereMapper* m = reference.Mapper;
+  const auto zero = WithOpacities(clean, 0.0);
+  m->SetOpacityArray("alpha");
+  const RGBImage hidden = reference.Show(zero);
+  log.Silent("an opacity array");
+  log.ValidFrame("an opacity array");
+  log.Check(raymappers::test::compareImages(hidden, expected, 0).maxError > 10,
+    "an opacity array changes the picture");
+  log.SameImage(reference.Show(WithOpacities(clean, std::numeric_limits<double>::quiet_NaN())),
+    hidden, "a NaN opacity: that sphere hidden");
+  log.Warned(1, "1 values of the opacity array 'alpha' are NaN", "NaN opacity");
+  log.ValidFrame("NaN opacity");
+  m->SetOpacityArrayComponent(2);
+  log.SameImage(reference.Show(zero), hidden, "OpacityArrayComponent beyond the array");
+  log.Warned(1, "OpacityArrayComponent 2 is beyond the 1 components", "component beyond");
+  m->SetOpacityArrayComponent(0);
+  m->SetOpacityArray("no_such_array");
+  log.SameImage(reference.Show(zero), expected, "missing opacity array");
+  log.Warned(1, "opacity array 'no_such_array' is not a point array of the input", "missing");
+  log.ValidFrame("missing opacity array");
+  m->SetOpacityArray("names");
+  log.SameImage(reference.Show(zero), expected, "string opacity array");
+  log.Warned(1, "opacity array 'names' is a vtkStringArray, not a numeric array", "string array");
+  reference.Render();
+  log.Silent("string opacity array, rendered again");
+  m->SetOpacityArray(nullptr);
+  log.SameImage(reference.Show(clean), expected, "no opacity array");
+  log.Silent("no opacity array");
+}
+
 // NaN: one warning, the property keeps its value, the same picture. Out of range: one
 // warning, clamped: the picture of the bound set directly.
 void Properties(Viewer& v, const RGBImage& expected)
@@ -318,6 +376,7 @@ int TestSpheresBadInput(int, char*[])
   BadData(reference, expected, clean);
   ArrayKinds(reference, expected, clean);
   NaNColour(reference, clean);
+  Opacities(reference, expected, clean);
   Properties(reference, expected);
   rmtest::CheckDegenerateCameras(reference.Log, reference.Ren->GetActiveCamera(),
     [&] { return reference.Render(); }, expected, { 0, 0, 0 });
