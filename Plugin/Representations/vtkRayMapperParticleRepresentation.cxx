@@ -6,6 +6,7 @@
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
 #include "vtkMultiProcessController.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
@@ -90,8 +91,32 @@ int vtkRayMapperParticleRepresentation::RequestData(vtkInformation* request,
   return this->Superclass::RequestData(request, inputVector, outputVector);
 }
 
+bool vtkRayMapperParticleRepresentation::DrawsAutomaticRadius()
+{
+  // The automatic radius is drawn when no radius is set and no radius array of the data is
+  // in use (a missing one falls back to it); with several processes, when it is on some
+  // process (a process without particles has no arrays).
+  const char* array = this->GetRadiusArrayInUse();
+  int draws = this->Radius == 0.0 && this->ProcessedData->GetNumberOfPoints() > 0 &&
+    !(array && this->ProcessedData->GetPointData()->GetArray(array));
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (controller && controller->GetNumberOfProcesses() > 1)
+  {
+    int any = draws;
+    controller->AllReduce(&draws, &any, 1, vtkCommunicator::MAX_OP);
+    draws = any;
+  }
+  return draws != 0;
+}
+
 void vtkRayMapperParticleRepresentation::UpdateAutomaticRadius()
 {
+  if (!this->DrawsAutomaticRadius())
+  {
+    // Not drawn: no spacing to measure (a new time step of points with a radius array
+    // costs no neighbour search).
+    return;
+  }
   // The typical spacing, and the bounds for its fallback, over all processes: a process
   // without particles takes no part in the minimum.
   double spacing = this->Spacing.Spacing(this->ProcessedData->GetPoints());

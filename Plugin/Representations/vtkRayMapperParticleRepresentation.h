@@ -156,8 +156,11 @@ protected:
   std::string RadiusArrayName;
 
 private:
-  /// Computes AutomaticRadius from ProcessedData (collective with several processes).
+  /// Computes AutomaticRadius from ProcessedData when it is drawn (collective with several
+  /// processes).
   void UpdateAutomaticRadius();
+  /// Whether the mapper draws the automatic radius (collective with several processes).
+  bool DrawsAutomaticRadius();
   /// Hands the radius settings in use to the mapper, keeping what it accepted.
   void PushRadiusInUse();
 
