@@ -218,7 +218,9 @@ void vtkRayMapperParticleRepresentation::PushRadiusInUse()
 void vtkRayMapperParticleRepresentation::UpdateRadiusParameters()
 {
   this->PushRadiusInUse();
-  this->Modified();
+  // Executes RequestData again (on every process), not only a render: a radius setting may
+  // make the automatic radius drawn, which RequestData measures only then.
+  this->MarkModified();
 }
 
 void vtkRayMapperParticleRepresentation::SetRadius(double radius)

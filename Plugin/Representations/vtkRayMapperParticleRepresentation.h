@@ -145,7 +145,8 @@ protected:
 
   /**
    * Pushes the radius settings to the mapper (PushRadius) and keeps what it accepted, so that
-   * a rejected value is warned about once, not again with every later radius setting.
+   * a rejected value is warned about once, not again with every later radius setting; marks
+   * the representation for a new RequestData (the automatic radius is measured there).
    */
   void UpdateRadiusParameters();
 
