@@ -242,7 +242,13 @@ void vtkRayMapperParticleRepresentation::SelectRadiusArray(int, int, int, int, c
 
 void vtkRayMapperParticleRepresentation::SetRadiusScale(double scale)
 {
-  setIfChanged(this->RadiusScale, scale, [this] { this->UpdateRadiusParameters(); });
+  // The scale leaves the automatic radius drawn or not: a render, no new RequestData.
+  setIfChanged(this->RadiusScale, scale,
+    [this]
+    {
+      this->PushRadiusInUse();
+      this->Modified();
+    });
 }
 
 //----------------------------------------------------------------------------
