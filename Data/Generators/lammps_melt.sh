@@ -4,17 +4,20 @@
 # to legacy VTK binary polydata by lammps_dump_to_vtk.py.
 #
 # Usage: lammps_melt.sh OUTPUT.vtk [NCELLS]
+#        lammps_melt.sh OUTPUT.dump [NCELLS]   (a time series: the whole run as a text
+#        dump of every LAMMPS_DUMP_EVERY steps, for the plugin's LAMMPS reader)
 #   NCELLS  fcc unit cells per box edge, 4*NCELLS^3 atoms (default 63: 1,000,188)
 # Environment:
 #   LAMMPS_NP     MPI ranks (default: number of cores; 1 runs lmp without mpirun)
 #   LAMMPS_STEPS  NVE steps (default 150)
+#   LAMMPS_DUMP_EVERY  steps between the snapshots of a .dump series (default 10)
 #
-# Writes OUTPUT.vtk and OUTPUT.vtk.provenance.txt. If OUTPUT.vtk exists it is
+# Writes OUTPUT and OUTPUT.provenance.txt. If OUTPUT exists it is
 # kept as a cache and nothing runs: delete it to regenerate.
 set -euo pipefail
 
 if [[ $# -lt 1 || $# -gt 2 ]]; then
-  sed -n '2,13p' "$0" >&2
+  sed -n '2,16p' "$0" >&2
   exit 2
 fi
 output=$1
@@ -22,6 +25,8 @@ ncells=${2:-63}
 steps=${LAMMPS_STEPS:-150}
 np=${LAMMPS_NP:-$(nproc)}
 here=$(cd "$(dirname "$0")" && pwd)
+every=0
+[[ "$output" == *.dump ]] && every=${LAMMPS_DUMP_EVERY:-10}
 
 if [[ -e "$output" ]]; then
   echo "$output exists, not regenerated"
@@ -47,13 +52,18 @@ if [[ "$np" -gt 1 ]] && command -v mpirun >/dev/null; then
   lmp_cmd=(mpirun --allow-run-as-root -np "$np" "${lmp_cmd[@]}")
 fi
 lmp_cmd+=(-nocite -in "$here/lammps_melt.in" -log "$work/log.lammps" -screen none
-          -var ncells "$ncells" -var steps "$steps" -var dump "$work/melt.dump")
+          -var ncells "$ncells" -var steps "$steps" -var dump "$work/melt.dump"
+          -var every "$every" -var series "$output.part")
 
 start=$(date +%s)
 "${lmp_cmd[@]}" || { tail -n 20 "$work/log.lammps" >&2; exit 1; }
 # Write to a temporary name first so an interrupted run never leaves a
 # half-written file that the cache check above would accept.
-summary=$(/usr/bin/python3 "$here/lammps_dump_to_vtk.py" "$work/melt.dump" "$output.part")
+if [[ "$every" -gt 0 ]]; then
+  summary="text dump series, $(grep -c '^ITEM: TIMESTEP' "$output.part") snapshots every $every steps"
+else
+  summary=$(/usr/bin/python3 "$here/lammps_dump_to_vtk.py" "$work/melt.dump" "$output.part")
+fi
 mv "$output.part" "$output"
 seconds=$(( $(date +%s) - start ))
 

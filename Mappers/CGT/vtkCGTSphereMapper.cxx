@@ -665,7 +665,6 @@ bool vtkCGTSphereMapper::HasTranslucentPolygonalGeometry()
 bool vtkCGTSphereMapper::UpdateAccelerator(raymappers::RenderStatistics& stats)
 {
   // The accelerator depends on the sphere set and its own parameters.
-  stats.declareCounter("builds_this_render");
   const bool grid = this->Accelerator == VTK_CGT_ACCELERATOR_GRID;
   // The grid's parameters matter only to the grid, the build quality only to Embree.
   if (Impl->AcceleratorStamp.Changed(this, nullptr,
@@ -690,9 +689,8 @@ bool vtkCGTSphereMapper::UpdateAccelerator(raymappers::RenderStatistics& stats)
       Impl->Embree.build(Impl->Spheres, quality);
     }
     Impl->Core.CountBuild();
-    stats.addCounter("builds_this_render", 1);
   }
-  stats.addCounter("builds", Impl->Core.GetBuilds());
+  Impl->Core.AddBuildCounters(stats);
   stats.addCounter("spheres", static_cast<std::int64_t>(Impl->Spheres.size()));
   if (grid)
   {

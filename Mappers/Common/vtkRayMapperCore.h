@@ -157,6 +157,14 @@ public:
   /// The number of cache builds over the mapper's life (the counter "builds"), one more.
   std::int64_t CountBuild() { return ++this->Builds; }
   std::int64_t GetBuilds() const { return this->Builds; }
+  /// The frame's counters of the builds: "builds", all so far, and "builds_this_render",
+  /// those counted since the previous call (0: the frame reused what it had built).
+  void AddBuildCounters(raymappers::RenderStatistics& stats)
+  {
+    stats.addCounter("builds", this->Builds);
+    stats.addCounter("builds_this_render", this->Builds - this->BuildsReported);
+    this->BuildsReported = this->Builds;
+  }
 
   /// The warning "The input has no <what>: no <thing> to draw." from `mapper`, once per
   /// change of `input` (the renderer culls a prop with empty bounds before it renders, so
@@ -261,6 +269,7 @@ private:
   std::vector<float> CoarseDepth;
   bool Reduced = false; // the last KernelView is smaller than the viewport
   std::int64_t Builds = 0;
+  std::int64_t BuildsReported = 0;
   vtkMTimeType WarnedEmptyInputTime = 0;
   std::unique_ptr<tbb::task_arena> Arena;
   int ArenaThreads = 0;

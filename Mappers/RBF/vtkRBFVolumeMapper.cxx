@@ -168,7 +168,6 @@ void vtkRBFVolumeMapper::UpdateAcceleration(vtkPointSet* input, raymappers::Rend
 {
   // The particles depend on the input and the arrays, the BVH on the particles and the leaf
   // size; Kappa, Sigma, the step, the transfer functions and the camera rebuild nothing.
-  stats.declareCounter("builds_this_render");
   {
     raymappers::ScopedPhase phase(stats, "particles");
     this->UpdateParticles(input);
@@ -179,9 +178,8 @@ void vtkRBFVolumeMapper::UpdateAcceleration(vtkPointSet* input, raymappers::Rend
     Impl->BVH.build(Impl->Particles, this->LeafSize);
     Impl->AutomaticKappaSigma = -1.0;
     this->Core->CountBuild();
-    stats.addCounter("builds_this_render", 1);
   }
-  stats.addCounter("builds", this->Core->GetBuilds());
+  this->Core->AddBuildCounters(stats);
   stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
   stats.addCounter("bvh_nodes", static_cast<std::int64_t>(Impl->BVH.nodes().size()));
   stats.addCounter("bvh_bytes", static_cast<std::int64_t>(Impl->BVH.memoryBytes()));

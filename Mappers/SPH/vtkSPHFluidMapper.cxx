@@ -271,6 +271,11 @@ void vtkSPHFluidMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointS
   }
   stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
   stats.addCounter("particles_built", built ? 1 : 0);
+  if (built)
+  {
+    this->Core->CountBuild();
+  }
+  this->Core->AddBuildCounters(stats);
   this->UpdateCells(stats);
   this->UpdateColors(input, stats);
   if (!this->Core->GatherView(this, ren, vol, view))

@@ -154,6 +154,7 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
       return masses ? massReader.get(i, 0) / densityReader.get(i, 0) : vConstant;
     },
     Impl->Particles);
+  this->Core->CountBuild();
   this->WarnSkipped(Impl->Particles.skippedNonFinite,
     "particles have NaN or infinite coordinates, quantities or volumes");
   this->WarnSkipped(Impl->Particles.skippedBadSupport,
@@ -199,6 +200,7 @@ void vtkSPHVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPoint
     this->UpdateParticles(input);
   }
   stats.addCounter("particles", static_cast<std::int64_t>(Impl->Particles.size()));
+  this->Core->AddBuildCounters(stats);
   const raymappers::TransferFunctionTable table =
     vtkRayMapperRenderHelpers::SampleVolumeProperty(vol->GetProperty(), 0, 1024);
   // The sampling reduction r of equation 3.1: the image sample distance.

@@ -421,7 +421,7 @@ void vtkZSweepVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
     Impl->Core.Skip(stats);
     return;
   }
-  stats.addCounter("builds", Impl->Core.GetBuilds());
+  Impl->Core.AddBuildCounters(stats);
   stats.addCounter("cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsUsed));
   stats.addCounter("mesh_bytes", static_cast<std::int64_t>(Impl->Mesh.memoryBytes()));
   stats.addCounter("kept_cells", static_cast<std::int64_t>(Impl->Mesh.counts().cellsKept));

@@ -7,6 +7,7 @@
 #include "vtkInformationVector.h"
 #include "vtkMath.h"
 #include "vtkMultiProcessController.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkProperty.h"
@@ -123,8 +124,32 @@ double GlobalSpacing(vtkPoints* points, vtkMultiProcessController* controller)
 }
 }
 
+bool vtkRayMapperParticleRepresentation::DrawsAutomaticRadius()
+{
+  // The automatic radius is drawn when no radius is set and no radius array of the data is
+  // in use (a missing one falls back to it); with several processes, when it is on some
+  // process (a process without particles has no arrays).
+  const char* array = this->GetRadiusArrayInUse();
+  int draws = this->Radius == 0.0 && this->ProcessedData->GetNumberOfPoints() > 0 &&
+    !(array && this->ProcessedData->GetPointData()->GetArray(array));
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (controller && controller->GetNumberOfProcesses() > 1)
+  {
+    int any = draws;
+    controller->AllReduce(&draws, &any, 1, vtkCommunicator::MAX_OP);
+    draws = any;
+  }
+  return draws != 0;
+}
+
 void vtkRayMapperParticleRepresentation::UpdateAutomaticRadius()
 {
+  if (!this->DrawsAutomaticRadius())
+  {
+    // Not drawn: no spacing to measure (a new time step of points with a radius array
+    // costs no neighbour search).
+    return;
+  }
   // The typical spacing, and the bounds for its fallback, over all processes.
   vtkPoints* points = this->ProcessedData->GetPoints();
   double bounds[6];
@@ -228,7 +253,9 @@ void vtkRayMapperParticleRepresentation::PushRadiusInUse()
 void vtkRayMapperParticleRepresentation::UpdateRadiusParameters()
 {
   this->PushRadiusInUse();
-  this->Modified();
+  // Executes RequestData again (on every process), not only a render: a radius setting may
+  // make the automatic radius drawn, which RequestData measures only then.
+  this->MarkModified();
 }
 
 void vtkRayMapperParticleRepresentation::SetRadius(double radius)
@@ -250,7 +277,13 @@ void vtkRayMapperParticleRepresentation::SelectRadiusArray(int, int, int, int, c
 
 void vtkRayMapperParticleRepresentation::SetRadiusScale(double scale)
 {
-  setIfChanged(this->RadiusScale, scale, [this] { this->UpdateRadiusParameters(); });
+  // The scale leaves the automatic radius drawn or not: a render, no new RequestData.
+  setIfChanged(this->RadiusScale, scale,
+    [this]
+    {
+      this->PushRadiusInUse();
+      this->Modified();
+    });
 }
 
 //----------------------------------------------------------------------------

@@ -145,7 +145,8 @@ protected:
 
   /**
    * Pushes the radius settings to the mapper (PushRadius) and keeps what it accepted, so that
-   * a rejected value is warned about once, not again with every later radius setting.
+   * a rejected value is warned about once, not again with every later radius setting; marks
+   * the representation for a new RequestData (the automatic radius is measured there).
    */
   void UpdateRadiusParameters();
 
@@ -156,8 +157,11 @@ protected:
   std::string RadiusArrayName;
 
 private:
-  /// Computes AutomaticRadius from ProcessedData (collective with several processes).
+  /// Computes AutomaticRadius from ProcessedData when it is drawn (collective with several
+  /// processes).
   void UpdateAutomaticRadius();
+  /// Whether the mapper draws the automatic radius (collective with several processes).
+  bool DrawsAutomaticRadius();
   /// Hands the radius settings in use to the mapper, keeping what it accepted.
   void PushRadiusInUse();
 
