@@ -83,6 +83,8 @@ struct vtkCGTSphereMapper::Internals
   vtkMTimeType VertexCellsTime = 0;
   // Highlighted points (SetSelectedPoints), and a mask of them by point id.
   std::vector<vtkIdType> SelectedIds;
+  vtkWeakPointer<vtkIdTypeArray> SelectedArray; // the array they were copied from
+  vtkMTimeType SelectedArrayTime = 0;
   vtkTimeStamp SelectedTime;
   std::vector<bool> SelectedMask;
 };
@@ -285,6 +287,15 @@ struct vtkCGTSphereMapper::SphereColors
 
 void vtkCGTSphereMapper::SetSelectedPoints(vtkIdTypeArray* pointIds)
 {
+  // The representation hands the selection over at every render: the same array, unchanged
+  // since, is not copied and compared again.
+  const vtkMTimeType time = pointIds ? pointIds->GetMTime() : 0;
+  if (pointIds == Impl->SelectedArray && time == Impl->SelectedArrayTime)
+  {
+    return;
+  }
+  Impl->SelectedArray = pointIds;
+  Impl->SelectedArrayTime = time;
   std::vector<vtkIdType> ids;
   for (vtkIdType k = 0; pointIds && k < pointIds->GetNumberOfValues(); ++k)
   {
