@@ -85,20 +85,22 @@ struct Packet
 };
 
 // The packet's sample buffer (section 4.1, step 3), reused for every pass: per field (and
-// per gradient component when shading) K rows, one per sample of the pass, of the packet's
+// per field's weight sum with normalized weights, per gradient component when shading) K
+// rows, one per sample of the pass, of the packet's
 // rays side by side, so that a particle deposits one sample into a SIMD block of rays at a
 // time and the integration reads a block's samples in one load. Zero between passes.
 struct SampleBuffer
 {
   int laneStride;
   std::ptrdiff_t fieldStride;
-  std::vector<float> phi, grad;
+  std::vector<float> phi, weight, grad;
   std::vector<float> t; // t of the pass's samples
 
-  SampleBuffer(int maxRays, int K, int numFields, bool grads)
+  SampleBuffer(int maxRays, int K, int numFields, bool normalize, bool grads)
     : laneStride(paddedLaneCount(maxRays))
     , fieldStride(static_cast<std::ptrdiff_t>(K) * laneStride)
     , phi(static_cast<std::size_t>(numFields) * fieldStride)
+    , weight(normalize ? static_cast<std::size_t>(numFields) * fieldStride : 0)
     , grad(grads ? static_cast<std::size_t>(3) * fieldStride : 0)
     , t(K)
   {
@@ -107,6 +109,10 @@ struct SampleBuffer
   float* phiAt(int m, std::int32_t k)
   {
     return &phi[static_cast<std::size_t>(m * fieldStride + k * laneStride)];
+  }
+  float* weightAt(int m, std::int32_t k)
+  {
+    return &weight[static_cast<std::size_t>(m * fieldStride + k * laneStride)];
   }
   float* gradAt(int axis, std::int32_t k)
   {
@@ -120,6 +126,10 @@ struct SampleBuffer
     for (int m = 0; m < numFields; ++m)
     {
       std::fill_n(phiAt(m, first), rows * laneStride, 0.f);
+      if (!weight.empty())
+      {
+        std::fill_n(weightAt(m, first), rows * laneStride, 0.f);
+      }
     }
     for (int axis = 0; !grad.empty() && axis < 3; ++axis)
     {
@@ -482,60 +492,77 @@ BlockReach reachBlock(PacketLanes& P, int b0, std::int32_t slots)
 }
 
 // A particle's Gaussian and its gradient, as the deposits need them: amplitude kappa k_i,
-// 1 / 2r^2, -1 / r^2 (the gradient's factor), the centre and the field.
+// the weight's amplitude kappa, 1 / 2r^2, -1 / r^2 (the gradient's factor), the centre and
+// the field.
 struct Deposit
 {
   Vec3f c;
-  float amp, inv2r2, s;
+  float amp, weightAmp, inv2r2, s;
   int field;
 };
 
 // Deposits into a SIMD block of rays, sample by sample over the block's samples in the
-// support [kLo, kHi]: the Gaussian g = kappa k_i exp(-(u^2 + h^2) / 2r^2) with u = t + b
-// (section 3.1) in the rays whose own support samples hold k, zero in the others.
+// support [kLo, kHi]: the Gaussian g = kappa k_i e, e = exp(-(u^2 + h^2) / 2r^2) with
+// u = t + b (section 3.1) in the rays whose own support samples hold k, zero in the
+// others; with Normalize also the weight kappa e.
+template<bool Normalize>
 void depositBlock(const PacketLanes& P,
   SampleBuffer& buffer,
   int b0,
   const BlockReach reach,
   const Deposit d)
 {
-  const float amp = d.amp, inv2r2 = d.inv2r2;
+  const float amp = d.amp, weightAmp = d.weightAmp, inv2r2 = d.inv2r2;
   for (std::int32_t k = reach.kLo; k <= reach.kHi; ++k)
   {
     const float t = buffer.t[k];
     float* phi = buffer.phiAt(d.field, k);
+    float* weight = Normalize ? buffer.weightAt(d.field, k) : nullptr;
 #pragma omp simd
     for (int r = b0; r < b0 + SimdLaneWidth; ++r)
     {
       const float u = t + P.b[r];
-      const float g = amp * fastExp(-(u * u + P.h2[r]) * inv2r2);
-      phi[r] += (k >= P.ka[r]) & (k <= P.kb[r]) ? g : 0.f;
+      const bool on = (k >= P.ka[r]) & (k <= P.kb[r]);
+      const float e = on ? fastExp(-(u * u + P.h2[r]) * inv2r2) : 0.f;
+      phi[r] += amp * e;
+      if constexpr (Normalize)
+      {
+        weight[r] += weightAmp * e;
+      }
     }
   }
 }
 
 // The same deposits with the gradient of equation 4: grad phi = -phi (x - x_i) / r^2,
-// x - x_i = f + t d.
+// x - x_i = f + t d; with Normalize that of the weight, -kappa e (x - x_i) / r^2.
+template<bool Normalize>
 void depositBlockWithGradient(const PacketLanes& P,
   SampleBuffer& buffer,
   int b0,
   const BlockReach reach,
   const Deposit d)
 {
-  const float amp = d.amp, inv2r2 = d.inv2r2, s = d.s;
+  const float amp = d.amp, weightAmp = d.weightAmp, inv2r2 = d.inv2r2, s = d.s;
+  const float gradAmp = Normalize ? weightAmp : amp;
   const Vec3f c = d.c;
   for (std::int32_t k = reach.kLo; k <= reach.kHi; ++k)
   {
     const float t = buffer.t[k];
     float* phi = buffer.phiAt(d.field, k);
+    float* weight = Normalize ? buffer.weightAt(d.field, k) : nullptr;
     float *gx = buffer.gradAt(0, k), *gy = buffer.gradAt(1, k), *gz = buffer.gradAt(2, k);
 #pragma omp simd
     for (int r = b0; r < b0 + SimdLaneWidth; ++r)
     {
       const float u = t + P.b[r];
       const bool on = (k >= P.ka[r]) & (k <= P.kb[r]);
-      const float g = on ? amp * fastExp(-(u * u + P.h2[r]) * inv2r2) : 0.f;
-      phi[r] += g;
+      const float e = on ? fastExp(-(u * u + P.h2[r]) * inv2r2) : 0.f;
+      phi[r] += amp * e;
+      if constexpr (Normalize)
+      {
+        weight[r] += weightAmp * e;
+      }
+      const float g = gradAmp * e;
       gx[r] += s * g * (P.ox[r] - c.x + t * P.dx[r]);
       gy[r] += s * g * (P.oy[r] - c.y + t * P.dy[r]);
       gz[r] += s * g * (P.oz[r] - c.z + t * P.dz[r]);
@@ -564,7 +591,9 @@ void depositParticle(const RBFFrameInputs& in,
   {
     return;
   }
-  const Deposit d{ c, in.kappa * particles.values[p], inv2r2, -2.f * inv2r2, particles.fields[p] };
+  const Deposit d{
+    c, in.kappa * particles.values[p], in.kappa, inv2r2, -2.f * inv2r2, particles.fields[p]
+  };
   for (int b0 = 0; b0 < lanes; b0 += SimdLaneWidth)
   {
     const BlockReach reach = reachBlock(P, b0, ix.slots);
@@ -575,11 +604,12 @@ void depositParticle(const RBFFrameInputs& in,
     counts[Deposits] += reach.reached;
     if (in.grads)
     {
-      depositBlockWithGradient(P, buffer, b0, reach, d);
+      (in.normalize ? depositBlockWithGradient<true> : depositBlockWithGradient<false>)(
+        P, buffer, b0, reach, d);
     }
     else
     {
-      depositBlock(P, buffer, b0, reach, d);
+      (in.normalize ? depositBlock<true> : depositBlock<false>)(P, buffer, b0, reach, d);
     }
   }
 }
@@ -652,12 +682,15 @@ BlockSpan blockSpan(const PacketLanes& P, int b0, int b1)
 // from[r] + i (read by a gather): the latter when the rays' spans are staggered, as where
 // they cross a thin layer obliquely, so that the block takes as many steps as its longest
 // ray has samples instead of its whole span. The buffer holds the value of field m at
-// sample k of ray r at base[m fieldStride + k sampleStride + r]. Returns the samples
-// blended; the rays closed are added to `terminated`, the staggered blocks to
-// `staggeredBlocks`.
+// sample k of ray r at base[m fieldStride + k sampleStride + r] (with Normalize its weight
+// sum at the same place of weights, and the value Phi / W is classified with the covered
+// opacity). Returns the samples blended; the rays closed are added to `terminated`, the
+// staggered blocks to `staggeredBlocks`.
+template<bool Normalize>
 std::int64_t integrateLanes(const std::vector<StepTable>& tables,
   int numFields,
   const float* base,
+  const float* weights,
   std::ptrdiff_t fieldStride,
   std::ptrdiff_t sampleStride,
   int n,
@@ -689,6 +722,7 @@ std::int64_t integrateLanes(const std::vector<StepTable>& tables,
         const float* rgba = table.rgba.data();
         const int size = table.size();
         const float* field = base + m * fieldStride + b0;
+        const float* fieldWeight = Normalize ? weights + m * fieldStride + b0 : nullptr;
         const std::int32_t rowStride = static_cast<std::int32_t>(sampleStride);
         const std::int32_t lastRow = static_cast<std::int32_t>(fieldStride / sampleStride) - 1;
 #pragma omp simd
@@ -697,10 +731,22 @@ std::int64_t integrateLanes(const std::vector<StepTable>& tables,
           const int q = b0 + r;
           const std::int32_t k = first[r] + i;
           // (Read in every lane, at a row of the buffer: a gather the loop can vectorize.)
-          const float v = field[(k < lastRow ? k : lastRow) * rowStride + r];
+          const std::int32_t at = (k < lastRow ? k : lastRow) * rowStride + r;
+          float v = field[at];
+          float cover = 1.f;
+          if constexpr (Normalize)
+          {
+            cover = fieldWeight[at];
+            v = cover > 0.f ? v / cover : 0.f;
+          }
           const bool on = (P.open[q] != 0) & (k >= P.from[q]) & (k <= P.to[q]);
-          const bool valid = on & (v == v); // off, or NaN: transparent black
-          const RGBA c = table.lookupIn(rgba, size, valid ? v : 0.f);
+          // Off, NaN, or (Normalize) reached by no particle: transparent black.
+          const bool valid = on & (v == v) & (cover > 0.f);
+          RGBA c = table.lookupIn(rgba, size, valid ? v : 0.f);
+          if constexpr (Normalize)
+          {
+            c.a = coveredOpacity(c.a, cover);
+          }
           const float w = (1.f - P.ca[q]) * c.a;
           const bool add = valid & (c.a > 0.f);
           P.cr[q] = add ? P.cr[q] + w * c.r : P.cr[q];
@@ -742,16 +788,18 @@ void integrateShaded(const RBFFrameInputs& in, Packet& pk, SampleBuffer& buffer,
     RayAccumulator sum{ P.cr[r], P.cg[r], P.cb[r], P.ca[r] };
     for (std::int32_t k = P.from[r]; P.open[r] && k <= P.to[r]; ++k)
     {
-      float phi[MaxRBFFields] = { 0, 0, 0, 0 };
+      float phi[MaxRBFFields] = { 0, 0, 0, 0 }, weight[MaxRBFFields] = { 0, 0, 0, 0 };
       for (int m = 0; m < in.numFields; ++m)
       {
         phi[m] = buffer.phiAt(m, k)[r];
+        weight[m] = in.normalize ? buffer.weightAt(m, k)[r] : 0.f;
       }
       const float grad[3] = {
         buffer.gradAt(0, k)[r], buffer.gradAt(1, k)[r], buffer.gradAt(2, k)[r]
       };
       ++counts[Samples];
-      in.classifier.blend(phi, grad, pk.ray[r].org, pk.ray[r].dir, buffer.t[k], sum);
+      in.classifier.blend(
+        phi, in.normalize ? weight : nullptr, grad, pk.ray[r].org, pk.ray[r].dir, buffer.t[k], sum);
       if (sum.a >= in.threshold)
       {
         P.open[r] = 0;
@@ -782,9 +830,10 @@ void integratePass(const RBFFrameInputs& in, Packet& pk, SampleBuffer& buffer, R
     integrateShaded(in, pk, buffer, counts);
     return;
   }
-  counts[Samples] += integrateLanes(in.tables,
+  counts[Samples] += (in.normalize ? integrateLanes<true> : integrateLanes<false>)(in.tables,
     in.numFields,
     buffer.phi.data(),
+    buffer.weight.data(),
     buffer.fieldStride,
     buffer.laneStride,
     pk.n,
@@ -850,7 +899,7 @@ void tracePasses(const RBFFrameInputs& in,
 void renderTile(const RBFFrameInputs& in, const Tile& tile, RBFCounts& counts)
 {
   const int side = in.side;
-  SampleBuffer buffer(side * side, in.K, in.numFields, in.grads);
+  SampleBuffer buffer(side * side, in.K, in.numFields, in.normalize, in.grads);
   std::vector<std::uint32_t> stack;
   stack.reserve(128);
   Packet pk;

@@ -17,17 +17,19 @@ RAYMAPPERS_SIMD_BEGIN
 
 namespace
 {
-// The fields and the field-sum gradient at one sample.
+// The fields, their weight sums (normalized weights only) and the gradient at one sample.
 struct FieldSample
 {
   float phi[MaxRBFFields] = { 0, 0, 0, 0 };
+  float weight[MaxRBFFields] = { 0, 0, 0, 0 };
   float grad[3] = { 0, 0, 0 };
 };
 
 // Gathering (section 3.3): the field at x, Phi_m(x) = sum of kappa k_i exp(-d^2 / 2r_i^2)
 // over the particles of field m whose support sigma r_i holds x (equations 1 and 2), found
 // by a point query of the BVH with its nodes grown by sigma r_max; with gradients also
-// grad Phi = sum of -phi_i (x - x_i) / r_i^2 (equation 4).
+// grad Phi = sum of -phi_i (x - x_i) / r_i^2 (equation 4). With normalized weights also
+// W_m(x) = sum of kappa exp(-d^2 / 2r_i^2), and the gradient is that of sum_m W_m.
 void gatherField(const RBFFrameInputs& in,
   const Vec3f& x,
   std::vector<std::uint32_t>& stack,
@@ -37,7 +39,7 @@ void gatherField(const RBFFrameInputs& in,
   const RBFParticles& particles = in.particles;
   const std::vector<BVHNode>& nodes = in.nodes;
   const float sigma = in.sigma, kappa = in.kappa;
-  const bool grads = in.grads;
+  const bool grads = in.grads, normalize = in.normalize;
   stack.assign(1, 0u);
   while (!stack.empty())
   {
@@ -66,11 +68,16 @@ void gatherField(const RBFFrameInputs& in,
         continue;
       }
       ++counts[Deposits];
-      const float v = kappa * particles.values[p] * std::exp(-d2 / (2.f * r * r));
+      const float w = kappa * std::exp(-d2 / (2.f * r * r));
+      const float v = w * particles.values[p];
       field.phi[particles.fields[p]] += v;
+      if (normalize)
+      {
+        field.weight[particles.fields[p]] += w;
+      }
       if (grads)
       {
-        const float s = -v / (r * r);
+        const float s = -(normalize ? w : v) / (r * r);
         field.grad[0] += s * e.x;
         field.grad[1] += s * e.y;
         field.grad[2] += s * e.z;
@@ -97,13 +104,21 @@ RayAccumulator castRay(const RBFFrameInputs& in,
     const Vec3f x = ray.org + ray.dir * t;
     FieldSample field;
     gatherField(in, x, stack, field, counts);
-    const float* phi = field.phi;
-    if (in.emptyIsClear && phi[0] == 0.f && phi[1] == 0.f && phi[2] == 0.f && phi[3] == 0.f)
+    // (With normalized weights a particle adds W > 0 even where its height is 0.)
+    const float* reached = in.normalize ? field.weight : field.phi;
+    if (in.emptyIsClear && reached[0] == 0.f && reached[1] == 0.f && reached[2] == 0.f &&
+        reached[3] == 0.f)
     {
       continue; // no particle reaches this sample
     }
     ++counts[Samples];
-    in.classifier.blend(phi, in.grads ? field.grad : nullptr, ray.org, ray.dir, t, acc);
+    in.classifier.blend(field.phi,
+      in.normalize ? field.weight : nullptr,
+      in.grads ? field.grad : nullptr,
+      ray.org,
+      ray.dir,
+      t,
+      acc);
     if (acc.a >= in.threshold)
     {
       ++counts[TerminatedRays];

@@ -62,6 +62,14 @@ struct StepTable
   }
 };
 
+// The opacity of a step with normalized weights (RBFVolumeRenderer.h): the step's opacity
+// alpha of the value, for the coverage c = min(1, W) of the medium, 1 - (1 - alpha)^c
+// (0 where W = 0).
+inline float coveredOpacity(float alpha, float w)
+{
+  return w >= 1.f ? alpha : (w > 0.f ? 1.f - std::pow(1.f - alpha, w) : 0.f);
+}
+
 // Front-to-back state of one ray.
 struct RayAccumulator
 {
@@ -75,13 +83,16 @@ struct Classifier
   const RBFRenderParameters* params;
   Vec3d origin;
   int numFields;
-  bool emptyIsClear; // every field's opacity at 0 is 0: samples no particle reaches are skipped
+  // Every field's opacity at 0 is 0, or the weights are normalized: samples no particle
+  // reaches are skipped.
+  bool emptyIsClear;
 
-  /// Blends the sample at t of ray (o, d) with field values phi[] and field-sum gradient
-  /// grad (used only when shading) into acc, sequentially per field (section 5.5). One
-  /// out-of-line function (RBFVolumeRenderer.cxx) for both methods, with the shading
-  /// inlined in it.
+  /// Blends the sample at t of ray (o, d) with field values phi[] (with normalized weights
+  /// also the fields' weight sums weight[], else null) and gradient grad (used only when
+  /// shading) into acc, sequentially per field (section 5.5). One out-of-line function
+  /// (RBFVolumeRenderer.cxx) for both methods, with the shading inlined in it.
   void blend(const float* phi,
+    const float* weight,
     const float* grad,
     const Vec3f& o,
     const Vec3f& d,
@@ -144,6 +155,7 @@ struct RBFFrameInputs
   float dt, kappa, sigma, threshold;
   int numFields;
   bool grads;         // gradients accumulated (shading)
+  bool normalize;     // params.normalizeWeights: weight sums accumulated beside phi
   bool emptyIsClear;  // see Classifier
   bool regionBounded; // params.region clips the rays
   int side;           // packets of side x side rays

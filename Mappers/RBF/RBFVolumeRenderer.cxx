@@ -92,6 +92,7 @@ void Classifier::shadeColor(const float* grad,
 
 // Classification and front-to-back blending of one sample (section 3.2, Listing 1).
 void Classifier::blend(const float* phi,
+  const float* weight,
   const float* grad,
   const Vec3f& o,
   const Vec3f& d,
@@ -101,11 +102,20 @@ void Classifier::blend(const float* phi,
   const std::vector<StepTable>& tf = *tables;
   for (int m = 0; m < numFields; ++m)
   {
-    if (std::isnan(phi[m]))
+    if (weight && !(weight[m] > 0.f))
+    {
+      continue; // no particle of the field reaches the sample
+    }
+    const float value = weight ? phi[m] / weight[m] : phi[m];
+    if (std::isnan(value))
     {
       continue; // classified as transparent black
     }
-    RGBA c = tf[std::min<std::size_t>(m, tf.size() - 1)].lookup(phi[m]);
+    RGBA c = tf[std::min<std::size_t>(m, tf.size() - 1)].lookup(value);
+    if (weight)
+    {
+      c.a = coveredOpacity(c.a, weight[m]);
+    }
     if (!(c.a > 0.f))
     {
       continue;
@@ -149,9 +159,12 @@ void renderRBF(const RBFScene& scene,
     return;
   }
   const std::vector<rbf::StepTable> tables = rbf::correctForStep(fields, dt);
-  const bool emptyIsClear = std::all_of(
-    tables.begin(), tables.end(), [](const rbf::StepTable& t) { return t.lookup(0.f).a == 0.f; });
+  const bool emptyIsClear = params.normalizeWeights ||
+                            std::all_of(tables.begin(),
+                              tables.end(),
+                              [](const rbf::StepTable& t) { return t.lookup(0.f).a == 0.f; });
   stats.setEffect("empty_space_skipping", emptyIsClear);
+  stats.setEffect("normalized_weights", params.normalizeWeights);
   const rbf::Classifier classifier{ &tables, &params, particles.origin, numFields, emptyIsClear };
   const rbf::RBFFrameInputs in{ particles,
     scene.bvh.nodes(),
@@ -167,6 +180,7 @@ void renderRBF(const RBFScene& scene,
     static_cast<float>(std::clamp(params.terminationOpacity, 0.0, 1.0)),
     numFields,
     params.shade,
+    params.normalizeWeights,
     emptyIsClear,
     params.region.bounded(),
     std::clamp(params.packetSide, 1, MaxRBFPacketSide),

@@ -20,6 +20,17 @@
 // the Gaussian above grad phi = -phi (x - x_i)/r^2) are accumulated only when shading is
 // on.
 //
+// Normalized weights (an option beside the paper's field, for values that are an
+// attribute rather than a density): the value classified is the weighted average of the
+// heights, Phi_m / W_m with W_m(x) = kappa sum_i exp(-|x - x_i|^2 / 2r_i^2) over field m's
+// particles (the same truncated Gaussians with unit heights), and the opacity of a unit
+// distance holds for the coverage c_m = min(1, W_m): a step's opacity alpha becomes
+// 1 - (1 - alpha)^c_m, the extinction scaled by c_m. Where no particle reaches (W_m = 0)
+// nothing is drawn, whatever the transfer function gives 0; where the particles are as
+// dense as usual (W_m >= 1 with the automatic kappa) the value's own opacity holds; the
+// shading normal is the gradient of W_m summed over the fields (the particles' density
+// surface) instead of that of Phi.
+//
 // Direct method (section 3.3, the reference): every sample gathers the particles whose
 // support holds it through the same BVH, one point query per sample.
 #ifndef RayMappers_RBFVolumeRenderer_h
@@ -53,6 +64,9 @@ struct RBFRenderParameters
   int packetSide = 8;      // packets of side x side rays
   int tileSize = 32;
   bool direct = false; // the direct (gathering) method instead of the coherent one
+  // Classify Phi_m / W_m with the opacity scaled by the coverage min(1, W_m) (see above)
+  // instead of Phi_m.
+  bool normalizeWeights = false;
   // Shading with the gradient (off: emission and absorption only).
   bool shade = false;
   std::vector<Light> lights; // world space
@@ -78,7 +92,8 @@ struct RBFScene
 /// Counters: rays, packets, culled_packets (packets whose frustum misses the data: no ray set
 /// up), staggered_blocks (SIMD blocks of rays integrated each from its own first sample),
 /// passes, samples, node_visits, deposits, terminated_rays.
-/// Effects: shading, multi_field, early_termination, empty_space_skipping.
+/// Effects: shading, multi_field, early_termination, empty_space_skipping,
+/// normalized_weights.
 void renderRBF(const RBFScene& scene,
   const View& view,
   const RBFRenderParameters& params,

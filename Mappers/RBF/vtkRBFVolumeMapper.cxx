@@ -239,6 +239,7 @@ raymappers::RBFRenderParameters vtkRBFVolumeMapper::GatherParameters(vtkRenderer
   params.packetSide = this->PacketSize;
   params.tileSize = this->TileSize;
   params.direct = this->Method == VTK_RBF_METHOD_DIRECT;
+  params.normalizeWeights = this->NormalizeWeights;
   params.region = vtkRayMapperRenderHelpers::RegionFromBounds(this->RegionBounds);
   CopyModelTransform(view, params.modelToWorld, params.normalToWorld);
   params.shade = GatherShading(ren, vol->GetProperty(), params.lights, params.material);
@@ -292,4 +293,5 @@ void vtkRBFVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
      << ", " << this->RegionBounds[2] << ", " << this->RegionBounds[3] << ", "
      << this->RegionBounds[4] << ", " << this->RegionBounds[5] << ")\n";
   os << indent << "Method: " << this->Method << "\n";
+  os << indent << "NormalizeWeights: " << this->NormalizeWeights << "\n";
 }

@@ -156,6 +156,25 @@ public:
 
   ///@{
   /**
+   * Classify the weighted average of the heights instead of their sum (the name of
+   * vtkGeneralizedKernel's option): field m's value is Phi_m / W_m, W_m(x) = Kappa
+   * sum_i exp(-|x - x_i|^2 / (2 r_i^2)) over its particles (the same truncated Gaussians
+   * with height 1), and the opacity of a unit distance holds for the coverage
+   * min(1, W_m) of it (a step's opacity a becomes 1 - (1 - a)^min(1, W_m)); shading uses
+   * the gradient of sum_m W_m. The colour map then reads the values' own range (a signed
+   * pressure, a velocity) at any particle density, and where no particle reaches nothing
+   * is drawn even when the map is opaque at 0; with the paper's sum (off, the default)
+   * the value is the density times the height, the right field for a density or heights
+   * of 1, and a map opaque at 0 fills the particles' whole bounds. Costs one more buffer
+   * row per field and sample.
+   */
+  vtkSetMacro(NormalizeWeights, bool);
+  vtkGetMacro(NormalizeWeights, bool);
+  vtkBooleanMacro(NormalizeWeights, bool);
+  ///@}
+
+  ///@{
+  /**
    * A ray stops once its opacity reaches this (1: never early). Default 0.99.
    */
   vtkRayMapperSetClampMacro(TerminationOpacity, double, 0.0, 1.0);
@@ -219,6 +238,7 @@ protected:
   int LeafSize = 8;
   int TileSize = 32;
   int Method = VTK_RBF_METHOD_COHERENT;
+  bool NormalizeWeights = false;
   double RegionBounds[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
     -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
 

@@ -31,6 +31,7 @@ void vtkRBFVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FieldArrayName: " << this->FieldArrayName << "\n";
   os << indent << "Kappa: " << this->Kappa << "\n";
+  os << indent << "NormalizeWeights: " << this->NormalizeWeights << "\n";
 }
 
 vtkRBFVolumeMapper* vtkRBFVolumeRepresentation::GetMapper()
@@ -93,6 +94,28 @@ void vtkRBFVolumeRepresentation::PushKappa()
 void vtkRBFVolumeRepresentation::SetValueArray(const char* name)
 {
   this->Mapper->SetValueArrayName(name);
+  this->PushNormalizeWeights();
+}
+
+void vtkRBFVolumeRepresentation::PushNormalizeWeights()
+{
+  const char* name = this->Mapper->GetValueArrayName();
+  this->Mapper->SetNormalizeWeights(this->NormalizeWeights == NormalizeWeightsAutomatic
+      ? name != nullptr && name[0] != '\0'
+      : this->NormalizeWeights != 0);
+}
+
+void vtkRBFVolumeRepresentation::SetNormalizeWeights(int mode)
+{
+  if (mode < 0 || mode > NormalizeWeightsAutomatic)
+  {
+    vtkWarningMacro(<< "NormalizeWeights must be 0 (sum), 1 (average) or 2 (automatic), got "
+                    << mode << "; keeping " << this->NormalizeWeights << ".");
+    return;
+  }
+  this->NormalizeWeights = mode;
+  this->PushNormalizeWeights();
+  this->Modified();
 }
 
 //----------------------------------------------------------------------------

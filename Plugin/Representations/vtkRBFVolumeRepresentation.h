@@ -78,6 +78,18 @@ public:
   void SetTerminationOpacity(double opacity);
   void SetMethod(int method);
   void SetSamplesPerPass(int samples);
+
+  /**
+   * The value classified (vtkRBFVolumeMapper::NormalizeWeights): 0 the paper's sum of the
+   * heights, 1 their weighted average with the opacity scaled by the particles' coverage,
+   * 2 (Automatic, the default) the average when the field is coloured by an array and the
+   * sum when it is not (every height 1: the sum is then the particles' density, the field
+   * the paper shows). With ColorBy the colour map then reads the array's own values, where
+   * the sum would mix them with the density and fill the bounds with the colour of 0 of a
+   * signed array.
+   */
+  void SetNormalizeWeights(int mode);
+  static constexpr int NormalizeWeightsAutomatic = 2;
   void SetPacketSize(int side);
   void SetLeafSize(int particles);
   /** The mapper's NumberOfThreads (its own TBB task arena; 0: the default). */
@@ -110,6 +122,7 @@ protected:
   vtkSmartPointer<vtkScalarsToColors> FieldLookupTables[4];
   std::string FieldArrayName;
   double Kappa = 0.0;
+  int NormalizeWeights = NormalizeWeightsAutomatic;
 
 private:
   /// Hands Kappa to the mapper. The automatic kappa (Kappa 0) is 1 / a median weight sum
@@ -117,6 +130,8 @@ private:
   /// collective call, made while rendering) the processes' weight sums are averaged, weighted
   /// by their particles, and all render with the same kappa.
   void PushKappa();
+  /// Hands the mapper NormalizeWeights, resolving Automatic from its value array.
+  void PushNormalizeWeights();
   vtkRBFVolumeRepresentation(const vtkRBFVolumeRepresentation&) = delete;
   void operator=(const vtkRBFVolumeRepresentation&) = delete;
 };

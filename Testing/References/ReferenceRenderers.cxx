@@ -384,14 +384,26 @@ ReferenceImage renderRBF(const ReferenceCamera& camera,
         [&](double t, const std::vector<std::size_t>& near, std::array<double, 4>& cTau)
         {
           const Point x = ray.origin + ray.direction * t;
-          double phi = 0;
+          double phi = 0, w = 0;
           for (std::size_t k : near)
           {
             const Point d = x - gaussians[k].center;
             const double r = gaussians[k].radius;
-            phi += gaussians[k].weight * std::exp(-dot(d, d) / (2 * r * r));
+            const double g = std::exp(-dot(d, d) / (2 * r * r));
+            phi += gaussians[k].weight * g;
+            w += g;
           }
-          cTau = emissionAt(tf, params.kappa * phi);
+          if (!params.average)
+          {
+            cTau = emissionAt(tf, params.kappa * phi);
+            return true;
+          }
+          if (!(w > 0))
+          {
+            return false;
+          }
+          cTau = emissionAt(tf, phi / w);
+          cTau[3] *= std::min(1.0, params.kappa * w);
           return true;
         });
     });

@@ -4,7 +4,9 @@
 // - RBF: the emission-absorption integral of the Gaussian field
 //     phi(x) = kappa sum_i k_i exp(-|x - x_i|^2 / 2 r_i^2)      (Knoll et al. 2014, eq. 1)
 //   untruncated (a Gaussian is dropped beyond `cutoff` radii, exp(-cutoff^2 / 2) of its peak:
-//   1.5e-8 at the default 6), classified by the transfer function;
+//   1.5e-8 at the default 6), classified by the transfer function; or (average) the
+//   weighted average phi / w, w(x) = kappa sum_i exp(-|x - x_i|^2 / 2 r_i^2), classified
+//   with its extinction scaled by min(1, w);
 // - SPH: the same integral of the normalized field A / B or of A (Limper 2012, eq. 3.14 and
 //   3.15) with A = sum_i Q_i V_i W(|x - x_i|, H_i), B = sum_i V_i W(|x - x_i|, H_i), its own
 //   kernel code, only where some support holds the point (B > 0);
@@ -75,6 +77,7 @@ struct RBFReference
   double kappa = 1;
   double cutoff = 6; // radii
   double step = 0;   // ds (world units), > 0
+  bool average = false; // classify phi / w with the extinction times min(1, w)
 };
 
 ReferenceImage renderRBF(const ReferenceCamera& camera,

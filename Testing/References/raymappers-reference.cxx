@@ -11,7 +11,7 @@
 //   material ambient diffuse specular power sr sg sb
 //   sphere x y z radius r g b [opacity]  (opacity 1 when left out)
 //   gaussian x y z radius weight
-//   rbf kappa cutoff step
+//   rbf kappa cutoff step [sum|average]  (sum when left out; average: normalized weights)
 //   sph_particle x y z support quantity volume
 //   sph poly6|cubic|wendland normalized|unnormalized step
 //   transfer lo hi unit_distance n      then n lines "r g b a"
@@ -115,7 +115,9 @@ void readDirective(const std::string& key, std::istringstream& words, std::istre
   }
   else if (key == "rbf")
   {
-    words >> s.rbf.kappa >> s.rbf.cutoff >> s.rbf.step;
+    std::string value;
+    words >> s.rbf.kappa >> s.rbf.cutoff >> s.rbf.step >> value;
+    s.rbf.average = value == "average";
   }
   else if (key == "sph_particle")
   {

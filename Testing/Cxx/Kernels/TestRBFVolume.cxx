@@ -130,7 +130,9 @@ std::array<double, 4> classify(const TransferFunctionTable& tf, double v, double
 
 // The independent reference: samples t_k = k dt over the ray, each the sum over every
 // particle whose support the ray's line meets, in double, classified with the tables and
-// blended front to back per field.
+// blended front to back per field. With normalized weights the value classified is
+// phi_m / w_m (w_m the sum of kappa exp(-d^2 / 2r^2)), the step's opacity a becomes
+// 1 - (1 - a)^min(1, w_m), and a field no particle reaches adds nothing.
 Frame bruteForce(const Input& in,
   const Vec3d& origin,
   const RayCamera& cam,
@@ -170,21 +172,28 @@ Frame bruteForce(const Input& in,
       for (long k = long(std::ceil(tMin / dt)); k <= long(std::floor(tMax / dt)); ++k)
       {
         const Vec3d x = o + d * (k * dt);
-        double phi[MaxRBFFields] = { 0, 0, 0, 0 };
+        double phi[MaxRBFFields] = { 0, 0, 0, 0 }, weight[MaxRBFFields] = { 0, 0, 0, 0 };
         for (const std::size_t p : near)
         {
           const double d2 = dot(x - in.p[p], x - in.p[p]);
           const double r = in.r[p];
           if (d2 <= sigma * sigma * r * r)
           {
-            phi[in.field.empty() ? 0 : in.field[p]] +=
-              params.kappa * (in.k.empty() ? 1.0 : in.k[p]) * std::exp(-d2 / (2 * r * r));
+            const double g = params.kappa * std::exp(-d2 / (2 * r * r));
+            phi[in.field.empty() ? 0 : in.field[p]] += (in.k.empty() ? 1.0 : in.k[p]) * g;
+            weight[in.field.empty() ? 0 : in.field[p]] += g;
           }
         }
         for (int m = 0; m < in.numFields; ++m)
         {
-          const auto c = classify(tf[std::min<std::size_t>(m, tf.size() - 1)], phi[m], dt);
-          const double a = c[3];
+          const bool average = params.normalizeWeights;
+          if (average && weight[m] == 0)
+          {
+            continue;
+          }
+          const auto c = classify(
+            tf[std::min<std::size_t>(m, tf.size() - 1)], average ? phi[m] / weight[m] : phi[m], dt);
+          const double a = average ? 1 - std::pow(1 - c[3], std::min(1.0, weight[m])) : c[3];
           const double w = (1 - A) * a;
           Cr += w * c[0];
           Cg += w * c[1];
@@ -482,6 +491,84 @@ TEST(RBFVolume, MultiFieldAndShadingMatchTheDirectMethod)
   EXPECT_LT(maxDifference(lit.frame, litDirect.frame), 5e-4);
   EXPECT_GT(maxDifference(lit.frame, coherent.frame), 0.02); // the shading does something
   EXPECT_TRUE(lit.stats.effect("shading"));
+}
+
+// Normalized weights on signed heights with a map opaque at 0 (a pressure coloured by
+// ParaView's default maps): the picture is the brute-force one, by both methods, shaded
+// too, and a ray that meets no particle's support stays empty, where the paper's sum
+// classifies the empty space between the supports as 0 and fills the bounds.
+TEST(RBFVolume, NormalizedWeightsMatchBruteForceAndLeaveEmptySpaceEmpty)
+{
+  Input in = randomCloud(150, 2.0, 11, 2);
+  for (std::size_t i = 0; i < in.k.size(); ++i)
+  {
+    in.k[i] = (i % 3 == 0 ? -1.0 : 1.0) * in.k[i]; // heights in [-1.5, 1.5]
+  }
+  // Colour ramps over [-1.5, 1.5], opacity 0.4 everywhere (0 included).
+  std::vector<float> rgba;
+  for (int k = 0; k < 256; ++k)
+  {
+    const float x = k / 255.f;
+    rgba.insert(rgba.end(), { x, 1.f - x, 0.5f, 0.4f });
+  }
+  std::vector<TransferFunctionTable> tf(1);
+  tf[0].assign(rgba, -1.5, 1.5, 1.0);
+  const RayCamera cam = camera({ -3, 2, 12 }, { 0, 0, 0 }, {});
+  RBFRenderParameters params;
+  params.sampleDistance = 0.05;
+  params.sigma = 4.0;
+  params.terminationOpacity = 1.0;
+  params.normalizeWeights = true;
+  const Frame ref = bruteForce(in, {}, cam, params, tf);
+  const Rendered coherent = render(in, {}, cam, params, tf);
+  EXPECT_LT(maxDifference(coherent.frame, ref), 2e-4);
+  EXPECT_TRUE(coherent.stats.effect("normalized_weights"));
+  EXPECT_TRUE(coherent.stats.effect("empty_space_skipping"));
+  params.direct = true;
+  EXPECT_LT(maxDifference(render(in, {}, cam, params, tf).frame, ref), 2e-4);
+
+  // Empty space: a pixel whose ray meets no support.
+  int empty = 0, filledBySum = 0;
+  params.direct = false;
+  params.normalizeWeights = false;
+  const Rendered sum = render(in, {}, cam, params, tf);
+  EXPECT_FALSE(sum.stats.effect("normalized_weights"));
+  for (int j = 0; j < cam.height(); ++j)
+  {
+    for (int i = 0; i < cam.width(); ++i)
+    {
+      const Ray ray = cam.pixelRay(i, j);
+      bool meets = false;
+      for (std::size_t p = 0; p < in.p.size() && !meets; ++p)
+      {
+        const Vec3d f = Vec3d(ray.org) - in.p[p];
+        const double b = dot(f, Vec3d(ray.dir));
+        const double R = params.sigma * in.r[p];
+        meets = dot(f, f) - b * b < R * R;
+      }
+      const std::size_t px = 4 * coherent.frame.index(i, j);
+      if (!meets)
+      {
+        ++empty;
+        EXPECT_EQ(coherent.frame.rgba[px + 3], 0.f) << "pixel " << i << ", " << j;
+        filledBySum += sum.frame.rgba[px + 3] > 0.1f;
+      }
+    }
+  }
+  EXPECT_GT(empty, 0);
+  EXPECT_GT(filledBySum, 0); // the sum's slab, which the average has not
+
+  params.normalizeWeights = true;
+  params.shade = true;
+  Light light;
+  light.direction = normalize(Vec3d(-1, -1, -2));
+  params.lights = { light };
+  params.material.ambient = 0.2;
+  params.material.diffuse = 0.8;
+  const Rendered lit = render(in, {}, cam, params, tf);
+  params.direct = true;
+  EXPECT_LT(maxDifference(lit.frame, render(in, {}, cam, params, tf).frame), 5e-4);
+  EXPECT_GT(maxDifference(lit.frame, coherent.frame), 0.02);
 }
 
 TEST(RBFVolume, SaturatingKappaTerminatesEarlyAndExactly)
