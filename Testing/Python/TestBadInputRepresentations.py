@@ -94,13 +94,14 @@ def add_array(data, name, values, components=1, kind=vtkDoubleArray):
     data.GetPointData().AddArray(a)
 
 
-def particles(bad=False, empty=False, bad_values=False):
+def particles(bad=False, empty=False, bad_values=False, zero_density=False):
     """A 4^3 lattice in [-1, 1]^3 with point arrays: radius (0.3), iradius (integer 1, for a
     radius scale of 0.3), radius3 (0.3, 0.6, 0), value (0..4), ivalue (integer), value3
     (v, -v, 2v), h (0.3), ih (1), h3, m (1) and rho (1). With `bad`, 8 particles are added
     inside the bounds: 2 at NaN or infinite coordinates, 6 with the radii and smoothing
     lengths 0, -1, NaN, infinity, 1e20 and 1e300; with `bad_values` also 4 with a NaN,
-    infinite or 1e300 value or a zero density (which the spheres and the fluid draw)."""
+    infinite or 1e300 value or a zero density (which the spheres, RBF and the fluid draw;
+    `zero_density` adds that one alone: the clean data of those that draw it)."""
     rows = []
     if not empty:
         n = 4
@@ -114,6 +115,7 @@ def particles(bad=False, empty=False, bad_values=False):
         rows += [((0.1, 0.2, 0.3), r, 1, 1.0) for r in (0.0, -1.0, NAN, INF, 1e20, 1e300)]
     if bad and bad_values:
         rows += [((0.2, 0.1, 0.3), 0.3, q, 1.0) for q in (NAN, INF, 1e300)]
+    if (bad and bad_values) or zero_density:
         rows += [((0.2, 0.1, 0.3), 0.3, 1, 0.0)]
     data = vtkPolyData()
     points = vtkPoints()
@@ -284,7 +286,7 @@ def run_representation(spec):
     scene = Scene(spec['type'], spec['statistics'])
     make = spec.get('data', particles)
     with Messages() as m:
-        sources = {'clean': producer(make()), 'bad': producer(make(bad=True, **spec.get('bad', {}))),
+        sources = {'clean': producer(make(**spec.get('clean', {}))), 'bad': producer(make(bad=True, **spec.get('bad', {}))),
                    'empty': producer(make(empty=True))}
         fixed_maps(spec.get('maps', []), *spec.get('range', (0, 4)))
         for name in ('clean', 'bad', 'empty'):
@@ -457,7 +459,7 @@ SPECS = {
         ]),
     'rbf': dict(
         type='RBF Volume', statistics='RBFRenderStatistics', configure=rbf_config,
-        bad={'bad_values': True},
+        bad={'bad_values': True}, clean={'zero_density': True},
         maps=['value', 'ivalue', 'value3'], camera=((0.6, 0.8, 6.5),),
         bad_warnings=(2, 'are not drawn'), empty_text='no points',
         arrays=[
