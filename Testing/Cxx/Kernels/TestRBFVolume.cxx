@@ -236,6 +236,17 @@ double coverage(const Frame& f)
   return s;
 }
 
+// Shading on, one directional light, ambient 0.2 and diffuse 0.8.
+void lightFromAbove(RBFRenderParameters& params)
+{
+  params.shade = true;
+  Light light;
+  light.direction = normalize(Vec3d(-1, -1, -2));
+  params.lights = { light };
+  params.material.ambient = 0.2;
+  params.material.diffuse = 0.8;
+}
+
 // Opacity ramp with extinction proportional to the field: alpha over the unit distance is
 // 1 - exp(-c Phi u), i.e. extinction c Phi.
 std::vector<TransferFunctionTable> linearExtinction(double hi, double c, double unit = 1.0)
@@ -479,12 +490,7 @@ TEST(RBFVolume, MultiFieldAndShadingMatchTheDirectMethod)
   EXPECT_TRUE(coherent.stats.effect("multi_field"));
   EXPECT_FALSE(coherent.stats.effect("shading"));
 
-  params.shade = true;
-  Light light;
-  light.direction = normalize(Vec3d(-1, -1, -2));
-  params.lights = { light };
-  params.material.ambient = 0.2;
-  params.material.diffuse = 0.8;
+  lightFromAbove(params);
   const Rendered lit = render(in, {}, cam, params, tf);
   params.direct = true;
   const Rendered litDirect = render(in, {}, cam, params, tf);
@@ -559,12 +565,7 @@ TEST(RBFVolume, NormalizedWeightsMatchBruteForceAndLeaveEmptySpaceEmpty)
   EXPECT_GT(filledBySum, 0); // the sum's slab, which the average has not
 
   params.normalizeWeights = true;
-  params.shade = true;
-  Light light;
-  light.direction = normalize(Vec3d(-1, -1, -2));
-  params.lights = { light };
-  params.material.ambient = 0.2;
-  params.material.diffuse = 0.8;
+  lightFromAbove(params);
   const Rendered lit = render(in, {}, cam, params, tf);
   params.direct = true;
   EXPECT_LT(maxDifference(lit.frame, render(in, {}, cam, params, tf).frame), 5e-4);
