@@ -218,22 +218,30 @@ struct CellRect
   int u0, u1, v0, v1;
 };
 
-// The cells of slice s that the packet can reach (section 4.1): the rays' U and V at the
-// slice's two faces, grown by the sphere-center shift (sU, sV), clamped to the grid.
-inline CellRect sliceCells(const Lane* L,
-  int active,
-  int s,
-  const Axes& ax,
-  float sU,
-  float sV,
-  const std::array<int, 3>& dims)
+// The packet's U and V extents as linear functions of K (section 2's incremental frustum
+// traversal): each ray's U is linear in K, u_i(k) = u_i(kA) + (k - kA) su_i, so for k in
+// [kA, kB] the lerp of min_i u_i(kA) and min_i u_i(kB) bounds min_i u_i(k) from below (and
+// likewise the maxima from above), exact at both ends. A slice's cell range then costs O(1)
+// instead of a pass over the packet's rays; the bounds are remade when rays retire.
+struct PacketExtents
 {
-  float uMin = std::numeric_limits<float>::max(), uMax = -uMin, vMin = uMin, vMax = -uMin;
-  for (int i = 0; i < active; ++i)
+  float kA = 0.f, kB = 1.f;
+  float uMin[2], uMax[2], vMin[2], vMax[2]; // at kA and kB
+};
+
+inline PacketExtents packetExtents(const Lane* L, int active, const Axes& ax, float kA, float kB)
+{
+  PacketExtents e;
+  e.kA = kA;
+  e.kB = kB;
+  const float big = std::numeric_limits<float>::max();
+  for (int end = 0; end < 2; ++end)
   {
-    const Lane& l = L[i];
-    for (const float k : { static_cast<float>(s), static_cast<float>(s + 1) })
+    const float k = end == 0 ? kA : kB;
+    float uMin = big, uMax = -big, vMin = big, vMax = -big;
+    for (int i = 0; i < active; ++i)
     {
+      const Lane& l = L[i];
       const float u = l.o[ax.U] + (k - l.o[ax.K]) * l.su;
       const float v = l.o[ax.V] + (k - l.o[ax.K]) * l.sv;
       uMin = std::min(uMin, u);
@@ -241,11 +249,38 @@ inline CellRect sliceCells(const Lane* L,
       vMin = std::min(vMin, v);
       vMax = std::max(vMax, v);
     }
+    e.uMin[end] = uMin;
+    e.uMax[end] = uMax;
+    e.vMin[end] = vMin;
+    e.vMax[end] = vMax;
   }
-  return { std::max(0, static_cast<int>(std::floor(uMin - sU))),
-    std::min(dims[ax.U] - 1, static_cast<int>(std::floor(uMax + sU))),
-    std::max(0, static_cast<int>(std::floor(vMin - sV))),
-    std::min(dims[ax.V] - 1, static_cast<int>(std::floor(vMax + sV))) };
+  return e;
+}
+
+// The cells of slice s that the packet can reach (section 4.1): the extents at the slice's
+// two faces (a linear bound takes its extrema there), grown by the sphere-center shift
+// (sU, sV) and a margin for the rounding of the lerp, clamped to the grid.
+inline CellRect sliceCells(const PacketExtents& e,
+  int s,
+  const Axes& ax,
+  float sU,
+  float sV,
+  const std::array<int, 3>& dims)
+{
+  const float t0 = (static_cast<float>(s) - e.kA) / (e.kB - e.kA);
+  const float t1 = (static_cast<float>(s + 1) - e.kA) / (e.kB - e.kA);
+  auto at = [](const float* f, float t) { return f[0] + t * (f[1] - f[0]); };
+  const float margin = 1e-3f;
+  const float uMin = std::min(at(e.uMin, t0), at(e.uMin, t1)) - sU - margin;
+  const float uMax = std::max(at(e.uMax, t0), at(e.uMax, t1)) + sU + margin;
+  const float vMin = std::min(at(e.vMin, t0), at(e.vMin, t1)) - sV - margin;
+  const float vMax = std::max(at(e.vMax, t0), at(e.vMax, t1)) + sV + margin;
+  return { std::max(0, static_cast<int>(std::floor(std::max(uMin, -1.f)))),
+    std::min(
+      dims[ax.U] - 1, static_cast<int>(std::floor(std::min(uMax, static_cast<float>(dims[ax.U]))))),
+    std::max(0, static_cast<int>(std::floor(std::max(vMin, -1.f)))),
+    std::min(dims[ax.V] - 1,
+      static_cast<int>(std::floor(std::min(vMax, static_cast<float>(dims[ax.V]))))) };
 }
 
 // The spheres of one cell against the packet (section 4.3): parameter-range culling, then
@@ -490,15 +525,23 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
   const int last =
     std::clamp(static_cast<int>(std::floor(ascending ? kMax : kMin)), 0, dims[ax.K] - 1);
   const int step = ascending ? 1 : -1;
+  const float kA = static_cast<float>(std::min(first, last));
+  const float kB = static_cast<float>(std::max(first, last) + 1);
+  PacketExtents extents = packetExtents(L, active, ax, kA, kB);
   for (int s = first; active > 0; s += step)
   {
-    const CellRect rect = sliceCells(L, active, s, ax, sU, sV, dims);
+    const CellRect rect = sliceCells(extents, s, ax, sU, sV, dims);
     visitSlice<Lanes>(Grid, spheres, Filter, s, ax, rect, ranged, frustum, R, active, counters);
     if (s == last)
     {
       break;
     }
-    active = retireRays(L, R, active, s, ascending, rG, ax.K, hits);
+    const int kept = retireRays(L, R, active, s, ascending, rG, ax.K, hits);
+    if (kept != active && kept > 0)
+    {
+      extents = packetExtents(L, kept, ax, kA, kB);
+    }
+    active = kept;
   }
   for (int i = 0; i < active; ++i)
   {

@@ -43,14 +43,18 @@ const char* const SphereImposterShader =
   "ambientColor *= 0.1;\n"
   "diffuseColor *= nz;\n";
 
-/// The sphere datasets of the CGT issue: the LAMMPS melt (1,000,188 atoms), a LAMMPS crack
-/// (a flat slab), 2LYZ and a LIGGGHTS packing (radii that vary).
+/// The sphere datasets: uniformly dense ones, the LAMMPS melt (1,000,188 atoms), a LAMMPS
+/// crack (a flat slab), 2LYZ and a LIGGGHTS packing (radii that vary), and clustered ones, an
+/// NFW dark-matter halo (galpy) and a Plummer star cluster, each of 1,000,000 particles whose
+/// density spans orders of magnitude from the core to the outskirts.
 std::vector<std::string> DefaultSphereData(const Options& opt)
 {
   std::vector<std::string> files;
   for (const auto& [name, script] : { std::pair{ "lammps_melt_1M.vtk", "lammps_melt.sh" },
          std::pair{ "lammps_crack.vtk", "lammps_crack.sh" },
-         std::pair{ "liggghts_packing.vtk", "liggghts_packing.sh" } })
+         std::pair{ "liggghts_packing.vtk", "liggghts_packing.sh" },
+         std::pair{ "galpy_halo_1M.vtk", "galpy_halo.sh" },
+         std::pair{ "plummer_1M.vtk", "plummer_sphere.sh" } })
   {
     const std::string path = Generated(opt, name, script);
     if (!path.empty())
@@ -207,10 +211,12 @@ std::vector<Row> RunSpheres(const Options& opt)
       oursBuildMs,
       touch,
       buildDetail });
-    // The defaults (lambda 1, 8 x 8 packets) and the sweep behind them.
+    // The mapper's defaults, read from a new one (today the grid, lambda 1, 8 x 8 packets),
+    // and the sweep behind them.
+    vtkNew<vtkCGTSphereMapper> defaults;
     methods.push_back({ "cgt",
-      "lambda=1;packet=8",
-      oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, 8),
+      "default",
+      oursWith(defaults->GetAccelerator(), defaults->GetLambda(), defaults->GetPacketSize()),
       oursBuildMs,
       touch,
       buildDetail });
