@@ -257,18 +257,19 @@ inline PacketExtents packetExtents(const Lane* L, int active, const Axes& ax, fl
   return e;
 }
 
-// The cells of slice s that the packet can reach (section 4.1): the extents at the slice's
-// two faces (a linear bound takes its extrema there), grown by the sphere-center shift
-// (sU, sV) and a margin for the rounding of the lerp, clamped to the grid.
+// The cells of slices s0..s1 (s0 <= s1) that the packet can reach (section 4.1): the
+// extents at the range's two faces (a linear bound takes its extrema there), grown by the
+// sphere-center shift (sU, sV) and a margin for the rounding of the lerp, clamped to the grid.
 inline CellRect sliceCells(const PacketExtents& e,
-  int s,
+  int s0,
+  int s1,
   const Axes& ax,
   float sU,
   float sV,
   const std::array<int, 3>& dims)
 {
-  const float t0 = (static_cast<float>(s) - e.kA) / (e.kB - e.kA);
-  const float t1 = (static_cast<float>(s + 1) - e.kA) / (e.kB - e.kA);
+  const float t0 = (static_cast<float>(s0) - e.kA) / (e.kB - e.kA);
+  const float t1 = (static_cast<float>(s1 + 1) - e.kA) / (e.kB - e.kA);
   auto at = [](const float* f, float t) { return f[0] + t * (f[1] - f[0]); };
   const float margin = 1e-3f;
   const float uMin = std::min(at(e.uMin, t0), at(e.uMin, t1)) - sU - margin;
@@ -281,6 +282,31 @@ inline CellRect sliceCells(const PacketExtents& e,
     std::max(0, static_cast<int>(std::floor(std::max(vMin, -1.f)))),
     std::min(dims[ax.V] - 1,
       static_cast<int>(std::floor(std::min(vMax, static_cast<float>(dims[ax.V]))))) };
+}
+
+// Whether every macrocell of macrocell layer `layer` (along K) that `rect` touches is empty
+// (section 4.2's second level): then the packet skips the layer's slices at once.
+inline bool macrocellsEmpty(const CoherentGrid& grid,
+  const Axes& ax,
+  int layer,
+  const CellRect& rect)
+{
+  const int M = grid.macrocellSize();
+  for (int mv = rect.v0 / M; mv <= rect.v1 / M && rect.u0 <= rect.u1; ++mv)
+  {
+    for (int mu = rect.u0 / M; mu <= rect.u1 / M; ++mu)
+    {
+      int mc[3];
+      mc[ax.K] = layer;
+      mc[ax.U] = mu;
+      mc[ax.V] = mv;
+      if (!grid.macrocellEmpty(grid.macrocellIndex(mc[0], mc[1], mc[2])))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
 }
 
 // The spheres of one cell against the packet (section 4.3): parameter-range culling, then
@@ -528,20 +554,40 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
   const float kA = static_cast<float>(std::min(first, last));
   const float kB = static_cast<float>(std::max(first, last) + 1);
   PacketExtents extents = packetExtents(L, active, ax, kA, kB);
-  for (int s = first; active > 0; s += step)
+  const int M = Grid.macrocellSize();
+  int occupiedLayer = -1; // the macrocell layer last found to hold spheres near the packet
+  for (int s = first; active > 0;)
   {
-    const CellRect rect = sliceCells(extents, s, ax, sU, sV, dims);
-    visitSlice<Lanes>(Grid, spheres, Filter, s, ax, rect, ranged, frustum, R, active, counters);
-    if (s == last)
+    // The slices of s's macrocell layer still ahead, s..end in the direction of travel: all
+    // skipped when the macrocells they reach are empty, else visited one by one.
+    const int layer = s / M;
+    const int end = ascending ? std::min(last, layer * M + M - 1) : std::max(last, layer * M);
+    int through = s; // the last slice covered by this step
+    if (layer != occupiedLayer &&
+        macrocellsEmpty(Grid,
+          ax,
+          layer,
+          sliceCells(extents, std::min(s, end), std::max(s, end), ax, sU, sV, dims)))
+    {
+      through = end;
+    }
+    else
+    {
+      occupiedLayer = layer;
+      const CellRect rect = sliceCells(extents, s, s, ax, sU, sV, dims);
+      visitSlice<Lanes>(Grid, spheres, Filter, s, ax, rect, ranged, frustum, R, active, counters);
+    }
+    if (through == last)
     {
       break;
     }
-    const int kept = retireRays(L, R, active, s, ascending, rG, ax.K, hits);
+    const int kept = retireRays(L, R, active, through, ascending, rG, ax.K, hits);
     if (kept != active && kept > 0)
     {
       extents = packetExtents(L, kept, ax, kA, kB);
     }
     active = kept;
+    s = through + step;
   }
   for (int i = 0; i < active; ++i)
   {

@@ -180,6 +180,12 @@ std::vector<Row> RunSpheres(const Options& opt)
         << (st->GetPhaseTime("grid_build") > 0 ? "grid " : "bvh ")
         << st->GetPhaseTime("grid_build") + st->GetPhaseTime("bvh_build") << " ms; trace "
         << st->GetPhaseTime("trace") << " ms";
+      // The work per primary ray: cells visited and ray-sphere tests (the grid counts both).
+      if (const double rays = st->GetCounter("rays"))
+      {
+        s << "; per ray: cells " << st->GetCounter("cells") / rays << ", sphere tests "
+          << st->GetCounter("sphere_tests") / rays;
+      }
       if (st->GetCounter("grid_bytes") > 0)
       {
         // The grid's own memory (offsets, macrocells) against the particle data it indexes.

@@ -3,8 +3,8 @@
 #include "CameraFixtures.h"
 #include "Mappers/CGT/CoherentGridAccelerator.h"
 #include "Mappers/CGT/EmbreeSphereAccelerator.h"
-#include "SphereReference.h"
 #include "Mappers/CGT/SphereRenderer.h"
+#include "SphereReference.h"
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -432,6 +432,108 @@ TEST(CoherentGridHardCases, OneAndZeroParticles)
   SphereSet none = makeSet({}, {}, {});
   const Rendered z = renderGrid(none, cam, 8);
   EXPECT_EQ(z.stats.counter("hits"), 0);
+}
+
+namespace
+{
+// Every pixel whose ray passes no sphere's silhouette within 1e-3 of that sphere's radius
+// (where float and double decide alike at any scale, unlike grazingBand, which is absolute
+// and so too wide for spheres much smaller than the scene): the same hit or miss as the
+// brute force and the same depth to 1e-5 relative. Returns how many pixels hit.
+int expectBruteForce(const SphereSet& s, const RayCamera& cam, const Frame& f, const char* what)
+{
+  int hits = 0, mismatches = 0, skipped = 0;
+  for (int j = 0; j < cam.height(); ++j)
+  {
+    for (int i = 0; i < cam.width(); ++i)
+    {
+      const Ray ray = cam.pixelRay(i, j);
+      double t, margin;
+      const int id = bruteForce(s, ray, t, margin);
+      if (margin < 1e-3)
+      {
+        ++skipped;
+        continue;
+      }
+      const std::size_t k = f.index(i, j);
+      if ((f.rgba[4 * k + 3] > 0) != (id >= 0))
+      {
+        ++mismatches;
+        continue;
+      }
+      if (id >= 0)
+      {
+        ++hits;
+        const double expected = cam.depthMap(ray).depthOf(t);
+        mismatches += std::fabs(f.depth[k] - expected) > 1e-5 * std::max(1e-3, expected) ? 1 : 0;
+      }
+    }
+  }
+  EXPECT_EQ(mismatches, 0) << what;
+  EXPECT_LE(skipped, cam.width() * cam.height() / 20) << what;
+  return hits;
+}
+
+// n spheres uniformly in the cube of side `side` centred at c.
+std::vector<Vec3d> cube(int n, const Vec3d& c, double side, unsigned seed)
+{
+  std::vector<Vec3d> p = randomPoints(n, 0.5 * side, seed);
+  for (auto& q : p)
+  {
+    q = q + c;
+  }
+  return p;
+}
+}
+
+// The hard cases of clustered data (the grid's cells follow the bounds of the centres, so
+// these decide its resolution): every centre in one point, a cluster a millionth of the
+// domain's size, a single far outlier.
+TEST(CoherentGridHardCases, AllParticlesInOnePoint)
+{
+  const Vec3d point{ 0.25, -0.5, 1.0 };
+  const std::vector<Vec3d> p(1000, point);
+  std::vector<double> r(p.size());
+  for (std::size_t i = 0; i < r.size(); ++i)
+  {
+    r[i] = 0.1 + 0.4 * double(i % 10) / 9.0; // concentric shells of 0.1 to 0.5
+  }
+  r[r.size() / 2] = 0.6; // the outermost shell once, in the middle of its cell's spheres
+  SphereSet s = makeSet(p, r, {});
+  const RayCamera cam = perspectiveCamera(point + Vec3d(0.3, 0.2, 3), point, s.origin, 64, 64);
+  EXPECT_GT(expectBruteForce(s, cam, renderGrid(s, cam, 8).frame, "one point"), 64 * 64 / 20);
+  EXPECT_GT(expectBruteForce(s, cam, renderEmbree(s, cam).frame, "one point, Embree"), 0);
+}
+
+TEST(CoherentGridHardCases, ClusterOfAMillionthOfTheDomain)
+{
+  // 2000 spheres across a domain of side 2 and 1000 in a cube of side 2e-6 (radius 1e-7, so
+  // they touch), the cluster at the set's origin so its float coordinates resolve it.
+  const Vec3d centre{ 0.2, 0.1, -0.3 };
+  std::vector<Vec3d> p = cube(2000, { 0, 0, 0 }, 2.0, 31);
+  std::vector<double> r(p.size(), 0.03);
+  const std::vector<Vec3d> cluster = cube(1000, centre, 2e-6, 37);
+  p.insert(p.end(), cluster.begin(), cluster.end());
+  r.resize(p.size(), 1e-7);
+  SphereSet s = makeSet(p, r, centre);
+  const RayCamera far = perspectiveCamera({ 3, 2, 5 }, { 0, 0, 0 }, s.origin);
+  EXPECT_GT(expectBruteForce(s, far, renderGrid(s, far, 8).frame, "cluster, far"), 0);
+  // Up close: the cluster fills the view from 1e-5 away.
+  const RayCamera close =
+    perspectiveCamera(centre + Vec3d(2e-6, 1e-6, 1e-5), centre, s.origin, 64, 64, 2e-6, 5);
+  EXPECT_GT(
+    expectBruteForce(s, close, renderGrid(s, close, 8).frame, "cluster, close"), 64 * 64 / 10);
+}
+
+TEST(CoherentGridHardCases, SingleFarOutlier)
+{
+  // 2000 spheres in a cube of side 2 and one 1e5 away: the centres' bounds, and so the
+  // grid, stretch over the outlier.
+  std::vector<Vec3d> p = cube(2000, { 0, 0, 0 }, 2.0, 41);
+  p.push_back({ 1e5, 3, -2 });
+  SphereSet s = makeSet(p, std::vector<double>(p.size(), 0.05), {});
+  const RayCamera cam = perspectiveCamera({ 2, 1.5, 4 }, { 0, 0, 0 }, s.origin, 64, 64);
+  EXPECT_GT(expectBruteForce(s, cam, renderGrid(s, cam, 8).frame, "outlier"), 64 * 64 / 10);
 }
 
 namespace
