@@ -279,6 +279,7 @@ void CoherentGrid::buildMacrocells(const SphereSet& spheres)
   const std::size_t macros =
     static_cast<std::size_t>(MacroDims[0]) * MacroDims[1] * static_cast<std::size_t>(MacroDims[2]);
   MacroCount.assign(macros, 0);
+  MacroMaxRadius.assign(macros, 0.f);
   NumAttributes = spheres.numAttributes;
   MacroMin.assign(macros * NumAttributes, std::numeric_limits<float>::max());
   MacroMax.assign(macros * NumAttributes, -std::numeric_limits<float>::max());
@@ -300,6 +301,10 @@ void CoherentGrid::buildMacrocells(const SphereSet& spheres)
             }
             const std::size_t m = macrocellIndex(i / MacroSize, j / MacroSize, k / MacroSize);
             MacroCount[m] += count;
+            for (std::uint32_t id = cellBegin(c); id < cellEnd(c); ++id)
+            {
+              MacroMaxRadius[m] = std::max(MacroMaxRadius[m], spheres.radii[id]);
+            }
             addExtrema(spheres,
               cellBegin(c),
               cellEnd(c),

@@ -3,8 +3,8 @@
 // in the cell that holds its centre, so the grid holds no duplicated references and needs
 // no mailboxes. The finest level has about lambda * N cubic cells (never smaller than half
 // the largest radius, where crowded spheres would make them tiny); a second level of
-// macrocells (M x M x M cells each) records which blocks are empty, and the extrema of each
-// sphere attribute inside them, so traversal skips empty blocks and blocks whose spheres
+// macrocells (M x M x M cells each) records which blocks are empty, their largest radius,
+// and the extrema of each sphere attribute inside them, so traversal skips empty blocks and blocks whose spheres
 // all fail a parameter range (section 4.3).
 //
 // The build sorts the spheres into cell order with a parallel counting sort that keeps the
@@ -57,6 +57,9 @@ public:
     return (static_cast<std::size_t>(mk) * MacroDims[1] + mj) * MacroDims[0] + mi;
   }
   bool macrocellEmpty(std::size_t m) const { return MacroCount[m] == 0; }
+  /// The largest radius of the macrocell's spheres (0 when empty): its own sphere-center
+  /// shift, smaller than the grid's r_max where small spheres crowd (mixed radii).
+  float macrocellMaxRadius(std::size_t m) const { return MacroMaxRadius[m]; }
   /// Whether some sphere of the macrocell can pass the filter (its stored extrema overlap
   /// the ranges: section 4.3's macrocell culling).
   bool macrocellInRange(std::size_t m, const RangeFilter& filter) const
@@ -71,7 +74,7 @@ public:
   std::size_t memoryBytes() const
   {
     return CellStart.size() * sizeof(std::uint32_t) + MacroCount.size() * sizeof(std::uint32_t) +
-           (MacroMin.size() + MacroMax.size()) * sizeof(float);
+           (MacroMaxRadius.size() + MacroMin.size() + MacroMax.size()) * sizeof(float);
   }
 
 private:
@@ -92,6 +95,7 @@ private:
   std::size_t NumSpheres = 0;
   std::vector<std::uint32_t> CellStart;  // size cells + 1
   std::vector<std::uint32_t> MacroCount; // spheres per macrocell
+  std::vector<float> MacroMaxRadius;     // largest radius per macrocell
   int NumAttributes = 0;
   std::vector<float> MacroMin, MacroMax; // per macrocell and attribute
 };

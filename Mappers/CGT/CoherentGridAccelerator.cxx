@@ -257,25 +257,42 @@ inline PacketExtents packetExtents(const Lane* L, int active, const Axes& ax, fl
   return e;
 }
 
-// The cells of slices s0..s1 (s0 <= s1) that the packet can reach (section 4.1): the
-// extents at the range's two faces (a linear bound takes its extrema there), grown by the
-// sphere-center shift (sU, sV) and a margin for the rounding of the lerp, clamped to the grid.
-inline CellRect sliceCells(const PacketExtents& e,
-  int s0,
-  int s1,
-  const Axes& ax,
-  float sU,
-  float sV,
-  const std::array<int, 3>& dims)
+// The U and V (cell units) that the packet's rays take over slices s0..s1 (s0 <= s1): the
+// extents at the range's two faces (a linear bound takes its extrema there), widened by a
+// margin for the rounding of the lerp.
+struct SliceBounds
+{
+  float uMin, uMax, vMin, vMax;
+};
+
+inline SliceBounds sliceBounds(const PacketExtents& e, int s0, int s1)
 {
   const float t0 = (static_cast<float>(s0) - e.kA) / (e.kB - e.kA);
   const float t1 = (static_cast<float>(s1 + 1) - e.kA) / (e.kB - e.kA);
   auto at = [](const float* f, float t) { return f[0] + t * (f[1] - f[0]); };
   const float margin = 1e-3f;
-  const float uMin = std::min(at(e.uMin, t0), at(e.uMin, t1)) - sU - margin;
-  const float uMax = std::max(at(e.uMax, t0), at(e.uMax, t1)) + sU + margin;
-  const float vMin = std::min(at(e.vMin, t0), at(e.vMin, t1)) - sV - margin;
-  const float vMax = std::max(at(e.vMax, t0), at(e.vMax, t1)) + sV + margin;
+  return { std::min(at(e.uMin, t0), at(e.uMin, t1)) - margin,
+    std::max(at(e.uMax, t0), at(e.uMax, t1)) + margin,
+    std::min(at(e.vMin, t0), at(e.vMin, t1)) - margin,
+    std::max(at(e.vMax, t0), at(e.vMax, t1)) + margin };
+}
+
+// The cells whose spheres of radius up to r (cell units) rays within `b` can reach: b grown
+// by the sphere-center shift r sqrt(1 + dU^2), r sqrt(1 + dV^2) (section 4.1; `slope` holds
+// the two square roots), clamped to the grid.
+struct SlopeFactors
+{
+  float u, v;
+};
+
+inline CellRect reachableCells(const SliceBounds& b,
+  float r,
+  const SlopeFactors& slope,
+  const Axes& ax,
+  const std::array<int, 3>& dims)
+{
+  const float uMin = b.uMin - r * slope.u, uMax = b.uMax + r * slope.u;
+  const float vMin = b.vMin - r * slope.v, vMax = b.vMax + r * slope.v;
   return { std::max(0, static_cast<int>(std::floor(std::max(uMin, -1.f)))),
     std::min(
       dims[ax.U] - 1, static_cast<int>(std::floor(std::min(uMax, static_cast<float>(dims[ax.U]))))),
@@ -348,15 +365,20 @@ void testSpheres(const SphereSet& spheres,
   }
 }
 
-// The cells of slice s within `rect`, by macrocells (section 4.2): an empty macrocell is
-// skipped, and so is one whose attribute extrema miss the parameter ranges (section 4.3);
-// the spheres of every non-empty cell of the others are tested.
+// The cells of slice s within `rect` (the reach of the grid's r_max), by macrocells (section
+// 4.2): an empty macrocell is skipped, and so is one whose attribute extrema miss the
+// parameter ranges (section 4.3); in the others, the cells within the reach of the
+// macrocell's own largest radius are visited (with mixed radii, a crowd of small spheres is
+// not searched as widely as the largest sphere needs), and the spheres of every non-empty
+// one are tested.
 template<typename Lanes>
 void visitSlice(const CoherentGrid& grid,
   const SphereSet& spheres,
   const RangeFilter& filter,
   int s,
   const Axes& ax,
+  const SliceBounds& bounds,
+  const SlopeFactors& slope,
   const CellRect& rect,
   bool ranged,
   const Frustum& frustum,
@@ -365,10 +387,9 @@ void visitSlice(const CoherentGrid& grid,
   TraversalCounters& counters)
 {
   const int M = grid.macrocellSize();
-  const int u0 = rect.u0, u1 = rect.u1, v0 = rect.v0, v1 = rect.v1;
-  for (int mv = v0 / M; mv <= v1 / M && u0 <= u1; ++mv)
+  for (int mv = rect.v0 / M; mv <= rect.v1 / M && rect.u0 <= rect.u1; ++mv)
   {
-    for (int mu = u0 / M; mu <= u1 / M; ++mu)
+    for (int mu = rect.u0 / M; mu <= rect.u1 / M; ++mu)
     {
       int mc[3];
       mc[ax.K] = s / M;
@@ -384,9 +405,11 @@ void visitSlice(const CoherentGrid& grid,
         ++counters.rangeCulled;
         continue;
       }
-      for (int v = std::max(v0, mv * M); v <= std::min(v1, mv * M + M - 1); ++v)
+      const CellRect own = reachableCells(
+        bounds, grid.macrocellMaxRadius(macro) * grid.inverseCellSize(), slope, ax, grid.dims());
+      for (int v = std::max(own.v0, mv * M); v <= std::min(own.v1, mv * M + M - 1); ++v)
       {
-        for (int u = std::max(u0, mu * M); u <= std::min(u1, mu * M + M - 1); ++u)
+        for (int u = std::max(own.u0, mu * M); u <= std::min(own.u1, mu * M + M - 1); ++u)
         {
           int c[3];
           c[ax.K] = s;
@@ -539,8 +562,8 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
   loadRayLanes(packet, L, active, R);
   // Sphere-center method: a ray reaches a sphere of radius r whose centre is at most
   // r sqrt(1 + dU^2) away from it in U within the centre's K-plane (same for V).
-  const float sU = rG * std::sqrt(1.f + span.slopeU * span.slopeU);
-  const float sV = rG * std::sqrt(1.f + span.slopeV * span.slopeV);
+  const SlopeFactors slope{ std::sqrt(1.f + span.slopeU * span.slopeU),
+    std::sqrt(1.f + span.slopeV * span.slopeV) };
   const Frustum frustum = packetFrustum(packet, lanes, count);
   const bool ranged = Filter.count > 0 && Filter.count <= spheres.numAttributes;
   // Near and far shifted by r_max: a sphere whose centre lies up to r_max before a ray's
@@ -567,15 +590,28 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
         macrocellsEmpty(Grid,
           ax,
           layer,
-          sliceCells(extents, std::min(s, end), std::max(s, end), ax, sU, sV, dims)))
+          reachableCells(
+            sliceBounds(extents, std::min(s, end), std::max(s, end)), rG, slope, ax, dims)))
     {
       through = end;
     }
     else
     {
       occupiedLayer = layer;
-      const CellRect rect = sliceCells(extents, s, s, ax, sU, sV, dims);
-      visitSlice<Lanes>(Grid, spheres, Filter, s, ax, rect, ranged, frustum, R, active, counters);
+      const SliceBounds bounds = sliceBounds(extents, s, s);
+      visitSlice<Lanes>(Grid,
+        spheres,
+        Filter,
+        s,
+        ax,
+        bounds,
+        slope,
+        reachableCells(bounds, rG, slope, ax, dims),
+        ranged,
+        frustum,
+        R,
+        active,
+        counters);
     }
     if (through == last)
     {

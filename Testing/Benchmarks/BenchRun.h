@@ -31,6 +31,7 @@ struct Options
   std::string array;             // --array: the colour or value array; empty: chosen by name
   double radius = 0;             // --radius: a constant particle radius; 0: from the data
   double h = 0;                  // --h: a constant SPH smoothing length; 0: from the data
+  double zoom = 1;               // --zoom: the spheres' camera this many times closer
 };
 
 struct Row

@@ -109,7 +109,8 @@ std::vector<Row> RunSpheres(const Options& opt)
     std::cout << bench::BaseName(file) << ": " << n << " points, radius " << size.how
               << ", color " << (colors && colors->GetName() ? colors->GetName() : "none") << "\n";
 
-    // One view for all methods: the data seen from a corner, filling the image.
+    // One view for all methods: the data seen from a corner, filling the image (--zoom: the
+    // camera that many times closer, looking at the centre).
     auto view = [&](vtkCamera* cam)
     {
       double b[6];
@@ -118,7 +119,8 @@ std::vector<Row> RunSpheres(const Options& opt)
       const double diag = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
                                     (b[5] - b[4]) * (b[5] - b[4]));
       cam->SetFocalPoint(c);
-      cam->SetPosition(c[0] + 0.8 * diag, c[1] + 0.55 * diag, c[2] + 1.8 * diag);
+      const double d = diag / opt.zoom;
+      cam->SetPosition(c[0] + 0.8 * d, c[1] + 0.55 * d, c[2] + 1.8 * d);
       cam->SetViewUp(0, 1, 0);
       cam->SetViewAngle(30);
     };

@@ -13,6 +13,9 @@
 // usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] [--csv FILE]
 //                               [--images DIR] [--generated DIR] [--only TEXT ...]
 //                               [--threads N] [--array NAME] [--radius R] [--h H]
+//                               [--zoom Z]
+// --zoom (spheres) moves the camera Z times closer to the data's centre (a close-up of a
+// cluster's core).
 // --only runs just the methods whose ":method:setting" contains TEXT (and the references);
 // a leading ':' anchors TEXT at the method's name.
 // --threads limits TBB (our mappers' parallel work) to N threads, for parallel efficiency.
@@ -66,10 +69,11 @@ int Usage()
 {
   std::cerr << "usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] "
                "[--csv FILE] [--images DIR] [--generated DIR] [--only METHOD:SETTING ...] "
-               "[--threads N] [--array NAME] [--radius R] [--h H]\n"
+               "[--threads N] [--array NAME] [--radius R] [--h H] [--zoom Z]\n"
                "--array: the point array to colour or sample by (default: chosen by name)\n"
                "--radius, --h: a constant particle radius, SPH smoothing length (default: "
                "the data's size array, else a multiple of the particle spacing)\n"
+               "--zoom: (spheres) the camera Z times closer to the data's centre\n"
                "suites: spheres, rbf, zsweep, sph\n";
   return 2;
 }
@@ -143,6 +147,15 @@ int main(int argc, char* argv[])
         return 2;
       }
       (a == "--radius" ? opt.radius : opt.h) = value;
+    }
+    else if (a == "--zoom")
+    {
+      opt.zoom = std::atof(next().c_str());
+      if (!(opt.zoom >= 1))
+      {
+        std::cerr << "--zoom takes a factor of at least 1\n";
+        return 2;
+      }
     }
     else if (a == "--threads")
     {
