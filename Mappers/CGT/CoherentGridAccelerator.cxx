@@ -479,6 +479,31 @@ inline int retireRays(Lane* L,
   R.pad(kept);
   return kept;
 }
+// The first slice after which retireRays can retire a ray, from its two conditions solved
+// for s: ascending, a ray settles once s >= kHit + rG - 1 and passes once s > kHi + rG - 1
+// (descending, s <= kHit - rG and s < kLo - rG). Rays change only when a slice tests spheres,
+// so until this slice (one earlier, for the rounding) no other slice needs retireRays.
+inline int firstRetirement(const Lane* L,
+  const RayLanes& R,
+  int active,
+  bool ascending,
+  float rG,
+  int K)
+{
+  float k = ascending ? std::numeric_limits<float>::max() : -std::numeric_limits<float>::max();
+  for (int i = 0; i < active; ++i)
+  {
+    const Lane& l = L[i];
+    const bool hit = R.prim[i] != NoHit;
+    const float kHit = l.o[K] + R.tBest[i] * l.dk;
+    k = ascending ? std::min(k, hit ? std::min(kHit, l.kHi) : l.kHi)
+                  : std::max(k, hit ? std::max(kHit, l.kLo) : l.kLo);
+  }
+  const float s = ascending ? k + rG - 1.f : k - rG;
+  const float bound = std::numeric_limits<int>::max() / 2;
+  return ascending ? static_cast<int>(std::floor(std::clamp(s, -bound, bound))) - 1
+                   : static_cast<int>(std::ceil(std::clamp(s, -bound, bound))) + 1;
+}
 }
 void CoherentGridAccelerator::build(SphereSet& spheres, const CoherentGridParameters& params)
 {
@@ -579,6 +604,7 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
   PacketExtents extents = packetExtents(L, active, ax, kA, kB);
   const int M = Grid.macrocellSize();
   int occupiedLayer = -1; // the macrocell layer last found to hold spheres near the packet
+  int retirement = firstRetirement(L, R, active, ascending, rG, ax.K);
   for (int s = first; active > 0;)
   {
     // The slices of s's macrocell layer still ahead, s..end in the direction of travel: all
@@ -598,6 +624,7 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
     else
     {
       occupiedLayer = layer;
+      const std::int64_t testsBefore = counters.sphereTests;
       const SliceBounds bounds = sliceBounds(extents, s, s);
       visitSlice<Lanes>(Grid,
         spheres,
@@ -612,17 +639,25 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
         R,
         active,
         counters);
+      if (counters.sphereTests != testsBefore)
+      {
+        retirement = firstRetirement(L, R, active, ascending, rG, ax.K);
+      }
     }
     if (through == last)
     {
       break;
     }
-    const int kept = retireRays(L, R, active, through, ascending, rG, ax.K, hits);
-    if (kept != active && kept > 0)
+    if (ascending ? through >= retirement : through <= retirement)
     {
-      extents = packetExtents(L, kept, ax, kA, kB);
+      const int kept = retireRays(L, R, active, through, ascending, rG, ax.K, hits);
+      if (kept != active && kept > 0)
+      {
+        extents = packetExtents(L, kept, ax, kA, kB);
+      }
+      active = kept;
+      retirement = firstRetirement(L, R, active, ascending, rG, ax.K);
     }
-    active = kept;
     s = through + step;
   }
   for (int i = 0; i < active; ++i)

@@ -324,10 +324,11 @@ std::vector<Row> RunSpheres(const Options& opt)
     vtkSmartPointer<vtkImageData> reference, aoReference, shadowReference;
     for (const Method& m : methods)
     {
-      if (!Selected(opt, m) && m.setting != "bvh=medium" && m.setting != "ao=256" &&
-          m.setting != "shadows=16x16")
+      const bool isReference =
+        m.setting == "bvh=medium" || m.setting == "ao=256" || m.setting == "shadows=16x16";
+      if (!Selected(opt, m) && !(isReference && opt.references))
       {
-        continue; // (the references always run)
+        continue; // (the references run unless --no-reference)
       }
       Result r = Measure(opt, m, view);
       r.row.suite = "spheres";

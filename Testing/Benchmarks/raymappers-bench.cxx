@@ -13,9 +13,10 @@
 // usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] [--csv FILE]
 //                               [--images DIR] [--generated DIR] [--only TEXT ...]
 //                               [--threads N] [--array NAME] [--radius R] [--h H]
-//                               [--zoom Z]
+//                               [--zoom Z] [--no-reference]
 // --zoom (spheres) moves the camera Z times closer to the data's centre (a close-up of a
-// cluster's core).
+// cluster's core). --no-reference (spheres) runs only the methods --only picks, without the
+// reference images (no rmse): one method per process, for its peak resident memory.
 // --only runs just the methods whose ":method:setting" contains TEXT (and the references);
 // a leading ':' anchors TEXT at the method's name.
 // --threads limits TBB (our mappers' parallel work) to N threads, for parallel efficiency.
@@ -69,7 +70,7 @@ int Usage()
 {
   std::cerr << "usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] "
                "[--csv FILE] [--images DIR] [--generated DIR] [--only METHOD:SETTING ...] "
-               "[--threads N] [--array NAME] [--radius R] [--h H] [--zoom Z]\n"
+               "[--threads N] [--array NAME] [--radius R] [--h H] [--zoom Z] [--no-reference]\n"
                "--array: the point array to colour or sample by (default: chosen by name)\n"
                "--radius, --h: a constant particle radius, SPH smoothing length (default: "
                "the data's size array, else a multiple of the particle spacing)\n"
@@ -147,6 +148,10 @@ int main(int argc, char* argv[])
         return 2;
       }
       (a == "--radius" ? opt.radius : opt.h) = value;
+    }
+    else if (a == "--no-reference")
+    {
+      opt.references = false;
     }
     else if (a == "--zoom")
     {
