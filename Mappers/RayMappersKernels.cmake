@@ -24,6 +24,7 @@ add_library(RayMappersKernels SHARED
   ${CMAKE_CURRENT_LIST_DIR}/CGT/CoherentGridAccelerator.cxx
   ${CMAKE_CURRENT_LIST_DIR}/CGT/EmbreeSphereAccelerator.cxx
   ${CMAKE_CURRENT_LIST_DIR}/CGT/RaySphereLanes.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/CGT/SphereOcclusion.cxx
   ${CMAKE_CURRENT_LIST_DIR}/CGT/SphereRenderer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/RBF/ParticleBVH.cxx
   ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFVolumeRenderer.cxx

@@ -1,10 +1,12 @@
 #include "Mappers/CGT/SphereRenderer.h"
 
+#include "Mappers/CGT/SphereOcclusion.h"
 #include "Mappers/Common/TileScheduler.h"
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <iterator>
 #include <limits>
 
@@ -107,8 +109,11 @@ struct SphereFrame
   int side;                     // primary packets of side x side rays
   bool lit;                     // lights or the area light shade the spheres
   int shadowSide;               // shadow rays per hit: shadowSide^2 (0: none)
-  int aoSamples;                // ambient-occlusion rays per hit (0: none)
+  int aoSamples;                // ambient-occlusion directions per hit, N (0: none)
   int aoSide;                   // the ambient-occlusion packet's side
+  int aoBegin, aoEnd;           // this frame's directions [k0, k1) of the N
+  std::uint16_t* aoUnoccluded;  // U per pixel (AoAccumulation), or null: one shot
+  const SphereOcclusion& occlusion;
   std::vector<Light> areaLight; // the area light's centre as the direct light (shadows)
   bool translucent;             // front-to-back compositing (see the header)
   double opacity;               // every sphere's opacity factor
@@ -242,25 +247,40 @@ double lightVisibility(const SphereFrame& f,
   return 1.0 - static_cast<double>(blocked) / count;
 }
 
-// Ambient occlusion: a packet of cosine-weighted hemisphere rays (aoDirection); returns
-// the share of them that meet no sphere within the radius.
+// Ambient occlusion: this frame's directions k in [k0, k1) of the N (aoDirection) as one
+// packet of rays from just above the surface, answered by occlusion queries (any sphere
+// within the radius blocks). With U the unoccluded rays among [0, k1) (the pixel's
+// accumulated count plus this frame's), returns 1 - (k1 - U) / k1: for k0 = 0, k1 = N the
+// share 1 - occluded / N of a one-shot render, in the same arithmetic.
 double unoccluded(const SphereFrame& f,
   const SurfacePoint& sp,
   std::uint32_t pixel,
   SecondaryPackets& secondary,
   SphereCounts& counts)
 {
-  const auto aoRay = [&](int a, const Vec3d& start)
+  const int k0 = f.aoBegin, k1 = f.aoEnd, count = k1 - k0;
+  RayPacket& packet = secondary.ao;
+  const Vec3f start(sp.pRel + sp.n * (1e-4 * sp.r));
+  const auto radius = static_cast<float>(f.shading.aoRadius);
+  for (int a = 0; a < packet.side * packet.side; ++a)
   {
-    return Ray{ Vec3f(start),
-      Vec3f(aoDirection(sp.n, a, f.aoSamples, pixel)),
-      0.f,
-      static_cast<float>(f.shading.aoRadius) };
-  };
-  const int occluded =
-    countBlocked(f, sp, f.aoSamples, aoRay, secondary.ao, secondary.aoHits, counts);
-  counts.aoRays += f.aoSamples;
-  return 1.0 - static_cast<double>(occluded) / f.aoSamples;
+    packet.valid[a] = a < count;
+    if (a < count)
+    {
+      packet.rays[a] =
+        Ray{ start, Vec3f(aoDirection(sp.n, k0 + a, f.aoSamples, pixel)), 0.f, radius };
+    }
+  }
+  bool blocked[MaxPacketRays];
+  int free = count > 0 ? count - f.occlusion.occluded(packet, count, blocked, counts.traversal) : 0;
+  counts.aoRays += count;
+  if (f.aoUnoccluded)
+  {
+    free += k0 > 0 ? f.aoUnoccluded[pixel] : 0;
+    f.aoUnoccluded[pixel] = static_cast<std::uint16_t>(free);
+  }
+  const int occluded = k1 - free;
+  return 1.0 - static_cast<double>(occluded) / k1;
 }
 
 // The primary packet of the pixel block at (bx, by): the rays of its pixels inside the tile.
@@ -512,6 +532,91 @@ struct SphereCounters
     terminated += c.terminated;
   }
 };
+// The bits of everything an image of renderSpheres depends on besides the spheres' own data
+// (covered by the sphere set's and accelerator's identity and size and the caller's
+// sceneVersion): two frames with the same key draw the same pixels.
+std::vector<std::uint64_t> imageKey(const SphereScene& scene,
+  const View& view,
+  const SphereRenderParameters& params)
+{
+  std::vector<double> v(view.modelToClip().begin(), view.modelToClip().end());
+  const auto put = [&](const Vec3d& p) { v.insert(v.end(), { p.x, p.y, p.z }); };
+  v.insert(v.end(), { double(view.width()), double(view.height()) });
+  put(view.origin());
+  const SphereShading& s = params.shading;
+  for (const Light& l : s.lights)
+  {
+    put(l.color);
+    put(l.direction);
+    put(l.position);
+    put(l.attenuation);
+    v.insert(v.end(), { l.positional ? 1.0 : 0.0, l.coneAngleDeg });
+  }
+  const Material& m = s.material;
+  v.insert(v.end(), { m.ambient, m.diffuse, m.specular, m.specularPower });
+  put(m.specularColor);
+  v.insert(v.end(), s.modelToWorld, s.modelToWorld + 16);
+  v.insert(v.end(), s.normalToWorld, s.normalToWorld + 9);
+  v.insert(v.end(),
+    { double(s.lights.size()),
+      double(s.aoSamples),
+      s.aoRadius,
+      double(s.shadowSide),
+      s.lightIntensity,
+      params.opacity });
+  for (const Vec3d& p : { s.lightCenter, s.lightEdgeU, s.lightEdgeV, s.lightCenterWorld })
+  {
+    put(p);
+  }
+  const RangeFilter& filter = scene.accel.rangeFilter();
+  v.push_back(filter.count);
+  v.insert(v.end(), filter.lo, filter.lo + MaxRangeAttributes);
+  v.insert(v.end(), filter.hi, filter.hi + MaxRangeAttributes);
+  std::vector<std::uint64_t> key(v.size() + 4);
+  std::memcpy(key.data(), v.data(), v.size() * sizeof(double)); // bits: NaN equals itself
+  key[v.size()] = reinterpret_cast<std::uintptr_t>(&scene.spheres);
+  key[v.size() + 1] = reinterpret_cast<std::uintptr_t>(&scene.accel);
+  key[v.size() + 2] = scene.spheres.size();
+  key[v.size() + 3] = params.sceneVersion;
+  return key;
+}
+
+// This frame's ambient-occlusion directions [k0, k1) of the N per hit, and the per-pixel
+// count they add to: all N and none without accumulation (no AoAccumulation, budget 0,
+// translucent spheres, AO off); else the accumulation goes on from k0 = done when the image
+// key is unchanged (restarts from 0 otherwise) with k1 = min(N, k0 + budget).
+struct AoFrameRange
+{
+  int begin, end;
+  std::uint16_t* unoccluded;
+};
+AoFrameRange startAoFrame(const SphereScene& scene,
+  const View& view,
+  const SphereRenderParameters& params,
+  int aoSamples,
+  bool translucent)
+{
+  AoAccumulation* acc = params.aoAccumulation;
+  if (!acc || params.aoSamplesPerFrame <= 0 || aoSamples <= 0 || translucent)
+  {
+    if (acc)
+    {
+      acc->reset();
+    }
+    return { 0, aoSamples, nullptr };
+  }
+  std::vector<std::uint64_t> key = imageKey(scene, view, params);
+  const std::size_t pixels = static_cast<std::size_t>(view.width()) * view.height();
+  if (key != acc->key || acc->unoccluded.size() != pixels)
+  {
+    acc->key = std::move(key);
+    acc->unoccluded.assign(pixels, 0);
+    acc->done = 0;
+  }
+  const int k0 = std::clamp(acc->done, 0, aoSamples);
+  const int k1 = k0 + std::min(params.aoSamplesPerFrame, aoSamples - k0);
+  return { k0, k1, acc->unoccluded.data() };
+}
 }
 
 void renderSpheres(const SphereScene& scene,
@@ -532,6 +637,8 @@ void renderSpheres(const SphereScene& scene,
   const int aoSamples = std::clamp(shading.aoSamples, 0, MaxPacketRays);
   const bool ao = aoSamples > 0 && shading.aoRadius > 0;
   stats.setEffect("ambient_occlusion", ao);
+  const SphereOcclusion occlusion(scene.spheres, accel);
+  stats.setEffect("ao_local_queries", ao && occlusion.local());
   const int shadowSide = std::clamp(shading.shadowSide, 0, MaxPacketSide);
   stats.setEffect("soft_shadows", shadowSide > 0);
   const bool translucent = drawsTranslucent(scene.spheres, params);
@@ -544,6 +651,8 @@ void renderSpheres(const SphereScene& scene,
     "sphere_tests",
     "range_culled",
     "ao_rays",
+    "ao_samples_done",
+    "ao_converged",
     "shadow_rays",
     "translucent_layers",
     "translucent_queries",
@@ -554,8 +663,16 @@ void renderSpheres(const SphereScene& scene,
   }
   if (accel.empty() || width <= 0 || height <= 0 || !(params.opacity > 0.0))
   {
+    if (params.aoAccumulation)
+    {
+      params.aoAccumulation->reset();
+    }
+    stats.setEffect("ao_progressive", false);
+    stats.addCounter("ao_converged", 1);
     return;
   }
+  const AoFrameRange aoRange = startAoFrame(scene, view, params, ao ? aoSamples : 0, translucent);
+  stats.setEffect("ao_progressive", aoRange.unoccluded != nullptr);
   SphereFrame f{ scene.spheres,
     accel,
     view.camera(),
@@ -566,6 +683,10 @@ void renderSpheres(const SphereScene& scene,
     shadowSide,
     ao ? aoSamples : 0,
     aoSamples <= 16 ? 4 : (aoSamples <= 64 ? 8 : MaxPacketSide),
+    aoRange.begin,
+    aoRange.end,
+    aoRange.unoccluded,
+    occlusion,
     {},
     translucent,
     std::clamp(params.opacity, 0.0, 1.0),
@@ -591,6 +712,10 @@ void renderSpheres(const SphereScene& scene,
         counters.add(counts);
       });
   }
+  if (params.aoAccumulation && aoRange.unoccluded)
+  {
+    params.aoAccumulation->done = aoRange.end;
+  }
   const std::int64_t counts[] = { counters.rays,
     counters.packets,
     counters.hits,
@@ -599,6 +724,8 @@ void renderSpheres(const SphereScene& scene,
     counters.tests,
     counters.rangeCulled,
     counters.aoRays,
+    aoRange.end,
+    !ao || aoRange.end == aoSamples ? 1 : 0,
     counters.shadowRays,
     counters.layers,
     counters.queries,

@@ -27,6 +27,7 @@
 #include "Mappers/CGT/SphereAccelerator.h"
 #include "Mappers/CGT/SphereSet.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace raymappers
@@ -77,6 +78,28 @@ struct SphereScene
 /// the exact composite.
 constexpr float TranslucentTerminationAlpha = 1.f - 1.f / 512.f;
 
+/// Progressive ambient occlusion: the N = aoSamples directions of every hit,
+/// aoDirection(n, k, N, pixel), are traced over several frames in order, frame f taking
+/// k in [k0, k1) with k1 = min(N, k0 + aoSamplesPerFrame). Per pixel it keeps U, the
+/// unoccluded rays among k in [0, k1), and shades with the fraction so far,
+///   1 - (k1 - U) / k1,
+/// the one-shot expression 1 - occluded / N once k1 = N: the converged frame equals a
+/// one-shot render bit for bit, and the frames after it trace no AO ray (they reuse U).
+/// It restarts (k0 = 0) whenever the image would change: the view (matrix, size, origin),
+/// the shading, the opacity, the range filter, the sphere set or accelerator (object,
+/// size) or the caller's sceneVersion (data, colours, properties the kernel does not see).
+struct AoAccumulation
+{
+  std::vector<std::uint16_t> unoccluded; // U per pixel of the frame's grid
+  int done = 0;                          // k1 of the last frame (0: nothing accumulated)
+  std::vector<std::uint64_t> key;        // the bits of what the image depended on
+  void reset()
+  {
+    done = 0;
+    key.clear();
+  }
+};
+
 /// How it draws them: the shading, rays traced in packets of packetSide x packetSide
 /// (clamped to [1, MaxPacketSide]) and scheduled in tiles of tileSize x tileSize pixels.
 struct SphereRenderParameters
@@ -87,6 +110,14 @@ struct SphereRenderParameters
   /// Opacity of every sphere (the actor's), times its own (SphereSet::opacities) when set;
   /// 0 (or NaN) draws nothing.
   double opacity = 1.0;
+  /// Ambient-occlusion directions per hit and frame (AoAccumulation): 0 (or no
+  /// accumulation) traces all N in every frame; a budget above N is N. Translucent spheres
+  /// (several hits per pixel) always trace all N.
+  int aoSamplesPerFrame = 0;
+  AoAccumulation* aoAccumulation = nullptr;
+  /// Changed by the caller whenever something the kernel cannot compare changed (the
+  /// spheres' positions, radii or colours, ...): restarts the accumulation.
+  std::uint64_t sceneVersion = 0;
 };
 
 /// Whether renderSpheres composites translucent spheres (an opacity below 1 or per-sphere
@@ -98,12 +129,16 @@ inline bool drawsTranslucent(const SphereSet& spheres, const SphereRenderParamet
 
 /// Renders the spheres seen by the view's camera into `frame` (resized to the view's grid).
 /// Counters: rays, packets, hits, cells, culled, sphere_tests, range_culled, ao_rays,
-/// shadow_rays, translucent_layers (spheres composited), translucent_queries (packet queries
-/// of the translucent path, each packet's first included), translucent_terminated (rays
-/// stopped by TranslucentTerminationAlpha).
-/// Effects: shading, specular, range_culling, ambient_occlusion, soft_shadows,
-/// translucency. A translucent render stops its rays at the view's opaque depth; an opaque
-/// one writes depth and leaves the depth test to the caller.
+/// ao_samples_done (AO directions per hit accumulated after this frame, k1), ao_converged
+/// (1 when all N are in, or AO is off: nothing is left to refine), shadow_rays,
+/// translucent_layers (spheres composited), translucent_queries (packet queries of the
+/// translucent path, each packet's first included), translucent_terminated (rays stopped by
+/// TranslucentTerminationAlpha).
+/// Effects: shading, specular, range_culling, ambient_occlusion, ao_progressive (directions
+/// split over frames), ao_local_queries (AO rays answered from the grid's cells around the
+/// hit, SphereOcclusion.h), soft_shadows, translucency. A translucent render stops its rays
+/// at the view's opaque depth; an opaque one writes depth and leaves the depth test to the
+/// caller.
 void renderSpheres(const SphereScene& scene,
   const View& view,
   const SphereRenderParameters& params,

@@ -87,6 +87,8 @@ struct vtkCGTSphereMapper::Internals
   vtkMTimeType SelectedArrayTime = 0;
   vtkTimeStamp SelectedTime;
   std::vector<bool> SelectedMask;
+  // Progressive ambient occlusion: the directions accumulated per pixel so far.
+  raymappers::AoAccumulation AmbientOcclusion;
 };
 
 vtkCGTSphereMapper::vtkCGTSphereMapper()
@@ -205,6 +207,34 @@ void vtkCGTSphereMapper::SetUpShadowLight(const vtkRayMapperRenderHelpers::Model
 vtkRayMapperStatistics* vtkCGTSphereMapper::GetStatistics()
 {
   return Impl->Core.GetStatistics();
+}
+
+bool vtkCGTSphereMapper::GetAmbientOcclusionConverged()
+{
+  vtkRayMapperStatistics* stats = Impl->Core.GetStatistics();
+  return stats->GetCounter("ao_converged") > 0 || stats->GetCounter("ao_rays") == 0;
+}
+
+std::uint64_t vtkCGTSphereMapper::SceneVersion(vtkActor* actor)
+{
+  // What the kernel cannot compare itself (it compares the camera, the shading and the
+  // range filter): the spheres and their colours, from the MTimes of the input, the mapper
+  // (its properties and lookup table), the actor and its property, the mapped colours and
+  // the highlighted points, and the accelerator builds. Mixed by FNV-1a.
+  const vtkMTimeType colorTime = this->Colors ? this->Colors->GetMTime() : 0;
+  const std::uint64_t parts[] = { this->GetInput() ? this->GetInput()->GetMTime() : 0,
+    this->GetMTime(),
+    actor->GetMTime(),
+    actor->GetProperty()->GetMTime(),
+    colorTime,
+    Impl->SelectedTime.GetMTime(),
+    static_cast<std::uint64_t>(Impl->Core.GetBuilds()) };
+  std::uint64_t h = 1469598103934665603ull;
+  for (const std::uint64_t part : parts)
+  {
+    h = (h ^ part) * 1099511628211ull;
+  }
+  return h;
 }
 
 void vtkCGTSphereMapper::ReleaseGraphicsResources(vtkWindow* win)
@@ -419,6 +449,9 @@ void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)
   params.packetSide = packetSide;
   params.tileSize = this->TileSize;
   params.opacity = actor->GetProperty()->GetOpacity();
+  params.aoSamplesPerFrame = this->AmbientOcclusionSamplesPerFrame;
+  params.aoAccumulation = &Impl->AmbientOcclusion;
+  params.sceneVersion = this->SceneVersion(actor);
   // Translucent spheres stop at the opaque depth and are blended over what is drawn.
   const bool translucent = raymappers::drawsTranslucent(Impl->Spheres, params);
   // 4. Trace, 5. show.
@@ -780,6 +813,8 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SimdInstructions: " << this->SimdInstructions << "\n";
   os << indent << "AmbientOcclusionSamples: " << this->AmbientOcclusionSamples << "\n";
   os << indent << "AmbientOcclusionRadius: " << this->AmbientOcclusionRadius << "\n";
+  os << indent << "AmbientOcclusionSamplesPerFrame: " << this->AmbientOcclusionSamplesPerFrame
+     << "\n";
   os << indent << "ShadowRays: " << this->ShadowRays << "\n";
   os << indent << "AutomaticShadowLight: " << this->AutomaticShadowLight << "\n";
   os << indent << "ShadowLightPosition: " << this->ShadowLightPosition[0] << " "

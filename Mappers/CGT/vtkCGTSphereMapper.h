@@ -64,7 +64,8 @@
 #include "vtkRayMapperParticleSizes.h" // for SphereRadiusPerSpacing
 #include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
 
-#include <memory> // for std::unique_ptr
+#include <cstdint> // for std::uint64_t
+#include <memory>  // for std::unique_ptr
 
 class vtkDataArray;
 class vtkPiecewiseFunction;
@@ -214,6 +215,35 @@ public:
 
   ///@{
   /**
+   * Progressive ambient occlusion: at most this many of the AmbientOcclusionSamples
+   * directions per visible point are traced in one render (0, the default: all of them in
+   * every render, as without accumulation; above AmbientOcclusionSamples: all in the first
+   * render; clamped to [0, 256] with one warning). While nothing that changes the image
+   * changes (camera, window size, lights, data, colours, any property of the mapper or
+   * actor), each render adds the next directions of the same fixed sequence and shades with
+   * the unoccluded share of all traced so far; once all are in, the image equals a one-shot
+   * render bit for bit, and further renders trace no occlusion ray (a plain frame's cost).
+   * Any change starts again from the first directions. Translucent spheres trace all
+   * directions in every render.
+   *
+   * A still camera is refined only by further renders: in a VTK pipeline, call the window's
+   * Render() until GetAmbientOcclusionConverged() is true; in pvpython, call Render() of the
+   * view in such a loop; the ParaView GUI renders on demand (an interaction, a property
+   * change) and does not render again by itself. The statistics count "ao_samples_done"
+   * (directions per point accumulated after the render) and "ao_converged". A window grab
+   * that renders again (vtkWindowToImageFilter with ShouldRerender on, as ParaView's
+   * screenshots) moves VTK's projection matrix in its last digits, a change that starts
+   * again: grab a converged window with ShouldRerenderOff.
+   */
+  vtkRayMapperSetClampMacro(AmbientOcclusionSamplesPerFrame, int, 0, 256);
+  vtkGetMacro(AmbientOcclusionSamplesPerFrame, int);
+  /** Whether the last render's ambient occlusion has all its directions (true when it is
+   * off, or nothing was rendered): further renders with the same view would not change it. */
+  bool GetAmbientOcclusionConverged();
+  ///@}
+
+  ///@{
+  /**
    * Soft shadows from a square area light (Gribble et al., section 4.3): ShadowRays x
    * ShadowRays shadow rays per visible point (0, the default, turns shadows off; 1 gives a
    * hard shadow; at most 16). When on, this light replaces the renderer's lights; the
@@ -331,6 +361,7 @@ protected:
   double ShadowLightSize = 1.0;
   double ShadowLightIntensity = 1.0;
   double AmbientOcclusionRadius = 0.0;
+  int AmbientOcclusionSamplesPerFrame = 0;
 
   int NumberOfThreads = 0;
   char* OpacityArray = nullptr;
@@ -363,6 +394,9 @@ private:
     const vtkRayMapperRenderHelpers::ModelTransform& model,
     raymappers::SphereShading& shading);
   void SetRangeFilter(raymappers::SphereAccelerator& accelerator);
+  /// A number that changes whenever the spheres or their colours may have (progressive
+  /// ambient occlusion starts again).
+  std::uint64_t SceneVersion(vtkActor* actor);
   void operator=(const vtkCGTSphereMapper&) = delete;
 
   /// One render, in the mapper's task arena (RenderPiece runs it there): an image, or in a

@@ -1,0 +1,322 @@
+// Progressive ambient occlusion (SphereRenderer.h, AoAccumulation): the frames of a still
+// view, each tracing the next directions of the same N per hit, end in the one-shot image
+// bit for bit; anything that changes the image starts the accumulation again; and the
+// grid's local occlusion queries (SphereOcclusion.h) answer as its packet traversal does.
+#include "CameraFixtures.h"
+#include "Mappers/CGT/CoherentGridAccelerator.h"
+#include "Mappers/CGT/EmbreeSphereAccelerator.h"
+#include "Mappers/CGT/SphereOcclusion.h"
+#include "Mappers/CGT/SphereRenderer.h"
+#include "Mappers/CGT/SphereSet.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <random>
+
+using namespace raymappers;
+using namespace raymappers::test;
+
+namespace
+{
+// Spheres packed closely (much of each visible point's hemisphere is blocked nearby), lit.
+struct OccludedScene
+{
+  SphereSet spheres;
+  CoherentGridAccelerator grid;
+  EmbreeSphereAccelerator bvh;
+  SphereShading shading;
+
+  explicit OccludedScene(int which)
+    : Which(which)
+  {
+    std::mt19937 rng(37);
+    std::uniform_real_distribution<double> u(-2.5, 2.5);
+    std::vector<Vec3d> p(400);
+    for (auto& q : p)
+    {
+      q = { u(rng), u(rng), u(rng) };
+    }
+    buildSphereSet(
+      p.size(),
+      Vec3d(0.25, -0.5, 0.125),
+      [&](std::size_t i) { return p[i]; },
+      [](std::size_t i) { return 0.3 + 0.1 * (i % 3); },
+      [](std::size_t i) { return packRGBA8(i % 256, (7 * i) % 256, (13 * i) % 256, 255); },
+      spheres);
+    if (which == 0)
+    {
+      grid.build(spheres, CoherentGridParameters{});
+    }
+    else
+    {
+      bvh.build(spheres);
+    }
+    shading.lights.push_back(Light{});
+    shading.material.ambient = 0.2;
+    shading.material.specular = 0.3;
+    shading.material.specularPower = 12;
+    shading.aoSamples = 16;
+    shading.aoRadius = 1.0;
+  }
+  const SphereAccelerator& accel() const
+  {
+    return Which == 0 ? static_cast<const SphereAccelerator&>(grid) : bvh;
+  }
+  const char* name() const { return Which == 0 ? "grid" : "embree"; }
+
+private:
+  int Which;
+};
+
+RayCamera cameraAt(const Vec3d& eye, const Vec3d& origin, int w = 64, int h = 48)
+{
+  return RayCamera(
+    multiply(perspective(40, double(w) / h, 0.5, 200), lookAt(eye, { 0, 0, 0 }, { 0, 1, 0 })),
+    w,
+    h,
+    origin);
+}
+
+// One frame of the scene with accumulation `acc` (nullptr: none) and budget `budget`.
+void renderFrame(const OccludedScene& s,
+  const RayCamera& cam,
+  const SphereShading& shading,
+  int budget,
+  AoAccumulation* acc,
+  Frame& f,
+  RenderStatistics& stats,
+  std::uint64_t version = 0)
+{
+  SphereRenderParameters params{ shading, 8, 16 };
+  params.aoSamplesPerFrame = budget;
+  params.aoAccumulation = acc;
+  params.sceneVersion = version;
+  stats.clear();
+  renderSpheres({ s.spheres, s.accel() }, viewOf(cam), params, f, stats);
+}
+
+Frame oneShot(const OccludedScene& s, const RayCamera& cam, const SphereShading& shading)
+{
+  Frame f;
+  RenderStatistics stats;
+  renderFrame(s, cam, shading, 0, nullptr, f, stats);
+  EXPECT_EQ(stats.counter("ao_samples_done"), shading.aoSamples);
+  EXPECT_EQ(stats.counter("ao_converged"), 1);
+  EXPECT_FALSE(stats.effect("ao_progressive"));
+  return f;
+}
+
+// Renders frames with budget b until converged (at most N + 1), checking the counters of
+// each: k1 = min(N, f b) after frame f, converged only at the end; returns the frames taken.
+int accumulate(const OccludedScene& s,
+  const RayCamera& cam,
+  const SphereShading& shading,
+  int budget,
+  AoAccumulation& acc,
+  Frame& f,
+  std::uint64_t version = 0)
+{
+  const int n = shading.aoSamples;
+  const int step = std::min(budget, n);
+  int frames = 0;
+  for (RenderStatistics stats; frames <= n;)
+  {
+    renderFrame(s, cam, shading, budget, &acc, f, stats, version);
+    ++frames;
+    const int expected = std::min(n, frames * step);
+    EXPECT_TRUE(stats.effect("ao_progressive"));
+    EXPECT_EQ(stats.counter("ao_samples_done"), expected) << "frame " << frames;
+    EXPECT_EQ(stats.counter("ao_rays"), (expected - (frames - 1) * step) * stats.counter("hits"));
+    EXPECT_EQ(stats.counter("ao_converged"), expected == n ? 1 : 0);
+    if (expected == n)
+    {
+      break;
+    }
+  }
+  return frames;
+}
+}
+
+TEST(ProgressiveOcclusion, FramesOfAStillViewEndInTheOneShotImage)
+{
+  for (int which = 0; which < 2; ++which)
+  {
+    const OccludedScene s(which);
+    const RayCamera cam = cameraAt({ 1, 2, 9 }, s.spheres.origin);
+    const Frame reference = oneShot(s, cam, s.shading);
+    for (const int budget : { 1, 3, 16 })
+    {
+      AoAccumulation acc;
+      Frame f;
+      const int frames = accumulate(s, cam, s.shading, budget, acc, f);
+      EXPECT_EQ(frames, (16 + budget - 1) / budget) << s.name() << " budget " << budget;
+      EXPECT_EQ(f.rgba, reference.rgba) << s.name() << " budget " << budget;
+      EXPECT_EQ(f.depth, reference.depth) << s.name() << " budget " << budget;
+      // A converged view is drawn again from the counts: no ray, the same bytes.
+      RenderStatistics stats;
+      renderFrame(s, cam, s.shading, budget, &acc, f, stats);
+      EXPECT_EQ(stats.counter("ao_rays"), 0);
+      EXPECT_EQ(stats.counter("ao_converged"), 1);
+      EXPECT_EQ(f.rgba, reference.rgba) << s.name() << " budget " << budget << " again";
+    }
+  }
+}
+
+TEST(ProgressiveOcclusion, AFrameShadesWithTheShareOfTheDirectionsSoFar)
+{
+  // After the first frame of budget 4, a pixel's colour is its unoccluded colour (AO off)
+  // times 1 - (occluded among directions 0..3 of 16) / 4, directions counted here with the
+  // accelerator itself.
+  const OccludedScene s(0);
+  const RayCamera cam = cameraAt({ 1, 2, 9 }, s.spheres.origin);
+  SphereShading plainShading = s.shading;
+  plainShading.aoSamples = 0;
+  const Frame plain = oneShot(s, cam, plainShading);
+  AoAccumulation acc;
+  Frame f;
+  RenderStatistics stats;
+  renderFrame(s, cam, s.shading, 4, &acc, f, stats);
+  ASSERT_EQ(acc.unoccluded.size(), static_cast<std::size_t>(cam.width() * cam.height()));
+  int partial = 0;
+  for (std::size_t k = 0; k < acc.unoccluded.size(); ++k)
+  {
+    if (plain.rgba[4 * k + 3] == 0.f || plain.rgba[4 * k] >= 1.f)
+    {
+      continue; // no sphere, or a colour clamped to 1 (the share scales it unclamped)
+    }
+    const int u = acc.unoccluded[k];
+    ASSERT_LE(u, 4);
+    partial += u > 0 && u < 4 ? 1 : 0;
+    const double share = 1.0 - static_cast<double>(4 - u) / 4;
+    EXPECT_NEAR(f.rgba[4 * k], plain.rgba[4 * k] * share, 1e-6) << k;
+  }
+  EXPECT_GT(partial, 50); // the scene is occluded enough for partial shares to show
+}
+
+TEST(ProgressiveOcclusion, ChangesStartAgain)
+{
+  const OccludedScene s(0);
+  const RayCamera cam = cameraAt({ 1, 2, 9 }, s.spheres.origin);
+  const RayCamera moved = cameraAt({ 1.5, 2, 9 }, s.spheres.origin);
+  const RayCamera larger = cameraAt({ 1, 2, 9 }, s.spheres.origin, 80, 60);
+  SphereShading relit = s.shading;
+  relit.lights[0].direction = normalize(Vec3d(0.3, -0.2, -1));
+  SphereShading nearer = s.shading;
+  nearer.aoRadius = 0.5;
+  struct Change
+  {
+    const char* what;
+    const RayCamera& cam;
+    const SphereShading& shading;
+    std::uint64_t version;
+  };
+  for (const Change& c : { Change{ "camera", moved, s.shading, 0 },
+         Change{ "window size", larger, s.shading, 0 },
+         Change{ "light", cam, relit, 0 },
+         Change{ "radius", cam, nearer, 0 },
+         Change{ "scene version", cam, s.shading, 1 } })
+  {
+    AoAccumulation acc;
+    Frame f;
+    RenderStatistics stats;
+    for (int frame = 0; frame < 2; ++frame)
+    {
+      renderFrame(s, cam, s.shading, 3, &acc, f, stats);
+    }
+    ASSERT_EQ(stats.counter("ao_samples_done"), 6);
+    // The changed frame traces directions 0..2 again, and its accumulation ends in the
+    // changed view's one-shot image.
+    renderFrame(s, c.cam, c.shading, 3, &acc, f, stats, c.version);
+    EXPECT_EQ(stats.counter("ao_samples_done"), 3) << c.what;
+    acc.reset();
+    accumulate(s, c.cam, c.shading, 3, acc, f, c.version);
+    EXPECT_EQ(f.rgba, oneShot(s, c.cam, c.shading).rgba) << c.what;
+  }
+}
+
+TEST(ProgressiveOcclusion, BudgetAboveTheSamplesIsAllOfThem)
+{
+  const OccludedScene s(1);
+  const RayCamera cam = cameraAt({ 1, 2, 9 }, s.spheres.origin);
+  AoAccumulation acc;
+  Frame f;
+  RenderStatistics stats;
+  renderFrame(s, cam, s.shading, 1000, &acc, f, stats);
+  EXPECT_EQ(stats.counter("ao_samples_done"), 16);
+  EXPECT_EQ(stats.counter("ao_rays"), 16 * stats.counter("hits"));
+  EXPECT_EQ(stats.counter("ao_converged"), 1);
+  EXPECT_EQ(f.rgba, oneShot(s, cam, s.shading).rgba);
+}
+
+TEST(ProgressiveOcclusion, TranslucentSpheresTraceAllDirectionsEveryFrame)
+{
+  const OccludedScene s(0);
+  const RayCamera cam = cameraAt({ 1, 2, 9 }, s.spheres.origin);
+  SphereRenderParameters params{ s.shading, 8, 16 };
+  params.opacity = 0.5;
+  Frame reference;
+  RenderStatistics stats;
+  renderSpheres({ s.spheres, s.accel() }, viewOf(cam), params, reference, stats);
+  AoAccumulation acc;
+  params.aoSamplesPerFrame = 2;
+  params.aoAccumulation = &acc;
+  Frame f;
+  stats.clear();
+  renderSpheres({ s.spheres, s.accel() }, viewOf(cam), params, f, stats);
+  EXPECT_FALSE(stats.effect("ao_progressive"));
+  EXPECT_EQ(stats.counter("ao_samples_done"), 16);
+  EXPECT_EQ(stats.counter("ao_converged"), 1);
+  EXPECT_EQ(f.rgba, reference.rgba);
+}
+
+TEST(SphereOcclusion, GridQueriesAnswerAsTheGridTraversal)
+{
+  // Random short rays from random points among the spheres: blocked exactly when the grid's
+  // closest-hit traversal finds a hit, with and without a range filter.
+  const OccludedScene s(0);
+  const SphereOcclusion occlusion(s.spheres, s.grid);
+  ASSERT_TRUE(occlusion.local());
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-3.f, 3.f), len(0.05f, 2.f);
+  int blockedRays = 0, rays = 0;
+  for (int round = 0; round < 2; ++round)
+  {
+    RangeFilter filter;
+    if (round == 1)
+    {
+      filter.count = 0; // the spheres have no attributes: the filter is the empty one
+    }
+    const_cast<CoherentGridAccelerator&>(s.grid).setRangeFilter(filter);
+    for (int q = 0; q < 400; ++q)
+    {
+      RayPacket packet;
+      packet.side = 4;
+      packet.pixelBlock = false;
+      const Vec3f o(u(rng), u(rng), u(rng));
+      const float tfar = len(rng);
+      const int count = 1 + q % 16;
+      for (int a = 0; a < 16; ++a)
+      {
+        packet.valid[a] = a < count;
+        packet.rays[a] = Ray{ o, normalize(Vec3f(u(rng), u(rng), u(rng))), 0.f, tfar };
+      }
+      PacketHits hits;
+      TraversalCounters counters;
+      s.grid.intersect(packet, hits, counters);
+      bool blocked[MaxPacketRays];
+      const int n = occlusion.occluded(packet, count, blocked, counters);
+      int expected = 0;
+      for (int a = 0; a < count; ++a)
+      {
+        EXPECT_EQ(blocked[a], hits.prim[a] != NoHit) << q << " lane " << a;
+        expected += hits.prim[a] != NoHit ? 1 : 0;
+      }
+      EXPECT_EQ(n, expected);
+      blockedRays += expected;
+      rays += count;
+    }
+  }
+  EXPECT_GT(blockedRays, rays / 10);
+  EXPECT_LT(blockedRays, rays);
+}
