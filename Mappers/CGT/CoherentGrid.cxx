@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 namespace raymappers
@@ -205,6 +206,173 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   // per million spheres and cost 36 bytes per sphere of resident memory).
   permute(spheres, placeInCells(countPerCell(spheres)));
   buildMacrocells(spheres);
+  nestCrowdedCells(spheres, params);
+}
+
+const NestedCell* CoherentGrid::nestedCell(std::size_t macro, std::int64_t cell) const
+{
+  if (!MacroNested[macro])
+  {
+    return nullptr;
+  }
+  const auto it = std::lower_bound(Nested.begin(),
+    Nested.end(),
+    cell,
+    [](const NestedCell& n, std::int64_t c) { return n.cell < c; });
+  return it != Nested.end() && it->cell == cell ? &*it : nullptr;
+}
+
+namespace
+{
+// The subcells per side of a crowded cell of side h with `count` spheres: about lambda
+// spheres' worth of subcells each (as the top level), never subcells smaller than half the
+// cell's largest radius (the top level's rule), at most 64 per side.
+int nestedSide(std::uint32_t count, double lambda, double h, float maxRadius)
+{
+  int m = static_cast<int>(std::lround(std::cbrt(lambda * static_cast<double>(count))));
+  if (maxRadius > 0)
+  {
+    m = std::min(m, static_cast<int>(h / (0.5 * static_cast<double>(maxRadius))));
+  }
+  return std::min(m, 64);
+}
+
+// Reorders spheres [begin, begin + n) by a gather: new sphere begin + i is old sphere
+// begin + from[i].
+void gatherRange(SphereSet& spheres, std::uint32_t begin, const std::vector<std::uint32_t>& from)
+{
+  const std::size_t n = from.size();
+  const int na = spheres.numAttributes;
+  auto reorder = [&](auto& values, std::size_t width)
+  {
+    using T = typename std::decay_t<decltype(values)>::value_type;
+    std::vector<T> copy(values.begin() + begin * width, values.begin() + (begin + n) * width);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      for (std::size_t w = 0; w < width; ++w)
+      {
+        values[(begin + i) * width + w] = copy[from[i] * width + w];
+      }
+    }
+  };
+  reorder(spheres.centers, 1);
+  reorder(spheres.radii, 1);
+  reorder(spheres.colors, 1);
+  reorder(spheres.sourceIds, 1);
+  if (!spheres.opacities.empty())
+  {
+    reorder(spheres.opacities, 1);
+  }
+  if (na > 0)
+  {
+    reorder(spheres.attributes, static_cast<std::size_t>(na));
+  }
+}
+}
+
+void CoherentGrid::nestCrowdedCells(SphereSet& spheres, const CoherentGridParameters& params)
+{
+  MacroNested.assign(MacroCount.size(), 0);
+  Nested = crowdedCells(spheres, params);
+  std::size_t total = 0;
+  for (NestedCell& n : Nested)
+  {
+    n.offsets = static_cast<std::uint32_t>(total);
+    total += static_cast<std::size_t>(n.m) * n.m * n.m + 1;
+  }
+  NestedStart.assign(total, 0u);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, Nested.size(), 1),
+    [&](const tbb::blocked_range<std::size_t>& range)
+    {
+      for (std::size_t q = range.begin(); q != range.end(); ++q)
+      {
+        sortIntoSubcells(spheres, Nested[q]);
+      }
+    });
+}
+
+std::vector<NestedCell> CoherentGrid::crowdedCells(const SphereSet& spheres,
+  const CoherentGridParameters& params)
+{
+  std::vector<NestedCell> crowded;
+  const std::uint32_t threshold = params.nestThreshold;
+  const double lambda = params.lambda > 0 && std::isfinite(params.lambda) ? params.lambda : 1.0;
+  // In cell order; only a macrocell holding more than the threshold can have one.
+  for (std::size_t macro = 0; threshold > 0 && macro < MacroCount.size(); ++macro)
+  {
+    if (MacroCount[macro] <= threshold)
+    {
+      continue;
+    }
+    const int mi = static_cast<int>(macro % MacroDims[0]);
+    const int mj = static_cast<int>((macro / MacroDims[0]) % MacroDims[1]);
+    const int mk = static_cast<int>(macro / MacroDims[0] / MacroDims[1]);
+    for (int k = mk * MacroSize; k < std::min(Dims[2], (mk + 1) * MacroSize); ++k)
+      for (int j = mj * MacroSize; j < std::min(Dims[1], (mj + 1) * MacroSize); ++j)
+        for (int i = mi * MacroSize; i < std::min(Dims[0], (mi + 1) * MacroSize); ++i)
+        {
+          const std::int64_t c = cellIndex(i, j, k);
+          const std::uint32_t count = cellEnd(c) - cellBegin(c);
+          if (count <= threshold)
+          {
+            continue;
+          }
+          float rMax = 0.f;
+          for (std::uint32_t id = cellBegin(c); id < cellEnd(c); ++id)
+          {
+            rMax = std::max(rMax, spheres.radii[id]);
+          }
+          const int m = nestedSide(count, lambda, CellSize, rMax);
+          if (m >= 2)
+          {
+            crowded.push_back({ c, m, rMax, 0 });
+            MacroNested[macro] = 1;
+          }
+        }
+  }
+  std::sort(crowded.begin(),
+    crowded.end(),
+    [](const NestedCell& a, const NestedCell& b) { return a.cell < b.cell; });
+  return crowded;
+}
+
+void CoherentGrid::sortIntoSubcells(SphereSet& spheres, const NestedCell& n)
+{
+  const std::int64_t c = n.cell;
+  const std::array<int, 3> ijk{ static_cast<int>(c % Dims[0]),
+    static_cast<int>((c / Dims[0]) % Dims[1]),
+    static_cast<int>(c / Dims[0] / Dims[1]) };
+  const std::uint32_t begin = cellBegin(c), end = cellEnd(c);
+  const int m = n.m;
+  const std::size_t subcells = static_cast<std::size_t>(m) * m * m;
+  std::uint32_t* start = NestedStart.data() + n.offsets;
+  // The subcell of each sphere: the traversal's grid coordinate (p - lower) / h, its
+  // fraction inside the cell in subcells; then a counting sort in input order (stable).
+  std::vector<std::uint32_t> sub(end - begin);
+  for (std::uint32_t id = begin; id < end; ++id)
+  {
+    int a[3];
+    for (int axis = 0; axis < 3; ++axis)
+    {
+      const float g = (spheres.centers[id][axis] - Lower[axis]) * InvCellSize;
+      const float f = (g - static_cast<float>(ijk[axis])) * static_cast<float>(m);
+      a[axis] = std::clamp(static_cast<int>(std::floor(f)), 0, m - 1);
+    }
+    sub[id - begin] = static_cast<std::uint32_t>((a[2] * m + a[1]) * m + a[0]);
+    ++start[sub[id - begin] + 1];
+  }
+  start[0] = begin;
+  for (std::size_t i = 0; i < subcells; ++i)
+  {
+    start[i + 1] += start[i];
+  }
+  std::vector<std::uint32_t> cursor(start, start + subcells);
+  std::vector<std::uint32_t> from(end - begin);
+  for (std::uint32_t i = 0; i < end - begin; ++i)
+  {
+    from[cursor[sub[i]]++ - begin] = i;
+  }
+  gatherRange(spheres, begin, from);
 }
 
 std::vector<std::uint32_t> CoherentGrid::countPerCell(const SphereSet& spheres)

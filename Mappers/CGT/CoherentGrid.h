@@ -4,8 +4,8 @@
 // no mailboxes. The finest level has about lambda * N cubic cells (never smaller than half
 // the largest radius, where crowded spheres would make them tiny); a second level of
 // macrocells (M x M x M cells each) records which blocks are empty, their largest radius,
-// and the extrema of each sphere attribute inside them, so traversal skips empty blocks and blocks whose spheres
-// all fail a parameter range (section 4.3).
+// and the extrema of each sphere attribute inside them, so traversal skips empty blocks and blocks
+// whose spheres all fail a parameter range (section 4.3).
 //
 // The build sorts the spheres into cell order with a parallel counting sort that keeps the
 // input order inside a cell (the same result for any number of threads): cell c
@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace raymappers
@@ -29,6 +30,20 @@ struct CoherentGridParameters
   double lambda = 1.0;                           // cells per sphere (the paper's finding: 1)
   int macrocellSize = 6;                         // cells per macrocell side (the paper's 6)
   std::int64_t maxCells = std::int64_t(1) << 27; // memory guard
+  /// Cells holding more spheres than this get a nested grid of their own (0: never).
+  std::uint32_t nestThreshold = 64;
+};
+
+/// A cell refined into m x m x m subcells of side h / m (clustered data: the cells of a
+/// dense core hold far more than 1 / lambda spheres). Its spheres stay in the cell's range,
+/// ordered by subcell: subcell (a, b, c) holds [start[i], start[i + 1]), i = (c m + b) m + a,
+/// start = the grid's nested offsets from `offsets`.
+struct NestedCell
+{
+  std::int64_t cell;     // the parent cell's index
+  int m;                 // subcells per side
+  float maxRadius;       // the cell's largest radius
+  std::uint32_t offsets; // index of its m^3 + 1 offsets in CoherentGrid's nested offsets
 };
 
 class CoherentGrid
@@ -67,6 +82,19 @@ public:
     return filter.overlaps(&MacroMin[m * NumAttributes], &MacroMax[m * NumAttributes]);
   }
 
+  /// The nested grid of cell `cell` of macrocell `macro`, or nullptr when it has none.
+  const NestedCell* nestedCell(std::size_t macro, std::int64_t cell) const;
+  /// The spheres [first, second) of subcell (a, b, c) of nested cell n.
+  std::pair<std::uint32_t, std::uint32_t> nestedRange(const NestedCell& n,
+    int a,
+    int b,
+    int c) const
+  {
+    const std::size_t i = n.offsets + (static_cast<std::size_t>(c) * n.m + b) * n.m + a;
+    return { NestedStart[i], NestedStart[i + 1] };
+  }
+  std::size_t nestedCellCount() const { return Nested.size(); }
+
   /// Cell of a point (origin-relative), clamped to the grid.
   std::array<int, 3> cellOf(const Vec3f& p) const;
 
@@ -74,7 +102,9 @@ public:
   std::size_t memoryBytes() const
   {
     return CellStart.size() * sizeof(std::uint32_t) + MacroCount.size() * sizeof(std::uint32_t) +
-           (MacroMaxRadius.size() + MacroMin.size() + MacroMax.size()) * sizeof(float);
+           (MacroMaxRadius.size() + MacroMin.size() + MacroMax.size()) * sizeof(float) +
+           MacroNested.size() + Nested.size() * sizeof(NestedCell) +
+           NestedStart.size() * sizeof(std::uint32_t);
   }
 
 private:
@@ -84,6 +114,12 @@ private:
   std::vector<std::uint32_t> countPerCell(const SphereSet& spheres);
   std::vector<std::uint32_t> placeInCells(const std::vector<std::uint32_t>& cellOfSphere) const;
   void buildMacrocells(const SphereSet& spheres);
+  // The nested grids of the crowded cells, after the placement: each one's spheres are
+  // ordered by subcell (a stable counting sort inside the cell's range).
+  void nestCrowdedCells(SphereSet& spheres, const CoherentGridParameters& params);
+  std::vector<NestedCell> crowdedCells(const SphereSet& spheres,
+    const CoherentGridParameters& params);
+  void sortIntoSubcells(SphereSet& spheres, const NestedCell& n);
 
   std::array<int, 3> Dims{ 0, 0, 0 };
   std::array<int, 3> MacroDims{ 0, 0, 0 };
@@ -98,6 +134,9 @@ private:
   std::vector<float> MacroMaxRadius;     // largest radius per macrocell
   int NumAttributes = 0;
   std::vector<float> MacroMin, MacroMax; // per macrocell and attribute
+  std::vector<std::uint8_t> MacroNested; // whether a macrocell has nested cells
+  std::vector<NestedCell> Nested;        // sorted by cell
+  std::vector<std::uint32_t> NestedStart;
 };
 
 } // namespace raymappers

@@ -257,24 +257,29 @@ inline PacketExtents packetExtents(const Lane* L, int active, const Axes& ax, fl
   return e;
 }
 
-// The U and V (cell units) that the packet's rays take over slices s0..s1 (s0 <= s1): the
-// extents at the range's two faces (a linear bound takes its extrema there), widened by a
-// margin for the rounding of the lerp.
+// The U and V (cell units) that the packet's rays take for K in [k0, k1] (slices s0..s1,
+// s0 <= s1: [s0, s1 + 1]): the extents at the range's two faces (a linear bound takes its extrema
+// there), widened by a margin for the rounding of the lerp.
 struct SliceBounds
 {
   float uMin, uMax, vMin, vMax;
 };
 
-inline SliceBounds sliceBounds(const PacketExtents& e, int s0, int s1)
+inline SliceBounds boundsBetween(const PacketExtents& e, float k0, float k1)
 {
-  const float t0 = (static_cast<float>(s0) - e.kA) / (e.kB - e.kA);
-  const float t1 = (static_cast<float>(s1 + 1) - e.kA) / (e.kB - e.kA);
+  const float t0 = (k0 - e.kA) / (e.kB - e.kA);
+  const float t1 = (k1 - e.kA) / (e.kB - e.kA);
   auto at = [](const float* f, float t) { return f[0] + t * (f[1] - f[0]); };
   const float margin = 1e-3f;
   return { std::min(at(e.uMin, t0), at(e.uMin, t1)) - margin,
     std::max(at(e.uMax, t0), at(e.uMax, t1)) + margin,
     std::min(at(e.vMin, t0), at(e.vMin, t1)) - margin,
     std::max(at(e.vMax, t0), at(e.vMax, t1)) + margin };
+}
+
+inline SliceBounds sliceBounds(const PacketExtents& e, int s0, int s1)
+{
+  return boundsBetween(e, static_cast<float>(s0), static_cast<float>(s1 + 1));
 }
 
 // The cells whose spheres of radius up to r (cell units) rays within `b` can reach: b grown
@@ -365,6 +370,91 @@ void testSpheres(const SphereSet& spheres,
   }
 }
 
+// Whether every active ray's hit lies before K = face (ascending; after it descending) by
+// more than r (cell units): no sphere whose centre lies beyond the face can come nearer.
+inline bool settledBefore(const Lane* L,
+  const RayLanes& R,
+  int active,
+  bool ascending,
+  float face,
+  float r,
+  int K)
+{
+  for (int i = 0; i < active; ++i)
+  {
+    const float kHit = L[i].o[K] + R.tBest[i] * L[i].dk;
+    if (R.prim[i] == NoHit || (ascending ? kHit > face - r : kHit < face + r))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// The spheres of a nested cell (cell c, in slice c[K]) against the packet: the traversal one
+// level down, its m sub-slices in the direction of travel, in each the subcells the rays
+// reach with the cell's own largest radius (the U and V bounds of the sub-slice's K-range,
+// in subcells from the cell's corner, grown by the sphere-center shift); it stops when every
+// ray's hit lies before the next sub-slice minus that radius.
+template<typename Lanes>
+void visitNested(const CoherentGrid& grid,
+  const NestedCell& n,
+  const int* c,
+  const Axes& ax,
+  const PacketExtents& extents,
+  const SlopeFactors& slope,
+  bool ascending,
+  const SphereSet& spheres,
+  const RangeFilter& filter,
+  bool ranged,
+  const Frustum& frustum,
+  const Lane* L,
+  RayLanes& R,
+  int active,
+  TraversalCounters& counters)
+{
+  const int m = n.m;
+  const float fm = static_cast<float>(m);
+  const float rCell = n.maxRadius * grid.inverseCellSize(); // cell units
+  const float rSub = rCell * fm;                            // subcell units
+  const std::array<int, 3> subDims{ m, m, m };
+  for (int step = 0; step < m; ++step)
+  {
+    const int ks = ascending ? step : m - 1 - step;
+    const float k0 = static_cast<float>(c[ax.K]) + static_cast<float>(ks) / fm;
+    const float k1 = static_cast<float>(c[ax.K]) + static_cast<float>(ks + 1) / fm;
+    const SliceBounds cellUnits = boundsBetween(extents, k0, k1);
+    const SliceBounds b{ (cellUnits.uMin - static_cast<float>(c[ax.U])) * fm,
+      (cellUnits.uMax - static_cast<float>(c[ax.U])) * fm,
+      (cellUnits.vMin - static_cast<float>(c[ax.V])) * fm,
+      (cellUnits.vMax - static_cast<float>(c[ax.V])) * fm };
+    const CellRect rect = reachableCells(b, rSub, slope, ax, subDims);
+    const std::int64_t testsBefore = counters.sphereTests;
+    for (int v = rect.v0; v <= rect.v1; ++v)
+    {
+      for (int u = rect.u0; u <= rect.u1; ++u)
+      {
+        int a[3];
+        a[ax.K] = ks;
+        a[ax.U] = u;
+        a[ax.V] = v;
+        const auto [begin, end] = grid.nestedRange(n, a[0], a[1], a[2]);
+        if (begin == end)
+        {
+          continue;
+        }
+        ++counters.cells;
+        testSpheres<Lanes>(spheres, filter, ranged, frustum, begin, end, R, active, counters);
+      }
+    }
+    if (counters.sphereTests != testsBefore &&
+        settledBefore(L, R, active, ascending, ascending ? k1 : k0, rCell, ax.K))
+    {
+      return;
+    }
+  }
+}
+
 // The cells of slice s within `rect` (the reach of the grid's r_max), by macrocells (section
 // 4.2): an empty macrocell is skipped, and so is one whose attribute extrema miss the
 // parameter ranges (section 4.3); in the others, the cells within the reach of the
@@ -377,15 +467,18 @@ void visitSlice(const CoherentGrid& grid,
   const RangeFilter& filter,
   int s,
   const Axes& ax,
-  const SliceBounds& bounds,
+  const PacketExtents& extents,
   const SlopeFactors& slope,
   const CellRect& rect,
+  bool ascending,
   bool ranged,
   const Frustum& frustum,
+  const Lane* L,
   RayLanes& R,
   int active,
   TraversalCounters& counters)
 {
+  const SliceBounds bounds = sliceBounds(extents, s, s);
   const int M = grid.macrocellSize();
   for (int mv = rect.v0 / M; mv <= rect.v1 / M && rect.u0 <= rect.u1; ++mv)
   {
@@ -419,6 +512,25 @@ void visitSlice(const CoherentGrid& grid,
           const std::uint32_t begin = grid.cellBegin(cell), end = grid.cellEnd(cell);
           if (begin == end)
           {
+            continue;
+          }
+          if (const NestedCell* nested = grid.nestedCell(macro, cell))
+          {
+            visitNested<Lanes>(grid,
+              *nested,
+              c,
+              ax,
+              extents,
+              slope,
+              ascending,
+              spheres,
+              filter,
+              ranged,
+              frustum,
+              L,
+              R,
+              active,
+              counters);
             continue;
           }
           ++counters.cells;
@@ -625,17 +737,18 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
     {
       occupiedLayer = layer;
       const std::int64_t testsBefore = counters.sphereTests;
-      const SliceBounds bounds = sliceBounds(extents, s, s);
       visitSlice<Lanes>(Grid,
         spheres,
         Filter,
         s,
         ax,
-        bounds,
+        extents,
         slope,
-        reachableCells(bounds, rG, slope, ax, dims),
+        reachableCells(sliceBounds(extents, s, s), rG, slope, ax, dims),
+        ascending,
         ranged,
         frustum,
+        L,
         R,
         active,
         counters);

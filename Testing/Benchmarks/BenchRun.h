@@ -32,6 +32,7 @@ struct Options
   double radius = 0;             // --radius: a constant particle radius; 0: from the data
   double h = 0;                  // --h: a constant SPH smoothing length; 0: from the data
   double zoom = 1;               // --zoom: the spheres' camera this many times closer
+  std::vector<double> focus;     // --focus X,Y,Z: the spheres' camera looks there (empty: centre)
   bool references = true;        // --no-reference: only the methods --only picks (spheres)
 };
 

@@ -110,12 +110,13 @@ std::vector<Row> RunSpheres(const Options& opt)
               << ", color " << (colors && colors->GetName() ? colors->GetName() : "none") << "\n";
 
     // One view for all methods: the data seen from a corner, filling the image (--zoom: the
-    // camera that many times closer, looking at the centre).
+    // camera that many times closer, looking at the centre or at --focus).
     auto view = [&](vtkCamera* cam)
     {
       double b[6];
       cloud->GetBounds(b);
-      const double c[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+      double c[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
+      std::copy(opt.focus.begin(), opt.focus.end(), c);
       const double diag = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
                                     (b[5] - b[4]) * (b[5] - b[4]));
       cam->SetFocalPoint(c);

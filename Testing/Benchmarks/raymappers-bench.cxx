@@ -13,9 +13,9 @@
 // usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] [--csv FILE]
 //                               [--images DIR] [--generated DIR] [--only TEXT ...]
 //                               [--threads N] [--array NAME] [--radius R] [--h H]
-//                               [--zoom Z] [--no-reference]
+//                               [--zoom Z] [--focus X,Y,Z] [--no-reference]
 // --zoom (spheres) moves the camera Z times closer to the data's centre (a close-up of a
-// cluster's core). --no-reference (spheres) runs only the methods --only picks, without the
+// cluster's core); --focus X,Y,Z looks at that point instead of the centre. --no-reference (spheres) runs only the methods --only picks, without the
 // reference images (no rmse): one method per process, for its peak resident memory.
 // --only runs just the methods whose ":method:setting" contains TEXT (and the references);
 // a leading ':' anchors TEXT at the method's name.
@@ -53,6 +53,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 
 using namespace bench;
@@ -70,7 +71,7 @@ int Usage()
 {
   std::cerr << "usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] "
                "[--csv FILE] [--images DIR] [--generated DIR] [--only METHOD:SETTING ...] "
-               "[--threads N] [--array NAME] [--radius R] [--h H] [--zoom Z] [--no-reference]\n"
+               "[--threads N] [--array NAME] [--radius R] [--h H] [--zoom Z] [--focus X,Y,Z] [--no-reference]\n"
                "--array: the point array to colour or sample by (default: chosen by name)\n"
                "--radius, --h: a constant particle radius, SPH smoothing length (default: "
                "the data's size array, else a multiple of the particle spacing)\n"
@@ -152,6 +153,17 @@ int main(int argc, char* argv[])
     else if (a == "--no-reference")
     {
       opt.references = false;
+    }
+    else if (a == "--focus")
+    {
+      std::istringstream in(next());
+      opt.focus.assign(3, 0.0);
+      char comma = ',';
+      if (!(in >> opt.focus[0] >> comma >> opt.focus[1] >> comma >> opt.focus[2]))
+      {
+        std::cerr << "--focus takes X,Y,Z\n";
+        return 2;
+      }
     }
     else if (a == "--zoom")
     {

@@ -536,6 +536,43 @@ TEST(CoherentGridHardCases, SingleFarOutlier)
   EXPECT_GT(expectBruteForce(s, cam, renderGrid(s, cam, 8).frame, "outlier"), 64 * 64 / 10);
 }
 
+TEST(CoherentGridHardCases, NestedCellWithANearerSphereBehindItsFrontLayer)
+{
+  // A crowded cell (a closed sheet of small spheres inside a sparse frame of eight) is nested;
+  // bigger spheres centred just behind the sheet bulge in front of it. A ray that hits the
+  // sheet first in its sub-slice must still find the bigger sphere of a later sub-slice: the
+  // nested walk may stop only once hits lie before the next sub-slice minus the cell's
+  // largest radius.
+  std::vector<Vec3d> p;
+  std::vector<double> r;
+  for (int i = 0; i < 8; ++i)
+  {
+    p.push_back({ i & 1 ? 5.0 : -5.0, i & 2 ? 5.0 : -5.0, i & 4 ? 5.0 : -5.0 });
+    r.push_back(0.01);
+  }
+  for (int j = 0; j < 50; ++j)
+    for (int i = 0; i < 50; ++i)
+    {
+      p.push_back({ 0.01 + 0.02 * i, 0.01 + 0.02 * j, 0.5 });
+      r.push_back(0.015); // overlapping: the sheet is closed
+    }
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 5; ++i)
+    {
+      p.push_back({ 0.1 + 0.2 * i, 0.1 + 0.2 * j, 0.42 }); // front surface at 0.52
+      r.push_back(0.1);
+    }
+  SphereSet s = makeSet(p, r, { 0.5, 0.5, 0.5 });
+  {
+    SphereSet copy = s;
+    CoherentGridAccelerator grid;
+    grid.build(copy, CoherentGridParameters{});
+    EXPECT_GT(grid.grid().nestedCellCount(), 0u);
+  }
+  const RayCamera cam = perspectiveCamera({ 0.5, 0.5, 2.5 }, { 0.5, 0.5, 0.5 }, s.origin, 96, 96);
+  EXPECT_GT(expectBruteForce(s, cam, renderGrid(s, cam, 8).frame, "sheet"), 96 * 96 / 10);
+}
+
 namespace
 {
 // The closest hits of every pixel's ray of `cam`, traced in side x side blocks of pixels.
