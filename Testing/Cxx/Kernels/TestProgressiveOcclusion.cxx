@@ -13,6 +13,7 @@
 
 #include <memory>
 #include <random>
+#include <string>
 
 using namespace raymappers;
 using namespace raymappers::test;
@@ -140,25 +141,33 @@ int accumulate(const OccludedScene& s,
 
 TEST(ProgressiveOcclusion, FramesOfAStillViewEndInTheOneShotImage)
 {
+  // N = 16 and N = 7 (a share k / 7 is not exact in binary), budgets 1, 3 (16 = 5 x 3 + 1,
+  // 7 = 2 x 3 + 1: a short last frame) and N.
   for (int which = 0; which < 2; ++which)
   {
-    const OccludedScene s(which);
+    OccludedScene s(which);
     const RayCamera cam = cameraAt({ 1, 2, 9 }, s.spheres.origin);
-    const Frame reference = oneShot(s, cam, s.shading);
-    for (const int budget : { 1, 3, 16 })
+    for (const int n : { 16, 7 })
     {
-      AoAccumulation acc;
-      Frame f;
-      const int frames = accumulate(s, cam, s.shading, budget, acc, f);
-      EXPECT_EQ(frames, (16 + budget - 1) / budget) << s.name() << " budget " << budget;
-      EXPECT_EQ(f.rgba, reference.rgba) << s.name() << " budget " << budget;
-      EXPECT_EQ(f.depth, reference.depth) << s.name() << " budget " << budget;
-      // A converged view is drawn again from the counts: no ray, the same bytes.
-      RenderStatistics stats;
-      renderFrame(s, cam, s.shading, budget, &acc, f, stats);
-      EXPECT_EQ(stats.counter("ao_rays"), 0);
-      EXPECT_EQ(stats.counter("ao_converged"), 1);
-      EXPECT_EQ(f.rgba, reference.rgba) << s.name() << " budget " << budget << " again";
+      s.shading.aoSamples = n;
+      const Frame reference = oneShot(s, cam, s.shading);
+      for (const int budget : { 1, 3, n })
+      {
+        AoAccumulation acc;
+        Frame f;
+        const int frames = accumulate(s, cam, s.shading, budget, acc, f);
+        const std::string what =
+          std::string(s.name()) + " N " + std::to_string(n) + " budget " + std::to_string(budget);
+        EXPECT_EQ(frames, (n + budget - 1) / budget) << what;
+        EXPECT_EQ(f.rgba, reference.rgba) << what;
+        EXPECT_EQ(f.depth, reference.depth) << what;
+        // A converged view is drawn again from the counts: no ray, the same bytes.
+        RenderStatistics stats;
+        renderFrame(s, cam, s.shading, budget, &acc, f, stats);
+        EXPECT_EQ(stats.counter("ao_rays"), 0) << what;
+        EXPECT_EQ(stats.counter("ao_converged"), 1) << what;
+        EXPECT_EQ(f.rgba, reference.rgba) << what << " again";
+      }
     }
   }
 }

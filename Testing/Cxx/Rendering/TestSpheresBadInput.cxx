@@ -335,24 +335,54 @@ void Properties(Viewer& v, const RGBImage& expected)
   m->SetTileSize(32);
   m->SetPacketSize(8);
   // Clamped values that do: the picture of the bound.
-  rmtest::CheckClampCases(log, render,
-    { { "Lambda", [&](double x) { m->SetLambda(x); }, -5, 0.01,
+  rmtest::CheckClampCases(log,
+    render,
+    { { "Lambda",
+        [&](double x) { m->SetLambda(x); },
+        -5,
+        0.01,
         "Lambda -5 is outside [0.01, 100]: clamped to 0.01" },
-      { "RadiusScale", [&](double x) { m->SetRadiusScale(x); }, -1, 0,
-        "RadiusScale -1 is outside [0, 1e+15]: clamped to 0", 1,
+      { "RadiusScale",
+        [&](double x) { m->SetRadiusScale(x); },
+        -1,
+        0,
+        "RadiusScale -1 is outside [0, 1e+15]: clamped to 0",
+        1,
         "27 spheres have a zero, negative, non-finite or huge" },
-      { "RadiusScale", [&](double x) { m->SetRadiusScale(x); }, 1e300, 1e15,
+      { "RadiusScale",
+        [&](double x) { m->SetRadiusScale(x); },
+        1e300,
+        1e15,
         "RadiusScale 1e+300 is outside [0, 1e+15]: clamped to 1e+15" },
       { "AmbientOcclusionRadius",
         [&](double x) { m->SetAmbientOcclusionSamples(4), m->SetAmbientOcclusionRadius(x); },
-        1e300, 1e15, "AmbientOcclusionRadius 1e+300 is outside" },
+        1e300,
+        1e15,
+        "AmbientOcclusionRadius 1e+300 is outside" },
       { "ShadowLightIntensity",
-        [&](double x) {
-          m->SetShadowRays(2), m->AutomaticShadowLightOff(), m->SetShadowLightIntensity(x);
-        },
-        1e300, 1e15, "ShadowLightIntensity 1e+300 is outside" },
-      { "ShadowLightPosition", [&](double x) { m->SetShadowLightPosition(x, 3, 5); }, -1e300,
-        -1e15, "ShadowLightPosition has components outside" } });
+        [&](double x)
+        { m->SetShadowRays(2), m->AutomaticShadowLightOff(), m->SetShadowLightIntensity(x); },
+        1e300,
+        1e15,
+        "ShadowLightIntensity 1e+300 is outside" },
+      { "ShadowLightPosition",
+        [&](double x) { m->SetShadowLightPosition(x, 3, 5); },
+        -1e300,
+        -1e15,
+        "ShadowLightPosition has components outside" },
+      { "AmbientOcclusionSamplesPerFrame",
+        [&](double x)
+        { m->SetAmbientOcclusionSamples(4), m->SetAmbientOcclusionSamplesPerFrame(int(x)); },
+        -3,
+        0,
+        "AmbientOcclusionSamplesPerFrame -3 is outside [0, 256]: clamped to 0" },
+      { "AmbientOcclusionSamplesPerFrame",
+        [&](double x)
+        { m->SetAmbientOcclusionSamples(4), m->SetAmbientOcclusionSamplesPerFrame(int(x)); },
+        2e9,
+        256,
+        "AmbientOcclusionSamplesPerFrame 2000000000 is outside [0, 256]: clamped to 256" } });
+  m->SetAmbientOcclusionSamplesPerFrame(0);
   m->SetLambda(1);
   m->SetRadiusScale(1);
   m->SetAmbientOcclusionSamples(0);
