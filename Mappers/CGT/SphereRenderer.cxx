@@ -73,26 +73,38 @@ Vec3d shadowTarget(const SphereShading& shading, int a, int b, std::uint32_t pix
   return shading.lightCenter + shading.lightEdgeU * (u - 0.5) + shading.lightEdgeV * (v - 0.5);
 }
 
-Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel)
+AoBasis aoBasis(const Vec3d& n, std::uint32_t pixel)
 {
-  double shift0, shift1;
-  pixelShift(pixel, shift0, shift1);
+  AoBasis basis;
+  pixelShift(pixel, basis.shift0, basis.shift1);
+  const Vec3d a = std::fabs(n.x) > 0.9 ? Vec3d(0, 1, 0) : Vec3d(1, 0, 0);
+  basis.t = normalize(cross(a, n));
+  basis.b = cross(n, basis.t);
+  basis.n = n;
+  return basis;
+}
+
+Vec3d aoDirectionIn(const AoBasis& basis, int k, int count)
+{
   std::uint32_t bits = static_cast<std::uint32_t>(k);
   bits = (bits << 16) | (bits >> 16);
   bits = ((bits & 0x55555555u) << 1) | ((bits & 0xAAAAAAAAu) >> 1);
   bits = ((bits & 0x33333333u) << 2) | ((bits & 0xCCCCCCCCu) >> 2);
   bits = ((bits & 0x0F0F0F0Fu) << 4) | ((bits & 0xF0F0F0F0u) >> 4);
   bits = ((bits & 0x00FF00FFu) << 8) | ((bits & 0xFF00FF00u) >> 8);
-  double u = (k + 0.5) / count + shift0;
-  double v = bits * (1.0 / 4294967296.0) + shift1;
+  double u = (k + 0.5) / count + basis.shift0;
+  double v = bits * (1.0 / 4294967296.0) + basis.shift1;
   u -= std::floor(u);
   v -= std::floor(v);
   // Cosine-weighted: radius sqrt(u) on the unit disc lifted to the hemisphere.
   const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
-  const Vec3d a = std::fabs(n.x) > 0.9 ? Vec3d(0, 1, 0) : Vec3d(1, 0, 0);
-  const Vec3d t = normalize(cross(a, n));
-  const Vec3d b = cross(n, t);
-  return normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(1.0 - u));
+  return normalize(
+    basis.t * (r * std::cos(phi)) + basis.b * (r * std::sin(phi)) + basis.n * std::sqrt(1.0 - u));
+}
+
+Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel)
+{
+  return aoDirectionIn(aoBasis(n, pixel), k, count);
 }
 
 namespace
@@ -262,13 +274,13 @@ double unoccluded(const SphereFrame& f,
   RayPacket& packet = secondary.ao;
   const Vec3f start(sp.pRel + sp.n * (1e-4 * sp.r));
   const auto radius = static_cast<float>(f.shading.aoRadius);
+  const AoBasis basis = aoBasis(sp.n, pixel);
   for (int a = 0; a < packet.side * packet.side; ++a)
   {
     packet.valid[a] = a < count;
     if (a < count)
     {
-      packet.rays[a] =
-        Ray{ start, Vec3f(aoDirection(sp.n, k0 + a, f.aoSamples, pixel)), 0.f, radius };
+      packet.rays[a] = Ray{ start, Vec3f(aoDirectionIn(basis, k0 + a, f.aoSamples)), 0.f, radius };
     }
   }
   bool blocked[MaxPacketRays];

@@ -64,6 +64,17 @@ Vec3d shadowTarget(const SphereShading& shading, int a, int b, std::uint32_t pix
 /// occlusion of a hit is the fraction of these rays that meet a sphere within the radius.
 Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel);
 
+/// What the directions of one hit share: the pixel's shift and the tangent frame (t, b, n)
+/// of its normal. aoDirection(n, k, count, pixel) is aoDirectionIn(aoBasis(n, pixel), k,
+/// count), the same arithmetic: a hit's rays compute the basis once.
+struct AoBasis
+{
+  double shift0, shift1;
+  Vec3d t, b, n;
+};
+AoBasis aoBasis(const Vec3d& n, std::uint32_t pixel);
+Vec3d aoDirectionIn(const AoBasis& basis, int k, int count);
+
 /// What the spheres' renderer draws: the spheres and an accelerator built over them.
 struct SphereScene
 {

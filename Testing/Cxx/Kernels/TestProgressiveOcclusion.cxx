@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <memory>
 #include <random>
 #include <string>
@@ -328,4 +330,49 @@ TEST(SphereOcclusion, GridQueriesAnswerAsTheGridTraversal)
   }
   EXPECT_GT(blockedRays, rays / 10);
   EXPECT_LT(blockedRays, rays);
+}
+
+TEST(AoDirection, ABasisForAHitGivesTheSameBitsAsTheDirectFormula)
+{
+  // The directions as one formula per ray (radical inverse, shift, tangent frame, lift), the
+  // form the renderer had before the basis was hoisted out of the loop over a hit's rays.
+  const auto direct = [](const Vec3d& n, int k, int count, std::uint32_t pixel)
+  {
+    std::uint32_t h = pixel * 0x9E3779B1u;
+    h ^= h >> 16;
+    h *= 0x85EBCA6Bu;
+    h ^= h >> 13;
+    const double shift0 = (h & 0xFFFF) / 65536.0, shift1 = (h >> 16) / 65536.0;
+    std::uint32_t bits = 0;
+    for (int i = 0; i < 32; ++i)
+    {
+      bits |= ((static_cast<std::uint32_t>(k) >> i) & 1u) << (31 - i);
+    }
+    double u = (k + 0.5) / count + shift0;
+    double v = bits * (1.0 / 4294967296.0) + shift1;
+    u -= std::floor(u);
+    v -= std::floor(v);
+    const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
+    const Vec3d a = std::fabs(n.x) > 0.9 ? Vec3d(0, 1, 0) : Vec3d(1, 0, 0);
+    const Vec3d t = normalize(cross(a, n));
+    const Vec3d b = cross(n, t);
+    return normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(1.0 - u));
+  };
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int q = 0; q < 2000; ++q)
+  {
+    const Vec3d n = normalize(Vec3d(u(rng), u(rng), u(rng)));
+    const auto pixel = static_cast<std::uint32_t>(rng());
+    const int count = 1 + q % 256;
+    const AoBasis basis = aoBasis(n, pixel);
+    for (int k = 0; k < count; k += 1 + count / 8)
+    {
+      const Vec3d d = direct(n, k, count, pixel);
+      const Vec3d e = aoDirectionIn(basis, k, count);
+      ASSERT_TRUE(d.x == e.x && d.y == e.y && d.z == e.z) << q << " k " << k;
+      const Vec3d g = aoDirection(n, k, count, pixel);
+      ASSERT_TRUE(d.x == g.x && d.y == g.y && d.z == g.z) << q << " k " << k;
+    }
+  }
 }
