@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace vtkRayMapperPointArrays
 {
@@ -59,12 +60,13 @@ vtkDataArray* FindScaleArray(vtkObject* self,
   {
     if (constant > 0.0)
     {
-      vtkWarningWithObjectMacro(self, << why << "; using the constant " << role << " " << constant << ".");
+      vtkWarningWithObjectMacro(
+        self, << why << "; using the constant " << role << " " << constant << ".");
     }
     else
     {
-      vtkWarningWithObjectMacro(self, << why << "; using the automatic " << role
-                                      << " (from the particles' spacing).");
+      vtkWarningWithObjectMacro(
+        self, << why << "; using the automatic " << role << " (from the particles' spacing).");
     }
   }
   return array;
@@ -154,6 +156,37 @@ std::array<double, 3> FiniteCenter(vtkPoints* points)
     return { 0.0, 0.0, 0.0 };
   }
   return { 0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]) };
+}
+
+std::array<double, 3> MedianCenter(vtkPoints* points)
+{
+  const TupleReader reader(points->GetData());
+  const auto n = static_cast<std::size_t>(points->GetNumberOfPoints());
+  const std::size_t stride = std::max<std::size_t>(1, n / 65536);
+  std::vector<double> axis[3];
+  for (std::size_t i = 0; i < n; i += stride)
+  {
+    const double p[3] = { reader.get(i, 0), reader.get(i, 1), reader.get(i, 2) };
+    if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        axis[c].push_back(p[c]);
+      }
+    }
+  }
+  if (axis[0].empty())
+  {
+    return FiniteCenter(points); // (a sample without finite points; finite ones may exist)
+  }
+  std::array<double, 3> median;
+  for (int c = 0; c < 3; ++c)
+  {
+    auto mid = axis[c].begin() + static_cast<std::ptrdiff_t>(axis[c].size() / 2);
+    std::nth_element(axis[c].begin(), mid, axis[c].end());
+    median[c] = *mid;
+  }
+  return median;
 }
 
 } // namespace vtkRayMapperPointArrays

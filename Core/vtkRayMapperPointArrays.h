@@ -62,6 +62,13 @@ RAYMAPPERSCORE_EXPORT vtkDataArray* FindScaleArray(vtkObject* self,
 /// (0, 0, 0) when there is none.
 RAYMAPPERSCORE_EXPORT std::array<double, 3> FiniteCenter(vtkPoints* points);
 
+/// The per-axis median of the finite points (of an even sample of at most 65,536 of them):
+/// an origin for float coordinates that stays with the bulk of the data when a few points
+/// lie far away (a single far outlier moves the bounds' centre off the data, and every
+/// coordinate near the data then loses the outlier's distance in float precision);
+/// (0, 0, 0) when there is none.
+RAYMAPPERSCORE_EXPORT std::array<double, 3> MedianCenter(vtkPoints* points);
+
 /// The bounds of the finite points of `data` (uninitialized when there is none): VTK's own
 /// bounds include an infinite coordinate (only NaN is left out), and infinite bounds give
 /// the renderer's Reset Camera and clipping range NaN matrices. VTK's cached bounds when

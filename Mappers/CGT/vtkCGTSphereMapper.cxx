@@ -579,7 +579,7 @@ void vtkCGTSphereMapper::BuildSpheres(vtkPolyData* input, const SphereColors& co
   const vtkRayMapperPointArrays::TupleReader radiusReader(radii);
   raymappers::buildSphereSet(
     static_cast<std::size_t>(input->GetNumberOfPoints()),
-    raymappers::Vec3d(vtkRayMapperPointArrays::FiniteCenter(points)),
+    raymappers::Vec3d(vtkRayMapperPointArrays::MedianCenter(points)),
     [&](std::size_t i) {
       return raymappers::Vec3d(pointReader.get(i, 0), pointReader.get(i, 1), pointReader.get(i, 2));
     },
