@@ -230,10 +230,11 @@ public:
    * Render() until GetAmbientOcclusionConverged() is true; in pvpython, call Render() of the
    * view in such a loop; the ParaView GUI renders on demand (an interaction, a property
    * change) and does not render again by itself. The statistics count "ao_samples_done"
-   * (directions per point accumulated after the render) and "ao_converged". A window grab
-   * that renders again (vtkWindowToImageFilter with ShouldRerender on, as ParaView's
-   * screenshots) moves VTK's projection matrix in its last digits, a change that starts
-   * again: grab a converged window with ShouldRerenderOff.
+   * (directions per point accumulated after the render) and "ao_converged". A
+   * vtkWindowToImageFilter with ShouldRerender on renders with a projection matrix that
+   * differs in its last digits (3e-8 relative, seen at 1024^2), a change that starts again:
+   * grab a converged window with ShouldRerenderOff. ParaView's SaveScreenshot keeps the
+   * accumulation (Testing/Python/TestRayTracedSpheresRepresentation.py).
    */
   vtkRayMapperSetClampMacro(AmbientOcclusionSamplesPerFrame, int, 0, 256);
   vtkGetMacro(AmbientOcclusionSamplesPerFrame, int);

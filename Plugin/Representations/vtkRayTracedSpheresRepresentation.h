@@ -79,6 +79,7 @@ public:
   void SetMacrocellSize(int cells);
   void SetAmbientOcclusionSamples(int samples);
   void SetAmbientOcclusionRadius(double radius);
+  void SetAmbientOcclusionSamplesPerFrame(int samples);
   void SetShadowRays(int side);
   void SetAutomaticShadowLight(bool automatic);
   void SetShadowLightPosition(double x, double y, double z);

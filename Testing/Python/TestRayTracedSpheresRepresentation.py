@@ -112,6 +112,14 @@ def mean_foreground_color(png):
     return pixels[mask].mean(axis=0) if mask.any() else pixels[0] * 0
 
 
+def png_pixels(png):
+    """The pixels of a PNG as an array."""
+    reader = vtkPNGReader()
+    reader.SetFileName(png)
+    reader.Update()
+    return vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).copy()
+
+
 def glyph_reference(source, view, radius_array, radius_scale, path, size):
     """ParaView's own sphere glyphs (tessellated spheres, same radii and camera): the
     reference for where the ray-traced spheres must be."""
@@ -373,6 +381,22 @@ def run_checks(args, source, view, stem):
     check(mean_level(occluded) < 0.97 * mean_level(plain),
           'ambient occlusion darkens the spheres (%.1f < %.1f)'
           % (mean_level(occluded), mean_level(plain)))
+    # Progressive: 5 of the 16 rays per render. Four renders of the still view give 5, 10,
+    # 15, 16 rays, and the screenshot after them (which renders again, and would restart the
+    # rays if it moved the camera) is the one-shot picture. Seen failing with no render
+    # before the screenshot (its own renders reach 10 rays), passing from two on.
+    rep.AmbientOcclusionSamplesPerFrame = 5
+    for _ in range(4):
+        Render(view)
+    progressive = stem + '-ao-16-progressive.png'
+    screenshot(view, progressive, args.size)
+    same = (png_pixels(progressive) == png_pixels(occluded)).all()
+    check(same, 'progressive occlusion: renders of a still view end in the one-shot picture')
+    rep.AmbientOcclusionSamplesPerFrame = 16
+    screenshot(view, progressive, args.size)
+    check((png_pixels(progressive) == png_pixels(occluded)).all(),
+          'progressive occlusion: a budget of all 16 rays is the one-shot picture')
+    rep.AmbientOcclusionSamplesPerFrame = 0
     rep.AmbientOcclusionSamples = 0
 
     # Soft shadows from the automatic area light darken parts of the spheres too.
