@@ -113,46 +113,41 @@ std::int64_t cellCount(const std::array<int, 3>& dims)
   return static_cast<std::int64_t>(dims[0]) * dims[1] * static_cast<std::int64_t>(dims[2]);
 }
 
-// Permutes the spheres into cell order, sphere i becoming input sphere perm[i], by gathering
-// into new arrays that are swapped with the spheres' (the old ones are freed).
-void permute(SphereSet& spheres, const std::vector<std::uint32_t>& perm)
+// Gathers values (width per sphere) into the order perm, sphere i taking input sphere
+// perm[i]'s, through a new array that replaces the old one (freed).
+template<typename T>
+void gather(std::vector<T>& values, const std::vector<std::uint32_t>& perm, std::size_t width)
 {
-  const std::size_t n = spheres.size();
-  SphereSet sorted;
-  const int na = spheres.numAttributes;
-  sorted.centers.resize(n);
-  sorted.radii.resize(n);
-  sorted.colors.resize(n);
-  sorted.sourceIds.resize(n);
-  sorted.attributes.resize(spheres.attributes.size());
-  sorted.opacities.resize(spheres.opacities.size());
-  const bool translucent = !spheres.opacities.empty();
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+  if (values.empty())
+  {
+    return;
+  }
+  std::vector<T> sorted(values.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, perm.size(), 4096),
     [&](const tbb::blocked_range<std::size_t>& range)
     {
       for (std::size_t i = range.begin(); i != range.end(); ++i)
       {
-        const std::uint32_t from = perm[i];
-        sorted.centers[i] = spheres.centers[from];
-        sorted.radii[i] = spheres.radii[from];
-        sorted.colors[i] = spheres.colors[from];
-        sorted.sourceIds[i] = spheres.sourceIds[from];
-        if (translucent)
+        const std::size_t from = perm[i];
+        for (std::size_t w = 0; w < width; ++w)
         {
-          sorted.opacities[i] = spheres.opacities[from];
-        }
-        for (int a = 0; a < na; ++a)
-        {
-          sorted.attributes[i * na + a] = spheres.attributes[from * na + a];
+          sorted[i * width + w] = values[from * width + w];
         }
       }
     });
-  spheres.centers.swap(sorted.centers);
-  spheres.radii.swap(sorted.radii);
-  spheres.colors.swap(sorted.colors);
-  spheres.sourceIds.swap(sorted.sourceIds);
-  spheres.attributes.swap(sorted.attributes);
-  spheres.opacities.swap(sorted.opacities);
+  values.swap(sorted);
+}
+
+// Permutes the spheres into cell order, sphere i becoming input sphere perm[i], one array at
+// a time: the build's peak holds one array twice, not the whole set.
+void permute(SphereSet& spheres, const std::vector<std::uint32_t>& perm)
+{
+  gather(spheres.centers, perm, 1);
+  gather(spheres.radii, perm, 1);
+  gather(spheres.colors, perm, 1);
+  gather(spheres.sourceIds, perm, 1);
+  gather(spheres.opacities, perm, 1);
+  gather(spheres.attributes, perm, static_cast<std::size_t>(spheres.numAttributes));
 }
 
 // Widens the extrema mn, mx of the macrocell by the attributes of spheres [begin, end) (NaN

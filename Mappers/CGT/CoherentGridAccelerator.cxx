@@ -331,23 +331,37 @@ inline bool macrocellsEmpty(const CoherentGrid& grid,
   return true;
 }
 
+// What a slice's visit needs of the packet's traversal: the spheres and their culling
+// (parameter ranges, the packet's frustum), the axes, the rays' U and V extents with the
+// sphere-center shift's slope factors and the direction along K, and the active rays.
+struct PacketWalk
+{
+  const SphereSet& spheres;
+  const RangeFilter& filter;
+  bool ranged;
+  const Frustum& frustum;
+  const Axes& ax;
+  const PacketExtents& extents;
+  const SlopeFactors& slope;
+  bool ascending;
+  const Lane* L;
+  RayLanes& R;
+  int active;
+  TraversalCounters& counters;
+};
+
 // The spheres of one cell against the packet (section 4.3): parameter-range culling, then
 // sphere/frustum culling (the centre farther than the radius outside a side plane), then
 // the ray-sphere test of every active ray in SIMD lanes.
 template<typename Lanes>
-void testSpheres(const SphereSet& spheres,
-  const RangeFilter& filter,
-  bool ranged,
-  const Frustum& frustum,
-  std::uint32_t begin,
-  std::uint32_t end,
-  RayLanes& R,
-  int active,
-  TraversalCounters& counters)
+void testSpheres(const PacketWalk& w, std::uint32_t begin, std::uint32_t end)
 {
+  const SphereSet& spheres = w.spheres;
+  const Frustum& frustum = w.frustum;
+  TraversalCounters& counters = w.counters;
   for (std::uint32_t id = begin; id < end; ++id)
   {
-    if (ranged && !filter.passes(spheres.attributesOf(id)))
+    if (w.ranged && !w.filter.passes(spheres.attributesOf(id)))
     {
       ++counters.rangeCulled;
       continue;
@@ -364,9 +378,9 @@ void testSpheres(const SphereSet& spheres,
       ++counters.culled;
       continue;
     }
-    counters.sphereTests += active;
+    counters.sphereTests += w.active;
     Lanes::intersect(
-      R, RayLanes::padded(active), center.x, center.y, center.z, radius * radius, id);
+      w.R, RayLanes::padded(w.active), center.x, center.y, center.z, radius * radius, id);
   }
 }
 
@@ -397,39 +411,26 @@ inline bool settledBefore(const Lane* L,
 // in subcells from the cell's corner, grown by the sphere-center shift); it stops when every
 // ray's hit lies before the next sub-slice minus that radius.
 template<typename Lanes>
-void visitNested(const CoherentGrid& grid,
-  const NestedCell& n,
-  const int* c,
-  const Axes& ax,
-  const PacketExtents& extents,
-  const SlopeFactors& slope,
-  bool ascending,
-  const SphereSet& spheres,
-  const RangeFilter& filter,
-  bool ranged,
-  const Frustum& frustum,
-  const Lane* L,
-  RayLanes& R,
-  int active,
-  TraversalCounters& counters)
+void visitNested(const CoherentGrid& grid, const PacketWalk& w, const NestedCell& n, const int* c)
 {
   const int m = n.m;
   const float fm = static_cast<float>(m);
   const float rCell = n.maxRadius * grid.inverseCellSize(); // cell units
   const float rSub = rCell * fm;                            // subcell units
   const std::array<int, 3> subDims{ m, m, m };
+  const Axes& ax = w.ax;
   for (int step = 0; step < m; ++step)
   {
-    const int ks = ascending ? step : m - 1 - step;
+    const int ks = w.ascending ? step : m - 1 - step;
     const float k0 = static_cast<float>(c[ax.K]) + static_cast<float>(ks) / fm;
     const float k1 = static_cast<float>(c[ax.K]) + static_cast<float>(ks + 1) / fm;
-    const SliceBounds cellUnits = boundsBetween(extents, k0, k1);
+    const SliceBounds cellUnits = boundsBetween(w.extents, k0, k1);
     const SliceBounds b{ (cellUnits.uMin - static_cast<float>(c[ax.U])) * fm,
       (cellUnits.uMax - static_cast<float>(c[ax.U])) * fm,
       (cellUnits.vMin - static_cast<float>(c[ax.V])) * fm,
       (cellUnits.vMax - static_cast<float>(c[ax.V])) * fm };
-    const CellRect rect = reachableCells(b, rSub, slope, ax, subDims);
-    const std::int64_t testsBefore = counters.sphereTests;
+    const CellRect rect = reachableCells(b, rSub, w.slope, ax, subDims);
+    const std::int64_t testsBefore = w.counters.sphereTests;
     for (int v = rect.v0; v <= rect.v1; ++v)
     {
       for (int u = rect.u0; u <= rect.u1; ++u)
@@ -443,12 +444,12 @@ void visitNested(const CoherentGrid& grid,
         {
           continue;
         }
-        ++counters.cells;
-        testSpheres<Lanes>(spheres, filter, ranged, frustum, begin, end, R, active, counters);
+        ++w.counters.cells;
+        testSpheres<Lanes>(w, begin, end);
       }
     }
-    if (counters.sphereTests != testsBefore &&
-        settledBefore(L, R, active, ascending, ascending ? k1 : k0, rCell, ax.K))
+    if (w.counters.sphereTests != testsBefore &&
+        settledBefore(w.L, w.R, w.active, w.ascending, w.ascending ? k1 : k0, rCell, ax.K))
     {
       return;
     }
@@ -462,23 +463,10 @@ void visitNested(const CoherentGrid& grid,
 // not searched as widely as the largest sphere needs), and the spheres of every non-empty
 // one are tested.
 template<typename Lanes>
-void visitSlice(const CoherentGrid& grid,
-  const SphereSet& spheres,
-  const RangeFilter& filter,
-  int s,
-  const Axes& ax,
-  const PacketExtents& extents,
-  const SlopeFactors& slope,
-  const CellRect& rect,
-  bool ascending,
-  bool ranged,
-  const Frustum& frustum,
-  const Lane* L,
-  RayLanes& R,
-  int active,
-  TraversalCounters& counters)
+void visitSlice(const CoherentGrid& grid, const PacketWalk& w, int s, const CellRect& rect)
 {
-  const SliceBounds bounds = sliceBounds(extents, s, s);
+  const SliceBounds bounds = sliceBounds(w.extents, s, s);
+  const Axes& ax = w.ax;
   const int M = grid.macrocellSize();
   for (int mv = rect.v0 / M; mv <= rect.v1 / M && rect.u0 <= rect.u1; ++mv)
   {
@@ -493,13 +481,13 @@ void visitSlice(const CoherentGrid& grid,
       {
         continue;
       }
-      if (ranged && !grid.macrocellInRange(macro, filter))
+      if (w.ranged && !grid.macrocellInRange(macro, w.filter))
       {
-        ++counters.rangeCulled;
+        ++w.counters.rangeCulled;
         continue;
       }
       const CellRect own = reachableCells(
-        bounds, grid.macrocellMaxRadius(macro) * grid.inverseCellSize(), slope, ax, grid.dims());
+        bounds, grid.macrocellMaxRadius(macro) * grid.inverseCellSize(), w.slope, ax, grid.dims());
       for (int v = std::max(own.v0, mv * M); v <= std::min(own.v1, mv * M + M - 1); ++v)
       {
         for (int u = std::max(own.u0, mu * M); u <= std::min(own.u1, mu * M + M - 1); ++u)
@@ -516,25 +504,11 @@ void visitSlice(const CoherentGrid& grid,
           }
           if (const NestedCell* nested = grid.nestedCell(macro, cell))
           {
-            visitNested<Lanes>(grid,
-              *nested,
-              c,
-              ax,
-              extents,
-              slope,
-              ascending,
-              spheres,
-              filter,
-              ranged,
-              frustum,
-              L,
-              R,
-              active,
-              counters);
+            visitNested<Lanes>(grid, w, *nested, c);
             continue;
           }
-          ++counters.cells;
-          testSpheres<Lanes>(spheres, filter, ranged, frustum, begin, end, R, active, counters);
+          ++w.counters.cells;
+          testSpheres<Lanes>(w, begin, end);
         }
       }
     }
@@ -737,21 +711,11 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
     {
       occupiedLayer = layer;
       const std::int64_t testsBefore = counters.sphereTests;
-      visitSlice<Lanes>(Grid,
-        spheres,
-        Filter,
-        s,
-        ax,
-        extents,
-        slope,
-        reachableCells(sliceBounds(extents, s, s), rG, slope, ax, dims),
-        ascending,
-        ranged,
-        frustum,
-        L,
-        R,
-        active,
-        counters);
+      const PacketWalk walk{
+        spheres, Filter, ranged, frustum, ax, extents, slope, ascending, L, R, active, counters
+      };
+      visitSlice<Lanes>(
+        Grid, walk, s, reachableCells(sliceBounds(extents, s, s), rG, slope, ax, dims));
       if (counters.sphereTests != testsBefore)
       {
         retirement = firstRetirement(L, R, active, ascending, rG, ax.K);
