@@ -199,7 +199,9 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   // The build's temporaries are freed when it ends: between builds the grid holds only its
   // offsets and macrocells (reusing them across time steps would save about a millisecond
   // per million spheres and cost 36 bytes per sphere of resident memory).
-  permute(spheres, placeInCells(countPerCell(spheres)));
+  // (each sphere's cell is freed before the permutation, which holds one array twice)
+  const std::vector<std::uint32_t> perm = placeInCells(countPerCell(spheres));
+  permute(spheres, perm);
   buildMacrocells(spheres);
   nestCrowdedCells(spheres, params);
 }
