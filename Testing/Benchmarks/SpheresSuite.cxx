@@ -220,16 +220,17 @@ std::vector<Row> RunSpheres(const Options& opt)
       oursBuildMs,
       touch,
       buildDetail });
-    // The mapper's defaults, read from a new one (today the grid, lambda 1, 8 x 8 packets),
-    // and the sweep behind them.
+    // The mapper's defaults, read from a new one (today the grid, lambda 1 with nested
+    // cells, 8 x 8 packets), and the sweeps behind them.
     vtkNew<vtkCGTSphereMapper> defaults;
+    const double lambda0 = defaults->GetLambda();
     methods.push_back({ "cgt",
       "default",
       oursWith(defaults->GetAccelerator(), defaults->GetLambda(), defaults->GetPacketSize()),
       oursBuildMs,
       touch,
       buildDetail });
-    for (const double lambda : { 0.25, 0.5, 2.0, 4.0 })
+    for (const double lambda : { 0.125, 0.25, 0.5, 2.0 })
     {
       std::ostringstream setting;
       setting << "lambda=" << lambda << ";packet=8";
@@ -243,8 +244,8 @@ std::vector<Row> RunSpheres(const Options& opt)
     for (const int packet : { 1, 2, 4, 16 })
     {
       methods.push_back({ "cgt",
-        "lambda=1;packet=" + std::to_string(packet),
-        oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, packet),
+        "packet=" + std::to_string(packet),
+        oursWith(VTK_CGT_ACCELERATOR_GRID, lambda0, packet),
         oursBuildMs,
         touch,
         buildDetail });
@@ -255,8 +256,8 @@ std::vector<Row> RunSpheres(const Options& opt)
            std::make_pair(VTK_CGT_SIMD_AVX512, "avx512") })
     {
       methods.push_back({ "cgt",
-        std::string("lambda=1;packet=8;simd=") + simd.second,
-        oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, 8, 1, 0, 0, simd.first),
+        std::string("simd=") + simd.second,
+        oursWith(VTK_CGT_ACCELERATOR_GRID, lambda0, 8, 1, 0, 0, simd.first),
         oursBuildMs,
         touch,
         buildDetail });
@@ -301,7 +302,7 @@ std::vector<Row> RunSpheres(const Options& opt)
       {
         methods.push_back({ "cgt",
           "ao=" + std::to_string(ao),
-          oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, 8, 1, ao),
+          oursWith(VTK_CGT_ACCELERATOR_GRID, lambda0, 8, 1, ao),
           oursBuildMs,
           touch,
           buildDetail });
@@ -315,7 +316,7 @@ std::vector<Row> RunSpheres(const Options& opt)
       {
         methods.push_back({ "cgt",
           "shadows=" + std::to_string(side) + "x" + std::to_string(side),
-          oursWith(VTK_CGT_ACCELERATOR_GRID, 1.0, 8, 1, 0, side),
+          oursWith(VTK_CGT_ACCELERATOR_GRID, lambda0, 8, 1, 0, side),
           oursBuildMs,
           touch,
           buildDetail });

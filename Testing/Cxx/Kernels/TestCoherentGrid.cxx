@@ -184,6 +184,7 @@ TEST(CoherentGrid, EverySphereInTheCellOfItsCentre)
   SphereSet s = makeSet(p, std::vector<double>(p.size(), 0.2), {});
   CoherentGrid grid;
   CoherentGridParameters params;
+  params.lambda = 1.0; // about one cell per sphere
   grid.build(s, params);
   const auto& d = grid.dims();
   const double cells = double(d[0]) * d[1] * d[2];
@@ -1203,7 +1204,9 @@ TEST(CoherentGridHardCases, RadiiOverSixDecades)
   {
     SphereSet s = makeSet(p, spread, centre);
     CoherentGrid grid;
-    grid.build(s, CoherentGridParameters{});
+    CoherentGridParameters params;
+    params.lambda = 1.0; // about one cell per sphere
+    grid.build(s, params);
     const auto& d = grid.dims();
     EXPECT_GT(double(d[0]) * d[1] * d[2], 0.5 * p.size());
     EXPECT_LT(double(d[0]) * d[1] * d[2], 2.5 * p.size());
@@ -1373,7 +1376,9 @@ TEST(CoherentGridHardCases, CrowdedSpheresSeenAlongTheDiagonal)
   const RayCamera cam = perspectiveCamera({ 2.2, 2.3, 2.1 }, centre, centre, 48, 48, 0.1, 20);
   SphereSet s = makeSet(p, std::vector<double>(p.size(), 0.1), centre);
   CoherentGrid grid;
-  grid.build(s, CoherentGridParameters{});
+  CoherentGridParameters params;
+  params.lambda = 1.0; // cells of side 0.0368 by lambda, so the floor decides
+  grid.build(s, params);
   EXPECT_FLOAT_EQ(grid.cellSize(), 0.05f); // at the floor: r_max spans two cells
   const std::vector<ReferenceHit> ref = exactHits(s, cam);
   std::vector<double> margin;
