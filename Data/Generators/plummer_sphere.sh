@@ -21,37 +21,18 @@ output=$1
 n=${2:-1000000}
 seed=${PLUMMER_SEED:-1}
 here=$(cd "$(dirname "$0")" && pwd)
+source "$here/sampler_common.sh"
 
-if [[ -e "$output" ]]; then
-  echo "$output exists, not regenerated"
-  exit 0
-fi
-[[ "$n" =~ ^[1-9][0-9]*$ ]] || { echo "N must be a positive integer" >&2; exit 2; }
-[[ "$seed" =~ ^[0-9]+$ ]] || { echo "PLUMMER_SEED must be a non-negative integer" >&2; exit 2; }
+sampler_start "$output" "$n" "$seed" PLUMMER_SEED
 numpy_version=$(/usr/bin/python3 -c 'import numpy; print(numpy.__version__)' 2>/dev/null) \
   || { echo "numpy not importable by /usr/bin/python3 (Debian package 'python3-numpy')" >&2; exit 1; }
 
-trap 'rm -f "$output.part"' EXIT
-
-cmd=(/usr/bin/python3 "$here/plummer_sphere.py" --n "$n" --seed "$seed")
-start=$(date +%s)
-# Write to a temporary name first so an interrupted run never leaves a
-# half-written file that the cache check above would accept.
-summary=$("${cmd[@]}" "$output.part")
-mv "$output.part" "$output"
-seconds=$(( $(date +%s) - start ))
-
-{
-  echo "file: $(basename "$output")"
-  echo "generator: Data/Generators/plummer_sphere.sh (sampler plummer_sphere.py)"
-  echo "python: $(/usr/bin/python3 -c 'import platform; print(platform.python_version())')"
-  echo "numpy: $numpy_version"
-  echo "debian package: python3-numpy $(dpkg-query -W -f='${Version}' python3-numpy 2>/dev/null || echo unknown)"
-  echo "command: ${cmd[*]} $(basename "$output")" | sed "s#$here/##g"
-  echo "date: $(date -u +%Y-%m-%dT%H:%M:%SZ)"
-  echo "host cores: $(nproc)"
-  echo "particles: $n, seed: $seed"
-  echo "sampled: $summary"
-  echo "wall time: ${seconds} s (sampling and writing)"
-} > "$output.provenance.txt"
+sampler_run /usr/bin/python3 "$here/plummer_sphere.py" --n "$n" --seed "$seed"
+sampler_provenance "Data/Generators/plummer_sphere.sh (sampler plummer_sphere.py)" \
+  "python: $(/usr/bin/python3 -c 'import platform; print(platform.python_version())')" \
+  "numpy: $numpy_version" \
+  "debian package: python3-numpy $(dpkg-query -W -f='${Version}' python3-numpy 2>/dev/null || echo unknown)" \
+  "particles: $n, seed: $seed" \
+  "sampled: $summary" \
+  "wall time covers: sampling and writing"
 echo "wrote $output ($n particles, ${seconds} s)"
