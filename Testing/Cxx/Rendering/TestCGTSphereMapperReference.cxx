@@ -3,8 +3,9 @@
 // the renderer's lights), in a real render window, on lysozyme (2LYZ.pdb, 1102 atoms, radii
 // 0.15 times the atomic number, coloured by it through a lookup table, specular 0.3): with
 // the mapper's defaults (the coherent grid, packets of 8 x 8, lambda 1), with Embree's BVH,
-// and with single-ray packets on a grid of lambda 3. The picture and the depth buffer are
-// compared; the depth only where both show a sphere.
+// and with single-ray packets on a grid of lambda 3; then the defaults with one more atom far
+// away (CheckFarOutlier). The picture and the depth buffer are compared; the depth only where
+// both show a sphere.
 //
 // Measured on this machine (200 x 200), the same with all three settings: rmse 0.0104 levels
 // of 255, max error 1, no pixel differing by more than 2 levels, no pixel covered by one and
@@ -19,9 +20,13 @@
 #include "vtkCGTSphereMapper.h"
 
 #include "vtkActor.h"
+#include "vtkCamera.h"
 #include "vtkDataArray.h"
 #include "vtkLookupTable.h"
 #include "vtkPDBReader.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
 #include "vtkProperty.h"
 #include "vtkTestUtilities.h"
 
@@ -51,6 +56,54 @@ void CompareDepth(vtkRenderWindow* win,
       worst = std::max(worst, std::fabs(z[p] - expected.depth[p]));
     }
   }
+}
+
+// The defaults again with one more atom 1e8 away, out of the picture (up the camera's view
+// up, the camera and clipping range kept): the picture must not change. With the float
+// origin at the bounds' centre, 5e7 from the protein, its coordinates would round to 4
+// units (the atoms' radii are 0.9 to 2.4) and it would be drawn wrongly; at the points'
+// median it stays exact, and the grid puts the whole protein into one nested cell.
+bool CheckFarOutlier(vtkPolyData* atoms,
+  vtkCGTSphereMapper* mapper,
+  vtkRenderer* ren,
+  vtkRenderWindow* win,
+  const raymappers::test::RGBImage& want,
+  const ref::ReferenceImage& expected,
+  const raymappers::test::ImageThresholds& bound)
+{
+  vtkNew<vtkPolyData> withOutlier;
+  withOutlier->DeepCopy(atoms);
+  double b[6], up[3];
+  atoms->GetBounds(b);
+  ren->GetActiveCamera()->GetViewUp(up);
+  const double far = 1e8;
+  withOutlier->GetPoints()->InsertNextPoint(0.5 * (b[0] + b[1]) + far * up[0],
+    0.5 * (b[2] + b[3]) + far * up[1],
+    0.5 * (b[4] + b[5]) + far * up[2]);
+  vtkDataArray* type = withOutlier->GetPointData()->GetArray("atom_type");
+  type->InsertNextTuple1(6);
+  mapper->SetInputData(withOutlier);
+  mapper->SetAcceleratorToCoherentGrid();
+  mapper->SetPacketSize(8);
+  mapper->SetLambda(1.0);
+  double range[2];
+  ren->GetActiveCamera()->GetClippingRange(range);
+  win->Render();
+  ren->GetActiveCamera()->SetClippingRange(range); // the protein's, not the outlier's
+  win->Render();
+  const auto d = raymappers::test::compareImages(raymappers::test::fromWindow(win), want, 2);
+  double depth;
+  int mismatch;
+  CompareDepth(win, expected, depth, mismatch);
+  const bool pass = raymappers::test::withinThresholds(d, bound) && depth <= 1e-6 && mismatch <= 5;
+  std::printf("%s defaults with an atom 1e8 away against the reference: %s; depth within "
+              "%.2e, coverage differs at %d pixels\n",
+    pass ? "ok  " : "FAIL",
+    raymappers::test::describe(d, bound).c_str(),
+    depth,
+    mismatch);
+  mapper->SetInputData(atoms);
+  return pass;
 }
 }
 
@@ -147,5 +200,6 @@ int TestCGTSphereMapperReference(int argc, char* argv[])
       mismatchBound);
     ok = ok && pass;
   }
+  ok = CheckFarOutlier(atoms, mapper, ren, win, want, expected, bound) && ok;
   return ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }
