@@ -3,7 +3,10 @@
 // rectangle of cells in U and V that any ray of the packet can reach is found from the
 // rays' extreme U and V coordinates at the slice's two faces, enlarged for the sphere-center
 // method by s = r_max sqrt(1 + dU^2) (section 4.1), and its cells are visited, skipping
-// empty macrocells. Each sphere of a visited cell is culled against the packet's frustum
+// empty macrocells (a layer of slices at once when every macrocell the packet reaches there is
+// empty), and within a macrocell only the cells its own largest radius can reach; a nested
+// cell (CoherentGrid: one crowded with spheres) is walked the same way one level down, its
+// sub-slices front to back. Each sphere of a visited cell is culled against the packet's frustum
 // (its centre farther than its radius outside one of the four side planes, section 4.3)
 // before the rays of the packet are tested against it. The walk stops once every ray's
 // closest hit lies before the next slice minus r_max: no later sphere can come nearer.

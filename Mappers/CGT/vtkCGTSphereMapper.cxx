@@ -741,6 +741,8 @@ bool vtkCGTSphereMapper::UpdateAccelerator(raymappers::RenderStatistics& stats)
     const auto& d = Impl->Grid.grid().dims();
     stats.addCounter("grid_cells", static_cast<std::int64_t>(d[0]) * d[1] * d[2]);
     stats.addCounter("grid_bytes", static_cast<std::int64_t>(Impl->Grid.grid().memoryBytes()));
+    stats.addCounter(
+      "grid_nested_cells", static_cast<std::int64_t>(Impl->Grid.grid().nestedCellCount()));
     Impl->Grid.setSimdPath(static_cast<raymappers::SimdPath>(this->SimdInstructions));
     const raymappers::SimdPath path = Impl->Grid.simdPath();
     stats.addCounter("simd_lanes",

@@ -62,7 +62,7 @@
 #include "RayMappersMappersModule.h" // for export macro
 #include "vtkPolyDataMapper.h"
 #include "vtkRayMapperParticleSizes.h" // for SphereRadiusPerSpacing
-#include "vtkRayMapperSetGet.h" // for vtkRayMapperSetClampMacro
+#include "vtkRayMapperSetGet.h"        // for vtkRayMapperSetClampMacro
 
 #include <cstdint> // for std::uint64_t
 #include <memory>  // for std::unique_ptr
@@ -186,7 +186,9 @@ public:
 
   ///@{
   /**
-   * Grid cells per sphere (the grid has about Lambda * N cubic cells). Default 1.
+   * Grid cells per sphere (the grid has about Lambda * N cubic cells; a cell crowded with
+   * more than 64 spheres, as clustered data has, is a nested grid of about Lambda subcells
+   * per sphere; counter "grid_nested_cells"). Default 1.
    */
   vtkRayMapperSetClampMacro(Lambda, double, 0.01, 100.0);
   vtkGetMacro(Lambda, double);
@@ -258,7 +260,10 @@ public:
   vtkSetMacro(AutomaticShadowLight, bool);
   vtkGetMacro(AutomaticShadowLight, bool);
   vtkBooleanMacro(AutomaticShadowLight, bool);
-  vtkRayMapperSetVector3ClampMacro(ShadowLightPosition, double, -VTK_RAYMAPPER_LENGTH_MAX, VTK_RAYMAPPER_LENGTH_MAX);
+  vtkRayMapperSetVector3ClampMacro(ShadowLightPosition,
+    double,
+    -VTK_RAYMAPPER_LENGTH_MAX,
+    VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetVector3Macro(ShadowLightPosition, double);
   vtkRayMapperSetClampMacro(ShadowLightSize, double, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
   vtkGetMacro(ShadowLightSize, double);
