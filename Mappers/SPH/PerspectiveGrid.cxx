@@ -85,53 +85,76 @@ DepthSpan projectParticles(const SPHParticles& particles,
     });
 }
 
-/// Perspective depth steps over [span.lo, span.hi] for cells of log-depth cellDepth holding S
-/// samples: uniform steps of the field step s_f from the front up to zeta* = s_f / (e^delta - 1),
-/// where the logarithmic step reaches s_f (whole cells), then logarithmic steps of delta =
-/// cellDepth / S (equation 3.5). Returns the extent in samples.
+/// Perspective depth steps reaching [span.lo, span.hi] for cells of log-depth cellDepth
+/// holding S samples: uniform steps of the field step s_f up to the break zeta_b, the first
+/// multiple of s_f at or beyond zeta* = s_f / (e^delta - 1) (where the logarithmic step
+/// reaches s_f), then logarithmic steps of delta = cellDepth / S (equation 3.5). The step
+/// boundaries lie on a lattice fixed by the view alone: the depths m s_f (m integer) before
+/// the break, zeta_b e^(k delta) beyond it (zeta_b = 1 without a field step); zeta_0 is the
+/// last boundary at or before span.lo. So two sets of particles seen by one camera (the
+/// regions of a distributed render) are sampled at the same depths. Returns the extent in
+/// samples. Beyond MaxDepthCells cells the steps lengthen, off the lattice.
 double logarithmicSteps(const DepthSpan& span,
   double fieldStep,
   double cellDepth,
   DepthSteps& steps)
 {
   const int S = steps.samplesPerCell;
-  double uniformDepth = 0.0;
+  steps.delta = cellDepth / S;
+  steps.zetaBreak = 1.0; // without a field step the log lattice is e^(n delta)
   if (fieldStep > 0)
   {
-    // Uniform steps of s_f up to where the logarithmic step reaches it (whole cells).
-    const double zStar = fieldStep / std::expm1(cellDepth / S);
-    uniformDepth = std::min(zStar, span.hi) - span.lo;
-    if (uniformDepth > 0)
+    const double mBreak = std::ceil(1.0 / std::expm1(steps.delta) - 1e-9);
+    steps.zetaBreak = mBreak * fieldStep;
+    if (span.lo < steps.zetaBreak)
     {
+      steps.firstStep = std::floor(span.lo / fieldStep);
       steps.uniformStep = fieldStep;
-      if (uniformDepth / (S * steps.uniformStep) > MaxDepthCells)
+      steps.uBreak = mBreak - steps.firstStep;
+      const double uniformDepth = std::min(steps.zetaBreak, span.hi) - steps.zeta(0);
+      if (uniformDepth / (S * fieldStep) > MaxDepthCells)
       {
+        // Off the lattice: longer steps from the front.
+        steps.zetaBase = steps.zeta(0);
+        steps.firstStep = 0;
         steps.uniformStep = uniformDepth / (S * MaxDepthCells);
+        steps.uBreak = static_cast<double>(S) * MaxDepthCells;
+        steps.zetaBreak = steps.zetaBase + steps.uBreak * steps.uniformStep;
       }
-      steps.uBreak = S * std::ceil(uniformDepth / (S * steps.uniformStep) - 1e-9);
     }
   }
-  const double logExtent =
-    span.hi > steps.zetaBreak() ? std::log(span.hi / steps.zetaBreak()) : 0.0;
+  if (steps.uniformStep == 0)
+  {
+    steps.firstLogStep = std::floor(std::log(span.lo / steps.zetaBreak) / steps.delta);
+  }
+  const double front = steps.zeta(steps.uBreak); // where the log part begins
+  const double logExtent = span.hi > front ? std::log(span.hi / front) : 0.0;
   if (logExtent / cellDepth > MaxDepthCells)
   {
-    cellDepth = logExtent / MaxDepthCells;
+    // Off the lattice: deeper cells from where the log part begins.
+    steps.zetaBreak = front;
+    steps.firstLogStep = 0;
+    steps.delta = logExtent / MaxDepthCells / S;
   }
-  steps.delta = cellDepth / S;
-  return steps.uBreak + logExtent / steps.delta;
+  return steps.coordinate(span.hi);
 }
 
 /// Parallel depth steps (section 3.4.1, "a fixed sampling rate"): uniform steps of the longer of
-/// cellDepth / S and the field step. Returns the extent in samples.
+/// cellDepth / S and the field step, their boundaries at its multiples (a lattice fixed by the
+/// view, as above). Returns the extent in samples.
 double uniformSteps(const DepthSpan& span, double fieldStep, double cellDepth, DepthSteps& steps)
 {
   const int S = steps.samplesPerCell;
   steps.delta = std::max(cellDepth / S, fieldStep);
-  if ((span.hi - span.lo) / (S * steps.delta) > MaxDepthCells)
+  steps.firstStep = std::floor(span.lo / steps.delta);
+  if ((span.hi - steps.zeta(0)) / (S * steps.delta) > MaxDepthCells)
   {
+    // Off the lattice: longer steps from the front.
+    steps.zetaBase = span.lo;
+    steps.firstStep = 0;
     steps.delta = (span.hi - span.lo) / (S * MaxDepthCells);
   }
-  return (span.hi - span.lo) / steps.delta;
+  return steps.coordinate(span.hi);
 }
 
 /// The depth steps (section 3.3, equations 3.2 to 3.9): S = ceil(tileSize lambda / stepFactor)
@@ -147,9 +170,7 @@ DepthSteps depthSteps(const ViewRays& rays,
   const double stepFactor = params.stepFactor > 0 ? params.stepFactor : 1.0;
   DepthSteps steps;
   steps.logarithmic = rays.isPerspective();
-  steps.zeta0 = span.lo;
-  steps.uniformStep = 0.0;
-  steps.uBreak = 0.0;
+  steps.zetaNear = rays.nearZeta();
   const int S = steps.samplesPerCell =
     std::clamp(static_cast<int>(std::ceil(tileSize * lambda / stepFactor - 1e-9)), 1, 1024);
   // Pixel-tied step: a cell is tileSize pixels deep (log-depth or depth) and holds S samples.

@@ -9,16 +9,21 @@
 // deep in log-depth (cubic at the view axis), and holds
 //   samplesPerCell = ceil(tileSize * lambda / stepFactor)
 // samples, lambda the obliquity of the frustum's corner rays (equation 3.4). Parallel views
-// take uniform steps (section 3.4.1, "a fixed sampling rate"). zeta_0 is the nearer of the
-// particles' front and the near plane, the last cell reaches past the particles' back, so
-// no empty depth range is sampled.
+// take uniform steps (section 3.4.1, "a fixed sampling rate"). The steps' boundaries lie on
+// a lattice of depths set by the view alone (equation 3.5 read as zeta_k = zeta_a e^(k
+// delta) for every integer k, from a fixed anchor zeta_a; uniform steps at the multiples of
+// theirs), and zeta_0 is the last boundary at or before the particles' front (or the near
+// plane: the first step then begins there). The thesis starts at the front itself, so two
+// sets of particles under one camera (the regions of a distributed render, each with its
+// own front) would be sampled at depths shifted by a fraction of a step; on the lattice they
+// share every sample. The last cell reaches past the particles' back.
 //
 // The thesis ties the step to the pixel footprint alone, so the number of samples grows
 // with the image resolution, and near the eye (where a pixel is tiny) far beyond the
 // detail of the field. With a field step s_f (a fraction of the smallest kernel support)
-// the step is the longer of the two: uniform steps of s_f from the front up to the depth
-// zeta* = s_f / (e^delta - 1) where the logarithmic step reaches s_f, logarithmic steps
-// beyond; the cells keep samplesPerCell samples in both parts.
+// the step is the longer of the two: uniform steps of s_f up to the first of their
+// boundaries at or beyond zeta* = s_f / (e^delta - 1), where the logarithmic step reaches
+// s_f, logarithmic steps beyond (anchored there); the cells keep samplesPerCell samples.
 //
 // Construction (section 3.4.2), on the CPU: each particle's cell range is the box of its
 // exact projected extent (tangent planes, ViewRays::projectedExtent) and its depth span
@@ -34,6 +39,7 @@
 #include "Mappers/SPH/SPHParticles.h"
 #include "Mappers/Common/ViewRays.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -42,39 +48,50 @@ namespace raymappers
 {
 
 /// The mapping between sample coordinate u (sample k spans [k, k + 1)) and depth: uniform
-/// steps of uniformStep from zeta0 up to the break (coordinate uBreak), then logarithmic
-/// steps of log-depth delta (perspective) or uniform steps of delta (parallel).
+/// steps of uniformStep up to the break (coordinate uBreak, depth zetaBreak), then
+/// logarithmic steps of log-depth delta (perspective) or uniform steps of delta (parallel).
+/// Depths are computed from lattice indices (firstStep + u before the break, firstLogStep +
+/// u - uBreak beyond it; integers held exactly in doubles) so that two grids on one lattice
+/// (differing in their first step) give the same depth, bit for bit, at each boundary they
+/// share.
 struct DepthSteps
 {
   bool logarithmic = true; // the part beyond the break is logarithmic (perspective)
-  double zeta0 = 1.0;
-  double uniformStep = 0.0; // 0: no uniform part
+  double zetaNear = 0.0;   // the view's near plane
+  double zetaBase = 0.0;   // depth of lattice index 0 of the uniform part
+  double firstStep = 0.0;  // lattice index of coordinate 0 in the uniform part
+  double uniformStep = 0.0; // 0: no uniform part (perspective)
   double uBreak = 0.0;
+  double zetaBreak = 1.0;    // log part: zeta = zetaBreak e^(n delta), n its lattice index
+  double firstLogStep = 0.0; // lattice index of coordinate uBreak in the log part
   double delta = 1.0;
   int samplesPerCell = 16;
   int cells = 0;
 
-  double zetaBreak() const { return zeta0 + uBreak * uniformStep; }
+  /// The depth of coordinate u, never before the near plane (the first step may begin there).
   double zeta(double u) const
   {
     if (!logarithmic)
     {
-      return zeta0 + u * delta;
+      return std::max(zetaNear, zetaBase + (firstStep + u) * delta);
     }
-    return u <= uBreak ? zeta0 + u * uniformStep : zetaBreak() * std::exp((u - uBreak) * delta);
+    if (u <= uBreak && uniformStep > 0)
+    {
+      return std::max(zetaNear, zetaBase + (firstStep + u) * uniformStep);
+    }
+    return std::max(zetaNear, zetaBreak * std::exp((firstLogStep + u - uBreak) * delta));
   }
   double coordinate(double z) const
   {
     if (!logarithmic)
     {
-      return (z - zeta0) / delta;
+      return (z - zetaBase) / delta - firstStep;
     }
-    const double zb = zetaBreak();
-    if (z <= zb && uniformStep > 0)
+    if (z <= zetaBreak && uniformStep > 0)
     {
-      return (z - zeta0) / uniformStep;
+      return (z - zetaBase) / uniformStep - firstStep;
     }
-    return z > 0 ? uBreak + std::log(z / zb) / delta : -1e30;
+    return z > 0 ? uBreak + std::log(z / zetaBreak) / delta - firstLogStep : -1e30;
   }
   int samples() const { return cells * samplesPerCell; }
 };

@@ -133,8 +133,11 @@ struct Bundle
   std::vector<Vec3f> rowStart, rowDir; // A and B at pixel column 0 of each row (centre 0.5)
   Vec3f startPerX, dirPerX;
   std::vector<float> dirLength, zStop, jitter;
-  // The region's depths: a ray owns the samples with zEnter <= z < zExit (RegionBox.h).
-  std::vector<float> zEnter, zExit;
+  // The region's depths: a ray owns the samples with zEnter <= z < zExit (RegionBox.h), in
+  // double: a sample's depth is the same float on every region (on the lattice of
+  // PerspectiveGrid.h), while the box's depths differ with each region's float origin by
+  // rounding, which in float would give a sample near a face to both regions or neither.
+  std::vector<double> zEnter, zExit;
   std::vector<float> r, g, b, a;
   std::vector<unsigned char> done;
   std::vector<int> activeInRow;
@@ -467,7 +470,8 @@ bool buildGrid(const SPHParticles& particles,
   PerspectiveGridParameters gp;
   gp.tileSize = params.tileSize;
   gp.stepFactor = params.stepFactor;
-  gp.fieldStep = params.samplesPerSupport > 0 ? particles.minSupport / params.samplesPerSupport : 0.0;
+  const double support = params.smallestSupport > 0 ? params.smallestSupport : particles.minSupport;
+  gp.fieldStep = params.samplesPerSupport > 0 ? support / params.samplesPerSupport : 0.0;
   bool any;
   {
     ScopedPhase phase(stats, "grid");
@@ -640,8 +644,8 @@ void Raycast::limitRays(Bundle& bd) const
               z0,
               z1))
         {
-          bd.zEnter[r] = static_cast<float>(z0);
-          bd.zExit[r] = static_cast<float>(z1);
+          bd.zEnter[r] = z0;
+          bd.zExit[r] = z1;
         }
         else
         {
@@ -679,7 +683,7 @@ void Raycast::castBundle(int t, Bundle& bd, SlabCache& cache, Counters& counters
     const float zCell = static_cast<float>(steps.zeta(static_cast<double>(tz) * S));
     for (int r = 0; r < R; ++r)
     {
-      if (!bd.done[r] && std::min(bd.zStop[r], bd.zExit[r]) <= zCell)
+      if (!bd.done[r] && std::min<double>(bd.zStop[r], bd.zExit[r]) <= zCell)
       {
         bd.retire(r);
       }

@@ -69,6 +69,9 @@ struct SPHRenderParameters
   int tileSize = 16;               // pixels per bundle side (and grid cell side)
   double stepFactor = 1.0;         // sample spacing relative to a pixel's footprint
   double samplesPerSupport = 0.0;  // > 0: steps at least (smallest support) / this
+  // > 0: the smallest support that rule divides, instead of the particles' own (a region of
+  // a distributed render passes that of all regions, so all step alike).
+  double smallestSupport = 0.0;
   int slabDepth = 0;               // samples per ray per slab; 0: a whole cell
   double terminationOpacity = 0.99;
   bool jitter = false;

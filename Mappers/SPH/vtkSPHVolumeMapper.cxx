@@ -33,9 +33,9 @@ struct vtkSPHVolumeMapper::Internals
   raymappers::PerspectiveGrid Grid;
   // The particles are built from the points, the support factor, the smoothing length and
   // its scale, the arrays (and the active scalars' name when no value array is set) and the
-  // constant volume.
+  // constant volume, and the float origin when one is given.
   vtkRayMapperStamp<double, double, double, std::string, std::string, std::string, std::string,
-    std::string, std::string, double>
+    std::string, std::string, double, bool, double, double, double>
     ParticlesStamp;
 };
 
@@ -77,6 +77,16 @@ double vtkSPHVolumeMapper::GetSmoothingLengthInUse()
     this->SmoothingLength, GetAutomaticSupportPerSpacing() / this->GetSupportPerSmoothingLength());
 }
 
+double vtkSPHVolumeMapper::GetParticlesSmallestSupport(vtkPointSet* input)
+{
+  if (!input || input->GetNumberOfPoints() == 0 || !input->GetPoints())
+  {
+    return 0.0;
+  }
+  this->UpdateParticles(input);
+  return Impl->Particles.minSupport;
+}
+
 void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
 {
   const double factor = this->GetSupportPerSmoothingLength();
@@ -87,7 +97,8 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
           vtkRayMapperString(this->ValueArrayName),
           vtkRayMapperString(activeScalars ? activeScalars->GetName() : nullptr),
           vtkRayMapperString(this->VolumeArrayName), vtkRayMapperString(this->MassArrayName),
-          vtkRayMapperString(this->DensityArrayName), this->Volume }))
+          vtkRayMapperString(this->DensityArrayName), this->Volume, this->UseFloatOrigin,
+          this->FloatOrigin[0], this->FloatOrigin[1], this->FloatOrigin[2] }))
   {
     return;
   }
@@ -138,7 +149,9 @@ void vtkSPHVolumeMapper::UpdateParticles(vtkPointSet* input)
   const auto n = static_cast<std::size_t>(input->GetNumberOfPoints());
   raymappers::buildSPHParticles(
     n,
-    raymappers::Vec3d(vtkRayMapperPointArrays::FiniteCenter(input->GetPoints())),
+    this->UseFloatOrigin
+      ? raymappers::Vec3d(this->FloatOrigin[0], this->FloatOrigin[1], this->FloatOrigin[2])
+      : raymappers::Vec3d(vtkRayMapperPointArrays::FiniteCenter(input->GetPoints())),
     [&](std::size_t i) {
       return raymappers::Vec3d(pointReader.get(i, 0), pointReader.get(i, 1), pointReader.get(i, 2));
     },
@@ -214,6 +227,7 @@ void vtkSPHVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPoint
   raymappers::SPHRenderParameters params = this->GatherParameters(ren, vol, view);
   params.stepFactor = this->StepFactor * r;
   params.samplesPerSupport = this->SamplesPerSupport / r;
+  params.smallestSupport = this->SmallestSupport;
   // r times fewer rays along each axis.
   const raymappers::View kernelView =
     this->Core->KernelView(ren, view, r, Impl->Particles.origin, true, stats);
@@ -249,6 +263,9 @@ void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ContourOpacity: " << this->ContourOpacity << "\n";
   os << indent << "StepFactor: " << this->StepFactor << "\n";
   os << indent << "SamplesPerSupport: " << this->SamplesPerSupport << "\n";
+  os << indent << "SmallestSupport: " << this->SmallestSupport << "\n";
+  os << indent << "FloatOrigin: (" << this->FloatOrigin[0] << ", " << this->FloatOrigin[1] << ", "
+     << this->FloatOrigin[2] << ")" << (this->UseFloatOrigin ? "" : " (not used)") << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
   os << indent << "SlabDepth: " << this->SlabDepth << "\n";
   os << indent << "TerminationOpacity: " << this->TerminationOpacity << "\n";

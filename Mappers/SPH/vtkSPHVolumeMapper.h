@@ -211,6 +211,38 @@ public:
   vtkGetVector6Macro(RegionBounds, double);
   ///@}
 
+  ///@{
+  /**
+   * The support SamplesPerSupport divides (> 0), instead of the smallest support of the
+   * particles drawn (0, the default). Distributed rendering sets it to the smallest of all
+   * processes' (GetParticlesSmallestSupport on each, reduced), so that every process steps
+   * alike: the sample depths lie on a lattice set by the camera alone, and the processes'
+   * images then blend to the one-process image.
+   */
+  vtkRayMapperSetClampMacro(SmallestSupport, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(SmallestSupport, double);
+  ///@}
+
+  ///@{
+  /**
+   * The point the particles' coordinates are stored relative to, in float (the kernels'
+   * precision), when UseFloatOrigin is on; off (the default): the centre of their finite
+   * bounds. Distributed rendering sets the centre of all processes' bounds on each, so that
+   * a particle, and the field at a sample, is rounded alike on every process.
+   */
+  vtkRayMapperSetVector3ClampMacro(FloatOrigin, double, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX);
+  vtkGetVector3Macro(FloatOrigin, double);
+  vtkSetMacro(UseFloatOrigin, bool);
+  vtkGetMacro(UseFloatOrigin, bool);
+  vtkBooleanMacro(UseFloatOrigin, bool);
+  ///@}
+
+  /**
+   * The smallest kernel support of the particles of `input` that are drawn (0 when none
+   * is), from the particles built for it (built now if they changed, as a render would).
+   */
+  double GetParticlesSmallestSupport(vtkPointSet* input);
+
 protected:
   vtkSPHVolumeMapper();
   ~vtkSPHVolumeMapper() override;
@@ -235,6 +267,9 @@ protected:
   double ContourOpacity = 0.5;
   double StepFactor = 1.0;
   double SamplesPerSupport = 8.0;
+  double SmallestSupport = 0.0;
+  double FloatOrigin[3] = { 0, 0, 0 };
+  bool UseFloatOrigin = false;
   int TileSize = 16;
   int SlabDepth = 0;
   double TerminationOpacity = 0.99;

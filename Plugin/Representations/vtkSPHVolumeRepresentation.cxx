@@ -1,10 +1,16 @@
 #include "vtkSPHVolumeRepresentation.h"
 
+#include "vtkCommunicator.h"
+#include "vtkMath.h"
+#include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
+#include "vtkPointSet.h"
 #include "vtkRayMapperForward.h"
+#include "vtkRayMapperPointArrays.h"
 #include "vtkRayMapperStatistics.h"
 #include "vtkSPHVolumeMapper.h"
 
+#include <limits>
 #include <string>
 
 vtkStandardNewMacro(vtkSPHVolumeRepresentation);
@@ -65,6 +71,45 @@ double vtkSPHVolumeRepresentation::GetParticleReach()
 void vtkSPHVolumeRepresentation::SetRegion(const double bounds[6])
 {
   this->Mapper->SetRegionBounds(bounds);
+}
+
+void vtkSPHVolumeRepresentation::SetDeliveredPiece(vtkDataObject* piece)
+{
+  this->Superclass::SetDeliveredPiece(piece);
+  // Called on every process for each render (a collective step: see
+  // vtkRayMapperPropRepresentation's REQUEST_RENDER).
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (!controller || controller->GetNumberOfProcesses() < 2)
+  {
+    return;
+  }
+  // One MIN reduction: the smallest support, the lower corner and the negated upper one of
+  // the pieces' finite bounds (infinite where a process has no particles).
+  auto* points = vtkPointSet::SafeDownCast(this->Mapper->GetInputDataObject(0, 0));
+  constexpr double None = std::numeric_limits<double>::infinity();
+  double local[7] = { None, None, None, None, None, None, None }, global[7];
+  const double support = this->Mapper->GetParticlesSmallestSupport(points);
+  local[0] = support > 0 ? support : None;
+  double bounds[6];
+  if (points && points->GetNumberOfPoints() > 0)
+  {
+    vtkRayMapperPointArrays::FiniteBounds(points, bounds);
+    for (int a = 0; a < 3 && vtkMath::AreBoundsInitialized(bounds); ++a)
+    {
+      local[1 + a] = bounds[2 * a];
+      local[4 + a] = -bounds[2 * a + 1];
+    }
+  }
+  controller->AllReduce(local, global, 7, vtkCommunicator::MIN_OP);
+  this->Mapper->SetSmallestSupport(global[0] < None ? global[0] : 0.0);
+  // The float origin: the centre of all pieces' bounds, the same on every process.
+  const bool any = global[1] <= -global[4];
+  this->Mapper->SetUseFloatOrigin(any);
+  if (any)
+  {
+    this->Mapper->SetFloatOrigin(0.5 * (global[1] - global[4]), 0.5 * (global[2] - global[5]),
+      0.5 * (global[3] - global[6]));
+  }
 }
 
 void vtkSPHVolumeRepresentation::SetValueArray(const char* name)

@@ -75,6 +75,9 @@ protected:
   /** The kernel's support in smoothing lengths. */
   double GetParticleReach() override;
   void SetRegion(const double bounds[6]) override;
+  /// With several processes: also gives the mapper the smallest support of all of them
+  /// (vtkSPHVolumeMapper::SetSmallestSupport), so that they all sample the same depths.
+  void SetDeliveredPiece(vtkDataObject* piece) override;
   void SetValueArray(const char* name) override;
 
   vtkSmartPointer<vtkSPHVolumeMapper> Mapper;

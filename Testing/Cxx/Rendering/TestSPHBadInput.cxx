@@ -192,6 +192,9 @@ void Properties(Viewer& v)
         [&] { m->ContourShadingOff(); } },
       { "StepFactor", nothing, [&] { m->SetStepFactor(nan); }, nothing },
       { "SamplesPerSupport", nothing, [&] { m->SetSamplesPerSupport(nan); }, nothing },
+      { "SmallestSupport", nothing, [&] { m->SetSmallestSupport(nan); }, nothing },
+      { "FloatOrigin", [&] { m->UseFloatOriginOn(), m->SetFloatOrigin(0.1, 0.2, 0.3); },
+        [&] { m->SetFloatOrigin(nan, 0, 0); }, [&] { m->UseFloatOriginOff(); } },
       { "TerminationOpacity", nothing, [&] { m->SetTerminationOpacity(nan); }, nothing },
       { "MaximumReduction", nothing, [&] { m->SetMaximumReduction(nan); }, nothing },
       { "FrameBudget", nothing, [&] { m->SetFrameBudget(nan); }, nothing } });
