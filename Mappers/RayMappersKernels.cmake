@@ -29,6 +29,7 @@ add_library(RayMappersKernels SHARED
   ${CMAKE_CURRENT_LIST_DIR}/RBF/ParticleBVH.cxx
   ${CMAKE_CURRENT_LIST_DIR}/RBF/RBFVolumeRenderer.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepMesh.cxx
+  ${CMAKE_CURRENT_LIST_DIR}/ZSweep/IsoparametricCell.cxx
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepNearPlane.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/ViewRays.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/View.cxx

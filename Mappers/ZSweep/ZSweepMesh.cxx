@@ -572,7 +572,9 @@ std::size_t ZSweepMesh::memoryBytes() const
     KeptTypes.capacity() * sizeof(ZSweepCellType) +
     KeptConnectivity.capacity() * sizeof(std::uint32_t) +
     (OwnedMask.capacity() + BackMask.capacity()) * sizeof(std::uint16_t) +
-    Others.capacity() * sizeof(std::int32_t);
+    Others.capacity() * sizeof(std::int32_t) + CurvedSlot.capacity() * sizeof(std::int32_t) +
+    CurvedTypes.capacity() * sizeof(ZSweepCellType) +
+    CurvedVertices.capacity() * sizeof(std::uint32_t);
 }
 
 const std::vector<ZSweepTriangle>& ZSweepMesh::triangles(std::vector<ZSweepTriangle>& scratch) const
@@ -618,7 +620,7 @@ const std::vector<ZSweepTriangle>& ZSweepMesh::triangles(std::vector<ZSweepTrian
   return scratch;
 }
 
-void ZSweepMesh::build(const ZSweepGrid& grid, bool sparsify)
+void ZSweepMesh::build(const ZSweepGrid& grid, bool sparsify, bool keepCurved)
 {
   Stats = Counts();
   CellScalars = grid.cellScalars;
@@ -653,7 +655,37 @@ void ZSweepMesh::build(const ZSweepGrid& grid, bool sparsify)
     const TriangleOwners owners = ownTriangles(records, Triangles, state, recordStart);
     storeKeptCells(grid, used, state, recordStart, owners.owned, owners.back, owners.otherAt);
   }
+  CurvedSlot.clear();
+  CurvedTypes.clear();
+  CurvedVertices.clear();
+  if (keepCurved && !CellScalars)
+  {
+    keepCurvedCells(grid, used);
+  }
   findScalarRange();
+}
+
+// The used hexahedra, wedges and pyramids: a slot each with the type and vertex ids.
+void ZSweepMesh::keepCurvedCells(const ZSweepGrid& grid, const std::vector<char>& used)
+{
+  CurvedSlot.assign(grid.cellTypes.size(), -1);
+  for (std::size_t c = 0; c < used.size(); ++c)
+  {
+    if (!used[c] || grid.cellTypes[c] == ZSweepCellType::Tetra)
+    {
+      continue;
+    }
+    CurvedSlot[c] = static_cast<std::int32_t>(CurvedTypes.size());
+    CurvedTypes.push_back(grid.cellTypes[c]);
+    const int n = cellFaces(grid.cellTypes[c]).vertices;
+    for (int k = 0; k < 8; ++k)
+    {
+      CurvedVertices.push_back(static_cast<std::uint32_t>(
+        grid.connectivity[static_cast<std::size_t>(grid.cellOffsets[c] + std::min(k, n - 1))]));
+    }
+  }
+  CurvedTypes.shrink_to_fit();
+  CurvedVertices.shrink_to_fit();
 }
 
 // The sparse store: the kept cells (used and essential) with their vertices, masks and

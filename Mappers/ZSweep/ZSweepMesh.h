@@ -52,6 +52,12 @@
 // so all cells' scalars are kept).
 // The build runs the dense build first (the dual graph comes from its sort), so it takes
 // longer; the gain is the memory the mesh holds between frames.
+//
+// Curved cells (hexahedra, wedges, pyramids with point data): on request the mesh also keeps
+// each used one's type and vertex ids (one slot per such cell, 8 ids), so the renderer can
+// evaluate the cell's own interpolation inside it (IsoparametricCell.h) instead of the
+// linear field of its split faces: 4 bytes per cell and 33 per curved cell, nothing
+// without the request.
 #ifndef RayMappers_ZSweepMesh_h
 #define RayMappers_ZSweepMesh_h
 
@@ -103,7 +109,8 @@ public:
 
   /// Builds the triangles (in parallel). Replaces any previous content. With `sparsify`,
   /// stores them through the kept cells (see above).
-  void build(const ZSweepGrid& grid, bool sparsify = false);
+  /// With `keepCurvedCells` (and point scalars), also keeps the used curved cells' vertices.
+  void build(const ZSweepGrid& grid, bool sparsify = false, bool keepCurvedCells = false);
 
   const Vec3d& origin() const { return Origin; }
   /// Largest coordinate of the points relative to origin() (half the bounds' longest side).
@@ -125,6 +132,20 @@ public:
   std::size_t numCells() const { return NumCells; }
   double scalarMin() const { return ScalarMin; }
   double scalarMax() const { return ScalarMax; }
+  /// Whether the curved cells' vertices are kept (build's keepCurvedCells with point data).
+  bool keepsCurvedCells() const { return !CurvedSlot.empty(); }
+  /// Cell c's slot among the kept curved cells, -1 for a tetrahedron, an unused cell or
+  /// when none are kept.
+  std::int32_t curvedSlot(std::int32_t c) const
+  {
+    return CurvedSlot.empty() ? -1 : CurvedSlot[static_cast<std::size_t>(c)];
+  }
+  ZSweepCellType curvedType(std::int32_t slot) const { return CurvedTypes[static_cast<std::size_t>(slot)]; }
+  /// The slot's vertex ids (VTK's order; 8 entries, the first as many as the type has).
+  const std::uint32_t* curvedVertices(std::int32_t slot) const
+  {
+    return CurvedVertices.data() + 8 * static_cast<std::size_t>(slot);
+  }
   /// What the mesh holds: points, scalars, and the triangles or the sparse cell store.
   std::size_t memoryBytes() const;
 
@@ -151,6 +172,7 @@ private:
     const std::vector<std::uint16_t>& back,
     const std::vector<std::int32_t>& otherAt);
   void findScalarRange();
+  void keepCurvedCells(const ZSweepGrid& grid, const std::vector<char>& used);
 
   Vec3d Origin;
   double Extent = 0;
@@ -168,6 +190,9 @@ private:
   std::vector<std::uint32_t> KeptConnectivity;
   std::vector<std::uint16_t> OwnedMask, BackMask;
   std::vector<std::int32_t> Others;
+  std::vector<std::int32_t> CurvedSlot; // per cell (empty: none kept)
+  std::vector<ZSweepCellType> CurvedTypes;
+  std::vector<std::uint32_t> CurvedVertices; // 8 per slot
   std::vector<double> Scalars;
   bool CellScalars = false;
   std::size_t NumCells = 0;

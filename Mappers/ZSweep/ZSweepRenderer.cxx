@@ -1,6 +1,7 @@
 #include "Mappers/ZSweep/ZSweepRenderer.h"
 
 #include "Mappers/Common/RayCamera.h"
+#include "Mappers/ZSweep/IsoparametricCell.h"
 #include "Mappers/ZSweep/ZSweepNearPlane.h"
 #include "Mappers/Common/SimdTarget.h"
 
@@ -129,6 +130,7 @@ struct PixelState
   std::int32_t cell = -1; // the cell the ray is in after prevT (-1: outside)
   bool done = false;
   SegmentLight light;
+  Vec3d org, dir; // the ray t is measured along (curved cells' fields only)
 };
 
 // Pixels a flush integrates as one batch (their segments stay in the L1/L2 caches).
@@ -144,6 +146,8 @@ struct FlushRange
 // A tile sweep's counters (the statistics of renderZSweep).
 struct SweepCounters
 {
+  LinearizeCounts curved;
+  std::int64_t curvedSegments = 0;
   std::int64_t entries = 0, flushes = 0, kGrowths = 0, segments = 0, transparentSegments = 0,
                tieGroups = 0;
   std::size_t maxList = 0;
@@ -154,6 +158,10 @@ struct SweepCounters
     flushes += o.flushes;
     kGrowths += o.kGrowths;
     segments += o.segments;
+    curvedSegments += o.curvedSegments;
+    curved.evaluations += o.curved.evaluations;
+    curved.failures += o.curved.failures;
+    curved.pieces += o.curved.pieces;
     transparentSegments += o.transparentSegments;
     tieGroups += o.tieGroups;
     maxList = std::max(maxList, o.maxList);
@@ -505,6 +513,7 @@ void binNearPlane(NearPlaneFaces& near, const TileGrid& grid, int W, int H)
 // the settings.
 struct SweepInput
 {
+  const ZSweepMesh& mesh;
   const std::vector<ZSweepTriangle>& triangles;
   const std::vector<ProjectedVertex>& proj;
   const std::vector<double>& scalars;
@@ -518,6 +527,8 @@ struct SweepInput
   TileGrid grid;
   int W, H;
   bool cellData;
+  bool curved;              // the curved cells' own fields (IsoparametricCell.h)
+  double curvedTolerance;   // their linearization's, in scalar units
   double tieT;        // crossings closer than this along a ray are one crossing
   double termination; // the opacity that ends a ray
 };
@@ -544,6 +555,7 @@ public:
 private:
   void startPixels();
   bool gather(PixelState& px, std::vector<Entry>& list, double tLimit);
+  void pushCurved(const PixelState& px, std::int32_t slot, double tEnd);
   void composite(PixelState& px, std::size_t begin, std::size_t end);
   std::size_t flush(double depthLimit);
   void rasterize(ScanTriangle t, const int bounds[4]);
@@ -589,7 +601,10 @@ void TileSweep::startPixels()
     for (int i = 0; i < TW; ++i)
     {
       PixelState& px = Work.pixels[static_cast<std::size_t>(j) * TW + i];
-      px.map = In.camera.pixelDepthMap(X0 + i, Y0 + j);
+      const Ray ray = In.camera.pixelRay(X0 + i, Y0 + j);
+      px.map = In.camera.depthMap(ray);
+      px.org = Vec3d(ray.org);
+      px.dir = Vec3d(ray.dir);
       if (In.opaqueDepth)
       {
         const float d = In.opaqueDepth[static_cast<std::size_t>(Y0 + j) * In.W + X0 + i];
@@ -635,7 +650,12 @@ bool TileSweep::gather(PixelState& px, std::vector<Entry>& list, double tLimit)
       opaque = true;
     }
     const double L = tEnd - px.prevT;
-    if (px.cell >= 0 && L > 0)
+    const std::int32_t slot = In.curved && px.cell >= 0 ? In.mesh.curvedSlot(px.cell) : -1;
+    if (slot >= 0 && L > 0)
+    {
+      pushCurved(px, slot, tEnd);
+    }
+    else if (px.cell >= 0 && L > 0)
     {
       const double s0 = In.cellData ? In.scalars[static_cast<std::size_t>(px.cell)] : px.prevS;
       Work.batch.push(s0, In.cellData ? s0 : sEnd, L);
@@ -666,6 +686,22 @@ bool TileSweep::gather(PixelState& px, std::vector<Entry>& list, double tLimit)
   }
   list.erase(list.begin(), list.begin() + static_cast<std::ptrdiff_t>(i));
   return opaque;
+}
+
+// 5. A segment [px.prevT, tEnd] inside a curved cell: its field's linear pieces into the
+// batch (one transparent piece when the transfer function is transparent over the corners'
+// range, which bounds the field).
+void TileSweep::pushCurved(const PixelState& px, std::int32_t slot, double tEnd)
+{
+  const IsoparametricCell cell = curvedCell(In.mesh, slot);
+  ++Work.counts.curvedSegments;
+  if (In.optics.transparentBetween(cell.fMin, cell.fMax))
+  {
+    Work.batch.push(cell.fMin, cell.fMin, tEnd - px.prevT);
+    return;
+  }
+  linearizeAlongRay(cell, px.org, px.dir, px.prevT, tEnd, In.curvedTolerance, Work.batch,
+    Work.counts.curved);
 }
 
 // 5. Composites the batch's segments [begin, end) behind the pixel's light, in order, up to
@@ -1026,8 +1062,12 @@ void renderZSweep(const ZSweepScene& scene,
 
   // Ties: crossings closer than this along a ray are one crossing (a shared vertex or edge).
   const double tieT = 1e-9 * std::max(mesh.extent(), 1e-300);
-  const SweepInput in{ triangles, proj, mesh.scalars(), events, bins, near, optics, camera,
-    view.opaqueDepth(), params, grid, W, H, cellData, tieT,
+  const bool curved = params.cellField == ZSweepCellField::Native && mesh.keepsCurvedCells();
+  stats.setEffect("curved_cells", curved);
+  const double curvedTolerance =
+    std::max(params.curvedTolerance, 1e-12) * std::max(mesh.scalarMax() - mesh.scalarMin(), 1e-300);
+  const SweepInput in{ mesh, triangles, proj, mesh.scalars(), events, bins, near, optics, camera,
+    view.opaqueDepth(), params, grid, W, H, cellData, curved, curvedTolerance, tieT,
     std::clamp(params.terminationOpacity, 0.0, 1.0) };
   SweepCounters counts;
   {
@@ -1046,6 +1086,10 @@ void renderZSweep(const ZSweepScene& scene,
   stats.addCounter("open_caps", static_cast<std::int64_t>(near.openCaps));
   stats.addCounter("max_list", static_cast<std::int64_t>(counts.maxList));
   stats.addCounter("tie_groups", counts.tieGroups);
+  stats.addCounter("curved_segments", counts.curvedSegments);
+  stats.addCounter("curved_pieces", counts.curved.pieces);
+  stats.addCounter("curved_evaluations", counts.curved.evaluations);
+  stats.addCounter("curved_inversion_failures", counts.curved.failures);
 }
 
 RAYMAPPERS_SIMD_END

@@ -22,7 +22,8 @@
 // 5. Compositing walks the entries in order: the segment between two entries lies in the
 //    cell the ray entered at the first (none: outside the grid, a cavity or a gap between
 //    parts) and is integrated with the optical model (point data: the scalar varies
-//    linearly, cell data: constant). Entries closer than a tie tolerance (a ray through a
+//    linearly, or in a curved cell with the Native field as the cell's own interpolation,
+//    cut into linear pieces; cell data: constant). Entries closer than a tie tolerance (a ray through a
 //    shared vertex or edge) form one crossing: the ray ends up in the cell that some
 //    member entered and no member left.
 // A sparse mesh (ZSweepMesh.h) is decoded into its triangles first (phase decode), in
@@ -50,9 +51,22 @@
 namespace raymappers
 {
 
+/// The field inside hexahedra, wedges and pyramids (point data): Native, the cell's own
+/// interpolation (trilinear in a hexahedron; IsoparametricCell.h), linearized along each ray
+/// to `curvedTolerance` times the scalar range, needs a mesh built with its curved cells;
+/// SplitFaces, linear between the crossings of the triangles the faces are split into (what
+/// a tetrahedralization of the cell gives at its faces, exact for tetrahedra only).
+enum class ZSweepCellField
+{
+  Native,
+  SplitFaces
+};
+
 struct ZSweepParameters
 {
   ZSweepIntegrator integrator = ZSweepIntegrator::Exact;
+  ZSweepCellField cellField = ZSweepCellField::Native;
+  double curvedTolerance = 1e-4;
   int tileSize = 32;
   int listThreshold = 16;           // K
   double terminationOpacity = 1.0;  // stop a pixel once its opacity reaches this
@@ -82,7 +96,9 @@ struct ZSweepScene
 /// k_growths, segments, transparent_segments, near_plane_triangles (clipped faces and
 /// caps), open_caps, max_list, tie_groups, decoded_triangles (0 for a dense mesh),
 /// order_moves (the insertion sort's moves from `previousOrder`), order_sorts (1 when the
-/// frame took a full sort instead). Effects: cell_data, early_termination, sparse_mesh.
+/// frame took a full sort instead), curved_segments, curved_pieces, curved_evaluations,
+/// curved_inversion_failures (the Native field's). Effects: cell_data, early_termination,
+/// sparse_mesh, curved_cells.
 void renderZSweep(const ZSweepScene& scene,
   const View& view,
   const ZSweepParameters& params,

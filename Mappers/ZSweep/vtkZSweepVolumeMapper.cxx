@@ -42,8 +42,8 @@ struct vtkZSweepVolumeMapper::Internals
   raymappers::ZSweepMesh Mesh;
   raymappers::ZSweepEventOrder Order; // the last frame's event order, the next sort's start
   // The mesh is built from the grid, the scalar array chosen (and its MTime), whether it is
-  // cell data, and Sparsification.
-  vtkRayMapperStamp<vtkDataArray*, vtkMTimeType, int, bool> MeshStamp;
+  // cell data, Sparsification, and whether the curved cells are kept (CellField NATIVE).
+  vtkRayMapperStamp<vtkDataArray*, vtkMTimeType, int, bool, bool> MeshStamp;
   vtkMTimeType ReportedNoScalarsTime = 0;
 };
 
@@ -358,8 +358,9 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
     Impl->MeshStamp.Invalidate();
     return false;
   }
+  const bool native = this->CellField == VTK_ZSWEEP_CELL_FIELD_NATIVE;
   if (!Impl->MeshStamp.Changed(
-        this, input, { scalars, scalars->GetMTime(), cellFlag, this->Sparsification }))
+        this, input, { scalars, scalars->GetMTime(), cellFlag, this->Sparsification, native }))
   {
     return true;
   }
@@ -371,7 +372,7 @@ bool vtkZSweepVolumeMapper::UpdateMesh(vtkUnstructuredGridBase* input)
   const std::vector<vtkIdType> keptCells = CopyCells(input, grid, skippedTypes);
   vtkRayMapperWarnIfComponentsDiffer(this, scalars, "scalar");
   CopyScalars(scalars, keptCells, input->GetNumberOfPoints(), grid);
-  Impl->Mesh.build(grid, this->Sparsification);
+  Impl->Mesh.build(grid, this->Sparsification, native);
   Impl->Core.CountBuild();
   WarnAboutSkippedCells(this, skippedTypes, Impl->Mesh.counts(), scalars);
   return true;
@@ -384,6 +385,10 @@ raymappers::ZSweepParameters vtkZSweepVolumeMapper::GatherParameters() const
     ? raymappers::ZSweepIntegrator::Farias
     : (this->Integrator == VTK_ZSWEEP_INTEGRATOR_MIDPOINT ? raymappers::ZSweepIntegrator::Midpoint
                                                           : raymappers::ZSweepIntegrator::Exact);
+  params.cellField = this->CellField == VTK_ZSWEEP_CELL_FIELD_SPLIT_FACES
+    ? raymappers::ZSweepCellField::SplitFaces
+    : raymappers::ZSweepCellField::Native;
+  params.curvedTolerance = this->CurvedTolerance;
   params.tileSize = this->TileSize;
   params.listThreshold = this->ListThreshold;
   params.terminationOpacity = this->TerminationOpacity;
@@ -448,6 +453,8 @@ void vtkZSweepVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Integrator: " << this->Integrator << "\n";
+  os << indent << "CellField: " << this->CellField << "\n";
+  os << indent << "CurvedTolerance: " << this->CurvedTolerance << "\n";
   os << indent << "TileSize: " << this->TileSize << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
   os << indent << "ListThreshold: " << this->ListThreshold << "\n";

@@ -22,6 +22,11 @@
  * exactly for transfer functions that are piecewise linear in extinction and color between
  * their nodes; FARIAS uses the dissertation's second-order closed form; MIDPOINT a constant
  * segment. Details in Mappers/ZSweep/ZSweepRenderer.h and OpticalModel.h.
+ * Inside hexahedra, wedges and pyramids with point data, CellField NATIVE (default) uses
+ * the cell's own interpolation (trilinear in a hexahedron), cut along each ray into pieces
+ * linear to CurvedTolerance of the scalar range; SPLIT_FACES the linear field between the
+ * crossings of the triangles its faces are split into (as a tetrahedralization would give).
+ * The cells' bounds are their split faces in both (Mappers/ZSweep/IsoparametricCell.h).
  *
  * Opaque geometry drawn before the volume stops the rays (the depth buffer is read only when
  * the renderer holds some: effect opaque_depth). Cells with a bad point index, a
@@ -58,6 +63,9 @@ struct ZSweepParameters;
 #define VTK_ZSWEEP_INTEGRATOR_FARIAS 1
 #define VTK_ZSWEEP_INTEGRATOR_MIDPOINT 2
 
+#define VTK_ZSWEEP_CELL_FIELD_NATIVE 0
+#define VTK_ZSWEEP_CELL_FIELD_SPLIT_FACES 1
+
 class RAYMAPPERSMAPPERS_EXPORT vtkZSweepVolumeMapper : public vtkUnstructuredGridVolumeMapper
 {
 public:
@@ -73,6 +81,30 @@ public:
    */
   vtkRayMapperSetClampMacro(Integrator, int, VTK_ZSWEEP_INTEGRATOR_EXACT, VTK_ZSWEEP_INTEGRATOR_MIDPOINT);
   vtkGetMacro(Integrator, int);
+  ///@}
+
+  ///@{
+  /**
+   * The field inside hexahedra, wedges and pyramids with point data: NATIVE (default), the
+   * cell's own interpolation (trilinear in a hexahedron; the mesh then keeps these cells'
+   * vertex ids, 33 bytes each and 4 per cell), or SPLIT_FACES, linear between the split
+   * faces' crossings.
+   */
+  vtkRayMapperSetClampMacro(
+    CellField, int, VTK_ZSWEEP_CELL_FIELD_NATIVE, VTK_ZSWEEP_CELL_FIELD_SPLIT_FACES);
+  vtkGetMacro(CellField, int);
+  void SetCellFieldToNative() { this->SetCellField(VTK_ZSWEEP_CELL_FIELD_NATIVE); }
+  void SetCellFieldToSplitFaces() { this->SetCellField(VTK_ZSWEEP_CELL_FIELD_SPLIT_FACES); }
+  ///@}
+
+  ///@{
+  /**
+   * With CellField NATIVE: the largest departure of the field's linear pieces from the
+   * field along a ray, as a fraction of the scalar range (1e-8 to 0.1, default 1e-4; the
+   * pieces grow like its inverse square root).
+   */
+  vtkRayMapperSetClampMacro(CurvedTolerance, double, 1e-8, 0.1);
+  vtkGetMacro(CurvedTolerance, double);
   ///@}
 
   ///@{
@@ -156,6 +188,8 @@ protected:
   ~vtkZSweepVolumeMapper() override;
 
   int Integrator = VTK_ZSWEEP_INTEGRATOR_EXACT;
+  int CellField = VTK_ZSWEEP_CELL_FIELD_NATIVE;
+  double CurvedTolerance = 1e-4;
   int TileSize = 32;
   int ListThreshold = 16;
   double TerminationOpacity = 1.0;

@@ -1,0 +1,251 @@
+// The cells' own interpolation and the linearization of a ray segment (IsoparametricCell.h).
+#include "Mappers/ZSweep/IsoparametricCell.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace raymappers
+{
+
+namespace
+{
+// Parametric corners of VTK's hexahedron (also the pyramid's base, corners 0-3).
+constexpr int HexCorner[8][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1, 0 }, { 0, 0, 1 },
+  { 1, 0, 1 }, { 1, 1, 1 }, { 0, 1, 1 } };
+
+constexpr int MaxDepth = 12;
+
+void hexahedronWeights(const Vec3d& r, double N[8], double dN[8][3])
+{
+  const double u[3] = { r.x, r.y, r.z };
+  for (int i = 0; i < 8; ++i)
+  {
+    double w[3], dw[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      w[a] = HexCorner[i][a] ? u[a] : 1.0 - u[a];
+      dw[a] = HexCorner[i][a] ? 1.0 : -1.0;
+    }
+    N[i] = w[0] * w[1] * w[2];
+    dN[i][0] = dw[0] * w[1] * w[2];
+    dN[i][1] = w[0] * dw[1] * w[2];
+    dN[i][2] = w[0] * w[1] * dw[2];
+  }
+}
+
+// N = (1 - r - s, r, s) x (1 - t, t).
+void wedgeWeights(const Vec3d& r, double N[8], double dN[8][3])
+{
+  const double tri[3] = { 1.0 - r.x - r.y, r.x, r.y };
+  const double dTri[3][2] = { { -1, -1 }, { 1, 0 }, { 0, 1 } };
+  const double lin[2] = { 1.0 - r.z, r.z };
+  const double dLin[2] = { -1, 1 };
+  for (int level = 0; level < 2; ++level)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int i = 3 * level + k;
+      N[i] = tri[k] * lin[level];
+      dN[i][0] = dTri[k][0] * lin[level];
+      dN[i][1] = dTri[k][1] * lin[level];
+      dN[i][2] = tri[k] * dLin[level];
+    }
+  }
+}
+
+// The base's bilinear weights times (1 - t), the apex t.
+void pyramidWeights(const Vec3d& r, double N[8], double dN[8][3])
+{
+  for (int i = 0; i < 4; ++i)
+  {
+    const double wu = HexCorner[i][0] ? r.x : 1.0 - r.x, du = HexCorner[i][0] ? 1.0 : -1.0;
+    const double wv = HexCorner[i][1] ? r.y : 1.0 - r.y, dv = HexCorner[i][1] ? 1.0 : -1.0;
+    N[i] = wu * wv * (1.0 - r.z);
+    dN[i][0] = du * wv * (1.0 - r.z);
+    dN[i][1] = wu * dv * (1.0 - r.z);
+    dN[i][2] = -wu * wv;
+  }
+  N[4] = r.z;
+  dN[4][0] = dN[4][1] = 0;
+  dN[4][2] = 1;
+}
+
+// r moved to the nearest point of the reference cell (per coordinate; for the wedge's
+// triangle, r + s > 1 scaled back onto r + s = 1).
+Vec3d clampToCell(ZSweepCellType type, const Vec3d& r)
+{
+  Vec3d c(std::clamp(r.x, 0.0, 1.0), std::clamp(r.y, 0.0, 1.0), std::clamp(r.z, 0.0, 1.0));
+  if (type == ZSweepCellType::Wedge && c.x + c.y > 1.0)
+  {
+    const double sum = c.x + c.y;
+    c.x /= sum;
+    c.y /= sum;
+  }
+  return c;
+}
+
+// The field at X, by Newton from r (updated when the inversion converges).
+double fieldAt(const IsoparametricCell& cell, const Vec3d& X, Vec3d& r, LinearizeCounts& counts)
+{
+  ++counts.evaluations;
+  Vec3d next = r;
+  if (invertCellMap(cell, X, next))
+  {
+    r = next;
+  }
+  else
+  {
+    ++counts.failures;
+    r = clampToCell(cell.type, next);
+  }
+  return cellField(cell, r);
+}
+
+// The halving of [a, b] (field fa, fb; ra: the solution at a) into the batch's pieces.
+void linearizeInterval(const IsoparametricCell& cell,
+  const Vec3d& o,
+  const Vec3d& d,
+  double a,
+  double fa,
+  Vec3d ra,
+  double b,
+  double fb,
+  double tolerance,
+  int depth,
+  SegmentBatch& batch,
+  LinearizeCounts& counts)
+{
+  const double m = 0.5 * (a + b);
+  Vec3d rm = ra;
+  const double fm = fieldAt(cell, o + d * m, rm, counts);
+  if ((depth > 0 && std::fabs(fm - 0.5 * (fa + fb)) <= tolerance) || depth >= MaxDepth)
+  {
+    batch.push(fa, fm, m - a);
+    batch.push(fm, fb, b - m);
+    counts.pieces += 2;
+    return;
+  }
+  linearizeInterval(cell, o, d, a, fa, ra, m, fm, tolerance, depth + 1, batch, counts);
+  linearizeInterval(cell, o, d, m, fm, rm, b, fb, tolerance, depth + 1, batch, counts);
+}
+} // namespace
+
+IsoparametricCell curvedCell(const ZSweepMesh& mesh, std::int32_t slot)
+{
+  IsoparametricCell cell;
+  cell.type = mesh.curvedType(slot);
+  cell.count = cellFaces(cell.type).vertices;
+  const std::uint32_t* ids = mesh.curvedVertices(slot);
+  cell.fMin = cell.fMax = mesh.scalars()[ids[0]];
+  for (int i = 0; i < cell.count; ++i)
+  {
+    cell.p[i] = mesh.points()[ids[i]];
+    cell.f[i] = mesh.scalars()[ids[i]];
+    cell.fMin = std::min(cell.fMin, cell.f[i]);
+    cell.fMax = std::max(cell.fMax, cell.f[i]);
+  }
+  return cell;
+}
+
+void shapeFunctions(ZSweepCellType type, const Vec3d& r, double N[8], double dN[8][3])
+{
+  switch (type)
+  {
+    case ZSweepCellType::Wedge:
+      wedgeWeights(r, N, dN);
+      return;
+    case ZSweepCellType::Pyramid:
+      pyramidWeights(r, N, dN);
+      return;
+    case ZSweepCellType::Hexahedron:
+    case ZSweepCellType::Tetra:
+      break;
+  }
+  hexahedronWeights(r, N, dN);
+}
+
+Vec3d referenceCentre(ZSweepCellType type)
+{
+  switch (type)
+  {
+    case ZSweepCellType::Wedge:
+      return Vec3d(1.0 / 3, 1.0 / 3, 0.5);
+    case ZSweepCellType::Pyramid:
+      return Vec3d(0.5, 0.5, 0.2);
+    case ZSweepCellType::Hexahedron:
+    case ZSweepCellType::Tetra:
+      break;
+  }
+  return Vec3d(0.5, 0.5, 0.5);
+}
+
+bool invertCellMap(const IsoparametricCell& cell, const Vec3d& X, Vec3d& r)
+{
+  for (int iteration = 0; iteration < 30; ++iteration)
+  {
+    double N[8], dN[8][3];
+    shapeFunctions(cell.type, r, N, dN);
+    Vec3d F = X * -1.0, J[3];
+    for (int i = 0; i < cell.count; ++i)
+    {
+      F += cell.p[i] * N[i];
+      for (int a = 0; a < 3; ++a)
+      {
+        J[a] += cell.p[i] * dN[i][a];
+      }
+    }
+    // J delta = F by Cramer's rule.
+    const Vec3d j12 = cross(J[1], J[2]);
+    const double det = dot(J[0], j12);
+    if (!(std::fabs(det) > 0) || !std::isfinite(det))
+    {
+      return false;
+    }
+    Vec3d delta(dot(F, j12) / det, dot(J[0], cross(F, J[2])) / det, dot(J[0], cross(J[1], F)) / det);
+    const double size = std::max({ std::fabs(delta.x), std::fabs(delta.y), std::fabs(delta.z) });
+    if (!std::isfinite(size))
+    {
+      return false;
+    }
+    if (size > 0.5)
+    {
+      delta = delta * (0.5 / size);
+    }
+    r = r - delta;
+    if (size < 1e-12)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+double cellField(const IsoparametricCell& cell, const Vec3d& r)
+{
+  double N[8], dN[8][3];
+  shapeFunctions(cell.type, clampToCell(cell.type, r), N, dN);
+  double f = 0;
+  for (int i = 0; i < cell.count; ++i)
+  {
+    f += N[i] * cell.f[i];
+  }
+  return std::clamp(f, cell.fMin, cell.fMax);
+}
+
+void linearizeAlongRay(const IsoparametricCell& cell,
+  const Vec3d& o,
+  const Vec3d& d,
+  double t0,
+  double t1,
+  double tolerance,
+  SegmentBatch& batch,
+  LinearizeCounts& counts)
+{
+  Vec3d r0 = referenceCentre(cell.type);
+  const double f0 = fieldAt(cell, o + d * t0, r0, counts);
+  Vec3d r1 = r0;
+  const double f1 = fieldAt(cell, o + d * t1, r1, counts);
+  linearizeInterval(cell, o, d, t0, f0, r0, t1, f1, tolerance, 0, batch, counts);
+}
+
+} // namespace raymappers
