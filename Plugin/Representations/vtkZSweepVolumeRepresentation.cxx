@@ -161,6 +161,8 @@ void vtkZSweepVolumeRepresentation::SetScalarOpacityUnitDistance(double distance
 // Forwarded to the mapper.
 // clang-format off
 vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetIntegrator, int, SetIntegrator)
+vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetCellField, int, SetCellField)
+vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetCurvedTolerance, double, SetCurvedTolerance)
 vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetTileSize, int, SetTileSize)
 vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetListThreshold, int, SetListThreshold)
 vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetSparsification, bool, SetSparsification)

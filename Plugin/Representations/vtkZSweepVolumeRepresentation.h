@@ -50,6 +50,8 @@ public:
   //***************************************************************************
   // Forwarded to vtkZSweepVolumeMapper (see there).
   void SetIntegrator(int integrator);
+  void SetCellField(int field);
+  void SetCurvedTolerance(double tolerance);
   void SetTileSize(int size);
   void SetListThreshold(int k);
   void SetSparsification(bool on);

@@ -1,6 +1,7 @@
 // The zsweep suite: vtkZSweepVolumeMapper (zsweep: the exact integrator, the dissertation's
 // formula, the midpoint rule, tile sizes, list thresholds, time-critical subsampling p,
-// native hexahedra and sparsification, the exact, sparse and native rows with build_ms the
+// native hexahedra (their trilinear field, and the split faces' linear field) and
+// sparsification, the exact, sparse and native rows with build_ms the
 // median mesh build of a time step) against the
 // mappers a VTK or ParaView user has for unstructured grids: VTK's ZSweep
 // (vtk-zsweep, vtkUnstructuredGridVolumeZSweepMapper), the Bunyk ray caster (vtk-bunyk,
@@ -393,11 +394,12 @@ std::vector<Row> RunZSweep(const Options& opt)
 
       vtkSmartPointer<vtkZSweepVolumeMapper> ours;
       auto zsweep = [&](vtkUnstructuredGrid* grid, int integrator, int tile, int K, int p = 1,
-                      bool sparse = false) {
-        return [&, grid, integrator, tile, K, p, sparse](vtkRenderer* ren) {
+                      bool sparse = false, int cellField = VTK_ZSWEEP_CELL_FIELD_NATIVE) {
+        return [&, grid, integrator, tile, K, p, sparse, cellField](vtkRenderer* ren) {
           ours = vtkSmartPointer<vtkZSweepVolumeMapper>::New();
           ours->SetInputData(grid);
           ours->SetSparsification(sparse);
+          ours->SetCellField(cellField);
           ours->SetIntegrator(integrator);
           ours->SetTileSize(tile);
           ours->SetListThreshold(K);
@@ -419,7 +421,9 @@ std::vector<Row> RunZSweep(const Options& opt)
           << ", segments " << st->GetCounter("segments") << ", max list "
           << st->GetCounter("max_list") << ", K growths " << st->GetCounter("k_growths")
           << ", flushes " << st->GetCounter("flushes") << ", transparent segments "
-          << st->GetCounter("transparent_segments");
+          << st->GetCounter("transparent_segments") << ", curved segments "
+          << st->GetCounter("curved_segments") << " (" << st->GetCounter("curved_pieces")
+          << " pieces)";
         return s.str();
       };
       auto vtkMapper = [&](vtkUnstructuredGridVolumeMapper* mapper) {
@@ -447,6 +451,11 @@ std::vector<Row> RunZSweep(const Options& opt)
           zsweep(g.native, VTK_ZSWEEP_INTEGRATOR_EXACT, 32, 16), meshMs, touch, detail });
         methods.push_back({ "zsweep", "native-cells;sparse",
           zsweep(g.native, VTK_ZSWEEP_INTEGRATOR_EXACT, 32, 16, 1, true), meshMs, touch, detail });
+        // The cells' own (trilinear) field above; here the split faces' linear field.
+        methods.push_back({ "zsweep", "native-cells;split-faces",
+          zsweep(g.native, VTK_ZSWEEP_INTEGRATOR_EXACT, 32, 16, 1, false,
+            VTK_ZSWEEP_CELL_FIELD_SPLIT_FACES),
+          meshMs, touch, detail });
       }
       methods.push_back({ "zsweep", "farias", zsweep(g.tetra, VTK_ZSWEEP_INTEGRATOR_FARIAS, 32, 16),
         nullptr, nullptr, detail });
