@@ -101,32 +101,77 @@ double fieldAt(const IsoparametricCell& cell, const Vec3d& X, Vec3d& r, Lineariz
   return cellField(cell, r);
 }
 
-// The halving of [a, b] (field fa, fb; ra: the solution at a) into the batch's pieces.
+// A point of the ray in the cell: t, the field, the map's solution.
+struct RayPoint
+{
+  double t, f;
+  Vec3d r;
+};
+
+// The two halves of [a, b] as linear pieces through the midpoint m.
+void pushHalves(const RayPoint& a, const RayPoint& m, const RayPoint& b, SegmentBatch& batch,
+  LinearizeCounts& counts)
+{
+  batch.push(a.f, m.f, m.t - a.t);
+  batch.push(m.f, b.f, b.t - m.t);
+  counts.pieces += 2;
+}
+
+// The midpoint of [a, b], Newton started from the mean of the ends' solutions (off by
+// O(h^2)).
+RayPoint midpoint(const IsoparametricCell& cell, const Vec3d& o, const Vec3d& d,
+  const RayPoint& a, const RayPoint& b, LinearizeCounts& counts)
+{
+  RayPoint m{ 0.5 * (a.t + b.t), 0, (a.r + b.r) * 0.5 };
+  m.f = fieldAt(cell, o + d * m.t, m.r, counts);
+  return m;
+}
+
+// The halving of [a, b] into the batch's pieces.
 void linearizeInterval(const IsoparametricCell& cell,
   const Vec3d& o,
   const Vec3d& d,
-  double a,
-  double fa,
-  Vec3d ra,
-  double b,
-  double fb,
+  const RayPoint& a,
+  const RayPoint& b,
   double tolerance,
   int depth,
   SegmentBatch& batch,
   LinearizeCounts& counts)
 {
-  const double m = 0.5 * (a + b);
-  Vec3d rm = ra;
-  const double fm = fieldAt(cell, o + d * m, rm, counts);
-  if ((depth > 0 && std::fabs(fm - 0.5 * (fa + fb)) <= tolerance) || depth >= MaxDepth)
+  const RayPoint m = midpoint(cell, o, d, a, b, counts);
+  if (std::fabs(m.f - 0.5 * (a.f + b.f)) <= tolerance || depth >= MaxDepth)
   {
-    batch.push(fa, fm, m - a);
-    batch.push(fm, fb, b - m);
-    counts.pieces += 2;
+    pushHalves(a, m, b, batch, counts);
     return;
   }
-  linearizeInterval(cell, o, d, a, fa, ra, m, fm, tolerance, depth + 1, batch, counts);
-  linearizeInterval(cell, o, d, m, fm, rm, b, fb, tolerance, depth + 1, batch, counts);
+  linearizeInterval(cell, o, d, a, m, tolerance, depth + 1, batch, counts);
+  linearizeInterval(cell, o, d, m, b, tolerance, depth + 1, batch, counts);
+}
+// df/dt along the direction d at r: J w = d (w = dr/dt, Cramer's rule), df/dt = grad_r f . w;
+// 0 (and w = 0) where the Jacobian is singular.
+double slopeAlong(const IsoparametricCell& cell, const Vec3d& r, const Vec3d& d, Vec3d& w)
+{
+  w = Vec3d();
+  double N[8], dN[8][3];
+  shapeFunctions(cell.type, clampToCell(cell.type, r), N, dN);
+  Vec3d J[3];
+  double grad[3] = { 0, 0, 0 };
+  for (int i = 0; i < cell.count; ++i)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      J[a] += cell.p[i] * dN[i][a];
+      grad[a] += cell.f[i] * dN[i][a];
+    }
+  }
+  const Vec3d j12 = cross(J[1], J[2]);
+  const double det = dot(J[0], j12);
+  if (!(std::fabs(det) > 0) || !std::isfinite(det))
+  {
+    return 0;
+  }
+  w = Vec3d(dot(d, j12) / det, dot(J[0], cross(d, J[2])) / det, dot(J[0], cross(J[1], d)) / det);
+  return grad[0] * w.x + grad[1] * w.y + grad[2] * w.z;
 }
 } // namespace
 
@@ -212,7 +257,7 @@ bool invertCellMap(const IsoparametricCell& cell, const Vec3d& X, Vec3d& r)
       delta = delta * (0.5 / size);
     }
     r = r - delta;
-    if (size < 1e-12)
+    if (size < 1e-7)
     {
       return true;
     }
@@ -241,11 +286,26 @@ void linearizeAlongRay(const IsoparametricCell& cell,
   SegmentBatch& batch,
   LinearizeCounts& counts)
 {
-  Vec3d r0 = referenceCentre(cell.type);
-  const double f0 = fieldAt(cell, o + d * t0, r0, counts);
-  Vec3d r1 = r0;
-  const double f1 = fieldAt(cell, o + d * t1, r1, counts);
-  linearizeInterval(cell, o, d, t0, f0, r0, t1, f1, tolerance, 0, batch, counts);
+  RayPoint a{ t0, 0, referenceCentre(cell.type) };
+  a.f = fieldAt(cell, o + d * t0, a.r, counts);
+  Vec3d wa, wb;
+  const double slopeA = slopeAlong(cell, a.r, d, wa);
+  // The far end's Newton started from the tangent's prediction r(t0) + h dr/dt.
+  const double h = t1 - t0;
+  RayPoint b{ t1, 0, a.r + wa * h };
+  b.f = fieldAt(cell, o + d * t1, b.r, counts);
+  const double slopeB = slopeAlong(cell, b.r, d, wb);
+  const RayPoint m = midpoint(cell, o, d, a, b, counts);
+  // The whole segment's two halves, when the midpoint and the end slopes' bound agree.
+  const double k = (b.f - a.f) / h;
+  const double bend = 0.25 * h * std::max(std::fabs(slopeA - k), std::fabs(slopeB - k));
+  if (std::fabs(m.f - 0.5 * (a.f + b.f)) <= tolerance && bend <= tolerance)
+  {
+    pushHalves(a, m, b, batch, counts);
+    return;
+  }
+  linearizeInterval(cell, o, d, a, m, tolerance, 1, batch, counts);
+  linearizeInterval(cell, o, d, m, b, tolerance, 1, batch, counts);
 }
 
 } // namespace raymappers

@@ -12,20 +12,27 @@
 // - pyramid, [0, 1]^3 with the apex at t = 1: the base's bilinear weights times (1 - t), and
 //   N_4 = t (the hexahedron with its top face collapsed).
 // Along the ray X(t) = o + t d the field is f(r(t)), r(t) solving x(r) = X(t): Newton's
-// method, r <- r - J^-1 (x(r) - X), J = dx/dr by Cramer's rule, started from the previous
-// point's solution (2 or 3 iterations), steps shortened to 0.5 (a start far off does not
-// jump away). The solution is clamped into the reference cell before f is evaluated: the
+// method, r <- r - J^-1 (x(r) - X), J = dx/dr by Cramer's rule: at the segment's front from
+// the cell's centre, at its back from the tangent's prediction r(t0) + h dr/dt, at a midpoint
+// from the mean of its ends' solutions (2 or 3 iterations there); it stops after a step below
+// 1e-7, which quadratic convergence leaves about 1e-14 from the solution; steps are
+// shortened to 0.5 (a start far off does not jump away). The solution is clamped into the reference cell before f is evaluated: the
 // renderer's cell is bounded by the split faces, which leave the curved cell's image where
 // a face is not planar (by the face's bend); there f holds its value on the boundary, and
 // f stays within the corners' range (the N_i are a partition of unity, >= 0 in the cell).
 //
-// Linearization: [t0, t1] is halved (at least once) until on each half [a, b] the field at
-// the midpoint m departs from the chord by at most the tolerance,
+// Linearization: an interval [a, b] whose field at the midpoint m departs from the chord by
+// at most the tolerance,
 //   |f(m) - (f(a) + f(b)) / 2| <= tol,
-// and the two halves [a, m], [m, b] become pieces with f linear between the evaluated
-// values. For a smooth f the chord's largest departure is h^2 |f''| / 8 on a piece of length
-// h, 4 times the midpoint's departure of its parent: the pieces' error is about tol / 4.
-// At most 2^12 pieces a segment.
+// becomes the two pieces [a, m], [m, b] with f linear between the evaluated values; else it
+// is halved. For a smooth f the chord's largest departure is h^2 |f''| / 8 on a piece of
+// length h, 4 times the midpoint's departure of its parent: the pieces' error is about
+// tol / 4. The midpoint alone misses an odd bend (a cubic through the chord's midpoint), so
+// the whole segment [t0, t1] is accepted only when the end slopes f'(t0), f'(t1) (from the
+// Jacobian: J w = d, f' = grad_r f . w) also bound the cubic with those ends' departure,
+//   h x (1 - x) ((1 - x) (f'(t0) - k) - x (f'(t1) - k)) <= h / 4 max |f' - k| <= tol,
+// k the chord's slope; its halves and theirs are then judged by their midpoints. At most
+// 2^12 pieces a segment.
 #ifndef RayMappers_IsoparametricCell_h
 #define RayMappers_IsoparametricCell_h
 
@@ -57,7 +64,7 @@ void shapeFunctions(ZSweepCellType type, const Vec3d& r, double N[8], double dN[
 Vec3d referenceCentre(ZSweepCellType type);
 
 /// Newton's method on x(r) = X from r; false when the Jacobian is singular or 30
-/// iterations do not bring the step below 1e-12 (r then holds the last iterate).
+/// iterations do not bring the step below 1e-7 (r then holds the last iterate).
 bool invertCellMap(const IsoparametricCell& cell, const Vec3d& X, Vec3d& r);
 
 /// f at r clamped into the reference cell.
