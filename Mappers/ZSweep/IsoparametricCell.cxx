@@ -96,7 +96,8 @@ double fieldAt(const IsoparametricCell& cell, const Vec3d& X, Vec3d& r, Lineariz
   else
   {
     ++counts.failures;
-    r = clampToCell(cell.type, next);
+    const bool finite = std::isfinite(next.x) && std::isfinite(next.y) && std::isfinite(next.z);
+    r = finite ? clampToCell(cell.type, next) : referenceCentre(cell.type);
   }
   return cellField(cell, r);
 }

@@ -269,7 +269,8 @@ void Properties(Viewer& v)
   rmtest::CheckNaNCases(log, render,
     { { "TerminationOpacity", [&] { m->SetTerminationOpacity(0.5); },
         [&] { m->SetTerminationOpacity(nan); }, [&] { m->SetTerminationOpacity(1); } },
-      { "FrameBudget", nothing, [&] { m->SetFrameBudget(nan); }, nothing } });
+      { "FrameBudget", nothing, [&] { m->SetFrameBudget(nan); }, nothing },
+      { "CurvedTolerance", nothing, [&] { m->SetCurvedTolerance(nan); }, nothing } });
   rmtest::CheckClampCases(log, render,
     { { "TerminationOpacity", [&](double x) { m->SetTerminationOpacity(x); }, -2, 0,
         "TerminationOpacity -2 is outside [0, 1]: clamped to 0" },
@@ -282,7 +283,12 @@ void Properties(Viewer& v)
       { "Subsampling", [&](double x) { m->SetListThreshold(16), m->SetSubsampling(static_cast<int>(x)); },
         -4, 0, "Subsampling -4 is outside [0, 9]" },
       { "FrameBudget", [&](double x) { m->SetFrameBudget(x); }, -1, 0,
-        "FrameBudget -1 is outside" } });
+        "FrameBudget -1 is outside" },
+      { "CellField", [&](double x) { m->SetFrameBudget(0), m->SetCellField(static_cast<int>(x)); },
+        5, VTK_ZSWEEP_CELL_FIELD_SPLIT_FACES, "CellField 5 is outside [0, 1]" },
+      { "CurvedTolerance", [&](double x) { m->SetCellField(0), m->SetCurvedTolerance(x); }, 0.5,
+        0.1, "CurvedTolerance 0.5 is outside" } });
+  m->SetCurvedTolerance(1e-4);
   v.Render();
   log.Silent("the properties restored");
 }
