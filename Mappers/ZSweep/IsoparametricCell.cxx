@@ -15,6 +15,20 @@ constexpr int HexCorner[8][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1,
 
 constexpr int MaxDepth = 12;
 
+// x solving J x = b (J's columns J[0..2]) by Cramer's rule; false when J is singular or not
+// finite.
+bool solveColumns(const Vec3d J[3], const Vec3d& b, Vec3d& x)
+{
+  const Vec3d j12 = cross(J[1], J[2]);
+  const double det = dot(J[0], j12);
+  if (!(std::fabs(det) > 0) || !std::isfinite(det))
+  {
+    return false;
+  }
+  x = Vec3d(dot(b, j12) / det, dot(J[0], cross(b, J[2])) / det, dot(J[0], cross(J[1], b)) / det);
+  return true;
+}
+
 void hexahedronWeights(const Vec3d& r, double N[8], double dN[8][3])
 {
   const double u[3] = { r.x, r.y, r.z };
@@ -152,7 +166,6 @@ void linearizeInterval(const IsoparametricCell& cell,
 // 0 (and w = 0) where the Jacobian is singular.
 double slopeAlong(const IsoparametricCell& cell, const Vec3d& r, const Vec3d& d, Vec3d& w)
 {
-  w = Vec3d();
   double N[8], dN[8][3];
   shapeFunctions(cell.type, clampToCell(cell.type, r), N, dN);
   Vec3d J[3];
@@ -165,13 +178,11 @@ double slopeAlong(const IsoparametricCell& cell, const Vec3d& r, const Vec3d& d,
       grad[a] += cell.f[i] * dN[i][a];
     }
   }
-  const Vec3d j12 = cross(J[1], J[2]);
-  const double det = dot(J[0], j12);
-  if (!(std::fabs(det) > 0) || !std::isfinite(det))
+  if (!solveColumns(J, d, w))
   {
+    w = Vec3d();
     return 0;
   }
-  w = Vec3d(dot(d, j12) / det, dot(J[0], cross(d, J[2])) / det, dot(J[0], cross(J[1], d)) / det);
   return grad[0] * w.x + grad[1] * w.y + grad[2] * w.z;
 }
 } // namespace
@@ -240,14 +251,11 @@ bool invertCellMap(const IsoparametricCell& cell, const Vec3d& X, Vec3d& r)
         J[a] += cell.p[i] * dN[i][a];
       }
     }
-    // J delta = F by Cramer's rule.
-    const Vec3d j12 = cross(J[1], J[2]);
-    const double det = dot(J[0], j12);
-    if (!(std::fabs(det) > 0) || !std::isfinite(det))
+    Vec3d delta;
+    if (!solveColumns(J, F, delta))
     {
       return false;
     }
-    Vec3d delta(dot(F, j12) / det, dot(J[0], cross(F, J[2])) / det, dot(J[0], cross(J[1], F)) / det);
     const double size = std::max({ std::fabs(delta.x), std::fabs(delta.y), std::fabs(delta.z) });
     if (!std::isfinite(size))
     {
