@@ -12,7 +12,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
+#include <memory>
 
 namespace raymappers
 {
@@ -41,7 +43,7 @@ Vec3d applyMatrix(const double* m, int stride, const Vec3d& v, bool affine)
 struct Tally
 {
   std::int64_t shaded = 0, translucent = 0, paths = 0, events = 0, tir = 0, columns = 0,
-               aoSamples = 0, colorSamples = 0;
+               tileSkips = 0, aoSamples = 0, colorSamples = 0;
 };
 
 /// Whether depth z lies in one of pixel p's stored spans.
@@ -85,31 +87,146 @@ struct MarchHit
   int slot = -1;
 };
 
-/// Which square tiles of TileSize pixels hold a span: a ray outside the fluid crosses an empty
-/// tile in one step (it can meet no surface there).
-struct EmptyTiles
+/// Empty-space skipping for the march: the screen in square tiles of TileSize pixels, the
+/// layers' range in DepthBins bins of equal layer count. Per tile and bin, whether every column
+/// of the tile is inside a span throughout the bin (no stored depth in the bin), or outside
+/// every span throughout it. A ray whose depths over a tile stay in bins that are clear for
+/// its state (inside or outside the fluid) meets no surface there (no stored depth, and no
+/// change of inside/outside at a column's side): it crosses the tile in one step.
+struct MarchTiles
 {
-  static constexpr int TileSize = 16;
+  int TileSize;
+  static constexpr int Words = 16; // 64-bit words of bins per tile and state
+  static constexpr int DepthBins = 64 * Words;
+  using Bins = std::array<std::uint64_t, Words>;
+  const VoxelDepthLayers& layers;
   int tilesX = 0, tilesY = 0;
-  std::vector<std::uint8_t> occupied;
+  double keyFront = 0, binsPerKey = 0;
+  std::vector<Bins> clearInside, clearOutside; // per tile, bit b: bin b is clear
 
-  explicit EmptyTiles(const FluidSpans& spans)
-    : tilesX((spans.width + TileSize - 1) / TileSize)
+  MarchTiles(const FluidSpans& spans, int tileSize)
+    : TileSize(tileSize)
+    , layers(spans.layers)
+    , tilesX((spans.width + TileSize - 1) / TileSize)
     , tilesY((spans.height + TileSize - 1) / TileSize)
-    , occupied(static_cast<std::size_t>(tilesX) * tilesY, 0)
+    , clearInside(static_cast<std::size_t>(tilesX) * tilesY)
+    , clearOutside(static_cast<std::size_t>(tilesX) * tilesY)
   {
-    for (int j = 0; j < spans.height; ++j)
+    if (!layers.depths.empty())
     {
-      for (int i = 0; i < spans.width; ++i)
+      keyFront = key(layers.depths.front());
+      const double keyRange = key(layers.depths.back()) - keyFront;
+      binsPerKey = keyRange > 0 ? DepthBins / keyRange : 0.0;
+    }
+    tbb::parallel_for(tbb::blocked_range<int>(0, tilesY, 1),
+      [&](const tbb::blocked_range<int>& r)
       {
-        occupied[static_cast<std::size_t>(j / TileSize) * tilesX + i / TileSize] |=
-          spans.count[spans.pixel(i, j)] > 0 ? 1 : 0;
-      }
+        for (int ty = r.begin(); ty != r.end(); ++ty)
+        {
+          for (int tx = 0; tx < tilesX; ++tx)
+          {
+            classifyTile(spans, tx, ty);
+          }
+        }
+      });
+  }
+  /// The bin holding depth z (depths beyond the layers' range in the end bins): uniform in
+  /// the bit pattern of z as a double, which for positive depths grows monotonically with z,
+  /// piecewise linearly in log2 z (perspective: like the layers), or uniform in z (parallel).
+  /// Any monotonic binning keeps the skip exact: a depth between za and zb has its bin between
+  /// theirs, and one in a bin strictly between two depths' bins lies between them.
+  int bin(double z) const
+  {
+    const double u = (key(z) - keyFront) * binsPerKey;
+    return static_cast<int>(std::clamp(u, 0.0, DepthBins - 1.0));
+  }
+  double key(double z) const
+  {
+    if (!layers.logarithmic)
+    {
+      return z;
+    }
+    std::int64_t bits;
+    std::memcpy(&bits, &z, sizeof bits);
+    return static_cast<double>(std::max<std::int64_t>(bits, 0));
+  }
+  /// Sets bins lo..hi of m.
+  static void mark(Bins& m, int lo, int hi)
+  {
+    for (int w = lo >> 6; w <= hi >> 6; ++w)
+    {
+      const int a = std::max(lo - 64 * w, 0), b = std::min(hi - 64 * w, 63);
+      const std::uint64_t upTo = b == 63 ? ~std::uint64_t(0) : (std::uint64_t(1) << (b + 1)) - 1;
+      m[w] |= upTo & (~std::uint64_t(0) << a);
     }
   }
-  bool empty(int i, int j) const
+  /// A column's spans [e_k, x_k]: the bins strictly between bin(e_k) and bin(x_k) are inside,
+  /// those holding a stored depth neither inside nor outside, the rest outside. A tile's bin is
+  /// clear for a state when it is so in every column.
+  void classifyTile(const FluidSpans& spans, int tx, int ty)
   {
-    return !occupied[static_cast<std::size_t>(j / TileSize) * tilesX + i / TileSize];
+    Bins in, out;
+    in.fill(~std::uint64_t(0));
+    out.fill(~std::uint64_t(0));
+    const int i1 = std::min(spans.width, (tx + 1) * TileSize);
+    const int j1 = std::min(spans.height, (ty + 1) * TileSize);
+    for (int j = ty * TileSize; j < j1; ++j)
+    {
+      for (int i = tx * TileSize; i < i1; ++i)
+      {
+        const std::size_t p = spans.pixel(i, j);
+        Bins columnIn{}, surfaces{};
+        for (int k = 0; k < spans.count[p]; ++k)
+        {
+          const int be = bin(spans.entry(p, k)), bx = bin(spans.exit(p, k));
+          mark(surfaces, be, be);
+          mark(surfaces, bx, bx);
+          if (bx > be + 1)
+          {
+            mark(columnIn, be + 1, bx - 1);
+          }
+        }
+        for (int w = 0; w < Words; ++w)
+        {
+          in[w] &= columnIn[w];
+          out[w] &= ~(columnIn[w] | surfaces[w]);
+        }
+      }
+    }
+    clearInside[static_cast<std::size_t>(ty) * tilesX + tx] = in;
+    clearOutside[static_cast<std::size_t>(ty) * tilesX + tx] = out;
+  }
+  const Bins& clearBins(int i, int j, bool inside) const
+  {
+    const std::size_t t = static_cast<std::size_t>(j / TileSize) * tilesX + i / TileSize;
+    return inside ? clearInside[t] : clearOutside[t];
+  }
+  /// Whether pixel (i, j)'s tile has a bin clear for the state.
+  bool anyClear(int i, int j, bool inside) const
+  {
+    const Bins& c = clearBins(i, j, inside);
+    std::uint64_t any = 0;
+    for (int w = 0; w < Words; ++w)
+    {
+      any |= c[w];
+    }
+    return any != 0;
+  }
+  /// Whether the ray, inside or not, meets no surface in pixel (i, j)'s tile while its depth
+  /// goes from za to zb.
+  bool clear(int i, int j, bool inside, double za, double zb) const
+  {
+    Bins need{};
+    mark(need, bin(std::min(za, zb)), bin(std::max(za, zb)));
+    const Bins& c = clearBins(i, j, inside);
+    for (int w = 0; w < Words; ++w)
+    {
+      if ((c[w] & need[w]) != need[w])
+      {
+        return false;
+      }
+    }
+    return true;
   }
 };
 
@@ -159,28 +276,38 @@ struct MarchLine
   }
 };
 
-/// Crosses the empty tile of pixel (i, j) in one step from tIn (the ray is outside the fluid
-/// and can meet no surface there): the ray leaves the tile through the nearer of the far sides
-/// of the tile's last pixel along each axis; (i, j) becomes the pixel beyond. Returns the t
-/// where it leaves.
-double crossEmptyTile(const MarchLine& line, int W, int H, double tIn, int& i, int& j)
+/// Crosses the tile of pixel (i, j) in one step from tIn: the ray leaves the tile through the
+/// nearer of the far sides of the tile's last pixel along each axis; (i, j) becomes the pixel
+/// beyond, the one the march column by column reaches (it moves along x where a column's x
+/// side comes first or ties, else along y): leaving through the x side at t, the first row
+/// from the entry row whose far y side is at t or beyond; through the y side, the first column
+/// whose far x side is beyond t. Returns the t where it leaves.
+double crossTile(const MarchLine& line, int W, int H, int T, double tIn, int& i, int& j)
 {
-  const int T = EmptyTiles::TileSize;
   const int ei = line.sx > 0 ? std::min(W, (i / T + 1) * T) - 1 : (i / T) * T;
   const int ej = line.sy > 0 ? std::min(H, (j / T + 1) * T) - 1 : (j / T) * T;
   const double sideX = line.boundary(0, line.sx, ei, W), sideY = line.boundary(1, line.sy, ej, H);
   const double tOut = std::max(tIn, std::min({ sideX, sideY, line.tMax }));
   if (sideX <= sideY)
   {
-    // Leaves through the x side: the row it is in there (within the tile's rows).
-    const double y = line.pixelAt(1, tOut, H);
-    j = std::clamp(static_cast<int>(std::floor(y)), (j / T) * T, std::min(H, (j / T + 1) * T) - 1);
+    if (line.sy != 0)
+    {
+      while (j != ej && line.boundary(1, line.sy, j, H) < sideX)
+      {
+        j += line.sy;
+      }
+    }
     i = ei + line.sx;
   }
   else
   {
-    const double x = line.pixelAt(0, tOut, W);
-    i = std::clamp(static_cast<int>(std::floor(x)), (i / T) * T, std::min(W, (i / T + 1) * T) - 1);
+    if (line.sx != 0)
+    {
+      while (i != ei && line.boundary(0, line.sx, i, W) <= sideY)
+      {
+        i += line.sx;
+      }
+    }
     j = ej + line.sy;
   }
   return tOut;
@@ -244,29 +371,73 @@ MarchHit storedDepthHit(const FluidSpans& spans,
 /// pixel boundary along its projection. In each column it meets [za, zb] of depth: a change
 /// of inside/outside at the column's side is a hit there; else the first stored depth in
 /// (za, zb] along the ray is. Without a hit before the grid's depth range or the screen
-/// ends, the ray escapes at the t where it leaves. Outside the fluid, empty tiles are crossed
-/// in one step, from the side where the ray enters to the one where it leaves.
+/// ends, the ray escapes at the t where it leaves. With `tiles`, a tile whose bins over the
+/// ray's depths there are clear for its state is crossed in one step, from where the ray
+/// enters it to where it leaves (tried once per tile entered).
 MarchHit march(const FluidSpans& spans,
-  const EmptyTiles& tiles,
+  const MarchTiles* tiles,
   const ViewRays& rays,
   const Vec3d& o,
   const Vec3d& d,
   bool inside,
   int i,
   int j,
-  std::int64_t& columns)
+  Tally& t)
 {
   const MarchLine line(spans, rays, o, d);
   const int W = spans.width, H = spans.height;
+  // The column the start point projects to, a point on the side between two columns (a hit at
+  // a column's side) in the one it moves into: every far side the ray crosses must lie ahead
+  // of it (boundary() never returns a side behind it: the march would stay in that column).
+  const auto startCell = [&](int axis, int s, int size, int& cell)
+  {
+    const double x = line.pixelAt(axis, 0.0, size);
+    if (!std::isfinite(x))
+    {
+      return;
+    }
+    cell = static_cast<int>(std::clamp(s < 0 ? std::ceil(x) - 1.0 : std::floor(x), -1.0, double(size)));
+    if (s != 0 && cell >= 0 && cell < size && line.boundary(axis, s, cell, size) == Infinity)
+    {
+      cell += s; // its far side rounds to just behind the start: already crossed
+    }
+  };
+  startCell(0, line.sx, W, i);
+  startCell(1, line.sy, H, j);
   double tIn = 0;
   int ti = -1, tj = -1; // the column whose sides tx, ty are
   double tx = Infinity, ty = Infinity;
+  std::array<int, 2> triedX{ -1, -1 }, triedY{ -1, -1 }; // per level the tile last tried, not clear
   for (bool first = true; i >= 0 && i < W && j >= 0 && j < H && tIn < line.tMax; first = false)
   {
-    if (!inside && tiles.empty(i, j))
+    bool skipped = false;
+    for (int level = 0; tiles && level < 2 && !skipped; ++level)
     {
-      ++columns;
-      tIn = crossEmptyTile(line, W, H, tIn, i, j);
+      const MarchTiles& m = tiles[level];
+      const int T = m.TileSize;
+      if ((i / T == triedX[level] && j / T == triedY[level]) || !m.anyClear(i, j, inside))
+      {
+        continue;
+      }
+      int ni = i, nj = j;
+      const double tLeave = crossTile(line, W, H, T, tIn, ni, nj);
+      if (m.clear(i, j, inside, line.z0 + line.zd * tIn, line.z0 + line.zd * tLeave))
+      {
+        ++t.columns;
+        ++t.tileSkips;
+        tIn = tLeave;
+        i = ni;
+        j = nj;
+        skipped = true;
+      }
+      else
+      {
+        triedX[level] = i / T;
+        triedY[level] = j / T;
+      }
+    }
+    if (skipped)
+    {
       continue;
     }
     // The column's far sides, computed again only when the ray has moved along that axis.
@@ -283,7 +454,7 @@ MarchHit march(const FluidSpans& spans,
     const double tOut = std::max(tIn, std::min({ tx, ty, line.tMax }));
     const double za = line.z0 + line.zd * tIn, zb = line.z0 + line.zd * tOut;
     const std::size_t p = spans.pixel(i, j);
-    ++columns;
+    ++t.columns;
     if (!first && insideAt(spans, p, za) != inside)
     {
       return sideHit(spans, p, tIn, za);
@@ -316,32 +487,41 @@ struct FrontSurface
   Vec3d B, P, N;
 };
 
-/// Calls fn(i, j, p, front, tally) for every pixel with fluid, rows in parallel.
+/// Calls fn(i, j, p, front, tally) for every pixel with fluid, square blocks of BlockSize
+/// pixels in parallel (neighbouring paths march through the same columns: a block's columns
+/// stay in the cache).
 template<typename Fn>
 void forEachFrontSurface(const FluidSpans& spans,
   const ViewRays& rays,
   tbb::combinable<Tally>& tallies,
   Fn fn)
 {
-  tbb::parallel_for(tbb::blocked_range<int>(0, spans.height, 1),
+  constexpr int BlockSize = 32;
+  const int blocksX = (spans.width + BlockSize - 1) / BlockSize;
+  const int blocksY = (spans.height + BlockSize - 1) / BlockSize;
+  tbb::parallel_for(tbb::blocked_range<int>(0, blocksX * blocksY, 1),
     [&](const tbb::blocked_range<int>& r)
     {
       Tally& t = tallies.local();
-      for (int j = r.begin(); j != r.end(); ++j)
+      for (int b = r.begin(); b != r.end(); ++b)
       {
-        for (int i = 0; i < spans.width; ++i)
+        const int i0 = (b % blocksX) * BlockSize, j0 = (b / blocksX) * BlockSize;
+        for (int j = j0; j < std::min(spans.height, j0 + BlockSize); ++j)
         {
-          const std::size_t p = spans.pixel(i, j);
-          if (spans.count[p] == 0)
+          for (int i = i0; i < std::min(spans.width, i0 + BlockSize); ++i)
           {
-            continue;
+            const std::size_t p = spans.pixel(i, j);
+            if (spans.count[p] == 0)
+            {
+              continue;
+            }
+            const double z = spans.entry(p, 0);
+            const FrontSurface front{ z,
+              rays.direction(i + 0.5, j + 0.5),
+              rays.pointAt(i + 0.5, j + 0.5, z),
+              Vec3d(decodeNormal(spans.normals[spans.slot(p, 0)])) };
+            fn(i, j, p, front, t);
           }
-          const double z = spans.entry(p, 0);
-          const FrontSurface front{ z,
-            rays.direction(i + 0.5, j + 0.5),
-            rays.pointAt(i + 0.5, j + 0.5, z),
-            Vec3d(decodeNormal(spans.normals[spans.slot(p, 0)])) };
-          fn(i, j, p, front, t);
         }
       }
     });
@@ -466,7 +646,7 @@ struct PixelLight
 /// -march=native the compiler fuses multiplies and adds (FMA) differently in a call, and the
 /// chaotic paths (total internal reflection) then change a few pixels.
 [[gnu::always_inline]] inline PixelLight refract(const FluidSpans& spans,
-  const EmptyTiles& tiles,
+  const MarchTiles* tiles,
   const ViewRays& rays,
   const FluidLook& look,
   const FrontSurface& f,
@@ -506,7 +686,7 @@ struct PixelLight
     {
       break;
     }
-    const MarchHit hit = march(spans, tiles, rays, o, dir, inside, ci, cj, t.columns);
+    const MarchHit hit = march(spans, tiles, rays, o, dir, inside, ci, cj, t);
     const double s = std::max(0.0, hit.t);
     if (inside)
     {
@@ -559,6 +739,7 @@ constexpr TallyField<Tally> Tallies[] = { { "shaded_pixels", &Tally::shaded },
   { "surface_events", &Tally::events },
   { "tir_events", &Tally::tir },
   { "march_columns", &Tally::columns },
+  { "march_tile_skips", &Tally::tileSkips },
   { "ao_samples", &Tally::aoSamples },
   { "color_samples", &Tally::colorSamples } };
 }
@@ -597,7 +778,12 @@ void renderFluidSpans(const FluidSpans& spans,
 
   ScopedPhase phase(stats, refraction ? "refract" : "render");
   const FluidLook look(params, origin);
-  const EmptyTiles tiles = refraction ? EmptyTiles(spans) : EmptyTiles(FluidSpans());
+  std::vector<MarchTiles> tiles;
+  if (refraction && params.marchTileSkipping)
+  {
+    tiles.emplace_back(spans, 64);
+    tiles.emplace_back(spans, 8);
+  }
   forEachFrontSurface(spans,
     rays,
     tallies,
@@ -618,7 +804,7 @@ void renderFluidSpans(const FluidSpans& spans,
       }
       else if (refraction)
       {
-        light = refract(spans, tiles, rays, look, f, d, D, i, j, t);
+        light = refract(spans, tiles.empty() ? nullptr : tiles.data(), rays, look, f, d, D, i, j, t);
         light.rgb += S;
       }
       writePixel(frame, rays, i, j, light, f.P);

@@ -32,7 +32,9 @@
 //     s)) D_c and leaves w_c exp(-kappa_c s). The path is marched through the columns
 //     (screen-space march along the ray's projection, pixel boundary to pixel boundary,
 //     finding in each column the first stored depth between the depths where the ray enters
-//     and leaves it, or a change between inside and outside at the column's side) until it
+//     and leaves it, or a change between inside and outside at the column's side; tiles of
+//     64 and 8 pixels whose columns provably hold no surface over the ray's depths there,
+//     in depth bins per tile, are crossed in one step, to the same hits) until it
 //     leaves the grid (its weight then reaches the background: alpha = 1 - mean_c w_c) or
 //     `bounces` events have happened (a path still inside is then absorbed: w omega D goes
 //     to the pixel). The weights of all branches sum to 1 per channel, so no pixel exceeds
@@ -78,6 +80,9 @@ struct FluidRenderParameters
   double density = 1.0;
   double refractiveIndex = 1.0; // 1: no refraction march
   int bounces = 4;
+  /// The march crosses tiles it can prove hold no surface along the ray in one step (the same
+  /// hits as column by column); false: every column, as Listing 2.
+  bool marchTileSkipping = true;
   bool ambientOcclusion = false;
   double aoRadius = 0.1; // world units
   int aoSamples = 16;
@@ -86,8 +91,8 @@ struct FluidRenderParameters
 /// Renders `spans` (with normals) into `frame`: premultiplied RGBA and the window depth of
 /// the front surface (the far plane where there is no fluid).
 /// Phases: ao, render (opaque or translucent) or refract. Counters: shaded_pixels,
-/// translucent_pixels, refraction_paths, surface_events, tir_events, march_columns,
-/// ao_samples, color_samples (particles visited for the colours). Effects: translucency,
+/// translucent_pixels, refraction_paths, surface_events, tir_events, march_columns (steps:
+/// columns and tiles crossed), march_tile_skips (tiles crossed in one step), ao_samples, color_samples (particles visited for the colours). Effects: translucency,
 /// refraction, ambient_occlusion, particle_colors.
 void renderFluidSpans(const FluidSpans& spans,
   const ViewRays& rays,

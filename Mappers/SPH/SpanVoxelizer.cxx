@@ -5,11 +5,15 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
+#include <chrono>
+#include <functional>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -18,9 +22,6 @@
 #include <new>
 #include <vector>
 
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
 
 namespace raymappers
 {
@@ -133,55 +134,13 @@ constexpr TallyField<TallyCounters> Tallies[] = { { "splat_pixels", &TallyCounte
   { "spans_hidden", &TallyCounters::spansHidden },
   { "gaps_bridged", &TallyCounters::gapsBridged } };
 
-/// The tile's bit grid: zeroed memory from the system, asked for in 2 MB pages where Linux
-/// gives them (a fresh 4 KB page costs a fault on first touch: some hundred thousand per
-/// frame at 1080p otherwise). Pages no splat touches are never touched at all.
-class BitGrid
-{
-public:
-  explicit BitGrid(std::size_t words)
-    : Bytes(words * sizeof(std::uint64_t))
-  {
-#ifdef __linux__
-    void* p = mmap(nullptr, Bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    if (p != MAP_FAILED)
-    {
-      madvise(p, Bytes, MADV_HUGEPAGE);
-      Words = static_cast<std::uint64_t*>(p);
-    }
-#else
-    Words = static_cast<std::uint64_t*>(std::calloc(words, sizeof(std::uint64_t)));
-#endif
-  }
-  ~BitGrid()
-  {
-#ifdef __linux__
-    if (Words)
-    {
-      munmap(Words, Bytes);
-    }
-#else
-    std::free(Words);
-#endif
-  }
-  BitGrid(const BitGrid&) = delete;
-  BitGrid& operator=(const BitGrid&) = delete;
-  std::uint64_t* get() const { return Words; }
-
-private:
-  std::size_t Bytes;
-  std::uint64_t* Words = nullptr;
-};
-
 /// Column q (the tile's pixels row by row) of the tile's grid: its words are contiguous.
 inline std::uint64_t* columnOf(std::uint64_t* grid, std::size_t q, int words)
 {
   return grid + q * words;
 }
 
-/// Sets bits [l0, l1] of a column: an atomic OR on the partly covered first and last words, a
-/// plain store of all ones on the words in between (whatever other threads OR into such a
-/// word meanwhile, it ends all ones, so the store needs no lock).
+/// Sets bits [l0, l1] of a column (the tile's grid belongs to one thread: plain stores).
 inline std::int64_t setBits(std::uint64_t* column, int l0, int l1)
 {
   const int w0 = l0 >> 6, w1 = l1 >> 6;
@@ -190,21 +149,18 @@ inline std::int64_t setBits(std::uint64_t* column, int l0, int l1)
   const std::uint64_t last = (l1 & 63) == 63 ? ones : (std::uint64_t(1) << ((l1 & 63) + 1)) - 1;
   if (w0 == w1)
   {
-    __atomic_fetch_or(column + w0, first & last, __ATOMIC_RELAXED);
+    column[w0] |= first & last;
     return 1;
   }
-  __atomic_fetch_or(column + w0, first, __ATOMIC_RELAXED);
-  for (int w = w0 + 1; w < w1; ++w)
-  {
-    __atomic_store_n(column + w, ones, __ATOMIC_RELAXED);
-  }
-  __atomic_fetch_or(column + w1, last, __ATOMIC_RELAXED);
+  column[w0] |= first;
+  std::fill(column + w0 + 1, column + w1, ones);
+  column[w1] |= last;
   return w1 - w0 + 1;
 }
 
 inline void setBit(std::uint64_t* column, int l)
 {
-  __atomic_fetch_or(column + (l >> 6), std::uint64_t(1) << (l & 63), __ATOMIC_RELAXED);
+  column[l >> 6] |= std::uint64_t(1) << (l & 63);
 }
 
 /// The first layer >= pos whose bit equals `value` (`words * 64` when none).
@@ -336,46 +292,108 @@ DepthRange projectSplats(const FluidParticles& particles,
   return range;
 }
 
-/// The screen's tiles: tw x th pixels, as many as the budget's tilePixels columns allow (whole
-/// rows while a row fits, else squares), tilesX x tilesY of them.
-struct TileLayout
+/// The screen's square tiles of `size` pixels (section 3.1) and what each must splat: the
+/// indices (into the SplatList) of the particles and boxes whose footprints overlap it,
+/// tile t's from items[start[t]] to items[start[t + 1]].
+struct TileLists
 {
-  int tw, th, tilesX, tilesY;
-};
+  int size = 0, tilesX = 0, tilesY = 0;
+  std::vector<std::size_t> start;
+  std::vector<std::uint32_t> items;
 
-TileLayout tilesWithinBudget(int W, int H, std::size_t tilePixels)
-{
-  int tw = W, th = H;
-  if (tilePixels < static_cast<std::size_t>(W) * H)
+  std::size_t tiles() const { return static_cast<std::size_t>(tilesX) * tilesY; }
+  /// Calls fn(tile) for each tile footprint f overlaps.
+  template<typename Fn>
+  void forTilesOf(const Footprint& f, Fn fn) const
   {
-    if (tilePixels >= static_cast<std::size_t>(W))
+    if (f.x0 > f.x1 || f.y0 > f.y1)
     {
-      th = static_cast<int>(tilePixels / W); // whole rows
+      return;
     }
-    else
+    for (int ty = f.y0 / size; ty <= f.y1 / size; ++ty)
     {
-      tw = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(tilePixels))));
-      th = std::min(H, static_cast<int>(tilePixels / tw));
+      for (int tx = f.x0 / size; tx <= f.x1 / size; ++tx)
+      {
+        fn(static_cast<std::size_t>(ty) * tilesX + tx);
+      }
     }
   }
-  return { tw, th, (W + tw - 1) / tw, (H + th - 1) / th };
+};
+
+/// How many (tile, item) entries tiles of `size` pixels would list.
+std::size_t tileEntries(const SplatList& list, int size)
+{
+  return tbb::parallel_reduce(
+    tbb::blocked_range<std::size_t>(0, list.footprints.size(), 4096),
+    std::size_t(0),
+    [&](const tbb::blocked_range<std::size_t>& r, std::size_t n)
+    {
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
+      {
+        const Footprint& f = list.footprints[k];
+        if (f.x0 <= f.x1 && f.y0 <= f.y1)
+        {
+          n += static_cast<std::size_t>(f.x1 / size - f.x0 / size + 1) * (f.y1 / size - f.y0 / size + 1);
+        }
+      }
+      return n;
+    },
+    std::plus<>());
 }
 
-/// The voxelization of one tile after the other into the tile's bit grid, and its compression
-/// into the spans.
+/// The lists of tiles of `size` pixels: counted, offset, then filled (in parallel; the order
+/// within a tile does not matter, the bits are ORed).
+void listTiles(const SplatList& list, int W, int H, int size, TileLists& tl)
+{
+  tl.size = size;
+  tl.tilesX = (W + size - 1) / size;
+  tl.tilesY = (H + size - 1) / size;
+  std::vector<std::size_t> cursor(tl.tiles() + 1, 0);
+  const tbb::blocked_range<std::size_t> all(0, list.footprints.size(), 4096);
+  tbb::parallel_for(all,
+    [&](const tbb::blocked_range<std::size_t>& r)
+    {
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
+      {
+        tl.forTilesOf(list.footprints[k],
+          [&](std::size_t t) { __atomic_fetch_add(&cursor[t + 1], 1, __ATOMIC_RELAXED); });
+      }
+    });
+  for (std::size_t t = 0; t < tl.tiles(); ++t)
+  {
+    cursor[t + 1] += cursor[t];
+  }
+  tl.start = cursor;
+  tl.items.resize(cursor.back());
+  tbb::parallel_for(all,
+    [&](const tbb::blocked_range<std::size_t>& r)
+    {
+      for (std::size_t k = r.begin(); k != r.end(); ++k)
+      {
+        tl.forTilesOf(list.footprints[k],
+          [&](std::size_t t)
+          {
+            tl.items[__atomic_fetch_add(&cursor[t], 1, __ATOMIC_RELAXED)] =
+              static_cast<std::uint32_t>(k);
+          });
+      }
+    });
+}
+
+/// The voxelization of one tile into its bit grid (one thread's: `size` x `size` columns of
+/// `words` words, clear on entry and left clear) and its compression into the spans.
 struct TileVoxelizer
 {
   const FluidParticles& particles;
   const ViewRays& rays;
   const SplatList& list;
   const VoxelDepthLayers& layers;
-  std::uint64_t* grid;                // the tile's columns, `words` words each
-  std::vector<std::uint8_t>& touched; // per column of the tile: a splat wrote it
-  const float* stop;                  // the stop depths, or null
+  std::uint64_t* grid;    // the tile's columns, `words` words each
+  std::uint8_t* touched;  // per column of the tile: a splat wrote it
+  const float* stop;      // the stop depths, or null
   int words, W;
   bool shell; // set only the layers of the spheres' surfaces
   float g;    // the gap threshold
-  tbb::combinable<TallyCounters>& tallies;
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0; // the tile: pixels [x0, x1) x [y0, y1)
 
   double front() const { return layers.depths.front(); }
@@ -390,15 +408,69 @@ struct TileVoxelizer
   std::uint64_t* column(int px, int j) const
   {
     const std::size_t q = static_cast<std::size_t>(j - y0) * (x1 - x0) + (px - x0);
-    touched[q] = 1; // every writer stores 1: the race is benign
+    touched[q] = 1;
     return columnOf(grid, q, words);
   }
   void splatParticle(std::size_t k, TallyCounters& t) const;
   void splatBox(std::size_t k, TallyCounters& t) const;
-  void splat() const;
+  void splat(const TileLists& tl, std::size_t tile, TallyCounters& t) const;
   void compressColumn(int px, int j, FluidSpans& out, TallyCounters& t) const;
-  void compress(FluidSpans& out) const;
+  void compress(FluidSpans& out, TallyCounters& t) const;
 };
+
+/// The pixels px of row j (centre x = px + 0.5) whose centre rays can meet the sphere |p - c|
+/// = r, within [i0, i1]: the ray A + zeta B meets it where its discriminant
+///   disc(x) = (A.B)^2 - |B|^2 (|A|^2 - r^2)
+/// is positive (A relative to c). Along a row either A is fixed (perspective: the eye) and B
+/// affine in x, or B is fixed (parallel) and A affine, so disc is a quadratic
+/// alpha x^2 + beta x + gamma; where alpha < 0 it is positive between its roots. The interval is
+/// widened by a pixel on each side (every pixel in it is still tested exactly), and when
+/// alpha >= 0 the whole row is kept. Returns false when no pixel of the row can meet it.
+bool rowHitInterval(const ViewRays& rays, const Vec3d& c, double r2, int j, int& i0, int& i1)
+{
+  const double y = j + 0.5;
+  double alpha, beta, gamma;
+  if (rays.isPerspective())
+  {
+    const Vec3d A = rays.startBase() - c, Bj = rays.directionBase() + rays.directionPerPixelY() * y;
+    const Vec3d& Bx = rays.directionPerPixelX();
+    const double cc = dot(A, A) - r2, ab = dot(A, Bj), ax = dot(A, Bx);
+    alpha = ax * ax - cc * dot(Bx, Bx);
+    beta = 2.0 * (ab * ax - cc * dot(Bj, Bx));
+    gamma = ab * ab - cc * dot(Bj, Bj);
+  }
+  else
+  {
+    const Vec3d Aj = rays.startBase() + rays.startPerPixelY() * y - c;
+    const Vec3d& Ax = rays.startPerPixelX();
+    const Vec3d& B = rays.directionBase();
+    const double bb = dot(B, B), ab = dot(Aj, B), xb = dot(Ax, B);
+    alpha = xb * xb - bb * dot(Ax, Ax);
+    beta = 2.0 * (ab * xb - bb * dot(Aj, Ax));
+    gamma = ab * ab - bb * (dot(Aj, Aj) - r2);
+  }
+  if (!(alpha < 0))
+  {
+    return true;
+  }
+  // Roots of alpha x^2 + beta x + gamma; a slightly negative discriminant (rounding at a
+  // tangent row) still keeps the pixels around the vertex.
+  const double d = beta * beta - 4.0 * alpha * gamma;
+  if (d < -1e-9 * (beta * beta + std::abs(4.0 * alpha * gamma)))
+  {
+    return false;
+  }
+  const double root = std::sqrt(std::max(d, 0.0));
+  const double xa = (-beta + root) / (2.0 * alpha), xb = (-beta - root) / (2.0 * alpha);
+  const double lo = std::min(xa, xb) - 0.5 - 1.0, hi = std::max(xa, xb) - 0.5 + 1.0;
+  if (!(lo <= hi))
+  {
+    return true; // NaN: keep the row
+  }
+  i0 = std::max(i0, static_cast<int>(std::max(std::ceil(lo), -1.0)));
+  i1 = std::min(i1, static_cast<int>(std::min(std::floor(hi), 2147483646.0)));
+  return i0 <= i1;
+}
 
 /// Splat (sections 3.1, 4.1) of the list's particle k into the tile: the chord [zeta_0,
 /// zeta_1] of each of its pixels' centre rays through the sphere (clipped to the layers and
@@ -428,7 +500,12 @@ void TileVoxelizer::splatParticle(std::size_t k, TallyCounters& t) const
   const double uc = layers.coordinate(zc), slope = layers.coordinateSlope(zc);
   for (int j = j0; j <= j1; ++j)
   {
-    for (int px = i0; px <= i1; ++px)
+    int r0 = i0, r1 = i1;
+    if (!rowHitInterval(rays, c, r2, j, r0, r1))
+    {
+      continue;
+    }
+    for (int px = r0; px <= r1; ++px)
     {
       const Vec3d A = rays.start(px + 0.5, j + 0.5) - c;
       const Vec3d B = rays.direction(px + 0.5, j + 0.5);
@@ -494,28 +571,21 @@ void TileVoxelizer::splatBox(std::size_t k, TallyCounters& t) const
   }
 }
 
-/// The tile's splat: its particles, then the full cells' boxes, in parallel.
-void TileVoxelizer::splat() const
+/// The tile's splat: the particles and full cells' boxes its list holds.
+void TileVoxelizer::splat(const TileLists& tl, std::size_t tile, TallyCounters& t) const
 {
-  std::fill(touched.begin(), touched.end(), std::uint8_t(0));
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, list.particles, 1024),
-    [&](const tbb::blocked_range<std::size_t>& r)
+  for (std::size_t e = tl.start[tile]; e < tl.start[tile + 1]; ++e)
+  {
+    const std::size_t k = tl.items[e];
+    if (k < list.particles)
     {
-      TallyCounters& t = tallies.local();
-      for (std::size_t k = r.begin(); k != r.end(); ++k)
-      {
-        splatParticle(k, t);
-      }
-    });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, list.boxes, 16),
-    [&](const tbb::blocked_range<std::size_t>& r)
+      splatParticle(k, t);
+    }
+    else
     {
-      TallyCounters& t = tallies.local();
-      for (std::size_t k = r.begin(); k != r.end(); ++k)
-      {
-        splatBox(k, t);
-      }
-    });
+      splatBox(k - list.particles, t);
+    }
+  }
 }
 
 /// Compression (sections 3.1, 4.3) of pixel (px, j)'s column: its runs of set bits, found word
@@ -578,25 +648,22 @@ void TileVoxelizer::compressColumn(int px, int j, FluidSpans& out, TallyCounters
   std::fill(column, column + words, std::uint64_t(0)); // clear for the next tile
 }
 
-/// The tile's compression: the columns a splat wrote, rows in parallel (the others have no
-/// span: out.reset cleared them).
-void TileVoxelizer::compress(FluidSpans& out) const
+/// The tile's compression: the columns a splat wrote (the others have no span: out.reset
+/// cleared them).
+void TileVoxelizer::compress(FluidSpans& out, TallyCounters& t) const
 {
-  tbb::parallel_for(tbb::blocked_range<int>(y0, y1, 1),
-    [&](const tbb::blocked_range<int>& r)
+  for (int j = y0; j < y1; ++j)
+  {
+    for (int px = x0; px < x1; ++px)
     {
-      TallyCounters& t = tallies.local();
-      for (int j = r.begin(); j != r.end(); ++j)
+      std::uint8_t& written = touched[static_cast<std::size_t>(j - y0) * (x1 - x0) + (px - x0)];
+      if (written)
       {
-        for (int px = x0; px < x1; ++px)
-        {
-          if (touched[static_cast<std::size_t>(j - y0) * (x1 - x0) + (px - x0)])
-          {
-            compressColumn(px, j, out, t);
-          }
-        }
+        compressColumn(px, j, out, t);
+        written = 0;
       }
-    });
+    }
+  }
 }
 
 /// The depth layers over the particles' depth range (section 4.2: logarithmic in perspective,
@@ -622,30 +689,109 @@ int assignLayers(const ViewRays& rays,
   return words;
 }
 
-/// The tiles one after the other (section 3.1): each splatted into the bit grid, then its
-/// columns compressed into spans.
-void voxelizeTiles(TileVoxelizer& tv,
-  const TileLayout& tiles,
+/// Tiles of at most MaxTileSize pixels whose grid (with its touched bytes) stays within
+/// CacheBytes, so a tile's columns stay in the core's cache while its particles are splatted.
+constexpr int MaxTileSize = 64;
+constexpr std::size_t CacheBytes = std::size_t(1) << 20;
+
+/// The tile size: the largest power of two (at most MaxTileSize, the grid within CacheBytes)
+/// whose lists, with one grid per thread and the `fixedBytes` already used, fit the budget; 0
+/// when not even one column does. `peakBytes` receives the temporary memory it needs.
+int chooseTileSize(const SplatList& list,
+  std::size_t columnBytes,
+  std::size_t fixedBytes,
+  std::size_t budget,
+  int threads,
+  int W,
   int H,
-  FluidSpans& out,
-  RenderStatistics& stats)
+  std::size_t& peakBytes)
 {
-  for (int ty = 0; ty < tiles.tilesY; ++ty)
+  for (int size = MaxTileSize; size >= 1; size /= 2)
   {
-    for (int tx = 0; tx < tiles.tilesX; ++tx)
+    const std::size_t grid = static_cast<std::size_t>(size) * size * (columnBytes + 1);
+    if (size > 1 && grid > CacheBytes)
     {
-      tv.x0 = tx * tiles.tw;
-      tv.y0 = ty * tiles.th;
-      tv.x1 = std::min(tv.W, tv.x0 + tiles.tw);
-      tv.y1 = std::min(H, tv.y0 + tiles.th);
-      {
-        ScopedPhase phase(stats, "splat");
-        tv.splat();
-      }
-      ScopedPhase phase(stats, "compress");
-      tv.compress(out);
+      continue;
+    }
+    const std::size_t tiles =
+      static_cast<std::size_t>((W + size - 1) / size) * ((H + size - 1) / size);
+    peakBytes = fixedBytes + tileEntries(list, size) * sizeof(std::uint32_t) +
+                (tiles + 1) * sizeof(std::size_t) + threads * grid;
+    if (peakBytes <= budget)
+    {
+      return size;
     }
   }
+  return 0;
+}
+
+/// One thread's tile grid (clear between tiles) and its time in each phase.
+struct ThreadGrid
+{
+  std::vector<std::uint64_t> words;
+  std::vector<std::uint8_t> touched;
+  double splatMs = 0, compressMs = 0;
+};
+
+/// The tiles in parallel (section 3.1), each splatted into its thread's grid, then its columns
+/// compressed into spans. Splat and compression alternate per tile: the phases "splat" and
+/// "compress" share the loop's time in proportion to the threads' time in each.
+void voxelizeTiles(const TileVoxelizer& prototype,
+  const TileLists& tl,
+  int H,
+  FluidSpans& out,
+  tbb::combinable<TallyCounters>& tallies,
+  RenderStatistics& stats)
+{
+  const std::size_t columns = static_cast<std::size_t>(tl.size) * tl.size;
+  tbb::enumerable_thread_specific<ThreadGrid> grids(
+    [&]
+    {
+      ThreadGrid g;
+      g.words.assign(columns * prototype.words, 0);
+      g.touched.assign(columns, 0);
+      return g;
+    });
+  using Clock = std::chrono::steady_clock;
+  const auto ms = [](Clock::time_point a, Clock::time_point b)
+  { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  const Clock::time_point start = Clock::now();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tl.tiles(), 1),
+    [&](const tbb::blocked_range<std::size_t>& r)
+    {
+      ThreadGrid& g = grids.local();
+      TallyCounters& t = tallies.local();
+      for (std::size_t tile = r.begin(); tile != r.end(); ++tile)
+      {
+        if (tl.start[tile] == tl.start[tile + 1])
+        {
+          continue;
+        }
+        TileVoxelizer tv = prototype;
+        tv.grid = g.words.data();
+        tv.touched = g.touched.data();
+        tv.x0 = static_cast<int>(tile % tl.tilesX) * tl.size;
+        tv.y0 = static_cast<int>(tile / tl.tilesX) * tl.size;
+        tv.x1 = std::min(tv.W, tv.x0 + tl.size);
+        tv.y1 = std::min(H, tv.y0 + tl.size);
+        const Clock::time_point t0 = Clock::now();
+        tv.splat(tl, tile, t);
+        const Clock::time_point t1 = Clock::now();
+        tv.compress(out, t);
+        g.splatMs += ms(t0, t1);
+        g.compressMs += ms(t1, Clock::now());
+      }
+    });
+  const double wall = ms(start, Clock::now());
+  double splatMs = 0, compressMs = 0;
+  for (const ThreadGrid& g : grids)
+  {
+    splatMs += g.splatMs;
+    compressMs += g.compressMs;
+  }
+  const double busy = splatMs + compressMs;
+  stats.addPhase("splat", busy > 0 ? wall * splatMs / busy : wall);
+  stats.addPhase("compress", busy > 0 ? wall * compressMs / busy : 0.0);
 }
 
 /// The budget cannot hold the tiles' grid: an empty voxelization.
@@ -698,44 +844,47 @@ bool voxelizeFluid(const FluidParticles& particles,
   // Layers (section 4.2) and tiles within the budget (section 3.1).
   VoxelDepthLayers& layers = out.layers;
   const int words = assignLayers(rays, params, range, layers, stats);
-  const std::size_t columnBytes = static_cast<std::size_t>(words) * sizeof(std::uint64_t);
-  const std::size_t gridBudget =
-    params.memoryBudget > footprintBytes ? params.memoryBudget - footprintBytes : 0;
-  const std::size_t tilePixels = gridBudget / (columnBytes + 1); // + the touched byte
-  if (tilePixels == 0)
-  {
-    return budgetExceeded(footprintBytes, stats);
-  }
-  const TileLayout tiles = tilesWithinBudget(W, H, tilePixels);
-  stats.addCounter("tiles", tiles.tilesX * tiles.tilesY);
-  stats.addCounter("tile_width", tiles.tw);
-  stats.addCounter("tile_height", tiles.th);
-  // Zeroed once; the compression zeroes again the columns it reads, so each tile finds the
-  // grid clear. `touched` marks the tile's columns a splat wrote: only those are read.
-  const std::size_t gridWords = static_cast<std::size_t>(tiles.tw) * tiles.th * words;
-  const BitGrid grid(gridWords);
-  if (!grid.get())
-  {
-    return budgetExceeded(footprintBytes, stats);
-  }
-  std::vector<std::uint8_t> touched(static_cast<std::size_t>(tiles.tw) * tiles.th);
-  stats.addCounter("peak_temporary_bytes",
-    static_cast<std::int64_t>(gridWords * sizeof(std::uint64_t) + touched.size() + footprintBytes));
-
-  tbb::combinable<TallyCounters> tallies;
-  TileVoxelizer tv{ particles,
-    rays,
-    list,
-    layers,
-    grid.get(),
-    touched,
-    params.stopDepth,
-    words,
+  const int threads = tbb::this_task_arena::max_concurrency();
+  std::size_t peakBytes = footprintBytes;
+  const int size = chooseTileSize(list,
+    static_cast<std::size_t>(words) * sizeof(std::uint64_t),
+    footprintBytes,
+    params.memoryBudget,
+    threads,
     W,
-    shell,
-    static_cast<float>(params.gapThreshold),
-    tallies };
-  voxelizeTiles(tv, tiles, H, out, stats);
+    H,
+    peakBytes);
+  if (size == 0)
+  {
+    return budgetExceeded(footprintBytes, stats);
+  }
+  TileLists tl;
+  tbb::combinable<TallyCounters> tallies;
+  try
+  {
+    listTiles(list, W, H, size, tl);
+    stats.addCounter("tiles", static_cast<std::int64_t>(tl.tiles()));
+    stats.addCounter("tile_width", size);
+    stats.addCounter("tile_height", size);
+    stats.addCounter("peak_temporary_bytes", static_cast<std::int64_t>(peakBytes));
+    const TileVoxelizer prototype{ particles,
+      rays,
+      list,
+      layers,
+      nullptr,
+      nullptr,
+      params.stopDepth,
+      words,
+      W,
+      shell,
+      static_cast<float>(params.gapThreshold) };
+    voxelizeTiles(prototype, tl, H, out, tallies, stats);
+  }
+  catch (const std::bad_alloc&)
+  {
+    out.reset(W, H, out.maxSpans);
+    return budgetExceeded(footprintBytes, stats);
+  }
   addTallies(
     Tallies, [&](auto add) { tallies.combine_each(add); }, stats);
   return true;

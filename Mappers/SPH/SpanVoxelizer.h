@@ -3,22 +3,26 @@
 //
 // The grid: one voxel column per pixel of the view, with the logarithmic depth layers of
 // VoxelDepthLayers.h over the depth range the particles occupy (clipped to near and far),
-// 1 bit per voxel, packed in 64-bit words along the column. The screen is split into tiles
-// whose bit grid fits the memory budget with the other temporaries (the particles' pixel
-// footprints); tiles are voxelized one after the other, and each tile's grid is discarded
-// after its compression, so the peak temporary memory is one tile's grid plus the
-// footprints, whatever the resolution.
+// 1 bit per voxel, packed in 64-bit words along the column. The screen is split into square
+// tiles (at most 64 pixels, a tile's grid within 1 MB so that it stays in a core's cache while
+// its particles are splatted; smaller when the memory budget asks). Each particle's and box's
+// footprint is listed in the tiles it overlaps; the tiles are voxelized in parallel, each into
+// its thread's own grid, compressed into spans and the grid cleared for the next. The peak
+// temporary memory is the footprints, the tile lists and one tile grid per thread, whatever
+// the resolution.
 //
-// Splat (3.1, 4.1): in parallel over particles, each sphere's exact projected extent
-// (ViewRays::projectedExtent) gives its pixels; the centre ray of each, p(zeta) = A + zeta B,
-// meets the sphere |p - c| = r on [zeta_0, zeta_1], the roots of
+// Splat (3.1, 4.1): per tile, each listed sphere's exact projected extent
+// (ViewRays::projectedExtent) gives its pixels, and per row the pixels whose rays can meet it
+// (the roots of a quadratic in the pixel's x, widened by a pixel; each is still tested
+// exactly); the centre ray of each, p(zeta) = A + zeta B, meets the sphere |p - c| = r on
+// [zeta_0, zeta_1], the roots of
 //   |B|^2 zeta^2 + 2 (A - c).B zeta + |A - c|^2 - r^2 = 0,
 // clipped to the layers' range (the near plane cuts the sphere there), and the bits of the
-// layers overlapping it are set with atomic ORs (several particles share a word). With a
+// layers overlapping it are set. With a
 // gap threshold g >= 2 r_max (section 4.4) only the two layers holding zeta_0 and zeta_1 are
 // set (the sphere's shell): the chord between them, at most 2 r long, is bridged anyway.
 //
-// Compress (3.1, 4.3): in parallel over the tile's columns, runs of set bits are found word
+// Compress (3.1, 4.3): over the tile's columns a splat wrote, runs of set bits are found word
 // by word with count-trailing-zeros on the word (runs of ones: on its complement). A run of
 // layers [s, e) becomes the span [d_s, d_e].
 //
@@ -73,11 +77,13 @@ struct VoxelizerParameters
 std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* windowDepth);
 
 /// Voxelizes `particles` for `rays` into `out` (sized to the view; no spans where no
-/// particle is). Returns false when the budget cannot hold even one column's bits with the
-/// footprints, or its allocation fails (out then has no spans; counter budget_exceeded = 1).
-/// Phases: splat, compress. Counters: particles_in_view (splatted ones), boxes_in_view,
-/// box_pixels, layers, angle_millidegrees (the angle resolution the layers reach),
-/// words_per_column, tiles, tile_width, tile_height, splat_pixels, stopped_spans, set_bit_ops,
+/// particle is). Returns false when the budget cannot hold one column's bits per thread with
+/// the footprints and tile lists, or an allocation fails (out then has no spans; counter
+/// budget_exceeded = 1). Phases: splat, compress (they alternate per tile: the loop's time
+/// split in proportion to the threads' time in each). Counters: particles_in_view (splatted
+/// ones), boxes_in_view, box_pixels, layers, angle_millidegrees (the angle resolution the
+/// layers reach), words_per_column, tiles, tile_width, tile_height (the tiles' count and
+/// size), splat_pixels, stopped_spans, set_bit_ops,
 /// spans_found, spans_stored, spans_hidden, gaps_bridged, peak_temporary_bytes,
 /// budget_exceeded. Effects: shell_splat, gap_bridging.
 bool voxelizeFluid(const FluidParticles& particles,

@@ -1129,7 +1129,13 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
                   << ", filter " << e.phaseMs[3] << ", normals " << e.phaseMs[4] << ", render "
                   << (refract ? e.phaseMs[7] : e.phaseMs[6]) << "), " << e.layers
                   << " layers (angle " << e.angleDeg << "), " << e.tiles << " tiles, peak "
-                  << r.row.memMb << " MB"
+                  << r.row.memMb << " MB; work: " << st->GetCounter("splat_pixels")
+                  << " splat pixels, " << st->GetCounter("boxes_in_view") << " boxes on "
+                  << st->GetCounter("box_pixels") << " pixels, " << st->GetCounter("set_bit_ops")
+                  << " bit-set ops, "
+                  << st->GetCounter("refraction_paths") << " paths, "
+                  << st->GetCounter("march_columns") << " march steps ("
+                  << st->GetCounter("march_tile_skips") << " tiles)"
                   << (e.error.meanAbs >= 0 ? ", depth |d| " + Number(e.error.meanAbs) +
                           ", coverage diff " + Number(e.error.coverage)
                                            : "")

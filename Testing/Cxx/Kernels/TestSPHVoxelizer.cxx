@@ -347,7 +347,7 @@ TEST(SPHVoxelizer, TwentyFourLayersKeepTheExactThicknessWithSevenSpans)
   EXPECT_GT(deep, W * H / 4);
 }
 
-TEST(SPHVoxelizer, TilesSplitToRespectTheMemoryBudgetWithTheSameSpans)
+TEST(SPHVoxelizer, TilesShrinkToRespectTheMemoryBudgetWithTheSameSpans)
 {
   const int W = 64, H = 48;
   const ViewRays rays = perspectiveRays({ 0, 0, 5 }, { 0, 0, 0 }, W, H);
@@ -358,18 +358,27 @@ TEST(SPHVoxelizer, TilesSplitToRespectTheMemoryBudgetWithTheSameSpans)
   RenderStatistics stats;
   ASSERT_TRUE(voxelize(spheres, rays, vp, whole, stats));
   EXPECT_EQ(stats.counter("layers"), 16384);
-  EXPECT_EQ(stats.counter("tiles"), 1);
+  // 2 KB columns: tiles of 16 x 16 keep a thread's grid within the cache (1 MB).
+  const std::int64_t size = stats.counter("tile_width");
+  EXPECT_EQ(size, 16);
+  EXPECT_EQ(stats.counter("tile_height"), size);
+  EXPECT_EQ(stats.counter("tiles"), (W / 16) * (H / 16));
   const std::int64_t full = stats.counter("peak_temporary_bytes");
-  EXPECT_GE(full, std::int64_t(W) * H * 16384 / 8);
-  vp.memoryBudget = static_cast<std::size_t>(full / 7);
+  EXPECT_GE(full, 16 * 16 * 16384 / 8); // at least one thread's grid
+  EXPECT_LE(full, static_cast<std::int64_t>(vp.memoryBudget));
+  // A third of that budget: smaller tiles, the same spans.
+  vp.memoryBudget = static_cast<std::size_t>(full / 3);
+  stats.clear();
   ASSERT_TRUE(voxelize(spheres, rays, vp, tiled, stats));
-  EXPECT_GE(stats.counter("tiles"), 7);
+  EXPECT_LT(stats.counter("tile_width"), size);
+  EXPECT_GT(stats.counter("tiles"), (W / 16) * (H / 16));
   EXPECT_LE(stats.counter("peak_temporary_bytes"), static_cast<std::int64_t>(vp.memoryBudget));
   EXPECT_EQ(tiled.count, whole.count);
   EXPECT_EQ(tiled.depth, whole.depth);
   // Below one column's bits the voxelization refuses instead of exceeding the budget.
   vp.memoryBudget = 1000;
   FluidSpans none;
+  stats.clear();
   EXPECT_FALSE(voxelize(spheres, rays, vp, none, stats));
   EXPECT_EQ(stats.counter("budget_exceeded"), 1);
   EXPECT_LE(stats.counter("peak_temporary_bytes"), 1000);
@@ -921,6 +930,50 @@ TEST(SPHVoxelizer, RefractionAndTotalInternalReflectionNeverCreateEnergy)
     EXPECT_EQ(stats.counter("march_columns"), 0);
     EXPECT_EQ(stats.counter("surface_events"), 0);
     EXPECT_EQ(stats.phase("refract"), 0.0);
+  }
+}
+
+TEST(SPHVoxelizer, MarchTileSkippingFindsTheSameSurfacesAsColumnByColumn)
+{
+  // Slabs, a bubble-like hollow sphere pair and a ball, at an index and absorption that send
+  // paths through many surfaces inside and outside; perspective and parallel views.
+  std::vector<Sphere> fluid = slabLattice(3, 0.08, 0.07, 1.0, 0.07);
+  fluid.push_back({ { 0.3, 0.6, 0.2 }, 0.4 });
+  fluid.push_back({ { -0.5, -0.4, 0.5 }, 0.25 });
+  const int W = 160, H = 120;
+  const ViewRays rays = perspectiveRays({ 0.6, 0.9, 2.5 }, { 0, 0, -1 }, W, H, 0.1, 50, 50);
+  const ViewRays parallel = orthographicRays({ 0.2, 0.5, 3.0 }, { 0, 0, -1 }, W, H, 1.2);
+  FluidRenderParameters fp = litFluid();
+  fp.density = 0.3;
+  fp.bounces = 8;
+  fp.refractiveIndex = 1.33;
+  const FluidParticles P = makeParticles(fluid);
+  for (const ViewRays* view : { &rays, &parallel })
+  {
+    Frame skipped, columns;
+    RenderStatistics withSkips, without;
+    FluidSpans spans;
+    ASSERT_TRUE(renderFluid({ P, spans }, viewOf(*view), fp, skipped, withSkips));
+    fp.marchTileSkipping = false;
+    ASSERT_TRUE(renderFluid({ P, spans }, viewOf(*view), fp, columns, without));
+    fp.marchTileSkipping = true;
+    EXPECT_GT(withSkips.counter("march_tile_skips"), 0);
+    EXPECT_EQ(without.counter("march_tile_skips"), 0);
+    EXPECT_LT(withSkips.counter("march_columns"), without.counter("march_columns"));
+    EXPECT_EQ(withSkips.counter("surface_events"), without.counter("surface_events"));
+    std::size_t differing = 0;
+    double maxDiff = 0;
+    for (std::size_t k = 0; k < skipped.rgba.size(); ++k)
+    {
+      const double d = std::abs(double(skipped.rgba[k]) - columns.rgba[k]);
+      maxDiff = std::max(maxDiff, d);
+      differing += d > 1e-6;
+    }
+    std::cout << "tile skipping: " << withSkips.counter("march_columns") << " steps ("
+              << withSkips.counter("march_tile_skips") << " tiles) against "
+              << without.counter("march_columns") << "; " << differing
+              << " channels differ, max " << maxDiff << "\n";
+    EXPECT_EQ(differing, 0u);
   }
 }
 
