@@ -288,26 +288,41 @@ double crossTile(const MarchLine& line, int W, int H, int T, double tIn, int& i,
   const int ej = line.sy > 0 ? std::min(H, (j / T + 1) * T) - 1 : (j / T) * T;
   const double sideX = line.boundary(0, line.sx, ei, W), sideY = line.boundary(1, line.sy, ej, H);
   const double tOut = std::max(tIn, std::min({ sideX, sideY, line.tMax }));
+  // The first cell from the entry whose far side the ray has not crossed at t (for columns,
+  // with ties: the march moves along x on a tie): from the cell the exit point projects to,
+  // corrected against the sides.
+  const auto exitCell = [&](int axis, int s, int size, int entry, int last, double t, bool ties)
+  {
+    if (s == 0)
+    {
+      return entry;
+    }
+    const double x = line.pixelAt(axis, t, size);
+    const int lo = std::min(entry, last), hi = std::max(entry, last);
+    int c = std::isfinite(x) ? static_cast<int>(std::clamp(std::floor(x), double(lo), double(hi))) : entry;
+    const auto crossed = [&](int cell)
+    {
+      const double side = line.boundary(axis, s, cell, size);
+      return ties ? side <= t : side < t;
+    };
+    while (c != last && crossed(c))
+    {
+      c += s;
+    }
+    while (c != entry && !crossed(c - s))
+    {
+      c -= s;
+    }
+    return c;
+  };
   if (sideX <= sideY)
   {
-    if (line.sy != 0)
-    {
-      while (j != ej && line.boundary(1, line.sy, j, H) < sideX)
-      {
-        j += line.sy;
-      }
-    }
+    j = exitCell(1, line.sy, H, j, ej, sideX, false);
     i = ei + line.sx;
   }
   else
   {
-    if (line.sx != 0)
-    {
-      while (i != ei && line.boundary(0, line.sx, i, W) <= sideY)
-      {
-        i += line.sx;
-      }
-    }
+    i = exitCell(0, line.sx, W, i, ei, sideY, true);
     j = ej + line.sy;
   }
   return tOut;

@@ -489,15 +489,31 @@ void TileVoxelizer::splatParticle(std::size_t k, TallyCounters& t) const
   const double dFront = front(), dBack = back();
   const Vec3d c(particles.centers[i]);
   const double r2 = double(particles.radius[i]) * particles.radius[i];
-  // Layers of the depths in the sphere from the layer coordinate at its centre, linearized: no
-  // logarithm per pixel. The linearization is off by at most r^2 max|u''| / 2 = r^2 / (2 z_min^2
-  // step) layers (logarithmic layers; uniform ones are linear), which layerOf corrects against
-  // the depth table in as many steps; spheres large against their depth take the exact
-  // coordinate instead.
+  // Layers of the depths in the sphere from the layer coordinate at its centre: no logarithm
+  // per pixel. Logarithmic layers: u(z) = u_c + log(1 + delta) / step with delta = (z - z_c) /
+  // z_c, |delta| <= r / z_c, by its cubic Taylor polynomial, off by at most delta^4 / (4 (1 -
+  // |delta|)^4 step) layers (the Lagrange remainder), which layerOf corrects against the depth
+  // table in as many steps; spheres so large against their depth that this exceeds 4 layers
+  // take the exact coordinate. Uniform layers are linear in z: exact.
   const double zc = std::clamp(rays.zetaOf(c), dFront, dBack);
-  const double zmin = std::max(zc - particles.radius[i], dFront);
-  const bool linear = !layers.logarithmic || r2 < 4.0 * zmin * zmin * layers.step;
-  const double uc = layers.coordinate(zc), slope = layers.coordinateSlope(zc);
+  const double dmax = particles.radius[i] / zc;
+  const bool cubic = !layers.logarithmic ||
+                     (dmax < 0.5 && dmax * dmax * dmax * dmax <
+                                      16.0 * layers.step * std::pow(1.0 - dmax, 4.0));
+  const double uc = layers.coordinate(zc), perStep = 1.0 / layers.step, perZc = 1.0 / zc;
+  const auto coordinate = [&](double z)
+  {
+    if (!cubic)
+    {
+      return layers.coordinate(z);
+    }
+    if (!layers.logarithmic)
+    {
+      return uc + (z - zc) * perStep;
+    }
+    const double d = (z - zc) * perZc;
+    return uc + d * (1.0 - d * (0.5 - d * (1.0 / 3.0))) * perStep;
+  };
   for (int j = j0; j <= j1; ++j)
   {
     int r0 = i0, r1 = i1;
@@ -522,8 +538,8 @@ void TileVoxelizer::splatParticle(std::size_t k, TallyCounters& t) const
       {
         continue;
       }
-      const int l0 = layers.layerOf(z0, linear ? uc + (z0 - zc) * slope : layers.coordinate(z0));
-      const int l1 = layers.layerOf(z1, linear ? uc + (z1 - zc) * slope : layers.coordinate(z1));
+      const int l0 = layers.layerOf(z0, coordinate(z0));
+      const int l1 = layers.layerOf(z1, coordinate(z1));
       std::uint64_t* col = column(px, j);
       ++t.splatPixels;
       if (shell)

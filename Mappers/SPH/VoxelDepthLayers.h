@@ -63,7 +63,7 @@ struct VoxelDepthLayers
     return logarithmic ? (z > 0 ? std::log(z / d0) / step : -1e30) : (z - d0) / step;
   }
   /// The layer holding z (clamped to [0, L - 1]) from the layer coordinate `u` of a depth
-  /// near z (e.g. coordinate(zc) + (z - zc) coordinateSlope(zc) near zc), corrected against
+  /// near z (e.g. a Taylor polynomial of coordinate about a nearby depth), corrected against
   /// the depth table so the answer is exact for the table.
   int layerOf(double z, double u) const
   {
@@ -78,8 +78,6 @@ struct VoxelDepthLayers
     }
     return l;
   }
-  /// d coordinate / d z at z.
-  double coordinateSlope(double z) const { return logarithmic ? 1.0 / (z * step) : 1.0 / step; }
   /// The angle resolution reached (degrees) for pixel size sigma.
   double angleDeg(double sigma) const
   {
