@@ -854,7 +854,9 @@ bool renderFluid(const FluidScene& scene,
     return false;
   }
   connectSurfaces(spans, stats);
-  SurfaceNeighbourhoods neighbourhoods;
+  SurfaceNeighbourhoods ownNeighbourhoods;
+  SurfaceNeighbourhoods& neighbourhoods =
+    scene.neighbourhoods ? *scene.neighbourhoods : ownNeighbourhoods;
   findNeighbourhoods(spans, neighbourhoods, stats);
   smoothSurfaces(
     spans, neighbourhoods, rays, params.smoothingRadius, params.smoothingIterations, stats);

@@ -57,6 +57,7 @@
 #include "Mappers/SPH/FluidParticles.h"
 #include "Mappers/SPH/FluidSpans.h"
 #include "Mappers/SPH/SpanVoxelizer.h"
+#include "Mappers/SPH/SurfaceLinks.h"
 
 #include <vector>
 
@@ -102,11 +103,13 @@ void renderFluidSpans(const FluidSpans& spans,
   RenderStatistics& stats);
 
 /// What the fluid renderer draws: the particles, and the spans they are voxelized into for
-/// each view (rebuilt by renderFluid, kept for their memory).
+/// each view and their surfaces' neighbourhoods (rebuilt by renderFluid, kept for their
+/// memory: a frame reuses the last one's pages; null neighbourhoods: the frame's own).
 struct FluidScene
 {
   const FluidParticles& particles;
   FluidSpans& spans;
+  SurfaceNeighbourhoods* neighbourhoods = nullptr;
 };
 
 /// The whole frame along the view's depth rays: voxelizeFluid, connectSurfaces,

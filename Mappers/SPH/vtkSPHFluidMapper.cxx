@@ -43,6 +43,7 @@ struct vtkSPHFluidMapper::Internals
   raymappers::FluidColors Colors;
   vtkSmartPointer<vtkScalarsToColors> LookupTable;
   raymappers::FluidSpans Spans;
+  raymappers::SurfaceNeighbourhoods Neighbourhoods;
   // The particles are built from the points and the radius settings, the culling cells from
   // the particles and the culling settings.
   vtkRayMapperStamp<double, double, std::string> ParticlesStamp;
@@ -297,7 +298,7 @@ void vtkSPHFluidMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointS
     return;
   }
   if (!raymappers::renderFluid(
-        { Impl->Particles, Impl->Spans }, kernelView, params, this->Core->Target(), stats))
+        { Impl->Particles, Impl->Spans, &Impl->Neighbourhoods }, kernelView, params, this->Core->Target(), stats))
   {
     this->WarnAboutMemoryBudget(view, stats);
   }
