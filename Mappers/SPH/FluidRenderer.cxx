@@ -230,6 +230,10 @@ struct MarchTiles
   }
 };
 
+/// The march's tile levels, coarse to fine.
+constexpr int MarchTileSizes[] = { 64, 8 };
+constexpr int MarchLevels = sizeof(MarchTileSizes) / sizeof(MarchTileSizes[0]);
+
 /// The marched ray o + t d in the terms of the march: its clip coordinates c0 + t cd, its depth
 /// z0 + t zd, the t where it leaves the grid's depth range, and the signs sx, sy of the motion
 /// of its pixel x(t) = (x_c / w_c + 1) W / 2 (monotonic; the sign of its derivative is that of
@@ -422,11 +426,13 @@ MarchHit march(const FluidSpans& spans,
   double tIn = 0;
   int ti = -1, tj = -1; // the column whose sides tx, ty are
   double tx = Infinity, ty = Infinity;
-  std::array<int, 2> triedX{ -1, -1 }, triedY{ -1, -1 }; // per level the tile last tried, not clear
+  std::array<int, MarchLevels> triedX, triedY; // per level the tile last tried, not clear
+  triedX.fill(-1);
+  triedY.fill(-1);
   for (bool first = true; i >= 0 && i < W && j >= 0 && j < H && tIn < line.tMax; first = false)
   {
     bool skipped = false;
-    for (int level = 0; tiles && level < 2 && !skipped; ++level)
+    for (int level = 0; tiles && level < MarchLevels && !skipped; ++level)
     {
       const MarchTiles& m = tiles[level];
       const int T = m.TileSize;
@@ -796,8 +802,10 @@ void renderFluidSpans(const FluidSpans& spans,
   std::vector<MarchTiles> tiles;
   if (refraction && params.marchTileSkipping)
   {
-    tiles.emplace_back(spans, 64);
-    tiles.emplace_back(spans, 8);
+    for (const int size : MarchTileSizes)
+    {
+      tiles.emplace_back(spans, size);
+    }
   }
   forEachFrontSurface(spans,
     rays,
