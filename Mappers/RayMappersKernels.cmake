@@ -45,7 +45,7 @@ target_link_libraries(RayMappersKernels PUBLIC embree TBB::tbb)
 # std::sqrt that may set errno is a call the vectorizer cannot put in SIMD lanes (no kernel
 # reads errno). -ffp-contract=off: a*b+c stays a multiply and an add where the instruction
 # set has FMA, so every SIMD variant (and the portable build) computes the same floats.
-set(RAYMAPPERS_KERNEL_OPTIONS ${RAYMAPPERS_WARNINGS} -g -fopenmp-simd -fno-math-errno -ffp-contract=off)
+set(RAYMAPPERS_KERNEL_OPTIONS ${RAYMAPPERS_WARNINGS} -fopenmp-simd -fno-math-errno -ffp-contract=off)
 target_compile_options(RayMappersKernels PRIVATE ${RAYMAPPERS_KERNEL_OPTIONS})
 set_target_properties(RayMappersKernels PROPERTIES POSITION_INDEPENDENT_CODE ON)
 if (RAYMAPPERS_NATIVE)

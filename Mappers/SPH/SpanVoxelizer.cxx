@@ -497,9 +497,8 @@ void TileVoxelizer::splatParticle(std::size_t k, TallyCounters& t) const
   // take the exact coordinate. Uniform layers are linear in z: exact.
   const double zc = std::clamp(rays.zetaOf(c), dFront, dBack);
   const double dmax = particles.radius[i] / zc;
-  const bool cubic = !layers.logarithmic ||
-                     (dmax < 0.5 && dmax * dmax * dmax * dmax <
-                                      16.0 * layers.step * std::pow(1.0 - dmax, 4.0));
+  const double d2 = dmax * dmax, e2 = (1.0 - dmax) * (1.0 - dmax);
+  const bool cubic = !layers.logarithmic || (dmax < 0.5 && d2 * d2 < 16.0 * layers.step * e2 * e2);
   const double uc = layers.coordinate(zc), perStep = 1.0 / layers.step, perZc = 1.0 / zc;
   const auto coordinate = [&](double z)
   {
