@@ -385,14 +385,81 @@ MarchHit storedDepthHit(const FluidSpans& spans,
   return {};
 }
 
+/// Moves (i, j) to the column the start point of `line` projects to, a point on the side
+/// between two columns (a hit at a column's side) into the one it moves into: every far side
+/// the ray crosses must lie ahead of it (MarchLine::boundary never returns a side behind it:
+/// the march would stay in that column).
+void startColumn(const MarchLine& line, int W, int H, int& i, int& j)
+{
+  const auto startCell = [&](int axis, int s, int size, int& cell)
+  {
+    const double x = line.pixelAt(axis, 0.0, size);
+    if (!std::isfinite(x))
+    {
+      return;
+    }
+    cell = static_cast<int>(
+      std::clamp(s < 0 ? std::ceil(x) - 1.0 : std::floor(x), -1.0, double(size)));
+    if (s != 0 && cell >= 0 && cell < size && line.boundary(axis, s, cell, size) == Infinity)
+    {
+      cell += s; // its far side rounds to just behind the start: already crossed
+    }
+  };
+  startCell(0, line.sx, W, i);
+  startCell(1, line.sy, H, j);
+}
+
+/// The march's empty-space skipping: at each column, the coarsest tile level whose tile around
+/// it is clear for the ray's state over the ray's depths until it leaves the tile is crossed
+/// in one step (each tile tried once per level: the one last found not clear is remembered).
+struct TileSkipper
+{
+  const MarchTiles* tiles; // MarchLevels levels, or null: no skipping
+  std::array<int, MarchLevels> triedX, triedY;
+
+  explicit TileSkipper(const MarchTiles* t)
+    : tiles(t)
+  {
+    triedX.fill(-1);
+    triedY.fill(-1);
+  }
+  /// Whether the ray at column (i, j) from tIn crossed a tile: then tIn and (i, j) are where
+  /// it left it.
+  bool skip(const MarchLine& line, int W, int H, bool inside, double& tIn, int& i, int& j)
+  {
+    for (int level = 0; tiles && level < MarchLevels; ++level)
+    {
+      const MarchTiles& m = tiles[level];
+      const int T = m.TileSize;
+      if ((i / T == triedX[level] && j / T == triedY[level]) || !m.anyClear(i, j, inside))
+      {
+        continue;
+      }
+      int ni = i, nj = j;
+      const double tLeave = crossTile(line, W, H, T, tIn, ni, nj);
+      if (m.clear(i, j, inside, line.z0 + line.zd * tIn, line.z0 + line.zd * tLeave))
+      {
+        tIn = tLeave;
+        i = ni;
+        j = nj;
+        return true;
+      }
+      triedX[level] = i / T;
+      triedY[level] = j / T;
+    }
+    return false;
+  }
+};
+
 /// Listing 2: marches the ray o + t d (t >= 0, d unit, model coordinates; inside tells
-/// whether it starts in the fluid) through the columns from pixel (i, j), pixel boundary to
-/// pixel boundary along its projection. In each column it meets [za, zb] of depth: a change
+/// whether it starts in the fluid) through the columns from the one its start projects to
+/// (startColumn; (i, j) the column it was found in), pixel boundary to pixel boundary along
+/// its projection. In each column it meets [za, zb] of depth: a change
 /// of inside/outside at the column's side is a hit there; else the first stored depth in
 /// (za, zb] along the ray is. Without a hit before the grid's depth range or the screen
 /// ends, the ray escapes at the t where it leaves. With `tiles`, a tile whose bins over the
 /// ray's depths there are clear for its state is crossed in one step, from where the ray
-/// enters it to where it leaves (tried once per tile entered).
+/// enters it to where it leaves (TileSkipper).
 MarchHit march(const FluidSpans& spans,
   const MarchTiles* tiles,
   const ViewRays& rays,
@@ -405,60 +472,17 @@ MarchHit march(const FluidSpans& spans,
 {
   const MarchLine line(spans, rays, o, d);
   const int W = spans.width, H = spans.height;
-  // The column the start point projects to, a point on the side between two columns (a hit at
-  // a column's side) in the one it moves into: every far side the ray crosses must lie ahead
-  // of it (boundary() never returns a side behind it: the march would stay in that column).
-  const auto startCell = [&](int axis, int s, int size, int& cell)
-  {
-    const double x = line.pixelAt(axis, 0.0, size);
-    if (!std::isfinite(x))
-    {
-      return;
-    }
-    cell = static_cast<int>(std::clamp(s < 0 ? std::ceil(x) - 1.0 : std::floor(x), -1.0, double(size)));
-    if (s != 0 && cell >= 0 && cell < size && line.boundary(axis, s, cell, size) == Infinity)
-    {
-      cell += s; // its far side rounds to just behind the start: already crossed
-    }
-  };
-  startCell(0, line.sx, W, i);
-  startCell(1, line.sy, H, j);
+  startColumn(line, W, H, i, j);
   double tIn = 0;
   int ti = -1, tj = -1; // the column whose sides tx, ty are
   double tx = Infinity, ty = Infinity;
-  std::array<int, MarchLevels> triedX, triedY; // per level the tile last tried, not clear
-  triedX.fill(-1);
-  triedY.fill(-1);
+  TileSkipper skipper(tiles);
   for (bool first = true; i >= 0 && i < W && j >= 0 && j < H && tIn < line.tMax; first = false)
   {
-    bool skipped = false;
-    for (int level = 0; tiles && level < MarchLevels && !skipped; ++level)
+    if (skipper.skip(line, W, H, inside, tIn, i, j))
     {
-      const MarchTiles& m = tiles[level];
-      const int T = m.TileSize;
-      if ((i / T == triedX[level] && j / T == triedY[level]) || !m.anyClear(i, j, inside))
-      {
-        continue;
-      }
-      int ni = i, nj = j;
-      const double tLeave = crossTile(line, W, H, T, tIn, ni, nj);
-      if (m.clear(i, j, inside, line.z0 + line.zd * tIn, line.z0 + line.zd * tLeave))
-      {
-        ++t.columns;
-        ++t.tileSkips;
-        tIn = tLeave;
-        i = ni;
-        j = nj;
-        skipped = true;
-      }
-      else
-      {
-        triedX[level] = i / T;
-        triedY[level] = j / T;
-      }
-    }
-    if (skipped)
-    {
+      ++t.columns;
+      ++t.tileSkips;
       continue;
     }
     // The column's far sides, computed again only when the ray has moved along that axis.

@@ -877,12 +877,23 @@ TEST(SPHVoxelizer, OpaqueFrontSurfaceIsLitWithTheSphereNormalAtItsDepth)
   EXPECT_LT(maxError, 0.05);
 }
 
+namespace
+{
+/// Three slabs of overlapping spheres and a ball: refracted paths through them meet many
+/// surfaces, inside and outside the fluid.
+std::vector<Sphere> slabsAndBall()
+{
+  std::vector<Sphere> fluid = slabLattice(3, 0.08, 0.07, 1.0, 0.07);
+  fluid.push_back({ { 0.3, 0.6, 0.2 }, 0.4 });
+  return fluid;
+}
+}
+
 TEST(SPHVoxelizer, RefractionAndTotalInternalReflectionNeverCreateEnergy)
 {
   // A slab of fluid seen at grazing angles, and a sphere: dense and weakly absorbing, so
   // paths bounce inside many times.
-  std::vector<Sphere> fluid = slabLattice(3, 0.08, 0.07, 1.0, 0.07);
-  fluid.push_back({ { 0.3, 0.6, 0.2 }, 0.4 });
+  const std::vector<Sphere> fluid = slabsAndBall();
   const int W = 64, H = 48;
   const ViewRays rays = perspectiveRays({ 0.2, 0.5, 3.0 }, { 0, 0, -1 }, W, H, 0.1, 50, 50);
   const ViewRays parallel = orthographicRays({ 0.2, 0.5, 3.0 }, { 0, 0, -1 }, W, H, 1.2);
@@ -937,17 +948,16 @@ TEST(SPHVoxelizer, MarchTileSkippingFindsTheSameSurfacesAsColumnByColumn)
 {
   // Slabs, a bubble-like hollow sphere pair and a ball, at an index and absorption that send
   // paths through many surfaces inside and outside; perspective and parallel views.
-  std::vector<Sphere> fluid = slabLattice(3, 0.08, 0.07, 1.0, 0.07);
-  fluid.push_back({ { 0.3, 0.6, 0.2 }, 0.4 });
+  std::vector<Sphere> fluid = slabsAndBall();
   fluid.push_back({ { -0.5, -0.4, 0.5 }, 0.25 });
+  const FluidParticles P = makeParticles(fluid);
+  FluidRenderParameters fp = litFluid();
+  fp.refractiveIndex = 1.33;
+  fp.density = 0.3;
+  fp.bounces = 8;
   const int W = 160, H = 120;
   const ViewRays rays = perspectiveRays({ 0.6, 0.9, 2.5 }, { 0, 0, -1 }, W, H, 0.1, 50, 50);
   const ViewRays parallel = orthographicRays({ 0.2, 0.5, 3.0 }, { 0, 0, -1 }, W, H, 1.2);
-  FluidRenderParameters fp = litFluid();
-  fp.density = 0.3;
-  fp.bounces = 8;
-  fp.refractiveIndex = 1.33;
-  const FluidParticles P = makeParticles(fluid);
   for (const ViewRays* view : { &rays, &parallel })
   {
     Frame skipped, columns;
