@@ -418,6 +418,47 @@ struct TileVoxelizer
   void compress(FluidSpans& out, TallyCounters& t) const;
 };
 
+/// Tiles of at most MaxTileSize pixels a side.
+constexpr int MaxTileSize = 64;
+
+/// The chords of the sphere (centre c, r^2) along the centre rays of pixels r0 .. r0 + n - 1
+/// of row j (n <= MaxTileSize): z0[k], z1[k] the roots (-b -+ sqrt(disc)) / a of the file
+/// comment's quadratic, z0 clipped to the front, where disc > 0 (hit[k]). The lanes of a SIMD
+/// loop, with the same operations in the same order as one pixel at a time (the kernels are
+/// compiled without contraction): the same floats.
+void rowChords(const ViewRays& rays,
+  const Vec3d& c,
+  double r2,
+  int j,
+  int r0,
+  int n,
+  double front,
+  double* z0,
+  double* z1,
+  bool* hit)
+{
+  const Vec3d A0 = rays.startBase(), Ax = rays.startPerPixelX(), Ay = rays.startPerPixelY();
+  const Vec3d B0 = rays.directionBase(), Bx = rays.directionPerPixelX(),
+              By = rays.directionPerPixelY();
+  const double y = j + 0.5;
+#pragma omp simd
+  for (int k = 0; k < n; ++k)
+  {
+    const double x = (r0 + k) + 0.5;
+    const double ax = A0.x + Ax.x * x + Ay.x * y - c.x, ay = A0.y + Ax.y * x + Ay.y * y - c.y,
+                 az = A0.z + Ax.z * x + Ay.z * y - c.z;
+    const double bx = B0.x + Bx.x * x + By.x * y, by = B0.y + Bx.y * x + By.y * y,
+                 bz = B0.z + Bx.z * x + By.z * y;
+    const double a = bx * bx + by * by + bz * bz, b = ax * bx + ay * by + az * bz;
+    const double disc = b * b - a * (ax * ax + ay * ay + az * az - r2);
+    const double root = std::sqrt(disc > 0 ? disc : 0.0);
+    const double lo = (-b - root) / a;
+    z0[k] = lo > front ? lo : front;
+    z1[k] = (-b + root) / a;
+    hit[k] = disc > 0;
+  }
+}
+
 /// The pixels px of row j (centre x = px + 0.5) whose centre rays can meet the sphere |p - c|
 /// = r, within [i0, i1]: the ray A + zeta B meets it where its discriminant
 ///   disc(x) = (A.B)^2 - |B|^2 (|A|^2 - r^2)
@@ -520,19 +561,17 @@ void TileVoxelizer::splatParticle(std::size_t k, TallyCounters& t) const
     {
       continue;
     }
+    double z0s[MaxTileSize], z1s[MaxTileSize];
+    bool hits[MaxTileSize];
+    rowChords(rays, c, r2, j, r0, r1 - r0 + 1, dFront, z0s, z1s, hits);
     for (int px = r0; px <= r1; ++px)
     {
-      const Vec3d A = rays.start(px + 0.5, j + 0.5) - c;
-      const Vec3d B = rays.direction(px + 0.5, j + 0.5);
-      const double a = dot(B, B), b = dot(A, B);
-      const double disc = b * b - a * (dot(A, A) - r2);
-      if (!(disc > 0))
+      if (!hits[px - r0])
       {
         continue;
       }
-      const double root = std::sqrt(disc);
-      const double z0 = std::max((-b - root) / a, dFront);
-      const double z1 = clipToRayEnd((-b + root) / a, px, j);
+      const double z0 = z0s[px - r0];
+      const double z1 = clipToRayEnd(z1s[px - r0], px, j);
       if (!(z0 < z1))
       {
         continue;
@@ -704,9 +743,8 @@ int assignLayers(const ViewRays& rays,
   return words;
 }
 
-/// Tiles of at most MaxTileSize pixels whose grid (with its touched bytes) stays within
-/// CacheBytes, so a tile's columns stay in the core's cache while its particles are splatted.
-constexpr int MaxTileSize = 64;
+/// Tiles whose grid (with its touched bytes) stays within CacheBytes, so a tile's columns
+/// stay in the core's cache while its particles are splatted.
 constexpr std::size_t CacheBytes = std::size_t(1) << 20;
 
 /// The tile size: the largest power of two (at most MaxTileSize, the grid within CacheBytes)
