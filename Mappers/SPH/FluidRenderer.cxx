@@ -103,6 +103,7 @@ struct MarchTiles
   int tilesX = 0, tilesY = 0;
   double keyFront = 0, binsPerKey = 0;
   std::vector<Bins> clearInside, clearOutside; // per tile, bit b: bin b is clear
+  std::vector<std::uint8_t> anyInside, anyOutside; // per tile: some bin is clear
 
   MarchTiles(const FluidSpans& spans, int tileSize)
     : TileSize(tileSize)
@@ -111,6 +112,8 @@ struct MarchTiles
     , tilesY((spans.height + TileSize - 1) / TileSize)
     , clearInside(static_cast<std::size_t>(tilesX) * tilesY)
     , clearOutside(static_cast<std::size_t>(tilesX) * tilesY)
+    , anyInside(static_cast<std::size_t>(tilesX) * tilesY)
+    , anyOutside(static_cast<std::size_t>(tilesX) * tilesY)
   {
     if (!layers.depths.empty())
     {
@@ -150,14 +153,19 @@ struct MarchTiles
     std::memcpy(&bits, &z, sizeof bits);
     return static_cast<double>(std::max<std::int64_t>(bits, 0));
   }
+  /// Bins lo..hi within word w (bins 64 w .. 64 w + 63) as a mask.
+  static std::uint64_t wordMask(int lo, int hi, int w)
+  {
+    const int a = std::max(lo - 64 * w, 0), b = std::min(hi - 64 * w, 63);
+    const std::uint64_t upTo = b == 63 ? ~std::uint64_t(0) : (std::uint64_t(1) << (b + 1)) - 1;
+    return upTo & (~std::uint64_t(0) << a);
+  }
   /// Sets bins lo..hi of m.
   static void mark(Bins& m, int lo, int hi)
   {
     for (int w = lo >> 6; w <= hi >> 6; ++w)
     {
-      const int a = std::max(lo - 64 * w, 0), b = std::min(hi - 64 * w, 63);
-      const std::uint64_t upTo = b == 63 ? ~std::uint64_t(0) : (std::uint64_t(1) << (b + 1)) - 1;
-      m[w] |= upTo & (~std::uint64_t(0) << a);
+      m[w] |= wordMask(lo, hi, w);
     }
   }
   /// A column's spans [e_k, x_k]: the bins strictly between bin(e_k) and bin(x_k) are inside,
@@ -193,8 +201,17 @@ struct MarchTiles
         }
       }
     }
-    clearInside[static_cast<std::size_t>(ty) * tilesX + tx] = in;
-    clearOutside[static_cast<std::size_t>(ty) * tilesX + tx] = out;
+    const std::size_t t = static_cast<std::size_t>(ty) * tilesX + tx;
+    clearInside[t] = in;
+    clearOutside[t] = out;
+    std::uint64_t anyIn = 0, anyOut = 0;
+    for (int w = 0; w < Words; ++w)
+    {
+      anyIn |= in[w];
+      anyOut |= out[w];
+    }
+    anyInside[t] = anyIn != 0;
+    anyOutside[t] = anyOut != 0;
   }
   const Bins& clearBins(int i, int j, bool inside) const
   {
@@ -204,24 +221,19 @@ struct MarchTiles
   /// Whether pixel (i, j)'s tile has a bin clear for the state.
   bool anyClear(int i, int j, bool inside) const
   {
-    const Bins& c = clearBins(i, j, inside);
-    std::uint64_t any = 0;
-    for (int w = 0; w < Words; ++w)
-    {
-      any |= c[w];
-    }
-    return any != 0;
+    const std::size_t t = static_cast<std::size_t>(j / TileSize) * tilesX + i / TileSize;
+    return (inside ? anyInside : anyOutside)[t] != 0;
   }
   /// Whether the ray, inside or not, meets no surface in pixel (i, j)'s tile while its depth
-  /// goes from za to zb.
+  /// goes from za to zb: every bin between theirs is clear (only their words are read).
   bool clear(int i, int j, bool inside, double za, double zb) const
   {
-    Bins need{};
-    mark(need, bin(std::min(za, zb)), bin(std::max(za, zb)));
+    const int lo = bin(std::min(za, zb)), hi = bin(std::max(za, zb));
     const Bins& c = clearBins(i, j, inside);
-    for (int w = 0; w < Words; ++w)
+    for (int w = lo >> 6; w <= hi >> 6; ++w)
     {
-      if ((c[w] & need[w]) != need[w])
+      const std::uint64_t need = wordMask(lo, hi, w);
+      if ((c[w] & need) != need)
       {
         return false;
       }
