@@ -144,12 +144,27 @@ void WritePng(vtkImageData* image, const std::string& path)
 
 bool Selected(const Options& opt, const Method& m)
 {
-  // The leading ':' lets "--only :rbf:" pick the method rbf and not direct-rbf.
+  // The leading ':' lets "--only :rbf:" pick the method rbf and not direct-rbf; a trailing
+  // '$' anchors at the setting's end (":zsweep:exact$" and not ":zsweep:exact;sparse").
   const std::string key = ":" + m.name + ":" + m.setting;
   return opt.only.empty() ||
          std::any_of(opt.only.begin(),
            opt.only.end(),
-           [&](const std::string& o) { return key.find(o) != std::string::npos; });
+           [&](const std::string& o)
+           {
+             if (!o.empty() && o.back() == '$')
+             {
+               const std::string tail = o.substr(0, o.size() - 1);
+               return key.size() >= tail.size() &&
+                 key.find(tail, key.size() - tail.size()) != std::string::npos;
+             }
+             return key.find(o) != std::string::npos;
+           });
+}
+
+bool ViewSelected(const Options& opt, const std::string& view)
+{
+  return opt.views.empty() || std::find(opt.views.begin(), opt.views.end(), view) != opt.views.end();
 }
 
 std::string Generated(const Options& opt, const std::string& name, const std::string& script)

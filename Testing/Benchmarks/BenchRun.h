@@ -33,7 +33,8 @@ struct Options
   double h = 0;                  // --h: a constant SPH smoothing length; 0: from the data
   double zoom = 1;               // --zoom: the spheres' camera this many times closer
   std::vector<double> focus;     // --focus X,Y,Z: the spheres' camera looks there (empty: centre)
-  bool references = true;        // --no-reference: only the methods --only picks (spheres)
+  bool references = true;        // --no-reference: only the methods --only picks
+  std::vector<std::string> views; // --view NAME: only these views (empty: the suite's all)
 };
 
 struct Row
@@ -83,6 +84,8 @@ void WritePng(vtkImageData* image, const std::string& path);
 
 /// Whether --only selects the method (no --only: all).
 bool Selected(const Options& opt, const Method& m);
+// Whether the suite's view runs: --view names it, or no --view was given.
+bool ViewSelected(const Options& opt, const std::string& view);
 
 /// The file `name` in the --generated folder, made by Data/Generators/`script` when it is
 /// not there yet (a real simulator run, cached); empty when the generation failed.

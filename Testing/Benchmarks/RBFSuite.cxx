@@ -224,6 +224,10 @@ std::vector<Row> RunRBF(const Options& opt)
 
     for (const std::string view : { "far", "close" })
     {
+      if (!ViewSelected(opt, view))
+      {
+        continue;
+      }
       auto camera = [&](vtkCamera* cam)
       {
         double b[6];
@@ -466,7 +470,7 @@ std::vector<Row> RunRBF(const Options& opt)
       for (const Method& m : methods)
       {
         const bool isReference = m.setting.rfind("reference", 0) == 0;
-        if (!isReference && !Selected(opt, m))
+        if (isReference ? !opt.references : !Selected(opt, m))
         {
           continue;
         }

@@ -547,6 +547,10 @@ std::vector<Row> RunSPH(const Options& opt)
 
     for (const std::string view : { "outside", "surface" })
     {
+      if (!ViewSelected(opt, view))
+      {
+        continue;
+      }
       const auto camera = View(d, view);
       const std::string dataset = d.name + "-" + view;
 
@@ -778,9 +782,12 @@ std::vector<Row> RunSPH(const Options& opt)
         {
           setting = g.key + ";" + setting;
         }
-        Ours ref = ours("reference", setting, g.reference, "");
-        ref.method.repeat = 1;
-        references[g.key] = measureOurs(ref, "").image;
+        if (opt.references)
+        {
+          Ours ref = ours("reference", setting, g.reference, "");
+          ref.method.repeat = 1;
+          references[g.key] = measureOurs(ref, "").image;
+        }
         for (const Ours& o : g.methods)
         {
           if (Selected(opt, o.method))
@@ -800,7 +807,10 @@ std::vector<Row> RunSPH(const Options& opt)
             r.row.suite = "sph";
             r.row.dataset = dataset;
             r.row.items = n;
-            Compare(references["normalized"], r.image, r.row.rmse, r.row.maxErr);
+            if (references["normalized"])
+            {
+              Compare(references["normalized"], r.image, r.row.rmse, r.row.maxErr);
+            }
             Extra e;
             e.resampleMs = t.grid->ms;
             e.firstFrameMs = t.log->frameMs.empty() ? -1 : t.log->frameMs[0];

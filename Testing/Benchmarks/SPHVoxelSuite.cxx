@@ -847,6 +847,10 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
       fd.layers ? std::vector<std::string>{ "front" } : std::vector<std::string>{ "outside", "surface" };
     for (const std::string& view : views)
     {
+      if (!ViewSelected(opt, view))
+      {
+        continue;
+      }
       const std::function<void(vtkCamera*)> camera =
         fd.layers ? std::function<void(vtkCamera*)>(LayersView) : View(fd.source, view);
       const std::string dataset = fd.name + "-" + view;
@@ -1053,7 +1057,7 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
       for (const auto& [key, f] : { std::make_pair(std::string("plain"), reference),
              std::make_pair(std::string("smooth"), smoothReference) })
       {
-        if (fd.layers || fd.stageOnly || !needs(key))
+        if (fd.layers || fd.stageOnly || !opt.references || !needs(key))
         {
           continue;
         }

@@ -14,6 +14,8 @@
 // Data: the Blunt Fin and the Combustion Chamber (PLOT3D, density), disk_out_ref.ex2
 // (Temp) and a tetrahedralized wavelet (vtkRTAnalyticSource, extent +-20: 320,000
 // tetrahedra); --data takes PLOT3D xyz files (the q file beside it), Exodus or VTK files,
+// wavelet:N (the wavelet tetrahedralized, its extent chosen for about N tetrahedra) and
+// hex-wavelet:N (about N hexahedra of a warped wavelet, native rows only: no tetrahedra),
 // rendered by the point array --array NAME, else the reader's or active scalars, else the
 // first 1-component point array.
 // Three views each: far, side and close.
@@ -25,6 +27,7 @@
 
 #include "vtkAppendFilter.h"
 #include "vtkCamera.h"
+#include "vtkCellArray.h"
 #include "vtkCellType.h"
 #include "vtkColorTransferFunction.h"
 #include "vtkCompositeDataSet.h"
@@ -33,13 +36,16 @@
 #include "vtkDataSetTriangleFilter.h"
 #include "vtkExodusIIReader.h"
 #include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
 #include "vtkImageData.h"
+#include "vtkMath.h"
 #include "vtkMatrix4x4.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkMultiBlockPLOT3DReader.h"
 #include "vtkNew.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
+#include "vtkPoints.h"
 #include "vtkProjectedTetrahedraMapper.h"
 #include "vtkRTAnalyticSource.h"
 #include "vtkRenderer.h"
@@ -57,6 +63,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -147,12 +154,96 @@ bool ChooseScalars(vtkUnstructuredGrid* u, const Options& opt, const std::string
   return true;
 }
 
+// The number after "name:" in a synthetic grid's spec ("wavelet:5000000"), else 0.
+long long SpecCount(const std::string& spec, const std::string& name)
+{
+  if (spec.compare(0, name.size() + 1, name + ":") != 0)
+  {
+    return 0;
+  }
+  return std::atoll(spec.c_str() + name.size() + 1);
+}
+
+// The wavelet on 2a cells a side with a chosen so that cellsPerVoxel (2a)^3 is nearest n.
+vtkSmartPointer<vtkImageData> WaveletFor(long long n, int cellsPerVoxel)
+{
+  const int a = std::max(1, static_cast<int>(std::lround(0.5 * std::cbrt(double(n) / cellsPerVoxel))));
+  vtkNew<vtkRTAnalyticSource> wavelet;
+  wavelet->SetWholeExtent(-a, a, -a, a, -a, a);
+  wavelet->Update();
+  return wavelet->GetOutput();
+}
+
+// The wavelet's voxels as hexahedra of a warped grid: every point moved by a quarter of a
+// cell along sin waves 16 cells long across the other two axes, so the cells are not
+// parallelepipeds and their field is trilinear in a curved cell (the native path's case).
+vtkSmartPointer<vtkUnstructuredGrid> WarpedHexahedra(vtkImageData* image)
+{
+  int dims[3];
+  image->GetDimensions(dims);
+  const double h = image->GetSpacing()[0], k = 2.0 * vtkMath::Pi() / (16.0 * h), amp = 0.25 * h;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  points->SetNumberOfPoints(image->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < image->GetNumberOfPoints(); ++i)
+  {
+    double p[3];
+    image->GetPoint(i, p);
+    points->SetPoint(i, p[0] + amp * std::sin(k * (p[1] + p[2])),
+      p[1] + amp * std::sin(k * (p[2] - p[0])), p[2] + amp * std::sin(k * (p[0] + 0.5 * p[1])));
+  }
+  const vtkIdType cells = static_cast<vtkIdType>(dims[0] - 1) * (dims[1] - 1) * (dims[2] - 1);
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfValues(cells + 1);
+  connectivity->SetNumberOfValues(8 * cells);
+  vtkIdType c = 0;
+  auto id = [&](int i, int j, int l) { return (static_cast<vtkIdType>(l) * dims[1] + j) * dims[0] + i; };
+  for (int l = 0; l + 1 < dims[2]; ++l)
+  {
+    for (int j = 0; j + 1 < dims[1]; ++j)
+    {
+      for (int i = 0; i + 1 < dims[0]; ++i, ++c)
+      {
+        const vtkIdType v[8] = { id(i, j, l), id(i + 1, j, l), id(i + 1, j + 1, l),
+          id(i, j + 1, l), id(i, j, l + 1), id(i + 1, j, l + 1), id(i + 1, j + 1, l + 1),
+          id(i, j + 1, l + 1) };
+        offsets->SetValue(c, 8 * c);
+        for (int m = 0; m < 8; ++m)
+        {
+          connectivity->SetValue(8 * c + m, v[m]);
+        }
+      }
+    }
+  }
+  offsets->SetValue(cells, 8 * cells);
+  vtkNew<vtkCellArray> cellArray;
+  cellArray->SetData(offsets, connectivity);
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  grid->SetPoints(points);
+  grid->SetCells(VTK_HEXAHEDRON, cellArray);
+  grid->GetPointData()->SetScalars(image->GetPointData()->GetScalars());
+  return grid;
+}
+
 Grid Load(const std::string& file, const Options& opt)
 {
   Grid g;
   vtkSmartPointer<vtkDataObject> data;
   std::string scalars;
-  if (file == "wavelet")
+  if (const long long n = SpecCount(file, "hex-wavelet"))
+  {
+    // Native hexahedra only (no tetrahedra: the scale rows at millions of cells).
+    g.native = WarpedHexahedra(WaveletFor(n, 1));
+    g.name = "hex-wavelet-" + std::to_string(g.native->GetNumberOfCells());
+    return ChooseScalars(g.native, opt, file, "RTData") ? g : Grid();
+  }
+  if (const long long n = SpecCount(file, "wavelet"))
+  {
+    data = WaveletFor(n, 5); // 5 tetrahedra a voxel
+    scalars = "RTData";
+    g.name = "wavelet-" + std::to_string(5LL * vtkImageData::SafeDownCast(data)->GetNumberOfCells());
+  }
+  else if (file == "wavelet")
   {
     vtkNew<vtkRTAnalyticSource> wavelet;
     wavelet->SetWholeExtent(-20, 20, -20, 20, -20, 20);
@@ -341,25 +432,30 @@ std::vector<Row> RunZSweep(const Options& opt)
   for (const std::string& file : files)
   {
     const Grid g = Load(file, opt);
-    if (!g.tetra || g.tetra->GetNumberOfCells() == 0 || !g.tetra->GetPointData()->GetScalars())
+    vtkUnstructuredGrid* shown = g.tetra ? g.tetra : g.native; // the views' and colours' grid
+    if (!shown || shown->GetNumberOfCells() == 0 || !shown->GetPointData()->GetScalars())
     {
       std::cerr << "zsweep: cannot read a grid with scalars from " << file << "\n";
       continue;
     }
     double range[2], b[6];
-    g.tetra->GetPointData()->GetScalars()->GetRange(range);
-    g.tetra->GetBounds(b);
+    shown->GetPointData()->GetScalars()->GetRange(range);
+    shown->GetBounds(b);
     const double diag = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
       (b[5] - b[4]) * (b[5] - b[4]));
     auto property = MakeProperty(range, 0.05 * diag);
-    const long long cells = g.tetra->GetNumberOfCells();
+    const long long cells = g.tetra ? g.tetra->GetNumberOfCells() : 0;
     std::cout << g.name << ": " << cells << " tetrahedra"
               << (g.native ? ", " + std::to_string(g.native->GetNumberOfCells()) + " native cells"
                            : std::string())
-              << ", scalars '" << Name(g.tetra->GetPointData()->GetScalars()) << "'\n";
+              << ", scalars '" << Name(shown->GetPointData()->GetScalars()) << "'\n";
 
     for (const std::string view : { "far", "side", "close" })
     {
+      if (!ViewSelected(opt, view))
+      {
+        continue;
+      }
       auto camera = [&](vtkCamera* cam) {
         const double c[3] = { 0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]) };
         cam->SetFocalPoint(c);
@@ -380,10 +476,13 @@ std::vector<Row> RunZSweep(const Options& opt)
       };
       const std::string dataset = g.name + "-" + view;
 
-      // The reference image, always (the error columns need it).
+      // The reference image (the error columns need it), unless --no-reference or the grid
+      // has no tetrahedra (a native grid generated for the scale rows).
       double referenceMs = 0;
-      const vtkSmartPointer<vtkImageData> reference =
-        ReferenceImage(opt, g.tetra, property, camera, referenceMs);
+      const vtkSmartPointer<vtkImageData> reference = opt.references && g.tetra
+        ? ReferenceImage(opt, g.tetra, property, camera, referenceMs)
+        : nullptr;
+      if (reference)
       {
         Result r;
         r.row = Row{ "zsweep", dataset, "reference", "brute-force;double;simpson-32",
@@ -492,17 +591,19 @@ std::vector<Row> RunZSweep(const Options& opt)
 
       for (const Method& m : methods)
       {
-        if (!Selected(opt, m))
+        const bool native = m.setting.find("native") != std::string::npos;
+        if (!Selected(opt, m) || (!native && !g.tetra))
         {
           continue;
         }
         Result r = Measure(opt, m, camera);
         r.row.suite = "zsweep";
         r.row.dataset = dataset;
-        r.row.items = m.setting.find("native") != std::string::npos
-          ? g.native->GetNumberOfCells()
-          : cells;
-        Compare(r.image, reference, r.row.rmse, r.row.maxErr);
+        r.row.items = native ? g.native->GetNumberOfCells() : cells;
+        if (reference)
+        {
+          Compare(r.image, reference, r.row.rmse, r.row.maxErr);
+        }
         Record(opt, r, rows);
       }
     }

@@ -13,12 +13,15 @@
 // usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] [--csv FILE]
 //                               [--images DIR] [--generated DIR] [--only TEXT ...]
 //                               [--threads N] [--array NAME] [--radius R] [--h H]
-//                               [--zoom Z] [--focus X,Y,Z] [--no-reference]
+//                               [--zoom Z] [--focus X,Y,Z] [--no-reference] [--view NAME ...]
 // --zoom (spheres) moves the camera Z times closer to the data's centre (a close-up of a
-// cluster's core); --focus X,Y,Z looks at that point instead of the centre. --no-reference (spheres) runs only the methods --only picks, without the
-// reference images (no rmse): one method per process, for its peak resident memory.
+// cluster's core); --focus X,Y,Z looks at that point instead of the centre.
+// --no-reference runs only the methods --only picks, without the suite's reference images
+// (no rmse): one method per process, for its peak resident memory (the scale scripts).
+// --view NAME (repeatable) runs only the suite's views of that name (rbf: far, close; zsweep:
+// far, side, close; sph: outside, surface, and the fluid's views).
 // --only runs just the methods whose ":method:setting" contains TEXT (and the references);
-// a leading ':' anchors TEXT at the method's name.
+// a leading ':' anchors TEXT at the method's name, a trailing '$' at the setting's end.
 // --threads limits TBB (our mappers' parallel work) to N threads, for parallel efficiency.
 // Arrays are chosen as the representations choose them, so any particle file runs:
 //   size        a point array with a conventional name (vtkRayMapperParticleSizes::
@@ -71,7 +74,7 @@ int Usage()
 {
   std::cerr << "usage: raymappers-bench SUITE [--data FILE ...] [--size WxH] [--repeat N] "
                "[--csv FILE] [--images DIR] [--generated DIR] [--only METHOD:SETTING ...] "
-               "[--threads N] [--array NAME] [--radius R] [--h H] [--zoom Z] [--focus X,Y,Z] [--no-reference]\n"
+               "[--threads N] [--array NAME] [--radius R] [--h H] [--zoom Z] [--focus X,Y,Z] [--no-reference] [--view NAME]\n"
                "--array: the point array to colour or sample by (default: chosen by name)\n"
                "--radius, --h: a constant particle radius, SPH smoothing length (default: "
                "the data's size array, else a multiple of the particle spacing)\n"
@@ -131,6 +134,10 @@ int main(int argc, char* argv[])
     else if (a == "--only")
     {
       opt.only.push_back(next());
+    }
+    else if (a == "--view")
+    {
+      opt.views.push_back(next());
     }
     else if (a == "--generated")
     {

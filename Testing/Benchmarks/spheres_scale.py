@@ -20,22 +20,14 @@ usage (from the source root; needs a build, Xvfb and about 12 GB of memory for 1
       [--repeat 3] [--csv OUT.csv] [--plot OUT.png]
 """
 import argparse
-import csv
 import os
 import subprocess
 import sys
 import tempfile
 
-import numpy as np
+from scale_runs import SOURCE, bench, label, legacy_input_bytes, loglog, rmse, write_csv
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-SOURCE = os.path.dirname(os.path.dirname(HERE))
-XVFB = ["xvfb-run", "-a", "-s", "-screen 0 1920x1080x24 -noreset"]
 METHODS = [("cgt", "default"), ("embree", "bvh=low")]
-
-
-def label(n):
-    return f"{n // 1000000}M" if n % 1000000 == 0 else str(n)
 
 
 def generate(build, n):
@@ -44,60 +36,6 @@ def generate(build, n):
     subprocess.run(["bash", os.path.join(SOURCE, "Data/Generators/plummer_sphere.sh"), path,
                     str(n)], check=True)
     return path
-
-
-def input_bytes_per_sphere(path):
-    """The points and float point arrays of the legacy VTK file, per particle: 12 B of
-    coordinates and 4 B per SCALARS section (grep counts them)."""
-    out = subprocess.run(["grep", "-a", "-c", "^SCALARS .* float 1$", path],
-                         capture_output=True, text=True)
-    return 12 + 4 * int(out.stdout.strip() or 0)
-
-
-def run(build, data, only, repeat, images):
-    """One bench process: its CSV row (None without a method) and its peak RSS in MB."""
-    with tempfile.NamedTemporaryFile(suffix=".csv") as out, \
-            tempfile.NamedTemporaryFile(suffix=".time") as t:
-        cmd = XVFB + ["/usr/bin/time", "-f", "%M", "-o", t.name,
-                      os.path.join(build, "bin", "raymappers-bench"), "spheres", "--data", data,
-                      "--size", "1024x1024", "--repeat", str(repeat), "--no-reference",
-                      "--only", only, "--csv", out.name, "--images", images]
-        # (the bench exits with 1 when no method ran: the baseline's case)
-        done = subprocess.run(cmd, stdout=subprocess.DEVNULL)
-        if done.returncode not in (0, 1):
-            raise RuntimeError(f"{' '.join(cmd)} failed ({done.returncode})")
-        peak = int(open(t.name).read().split()[-1]) / 1024.0
-        rows = list(csv.DictReader(open(out.name)))
-        return (rows[0] if rows else None), peak
-
-
-def rmse(a, b):
-    import matplotlib.image as mpimg
-    x = mpimg.imread(a)[..., :3].astype(np.float64)
-    y = mpimg.imread(b)[..., :3].astype(np.float64)
-    return float(np.sqrt(np.mean((x - y) ** 2)))
-
-
-def plot(rows, path):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
-    for key, ax, title in (("build_ms", axes[0], "build (ms)"),
-                           ("render_ms", axes[1], "frame at 1024x1024 (ms)"),
-                           ("mem_mb", axes[2], "added peak resident memory (MB)")):
-        for method, setting in METHODS:
-            pts = [(int(r["items"]), float(r[key])) for r in rows
-                   if r["method"] == method and r["setting"] == setting]
-            if pts:
-                xs, ys = zip(*sorted(pts))
-                ax.loglog(xs, ys, "o-", label=f"{method} {setting}")
-        ax.set_xlabel("spheres (Plummer)")
-        ax.set_title(title)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
 
 
 def main(argv):
@@ -113,11 +51,13 @@ def main(argv):
     rows = []
     for n in args.sizes:
         data = generate(args.build, n)
-        per_input = input_bytes_per_sphere(data)
-        _, baseline = run(args.build, data, "nothing-at-all", 1, images)
+        per_input = legacy_input_bytes(data)
+        _, baseline = bench(args.build, "spheres", data, "nothing-at-all", images, repeat=1)
         pngs = {}
         for method, setting in METHODS:
-            row, peak = run(args.build, data, f":{method}:{setting}", args.repeat, images)
+            found, peak = bench(args.build, "spheres", data, f":{method}:{setting}", images,
+                                repeat=args.repeat)
+            row = found[0]
             added = max(0.0, peak - baseline)
             row.update(suite="spheres-scale", mem_mb=f"{added:.1f}", peak_mb=f"{peak:.1f}",
                        baseline_mb=f"{baseline:.1f}",
@@ -135,12 +75,11 @@ def main(argv):
         for r in rows[-len(METHODS):]:
             r["rmse"] = f"{err:.6f}"
         print(f"{label(n)}: rmse cgt vs embree {err:.6f}", flush=True)
-    fields = list(rows[0].keys())
-    with open(args.csv, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields)
-        w.writeheader()
-        w.writerows(rows)
-    plot(rows, args.plot)
+    write_csv(rows, args.csv)
+    loglog([("build_ms", "build (ms)"), ("render_ms", "frame at 1024x1024 (ms)"),
+            ("mem_mb", "added peak resident memory (MB)")],
+           {f"{m} {s}": [r for r in rows if (r["method"], r["setting"]) == (m, s)]
+            for m, s in METHODS}, args.plot, "spheres (Plummer)")
     print(f"wrote {args.csv} and {args.plot}")
 
 
