@@ -13,7 +13,9 @@ SPH Fluid's radius h (x 0.8, the bench's look) when the file has them, else the 
 
 usage: pvpython representation_frame.py --plugin RayMappers.so --representation NAME
          --data SPEC [--size W H] [--repeat N] [--output PNG]
-Prints one JSON line: points, cells, first_render_s, median_render_s.
+Prints one JSON line: points, cells, first_render_s, median_render_s and the mapper's
+statistics (phases in ms, counters) of the first and the last render; with --output, the
+same line in OUTPUT.json beside the picture.
 """
 import argparse
 import json
@@ -55,6 +57,25 @@ def configure(rep, view, name, arrays):
         rep.SPHFluidRadiusScale = 0.8
 
 
+STATISTICS = {"RBF Volume": "RBFRenderStatistics", "SPH Volume": "SPHRenderStatistics",
+              "SPH Fluid": "SPHFluidRenderStatistics", "Z-Sweep Volume": "ZSweepRenderStatistics",
+              "Ray-Traced Spheres": "SpheresRenderStatistics"}
+
+
+def mapper_statistics(rep, name):
+    """The mapper's statistics of the last render, {kind: {name: value}}: phase (ms),
+    counter, effect (on or off); {} for Outline."""
+    if name not in STATISTICS:
+        return {}
+    rep.SMProxy.UpdatePropertyInformation()
+    text = rep.SMProxy.GetProperty(STATISTICS[name]).GetElement(0)
+    values = {}
+    for line in text.splitlines():
+        kind, key, value = line.split()
+        values.setdefault(kind, {})[key] = value if kind == "effect" else float(value)
+    return values
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--plugin", required=True)
@@ -83,17 +104,23 @@ def main():
             args.representation, args.data, rep.Representation))
     configure(rep, view, args.representation, arrays)
     view.ResetCamera(False)
-    times = []
+    times, frames = [], []
     for _ in range(1 + max(0, args.repeat)):
         start = time.perf_counter()
         Render(view)
         times.append(time.perf_counter() - start)
+        frames.append(mapper_statistics(rep, args.representation))
     if args.output:
         SaveScreenshot(args.output, view, ImageResolution=args.size, TransparentBackground=0)
-    print(json.dumps({
+    result = json.dumps({
         "points": info.GetNumberOfPoints(), "cells": info.GetNumberOfCells(),
         "first_render_s": times[0],
-        "median_render_s": statistics.median(times[1:]) if len(times) > 1 else math.nan}))
+        "median_render_s": statistics.median(times[1:]) if len(times) > 1 else math.nan,
+        "first_frame_statistics": frames[0], "last_frame_statistics": frames[-1]})
+    if args.output:
+        with open(args.output + ".json", "w") as f:
+            f.write(result + "\n")
+    print(result)
 
 
 if __name__ == "__main__":

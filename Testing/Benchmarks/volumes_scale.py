@@ -15,7 +15,8 @@ opens a window (the bench with no method; pvpython with the Outline representati
 bytes the method adds per item, against the input's own bytes per item (for particles, the
 file's points and float arrays; for cells, the connectivity and offsets as vtkIdType, the
 types, the float points and the float scalars of the grid divided by its cells). pv's
-build_ms is the first render less the median of the later ones.
+build_ms is the first render less the median of the later ones, pv_phases_ms the
+mapper's phases in the last render (its statistics property).
 
 The data: build/data/plummer_*.vtk (Data/Generators/plummer_sphere.sh) and
 build/data/dam_break_fine_00602_refinedK.vtk (Data/Generators/refine_particles.py on the
@@ -108,8 +109,14 @@ def pv_rows(build, method, size, images, repeat):
            "method": name, "setting": "default", "width": 1024, "height": 1024, "items": items,
            "build_ms": f"{1000 * (got['first_render_s'] - got['median_render_s']):.1f}",
            "render_ms": f"{1000 * got['median_render_s']:.1f}", "path": "pv",
-           "first_render_ms": f"{1000 * got['first_render_s']:.1f}"}
+           "first_render_ms": f"{1000 * got['first_render_s']:.1f}",
+           "pv_phases_ms": phases(got.get("last_frame_statistics", {}))}
     return [row], peak, baseline, path
+
+
+def phases(statistics):
+    """The mapper's phases of a render as "name=ms;..." (the representation's statistics)."""
+    return ";".join(f"{k}={v:.1f}" for k, v in statistics.get("phase", {}).items())
 
 
 def main(argv):
