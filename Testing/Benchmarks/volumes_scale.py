@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """How the volume renderers grow with their input: RBF Volume on Plummer spheres (10M, 30M,
-100M particles), SPH Volume on the PySPH dam break refined (13M, 25M, 104M), SPH Fluid on
-the same (13M, 25M), Z-Sweep on the wavelet tetrahedralized (1M, 5M, 10M tetrahedra) and
+100M particles), SPH Volume on the bundled PySPH dam break refined (9.4M, 31.6M, 99.7M
+particles), SPH Fluid on the same (9.4M, 31.6M), Z-Sweep on the wavelet tetrahedralized (1M, 5M, 10M tetrahedra) and
 on warped hexahedra of the wavelet (1M, 5M, 10M, native cells). Each method and size runs
 twice, each time in a process of its own (views: RBF far and close, SPH Volume outside, SPH
 Fluid outside and surface, Z-Sweep far and close on tetrahedra, far on hexahedra):
@@ -19,8 +19,8 @@ build_ms is the first render less the median of the later ones, pv_phases_ms the
 mapper's phases in the last render (its statistics property).
 
 The data: build/data/plummer_*.vtk (Data/Generators/plummer_sphere.sh) and
-build/data/dam_break_fine_00602_refinedK.vtk (Data/Generators/refine_particles.py on the
-fine PySPH frame, which Data/Generators/pysph_dam_break.sh makes: 45 minutes on 2 cores),
+build/data/dam_break_coarse_00674_refinedK.vtk (Data/Generators/refine_particles.py on the
+bundled PySPH frame Data/dam_break_coarse_00674.vtk, 9,360 particles, K = 10, 15, 22),
 generated once and then kept.
 
 Writes CSV (the bench's columns and path, peak_mb, baseline_mb, added_mb, bytes_per_item,
@@ -45,14 +45,14 @@ METHODS = {
     "rbf": ("rbf", ":rbf:default$", ["far", "close"], "RBF Volume", "plummer",
             [10000000, 30000000, 100000000]),
     "sph": ("sph", ":sph-raycast:default$", ["outside"], "SPH Volume", "refined",
-            [4, 5, 8]),
-    "fluid": ("sph", ":sph-voxel:", ["outside", "surface"], "SPH Fluid", "refined", [4, 5]),
+            [10, 15, 22]),
+    "fluid": ("sph", ":sph-voxel:", ["outside", "surface"], "SPH Fluid", "refined", [10, 15]),
     "zsweep": ("zsweep", ":zsweep:exact$", ["far", "close"], "Z-Sweep Volume", "wavelet",
                [1000000, 5000000, 10000000]),
     "zsweep-hex": ("zsweep", ":zsweep:native-cells;exact$", ["far"],
                    "Z-Sweep Volume", "hex-wavelet", [1000000, 5000000, 10000000]),
 }
-FINE = "dam_break_fine_00602"
+COARSE = os.path.join(SOURCE, "Data", "dam_break_coarse_00674.vtk")
 
 
 def data_for(build, kind, size):
@@ -65,13 +65,9 @@ def data_for(build, kind, size):
                         str(size)], check=True)
         return path, path, path
     if kind == "refined":
-        fine = os.path.join(folder, f"{FINE}.vtk")
-        if not os.path.exists(fine):
-            subprocess.run(["bash", os.path.join(SOURCE, "Data/Generators/pysph_dam_break.sh"),
-                            os.path.join(folder, "dam_break_fine"), "0.0148", "0.2"], check=True)
-        path = os.path.join(folder, f"{FINE}_refined{size}.vtk")
+        path = os.path.join(folder, f"{os.path.basename(COARSE)[:-4]}_refined{size}.vtk")
         subprocess.run(["/usr/bin/python3",
-                        os.path.join(SOURCE, "Data/Generators/refine_particles.py"), fine, path,
+                        os.path.join(SOURCE, "Data/Generators/refine_particles.py"), COARSE, path,
                         str(size)], check=True)
         return path, path, path
     if kind == "wavelet":
