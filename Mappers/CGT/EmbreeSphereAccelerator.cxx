@@ -1,4 +1,5 @@
 #include "Mappers/CGT/EmbreeSphereAccelerator.h"
+#include "Mappers/Common/EmbreeErrors.h"
 
 #include <stdexcept>
 #include <string>
@@ -11,8 +12,8 @@ EmbreeSphereAccelerator::EmbreeSphereAccelerator(const char* deviceConfig)
   Device = rtcNewDevice(deviceConfig);
   if (!Device)
   {
-    throw std::runtime_error("Embree: rtcNewDevice failed (error " +
-                             std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+    ThrowOnEmbreeError(nullptr, "rtcNewDevice");
+    throw std::runtime_error("Embree: rtcNewDevice failed");
   }
 }
 
@@ -27,11 +28,7 @@ EmbreeSphereAccelerator::~EmbreeSphereAccelerator()
 
 void EmbreeSphereAccelerator::build(const SphereSet& spheres, Quality quality)
 {
-  if (Scene)
-  {
-    rtcReleaseScene(Scene);
-    Scene = nullptr;
-  }
+  Release();
   Count = spheres.size();
   Scene = rtcNewScene(Device);
   const RTCBuildQuality q =
@@ -49,6 +46,13 @@ void EmbreeSphereAccelerator::build(const SphereSet& spheres, Quality quality)
     rtcSetGeometryBuildQuality(geom, q);
     auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
       geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), Count));
+    if (!v)
+    {
+      rtcReleaseGeometry(geom);
+      Release();
+      ThrowOnEmbreeError(Device, "rtcSetNewGeometryBuffer");
+      throw std::bad_alloc(); // (no error recorded: the buffer's allocation failed)
+    }
     for (std::size_t i = 0; i < Count; ++i)
     {
       v[4 * i] = spheres.centers[i].x;
@@ -61,6 +65,23 @@ void EmbreeSphereAccelerator::build(const SphereSet& spheres, Quality quality)
     rtcReleaseGeometry(geom);
   }
   rtcCommitScene(Scene);
+  const RTCError error = rtcGetDeviceError(Device);
+  if (error != RTC_ERROR_NONE) // (a failed commit leaves no scene to trace)
+  {
+    Release();
+    ThrowEmbreeError(error, "rtcCommitScene");
+  }
+}
+
+void EmbreeSphereAccelerator::Release()
+{
+  if (Scene)
+  {
+    rtcReleaseScene(Scene);
+    Scene = nullptr;
+  }
+  Count = 0;
+  Spheres = nullptr;
 }
 
 namespace

@@ -45,6 +45,9 @@ public:
   static bool toEmbreePacket(const RayPacket& packet, int base, RTCRayHit16& rays, int* valid);
 
 private:
+  /// The scene released: an empty accelerator (also after a failed build).
+  void Release();
+
   RTCDevice Device = nullptr;
   RTCScene Scene = nullptr;
   std::size_t Count = 0;

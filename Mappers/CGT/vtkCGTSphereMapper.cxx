@@ -382,7 +382,8 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     Impl->Pending = actor;
     return;
   }
-  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); });
+  Impl->Core.Execute(
+    this, this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); }, [this] { this->ReleaseBuilds(); });
 }
 
 void vtkCGTSphereMapper::DrawDeferred(vtkObject* caller, unsigned long, void*)
@@ -392,7 +393,8 @@ void vtkCGTSphereMapper::DrawDeferred(vtkObject* caller, unsigned long, void*)
   Impl->Pending = nullptr;
   if (ren && actor)
   {
-    Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); });
+    Impl->Core.Execute(
+    this, this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); }, [this] { this->ReleaseBuilds(); });
   }
 }
 
@@ -419,6 +421,15 @@ raymappers::SphereAccelerator* vtkCGTSphereMapper::PrepareScene(vtkRenderer* ren
     grid ? static_cast<raymappers::SphereAccelerator&>(Impl->Grid) : Impl->Embree;
   this->SetRangeFilter(accelerator);
   return &accelerator;
+}
+
+void vtkCGTSphereMapper::ReleaseBuilds()
+{
+  Impl->Spheres = raymappers::SphereSet();
+  Impl->Grid = raymappers::CoherentGridAccelerator();
+  Impl->SpheresStamp.Invalidate();
+  Impl->AcceleratorStamp.Invalidate();
+  Impl->OpacityTime = 0;
 }
 
 void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)

@@ -409,6 +409,9 @@ private:
   /// hardware selection pass (vtkRayMapperSelectionPass.h) the ids of the spheres in front:
   /// point ids for point selection, the ids of their vertex cells for cell selection.
   void RenderFrame(vtkRenderer* ren, vtkActor* actor);
+  /// After a render that ran out of memory: the spheres and accelerators freed, their
+  /// stamps invalidated (the next render builds them again).
+  void ReleaseBuilds();
   /// The renderer's EndEvent: the translucent frame RenderPiece deferred.
   void DrawDeferred(vtkObject* caller, unsigned long event, void* data);
   /// The updated spheres and accelerator (range filter set) and the camera of a render; null

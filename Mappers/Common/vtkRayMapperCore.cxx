@@ -9,6 +9,7 @@
 #include "vtkAbstractVolumeMapper.h"
 #include "vtkAlgorithm.h"
 #include "vtkDataObject.h"
+#include "vtkDataSet.h"
 #include "vtkMath.h"
 #include "vtkPointSet.h"
 #include "vtkRenderWindow.h"
@@ -63,6 +64,43 @@ void vtkRayMapperCore::WarnEmptyInput(vtkObject* mapper,
   this->WarnedEmptyInputTime = input->GetMTime();
   this->Statistics->Set(raymappers::RenderStatistics());
   vtkWarningWithObjectMacro(mapper, << "The input has no " << what << ": no " << thing << " to draw.");
+}
+
+void vtkRayMapperCore::ReportFailure(vtkObject* mapper, const char* what)
+{
+  this->FullFrame = raymappers::Frame();
+  this->CoarseFrame = raymappers::Frame();
+  std::vector<float>().swap(this->Depth);
+  std::vector<float>().swap(this->CoarseDepth);
+  raymappers::RenderStatistics stats;
+  stats.addCounter(what ? "render_failed" : "out_of_memory", 1);
+  this->Statistics->Set(stats);
+  auto* algorithm = vtkAlgorithm::SafeDownCast(mapper);
+  auto* input = vtkDataSet::SafeDownCast(algorithm ? algorithm->GetInputDataObject(0, 0) : nullptr);
+  const vtkMTimeType inputTime = input ? input->GetMTime() : 1;
+  if (this->FailedInputTime == inputTime)
+  {
+    return; // (reported)
+  }
+  this->FailedInputTime = inputTime;
+  if (what)
+  {
+    vtkErrorWithObjectMacro(mapper, << "The render failed (" << what << "); nothing is drawn.");
+  }
+  else if (input)
+  {
+    vtkErrorWithObjectMacro(mapper,
+      << "Out of memory: the structures this render builds for its input ("
+      << input->GetNumberOfPoints() << " points, " << input->GetNumberOfCells() << " cells, "
+      << input->GetActualMemorySize() / 1024 << " MiB) or its frame do not fit; they are "
+      << "released and nothing is drawn. Render fewer points or cells (e.g. Mask Points, "
+         "Extract Subset) or a smaller image.");
+  }
+  else
+  {
+    vtkErrorWithObjectMacro(mapper,
+      << "Out of memory: this render's structures or frame do not fit; nothing is drawn.");
+  }
 }
 
 vtkPointSet* vtkRayMapperCore::PointSetBounds(vtkAbstractVolumeMapper* mapper,

@@ -26,6 +26,8 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <new>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -136,9 +138,13 @@ public:
   /// kernels' parallel loops use at most that many. The calling thread runs `render`
   /// itself (the arena's slot for it is free: no other thread enters a mapper's arena), so
   /// the OpenGL context stays current. Show records the arena's concurrency in the counter
-  /// "threads".
-  template <typename Render>
-  void Execute(int numberOfThreads, Render&& render)
+  /// "threads". A render whose structures or frame do not fit in memory (std::bad_alloc,
+  /// from any of its threads, Embree's out-of-memory error among them) or that fails
+  /// otherwise (a std::exception, such as an Embree error) calls `release` (the mapper frees
+  /// what it has built and invalidates its stamps, so the next render builds again), draws
+  /// nothing and reports one error on `mapper` (ReportFailure).
+  template <typename Render, typename Release>
+  void Execute(vtkObject* mapper, int numberOfThreads, Render&& render, Release&& release)
   {
     const int n = numberOfThreads > 0 ? numberOfThreads : DefaultNumberOfThreads();
     if (!this->Arena || this->ArenaThreads != n)
@@ -146,12 +152,26 @@ public:
       this->Arena = std::make_unique<tbb::task_arena>(n);
       this->ArenaThreads = n;
     }
-    this->Arena->execute(
-      [&]
-      {
-        this->Concurrency = tbb::this_task_arena::max_concurrency();
-        render();
-      });
+    try
+    {
+      this->Arena->execute(
+        [&]
+        {
+          this->Concurrency = tbb::this_task_arena::max_concurrency();
+          render();
+        });
+      this->FailedInputTime = 0;
+    }
+    catch (const std::bad_alloc&)
+    {
+      release();
+      this->ReportFailure(mapper, nullptr);
+    }
+    catch (const std::exception& failure)
+    {
+      release();
+      this->ReportFailure(mapper, failure.what());
+    }
   }
 
   /// The number of cache builds over the mapper's life (the counter "builds"), one more.
@@ -252,6 +272,12 @@ public:
   void ReleaseGraphicsResources(vtkWindow* win) { this->Drawer.ReleaseGraphicsResources(win); }
 
 private:
+  /// After a render that failed: the frames freed, the statistics of a render that drew
+  /// nothing with the counter "out_of_memory" 1 (`what` null: it ran out of memory; the
+  /// error names the input's size) or "render_failed" 1 (the error quotes `what`), and a
+  /// vtkErrorMacro on `mapper`, once while the input is unchanged and no render succeeds
+  /// (each render tries again: memory may have been freed meanwhile).
+  void ReportFailure(vtkObject* mapper, const char* what);
   const float* OpaqueDepth(vtkRenderer* ren,
     const View& view,
     int width,
@@ -271,6 +297,7 @@ private:
   std::int64_t Builds = 0;
   std::int64_t BuildsReported = 0;
   vtkMTimeType WarnedEmptyInputTime = 0;
+  vtkMTimeType FailedInputTime = 0; // of the input the last failed render reported (0: none)
   std::unique_ptr<tbb::task_arena> Arena;
   int ArenaThreads = 0;
   int Concurrency = 0; // of the arena the last render ran in

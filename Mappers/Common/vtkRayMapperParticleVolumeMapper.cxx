@@ -68,7 +68,8 @@ void vtkRayMapperParticleVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     this->Core->PresentSelectionFootprint(ren);
     return;
   }
-  this->Core->Execute(this->NumberOfThreads,
+  this->Core->Execute(this,
+    this->NumberOfThreads,
     [&]
     {
       auto* input = vtkPointSet::SafeDownCast(this->GetDataSetInput());
@@ -80,7 +81,8 @@ void vtkRayMapperParticleVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
         return;
       }
       this->RenderVolume(ren, vol, input);
-    });
+    },
+    [this] { this->ReleaseBuilds(); });
 }
 
 void vtkRayMapperParticleVolumeMapper::WarnSkipped(std::size_t count, const char* what)

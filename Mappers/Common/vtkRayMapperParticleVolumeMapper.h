@@ -84,6 +84,9 @@ protected:
   /// The body of one render of `input` (a point set with points), run inside the mapper's
   /// task arena.
   virtual void RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input) = 0;
+  /// After a render that ran out of memory: frees every structure built from the input and
+  /// invalidates their stamps (the next render builds them again).
+  virtual void ReleaseBuilds() = 0;
 
   /// The constant particle size in use: `constant` when positive, else the automatic one,
   /// `perSpacing` times the typical spacing of the input's points (vtkRayMapperParticleSizes;

@@ -1,4 +1,5 @@
 #include "Mappers/RBF/ParticleBVH.h"
+#include "Mappers/Common/EmbreeErrors.h"
 
 #include <embree3/rtcore.h>
 
@@ -141,8 +142,8 @@ const TempNode* buildSAH(RTCDevice device,
   const auto* root = static_cast<TempNode*>(rtcBuildBVH(&args));
   if (!root)
   {
-    throw std::runtime_error("Embree: rtcBuildBVH failed (error " +
-                             std::to_string(static_cast<int>(rtcGetDeviceError(device))) + ")");
+    ThrowOnEmbreeError(device, "rtcBuildBVH");
+    throw std::runtime_error("Embree: rtcBuildBVH failed");
   }
   return root;
 }
@@ -192,31 +193,30 @@ std::vector<std::uint32_t> flatten(const TempNode* root,
   return order;
 }
 
-// Permutes the particles into leaf order: particle i becomes input particle order[i].
-void permute(RBFParticles& particles, const std::vector<std::uint32_t>& order)
+// Permutes one array into leaf order: element i becomes element order[i].
+template <typename T>
+void permute(std::vector<T>& values, const std::vector<std::uint32_t>& order)
 {
-  const std::size_t n = particles.size();
-  RBFParticles sorted;
-  sorted.centers.resize(n);
-  sorted.radii.resize(n);
-  sorted.values.resize(n);
-  sorted.fields.resize(n);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
+  std::vector<T> sorted(values.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, values.size(), 16384),
     [&](const tbb::blocked_range<std::size_t>& range)
     {
       for (std::size_t i = range.begin(); i != range.end(); ++i)
       {
-        const std::uint32_t from = order[i];
-        sorted.centers[i] = particles.centers[from];
-        sorted.radii[i] = particles.radii[from];
-        sorted.values[i] = particles.values[from];
-        sorted.fields[i] = particles.fields[from];
+        sorted[i] = values[order[i]];
       }
     });
-  particles.centers.swap(sorted.centers);
-  particles.radii.swap(sorted.radii);
-  particles.values.swap(sorted.values);
-  particles.fields.swap(sorted.fields);
+  values.swap(sorted);
+}
+
+// Permutes the particles into leaf order, an array at a time (the peak holds one array
+// twice, not the whole set).
+void permute(RBFParticles& particles, const std::vector<std::uint32_t>& order)
+{
+  permute(particles.centers, order);
+  permute(particles.radii, order);
+  permute(particles.values, order);
+  permute(particles.fields, order);
 }
 
 // Each node's box of the centres below it and their largest radius, bottom-up: children
@@ -275,11 +275,13 @@ void ParticleBVH::build(RBFParticles& particles, int leafSize)
   embree.device = rtcNewDevice(nullptr);
   if (!embree.device)
   {
+    ThrowOnEmbreeError(nullptr, "rtcNewDevice");
     throw std::runtime_error("Embree: rtcNewDevice failed");
   }
   std::vector<RTCBuildPrimitive> prims = particleBoxes(particles);
   embree.bvh = rtcNewBVH(embree.device);
   const TempNode* root = buildSAH(embree.device, embree.bvh, prims, leafSize);
+  std::vector<RTCBuildPrimitive>().swap(prims); // (the leaves hold copies of their ids)
   const std::vector<std::uint32_t> order = flatten(root, n, leafSize, Nodes, Depth);
   embree.release();
   permute(particles, order);

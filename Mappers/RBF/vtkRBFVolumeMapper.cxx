@@ -246,6 +246,14 @@ raymappers::RBFRenderParameters vtkRBFVolumeMapper::GatherParameters(vtkRenderer
   return params;
 }
 
+void vtkRBFVolumeMapper::ReleaseBuilds()
+{
+  Impl->Particles = raymappers::RBFParticles();
+  Impl->BVH = raymappers::ParticleBVH();
+  Impl->ParticlesStamp.Invalidate();
+  Impl->BVHStamp.Invalidate();
+}
+
 void vtkRBFVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input)
 {
   raymappers::RenderStatistics stats;

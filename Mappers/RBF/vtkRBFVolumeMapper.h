@@ -225,6 +225,7 @@ protected:
   double GetSupportRadius(vtkPointSet* input) override;
   /// One render, in the mapper's task arena (Render runs it there).
   void RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input) override;
+  void ReleaseBuilds() override;
 
   double Kappa = 0.0;
   double Sigma = 3.0;

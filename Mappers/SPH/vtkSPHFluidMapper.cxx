@@ -261,6 +261,18 @@ void vtkSPHFluidMapper::WarnAboutMemoryBudget(const vtkRayMapperView& view,
   }
 }
 
+void vtkSPHFluidMapper::ReleaseBuilds()
+{
+  Impl->Particles = raymappers::FluidParticles();
+  Impl->Cells = raymappers::FluidCells();
+  Impl->Colors = raymappers::FluidColors();
+  Impl->Spans = raymappers::FluidSpans();
+  Impl->Neighbourhoods = raymappers::SurfaceNeighbourhoods();
+  Impl->ParticlesStamp.Invalidate();
+  Impl->CellsStamp.Invalidate();
+  Impl->ColorsStamp.Invalidate();
+}
+
 void vtkSPHFluidMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input)
 {
   raymappers::RenderStatistics stats;

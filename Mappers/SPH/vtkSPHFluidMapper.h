@@ -273,6 +273,7 @@ protected:
   double GetSupportRadius(vtkPointSet* input) override;
   /// One render, in the mapper's task arena (Render runs it there).
   void RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input) override;
+  void ReleaseBuilds() override;
 
   double Radius = 0.0;
   int LengthUnit = PARTICLE_RADIUS;

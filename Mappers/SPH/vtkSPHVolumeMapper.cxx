@@ -204,6 +204,13 @@ raymappers::SPHRenderParameters vtkSPHVolumeMapper::GatherParameters(vtkRenderer
   return params;
 }
 
+void vtkSPHVolumeMapper::ReleaseBuilds()
+{
+  Impl->Particles = raymappers::SPHParticles();
+  Impl->Grid = raymappers::PerspectiveGrid();
+  Impl->ParticlesStamp.Invalidate();
+}
+
 void vtkSPHVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input)
 {
   raymappers::RenderStatistics stats;

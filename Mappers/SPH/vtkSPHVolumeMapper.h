@@ -251,6 +251,7 @@ protected:
   double GetSupportRadius(vtkPointSet* input) override;
   /// One render, in the mapper's task arena (Render runs it there).
   void RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointSet* input) override;
+  void ReleaseBuilds() override;
 
   int Kernel = VTK_SPH_KERNEL_CUBIC_SPLINE;
   double SupportFactor = 0.0;

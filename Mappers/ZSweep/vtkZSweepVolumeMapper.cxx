@@ -403,7 +403,13 @@ void vtkZSweepVolumeMapper::Render(vtkRenderer* ren, vtkVolume* vol)
     Impl->Core.PresentSelectionFootprint(ren);
     return;
   }
-  Impl->Core.Execute(this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); });
+  Impl->Core.Execute(this, this->NumberOfThreads, [&] { this->RenderFrame(ren, vol); },
+    [this]
+    {
+      Impl->Mesh = raymappers::ZSweepMesh();
+      Impl->Order = raymappers::ZSweepEventOrder();
+      Impl->MeshStamp.Invalidate();
+    });
 }
 
 void vtkZSweepVolumeMapper::RenderFrame(vtkRenderer* ren, vtkVolume* vol)
