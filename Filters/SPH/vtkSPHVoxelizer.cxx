@@ -210,7 +210,8 @@ void Voxelize(vtkSPHVoxelizer* self,
   {
     vtkWarningWithObjectMacro(self,
       << "The memory budget of " << self->GetMemoryBudget()
-      << " MB cannot hold one voxel column: no spans.");
+      << " MB cannot hold this view's voxelization ("
+      << raymappers::describeBudgetShortfall(stats) << "): no spans.");
   }
   raymappers::connectSurfaces(spans, stats);
   raymappers::SurfaceNeighbourhoods neighbourhoods;

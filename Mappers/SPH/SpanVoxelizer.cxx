@@ -20,8 +20,8 @@
 #include <limits>
 #include <memory>
 #include <new>
+#include <string>
 #include <vector>
-
 
 namespace raymappers
 {
@@ -187,6 +187,19 @@ inline int nextBit(const std::uint64_t* column, int words, int pos, bool value)
 RAYMAPPERS_SIMD_END
 
 #if RAYMAPPERS_SIMD_TARGET == 0 // (the functions outside the variants: once)
+std::string describeBudgetShortfall(const RenderStatistics& stats)
+{
+  std::string text = "the tile lists of " + std::to_string(stats.counter("particles_in_view")) +
+    " particles in view and a grid of " + std::to_string(stats.counter("layers")) +
+    " layers per thread";
+  const std::int64_t needed = stats.counter("budget_needed_bytes");
+  if (needed > 0)
+  {
+    return text + " need at least " + std::to_string((needed + 1048575) / 1048576) + " MB";
+  }
+  return text + ": an allocation failed";
+}
+
 std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* windowDepth)
 {
   const int W = rays.width(), H = rays.height();
@@ -749,7 +762,8 @@ constexpr std::size_t CacheBytes = std::size_t(1) << 20;
 
 /// The tile size: the largest power of two (at most MaxTileSize, the grid within CacheBytes)
 /// whose lists, with one grid per thread and the `fixedBytes` already used, fit the budget; 0
-/// when not even one column does. `peakBytes` receives the temporary memory it needs.
+/// when none does. `peakBytes` receives the temporary memory it needs (for 0: the least any
+/// tile size needs).
 int chooseTileSize(const SplatList& list,
   std::size_t columnBytes,
   std::size_t fixedBytes,
@@ -759,6 +773,7 @@ int chooseTileSize(const SplatList& list,
   int H,
   std::size_t& peakBytes)
 {
+  std::size_t least = std::numeric_limits<std::size_t>::max();
   for (int size = MaxTileSize; size >= 1; size /= 2)
   {
     const std::size_t grid = static_cast<std::size_t>(size) * size * (columnBytes + 1);
@@ -774,7 +789,9 @@ int chooseTileSize(const SplatList& list,
     {
       return size;
     }
+    least = std::min(least, peakBytes);
   }
+  peakBytes = least;
   return 0;
 }
 
@@ -847,10 +864,12 @@ void voxelizeTiles(const TileVoxelizer& prototype,
   stats.addPhase("compress", busy > 0 ? wall * compressMs / busy : 0.0);
 }
 
-/// The budget cannot hold the tiles' grid: an empty voxelization.
-bool budgetExceeded(std::size_t footprintBytes, RenderStatistics& stats)
+/// The budget cannot hold the tiles' lists and grids: an empty voxelization. `neededBytes`:
+/// the least temporary memory the view needs (0: unknown, the allocation failed).
+bool budgetExceeded(std::size_t footprintBytes, std::size_t neededBytes, RenderStatistics& stats)
 {
   stats.addCounter("budget_exceeded", 1);
+  stats.addCounter("budget_needed_bytes", static_cast<std::int64_t>(neededBytes));
   stats.addCounter("peak_temporary_bytes", static_cast<std::int64_t>(footprintBytes));
   return false;
 }
@@ -909,7 +928,7 @@ bool voxelizeFluid(const FluidParticles& particles,
     peakBytes);
   if (size == 0)
   {
-    return budgetExceeded(footprintBytes, stats);
+    return budgetExceeded(footprintBytes, peakBytes, stats);
   }
   TileLists tl;
   tbb::combinable<TallyCounters> tallies;
@@ -936,7 +955,7 @@ bool voxelizeFluid(const FluidParticles& particles,
   catch (const std::bad_alloc&)
   {
     out.reset(W, H, out.maxSpans);
-    return budgetExceeded(footprintBytes, stats);
+    return budgetExceeded(footprintBytes, 0, stats);
   }
   addTallies(
     Tallies, [&](auto add) { tallies.combine_each(add); }, stats);

@@ -51,6 +51,7 @@
 #include "Mappers/Common/ViewRays.h"
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace raymappers
@@ -75,6 +76,11 @@ struct VoxelizerParameters
 /// The stop depths (zeta) of VoxelizerParameters::stopDepth from OpenGL window depths of
 /// what is drawn (width x height, row 0 at the bottom; 1 where nothing is: +inf).
 std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* windowDepth);
+
+/// What a voxelization that exceeded its budget needed, from its counters: "the tile lists of
+/// N particles in view and a grid of L layers per thread need at least X MB" (or "... : an
+/// allocation failed" when the need is not known).
+std::string describeBudgetShortfall(const RenderStatistics& stats);
 
 /// Voxelizes `particles` for `rays` into `out` (sized to the view; no spans where no
 /// particle is). Returns false when the budget cannot hold one column's bits per thread with

@@ -256,8 +256,9 @@ void vtkSPHFluidMapper::WarnAboutMemoryBudget(const vtkRayMapperView& view,
   {
     Impl->WarnedBudget = key;
     vtkWarningMacro(<< "The memory budget of " << this->MemoryBudget
-                    << " MB cannot hold one voxel column of " << stats.counter("layers")
-                    << " layers: nothing drawn. Raise MemoryBudget or lower MaximumLayers.");
+                    << " MB cannot hold this view's voxelization ("
+                    << raymappers::describeBudgetShortfall(stats)
+                    << "): nothing drawn. Raise MemoryBudget or lower MaximumLayers.");
   }
 }
 

@@ -382,6 +382,20 @@ TEST(SPHVoxelizer, TilesShrinkToRespectTheMemoryBudgetWithTheSameSpans)
   EXPECT_FALSE(voxelize(spheres, rays, vp, none, stats));
   EXPECT_EQ(stats.counter("budget_exceeded"), 1);
   EXPECT_LE(stats.counter("peak_temporary_bytes"), 1000);
+  // The need it reports is the least any tile size takes: a byte less refuses, that budget
+  // voxelizes, with the same spans.
+  const std::int64_t needed = stats.counter("budget_needed_bytes");
+  EXPECT_GT(needed, 1000);
+  vp.memoryBudget = static_cast<std::size_t>(needed - 1);
+  stats.clear();
+  EXPECT_FALSE(voxelize(spheres, rays, vp, none, stats));
+  EXPECT_EQ(stats.counter("budget_needed_bytes"), needed);
+  vp.memoryBudget = static_cast<std::size_t>(needed);
+  stats.clear();
+  ASSERT_TRUE(voxelize(spheres, rays, vp, tiled, stats));
+  EXPECT_EQ(stats.counter("peak_temporary_bytes"), needed);
+  EXPECT_EQ(tiled.count, whole.count);
+  EXPECT_EQ(tiled.depth, whole.depth);
 }
 
 TEST(SPHVoxelizer, NearPlaneCuttingASphereStartsItsSpansAtTheNearPlane)

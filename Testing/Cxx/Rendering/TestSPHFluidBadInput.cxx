@@ -138,7 +138,7 @@ void Data(Viewer& v, vtkPolyData* clean, const RGBImage& good)
   m->SetMemoryBudget(0.0001);
   const RGBImage nothing = v.Render();
   v.Render();
-  log.Warned(1, "memory budget", "a budget too small for one column");
+  log.Warned(1, "layers per thread need at least", "a budget too small for one column");
   log.Check(m->GetStatistics()->GetCounter("budget_exceeded") == 1 &&
       m->GetStatistics()->GetCounter("shaded_pixels") == 0 &&
       rmtest::AllPixels(nothing, 51, 102, 153),
