@@ -1,6 +1,7 @@
 """What the scale scripts (spheres_scale.py, volumes_scale.py) share: one measured process
 (a raymappers-bench suite or a pvpython representation frame) with its peak resident memory
 from /usr/bin/time, the input's own bytes, image differences and the log-log plot."""
+import argparse
 import csv
 import json
 import os
@@ -12,6 +13,17 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE = os.path.dirname(os.path.dirname(HERE))
 XVFB = ["xvfb-run", "-a", "-s", "-screen 0 1920x1080x24 -noreset"]
+
+
+def scale_arguments(description, name, repeat):
+    """The options every scale run has: --build, --repeat, --csv NAME.csv, --plot NAME.png."""
+    parser = argparse.ArgumentParser(description=description,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default=os.path.join(SOURCE, "build"))
+    parser.add_argument("--repeat", type=int, default=repeat)
+    parser.add_argument("--csv", default=f"{name}.csv")
+    parser.add_argument("--plot", default=f"{name}.png")
+    return parser
 
 
 def label(n):

@@ -19,13 +19,13 @@ usage (from the source root; needs a build, Xvfb and about 12 GB of memory for 1
   Testing/Benchmarks/spheres_scale.py [--build build] [--sizes 1000000 10000000 100000000]
       [--repeat 3] [--csv OUT.csv] [--plot OUT.png]
 """
-import argparse
 import os
 import subprocess
 import sys
 import tempfile
 
-from scale_runs import SOURCE, bench, label, legacy_input_bytes, loglog, rmse, write_csv
+from scale_runs import (SOURCE, bench, label, legacy_input_bytes, loglog, rmse, scale_arguments,
+                        write_csv)
 
 METHODS = [("cgt", "default"), ("embree", "bvh=low")]
 
@@ -39,13 +39,8 @@ def generate(build, n):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--build", default=os.path.join(SOURCE, "build"))
+    parser = scale_arguments(__doc__, "spheres_scale", repeat=3)
     parser.add_argument("--sizes", type=int, nargs="+", default=[1000000, 10000000, 100000000])
-    parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--csv", default="spheres_scale.csv")
-    parser.add_argument("--plot", default="spheres_scale.png")
     args = parser.parse_args(argv)
     images = tempfile.mkdtemp(prefix="spheres_scale_")
     rows = []

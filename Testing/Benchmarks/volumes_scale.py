@@ -31,14 +31,13 @@ usage (from the source root; needs a build and Xvfb; 100M needs about 20 GB of m
       zsweep-hex] [--paths vtk pv] [--repeat 1] [--csv OUT.csv] [--plot OUT.png]
       [--sizes N ...] (the method's sizes: particles, K of the refinement, cells)
 """
-import argparse
 import os
 import subprocess
 import sys
 import tempfile
 
 from scale_runs import (SOURCE, bench, label, legacy_input_bytes, loglog, representation,
-                        write_csv)
+                        scale_arguments, write_csv)
 
 # method: (bench suite, --only, views, ParaView representation, data kind, default sizes)
 METHODS = {
@@ -116,15 +115,10 @@ def phases(statistics):
 
 
 def main(argv):
-    parser = argparse.ArgumentParser(description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--build", default=os.path.join(SOURCE, "build"))
+    parser = scale_arguments(__doc__, "volumes_scale", repeat=1)
     parser.add_argument("--methods", nargs="+", default=list(METHODS), choices=list(METHODS))
     parser.add_argument("--paths", nargs="+", default=["vtk", "pv"], choices=["vtk", "pv"])
     parser.add_argument("--sizes", type=int, nargs="+")
-    parser.add_argument("--repeat", type=int, default=1)
-    parser.add_argument("--csv", default="volumes_scale.csv")
-    parser.add_argument("--plot", default="volumes_scale.png")
     args = parser.parse_args(argv)
     images = tempfile.mkdtemp(prefix="volumes_scale_")
     rows = []
