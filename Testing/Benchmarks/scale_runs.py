@@ -95,18 +95,20 @@ def write_csv(rows, path):
 
 def loglog(panels, series, path, xlabel):
     """One log-log panel per (key, title) of `panels`: each series (name -> rows with
-    'items' and the key) a line, points with an empty or non-positive value left out."""
+    'items' and the key) a line, points with an empty or non-positive value left out; past
+    the colour cycle's 10 colours the lines are dashed, then dotted, so no two look alike."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 4.5))
     for (key, title), ax in zip(panels, np.atleast_1d(axes)):
-        for name, rows in series.items():
+        for k, (name, rows) in enumerate(series.items()):
             pts = sorted((int(r["items"]), float(r[key])) for r in rows
                          if r.get(key) not in (None, "") and float(r[key]) > 0)
             if pts:
                 xs, ys = zip(*pts)
-                ax.loglog(xs, ys, "o-", label=name)
+                ax.loglog(xs, ys, ("o-", "s--", "^:")[k // 10 % 3], color=f"C{k % 10}",
+                          label=name)
         ax.set_xlabel(xlabel)
         ax.set_title(title)
         ax.grid(True, which="both", alpha=0.3)

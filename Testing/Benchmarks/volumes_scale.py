@@ -30,7 +30,9 @@ usage (from the source root; needs a build and Xvfb; 100M needs about 20 GB of m
   Testing/Benchmarks/volumes_scale.py [--build build] [--methods rbf sph fluid zsweep
       zsweep-hex] [--paths vtk pv] [--repeat 1] [--csv OUT.csv] [--plot OUT.png]
       [--sizes N ...] (the method's sizes: particles, K of the refinement, cells)
+  Testing/Benchmarks/volumes_scale.py --replot OUT.csv --plot OUT.png (the plot again)
 """
+import csv
 import os
 import subprocess
 import sys
@@ -119,7 +121,14 @@ def main(argv):
     parser.add_argument("--methods", nargs="+", default=list(METHODS), choices=list(METHODS))
     parser.add_argument("--paths", nargs="+", default=["vtk", "pv"], choices=["vtk", "pv"])
     parser.add_argument("--sizes", type=int, nargs="+")
+    parser.add_argument("--replot", metavar="CSV",
+                        help="no runs: the plot of a CSV this script wrote")
     args = parser.parse_args(argv)
+    if args.replot:
+        with open(args.replot, newline="") as f:
+            plot(list(csv.DictReader(f)), args.plot)
+        print(f"wrote {args.plot}")
+        return 0
     images = tempfile.mkdtemp(prefix="volumes_scale_")
     rows = []
     for method in args.methods:
@@ -149,14 +158,20 @@ def main(argv):
                           f"{added * 1048576.0 / n:.1f} B per item against the input's "
                           f"{per_input:.1f} B", flush=True)
                 write_csv(rows, args.csv)  # after every run: a long run's rows are kept
+    plot(rows, args.plot)
+    print(f"wrote {args.csv} and {args.plot}; images in {images}")
+
+
+def plot(rows, path):
+    """The log-log plot of build time, frame time and added memory, a line per method, path
+    and view."""
     series = {}
     for r in rows:
         view = r["dataset"].rsplit("-", 1)[-1]
         series.setdefault(f"{r['scale_method']} {r['path']} {view}", []).append(r)
     loglog([("build_ms", "build (ms)"), ("render_ms", "frame at 1024x1024 (ms)"),
-            ("added_mb", "added peak resident memory (MB)")], series, args.plot,
+            ("added_mb", "added peak resident memory (MB)")], series, path,
            "particles or cells")
-    print(f"wrote {args.csv} and {args.plot}; images in {images}")
 
 
 if __name__ == "__main__":
