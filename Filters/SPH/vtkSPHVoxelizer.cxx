@@ -457,43 +457,54 @@ int vtkSPHVoxelizer::RequestData(vtkInformation*, vtkInformationVector** inputVe
   output->SetOrigin(0, 0, 0);
   raymappers::RenderStatistics stats;
 
-  raymappers::FluidParticles particles;
-  double bounds[6] = { 0, 0, 0, 0, 0, 0 };
-  const raymappers::Vec3d origin = ReadParticles(this, input, particles, bounds);
-  stats.addCounter("particles", static_cast<std::int64_t>(particles.size()));
-
-  // The camera: a copy, fitted to the particles' bounds grown by the largest radius.
-  vtkNew<vtkCamera> camera;
-  camera->DeepCopy(this->Camera);
-  FitCamera(camera,
-    bounds,
-    particles.maxRadius,
-    W,
-    H,
-    this->ResetCamera,
-    this->ResetCamera || !this->CameraGiven);
-  const std::array<double, 16> modelToClip =
-    vtkRayMapperWorldToClip(camera, static_cast<double>(W) / H);
-  const raymappers::View view(modelToClip, W, H, origin);
-  const raymappers::ViewRays& rays = view.depthRays();
-  raymappers::FluidSpans spans;
-  const std::string degenerate = raymappers::degenerateProjection(modelToClip);
-  bool ok = degenerate.empty() && view.hasDepthRays();
-  if (!ok)
+  try
   {
-    vtkWarningMacro(<< "The camera is degenerate: "
-                    << (degenerate.empty() ? std::string("its rays cannot be formed") : degenerate)
-                    << "; no spans.");
-    spans.reset(W, H, this->MaximumSpans);
-  }
-  else
-  {
-    Voxelize(this, particles, rays, spans, stats);
-  }
-  this->Summary = stats.summary();
+    raymappers::FluidParticles particles;
+    double bounds[6] = { 0, 0, 0, 0, 0, 0 };
+    const raymappers::Vec3d origin = ReadParticles(this, input, particles, bounds);
+    stats.addCounter("particles", static_cast<std::int64_t>(particles.size()));
 
-  WriteSpanArrays(output, spans, rays, ok, W, H);
-  WriteFieldData(output, spans, rays, ok, modelToClip);
+    // The camera: a copy, fitted to the particles' bounds grown by the largest radius.
+    vtkNew<vtkCamera> camera;
+    camera->DeepCopy(this->Camera);
+    FitCamera(camera,
+      bounds,
+      particles.maxRadius,
+      W,
+      H,
+      this->ResetCamera,
+      this->ResetCamera || !this->CameraGiven);
+    const std::array<double, 16> modelToClip =
+      vtkRayMapperWorldToClip(camera, static_cast<double>(W) / H);
+    const raymappers::View view(modelToClip, W, H, origin);
+    const raymappers::ViewRays& rays = view.depthRays();
+    raymappers::FluidSpans spans;
+    const std::string degenerate = raymappers::degenerateProjection(modelToClip);
+    bool ok = degenerate.empty() && view.hasDepthRays();
+    if (!ok)
+    {
+      vtkWarningMacro(<< "The camera is degenerate: "
+                      << (degenerate.empty() ? std::string("its rays cannot be formed") : degenerate)
+                      << "; no spans.");
+      spans.reset(W, H, this->MaximumSpans);
+    }
+    else
+    {
+      Voxelize(this, particles, rays, spans, stats);
+    }
+    this->Summary = stats.summary();
+
+    WriteSpanArrays(output, spans, rays, ok, W, H);
+    WriteFieldData(output, spans, rays, ok, modelToClip);
+  }
+  catch (const std::bad_alloc&)
+  {
+    // (The voxelizer's own tiles stay within MemoryBudget; this is the particles, the
+    // surfaces or the output arrays.)
+    output->Initialize();
+    vtkErrorMacro(<< "Out of memory voxelizing " << input->GetNumberOfPoints()
+                  << " points into " << W << " x " << H << " pixels: the output is empty.");
+  }
   return 1;
 }
 

@@ -28,7 +28,7 @@ EmbreeSphereAccelerator::~EmbreeSphereAccelerator()
 
 void EmbreeSphereAccelerator::build(const SphereSet& spheres, Quality quality)
 {
-  Release();
+  clear();
   Count = spheres.size();
   Scene = rtcNewScene(Device);
   const RTCBuildQuality q =
@@ -49,7 +49,7 @@ void EmbreeSphereAccelerator::build(const SphereSet& spheres, Quality quality)
     if (!v)
     {
       rtcReleaseGeometry(geom);
-      Release();
+      clear();
       ThrowOnEmbreeError(Device, "rtcSetNewGeometryBuffer");
       throw std::bad_alloc(); // (no error recorded: the buffer's allocation failed)
     }
@@ -68,12 +68,12 @@ void EmbreeSphereAccelerator::build(const SphereSet& spheres, Quality quality)
   const RTCError error = rtcGetDeviceError(Device);
   if (error != RTC_ERROR_NONE) // (a failed commit leaves no scene to trace)
   {
-    Release();
+    clear();
     ThrowEmbreeError(error, "rtcCommitScene");
   }
 }
 
-void EmbreeSphereAccelerator::Release()
+void EmbreeSphereAccelerator::clear()
 {
   if (Scene)
   {

@@ -44,10 +44,10 @@ public:
   /// holds an empty ray (tnear > tfar). Returns whether any lane is to be traced.
   static bool toEmbreePacket(const RayPacket& packet, int base, RTCRayHit16& rays, int* valid);
 
-private:
   /// The scene released: an empty accelerator (also after a failed build).
-  void Release();
+  void clear();
 
+private:
   RTCDevice Device = nullptr;
   RTCScene Scene = nullptr;
   std::size_t Count = 0;

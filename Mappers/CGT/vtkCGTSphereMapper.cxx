@@ -382,8 +382,8 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
     Impl->Pending = actor;
     return;
   }
-  Impl->Core.Execute(
-    this, this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); }, [this] { this->ReleaseBuilds(); });
+  Impl->Core.Execute(this, this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); },
+    [this] { this->ReleaseBuilds(); });
 }
 
 void vtkCGTSphereMapper::DrawDeferred(vtkObject* caller, unsigned long, void*)
@@ -393,8 +393,8 @@ void vtkCGTSphereMapper::DrawDeferred(vtkObject* caller, unsigned long, void*)
   Impl->Pending = nullptr;
   if (ren && actor)
   {
-    Impl->Core.Execute(
-    this, this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); }, [this] { this->ReleaseBuilds(); });
+    Impl->Core.Execute(this, this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); },
+      [this] { this->ReleaseBuilds(); });
   }
 }
 
@@ -427,6 +427,7 @@ void vtkCGTSphereMapper::ReleaseBuilds()
 {
   Impl->Spheres = raymappers::SphereSet();
   Impl->Grid = raymappers::CoherentGridAccelerator();
+  Impl->Embree.clear();
   Impl->SpheresStamp.Invalidate();
   Impl->AcceleratorStamp.Invalidate();
   Impl->OpacityTime = 0;

@@ -6,13 +6,15 @@
 // out_of_memory to 1, draw nothing (the background) and not crash; with the
 // limit lifted, the same input rendered again must be built anew and drawn, silently (what
 // the failed build left is released and its stamps invalidated: a stale stamp draws
-// nothing). Under AddressSanitizer, whose allocator aborts instead of throwing, it is skipped
+// nothing). The filter vtkSPHVoxelizer likewise: one error, an empty output, then the spans.
+// Under AddressSanitizer, whose allocator aborts instead of throwing, it is skipped
 // (exit 125).
 #include "BadInputViewer.h"
 #include "RenderingTestHelpers.h"
 #include "vtkCGTSphereMapper.h"
 #include "vtkRBFVolumeMapper.h"
 #include "vtkSPHFluidMapper.h"
+#include "vtkSPHVoxelizer.h"
 #include "vtkSPHVolumeMapper.h"
 #include "vtkZSweepVolumeMapper.h"
 
@@ -20,6 +22,7 @@
 #include "vtkColorTransferFunction.h"
 #include "vtkDataSetTriangleFilter.h"
 #include "vtkExtractVOI.h"
+#include "vtkImageData.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkRTAnalyticSource.h"
 #include "vtkUnstructuredGrid.h"
@@ -124,6 +127,36 @@ vtkSmartPointer<vtkUnstructuredGrid> Tetrahedra(int rate)
   return grid;
 }
 
+/// The filter's door: vtkSPHVoxelizer on `big` under the lowered limit gives one error naming
+/// "Out of memory" and an empty output, then with the limit lifted the spans, silently.
+bool CheckVoxelizer(vtkPolyData* big)
+{
+  std::printf("== vtkSPHVoxelizer\n");
+  vtkNew<vtkSPHVoxelizer> voxelizer;
+  voxelizer->SetImageSize(96, 96);
+  voxelizer->SetInputData(big);
+  rmtest::EventCounter events;
+  events.Observe(voxelizer);
+  rlimit old{};
+  getrlimit(RLIMIT_AS, &old);
+  rlimit low = old;
+  low.rlim_cur = static_cast<rlim_t>(MappedBytes() + Margin);
+  setrlimit(RLIMIT_AS, &low);
+  voxelizer->Update();
+  setrlimit(RLIMIT_AS, &old);
+  bool ok = events.Errors == 1 && events.Warnings == 0 &&
+    events.Last.find("Out of memory") != std::string::npos;
+  ok = ok && voxelizer->GetOutput()->GetNumberOfPoints() == 0;
+  std::printf("%s vtkSPHVoxelizer: one error and an empty output under the limit\n",
+    ok ? "ok  " : "FAIL");
+  voxelizer->Modified();
+  voxelizer->Update();
+  const bool fed = events.Errors == 1 && events.Warnings == 0 &&
+    voxelizer->GetOutput()->GetNumberOfPoints() == 96 * 96;
+  std::printf("%s vtkSPHVoxelizer: the limit lifted, the spans silently\n", fed ? "ok  " : "FAIL");
+  return ok && fed;
+}
+
 template <typename Property>
 void Classify(Property* property, double lo, double hi)
 {
@@ -169,6 +202,8 @@ int TestRayMapperOutOfMemory(int, char*[])
   bool ok = true;
   auto small = Particles(6);
   auto big = Particles(126); // 2,000,376 particles
+  // (First: what a mapper frees stays in the heap, where the filter's arrays would fit.)
+  ok = CheckVoxelizer(big.GetPointer()) && ok;
   {
     Spheres v;
     ok = CheckMapper("vtkCGTSphereMapper", v, small.GetPointer(), big.GetPointer()) && ok;
