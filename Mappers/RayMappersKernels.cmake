@@ -15,6 +15,7 @@ set(RAYMAPPERS_DISPATCHED_KERNELS
   ${CMAKE_CURRENT_LIST_DIR}/ZSweep/ZSweepRenderer.cxx)
 add_library(RayMappersKernels SHARED
   ${RAYMAPPERS_DISPATCHED_KERNELS}
+  ${CMAKE_CURRENT_LIST_DIR}/Common/AvailableMemory.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/FrameValidation.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/RayCamera.cxx
   ${CMAKE_CURRENT_LIST_DIR}/Common/RenderStatistics.cxx

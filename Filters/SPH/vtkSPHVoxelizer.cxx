@@ -208,10 +208,7 @@ void Voxelize(vtkSPHVoxelizer* self,
   vp.cells = &cells;
   if (!raymappers::voxelizeFluid(particles, rays, vp, spans, stats))
   {
-    vtkWarningWithObjectMacro(self,
-      << "The memory budget of " << self->GetMemoryBudget()
-      << " MB cannot hold this view's voxelization ("
-      << raymappers::describeBudgetShortfall(stats) << "): no spans.");
+    vtkWarningWithObjectMacro(self, << raymappers::describeBudgetShortfall(stats) << ": no spans.");
   }
   raymappers::connectSurfaces(spans, stats);
   raymappers::SurfaceNeighbourhoods neighbourhoods;

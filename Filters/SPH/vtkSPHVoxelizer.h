@@ -98,7 +98,7 @@ public:
 
   ///@{
   /** As vtkSPHFluidMapper: angle resolution (14 degrees), layers (16384), spans (7),
-   * memory budget (512 MB), gap threshold (0), smoothing radius (0) and iterations (20). */
+   * memory budget (0 MB: automatic, see vtkSPHFluidMapper), gap threshold (0), smoothing radius (0) and iterations (20). */
   vtkRayMapperSetClampMacro(AngleResolution, double, 0.01, 89.0);
   vtkGetMacro(AngleResolution, double);
   vtkRayMapperSetClampMacro(MaximumLayers, int, 1, 1 << 20);
@@ -170,7 +170,7 @@ protected:
   double AngleResolution = 14.0;
   int MaximumLayers = 16384;
   int MaximumSpans = 7;
-  double MemoryBudget = 512.0;
+  double MemoryBudget = 0.0;
   double GapThreshold = 0.0;
   bool BoundaryCulling = true;
   double CellSize = 0.0;

@@ -1,5 +1,7 @@
 #include "Mappers/SPH/SpanVoxelizer.h"
 
+#include "Mappers/Common/AvailableMemory.h"
+
 #include "Mappers/SPH/Tallies.h"
 #include "Mappers/Common/SimdTarget.h"
 
@@ -187,17 +189,26 @@ inline int nextBit(const std::uint64_t* column, int words, int pos, bool value)
 RAYMAPPERS_SIMD_END
 
 #if RAYMAPPERS_SIMD_TARGET == 0 // (the functions outside the variants: once)
+std::size_t automaticMemoryBudget()
+{
+  constexpr std::size_t Least = std::size_t(512) << 20;
+  return std::max(Least, availableMemoryBytes() / 2);
+}
+
 std::string describeBudgetShortfall(const RenderStatistics& stats)
 {
-  std::string text = "the tile lists of " + std::to_string(stats.counter("particles_in_view")) +
+  const auto mb = [](std::int64_t bytes) { return std::to_string((bytes + 1048575) / 1048576); };
+  std::string text = "The memory budget of " + mb(stats.counter("memory_budget_bytes")) + " MB" +
+    (stats.counter("memory_budget_automatic") ? " (automatic: half the memory available)" : "") +
+    " cannot hold this view's voxelization (the tile lists of " + std::to_string(stats.counter("particles_in_view")) +
     " particles in view and a grid of " + std::to_string(stats.counter("layers")) +
     " layers per thread";
   const std::int64_t needed = stats.counter("budget_needed_bytes");
   if (needed > 0)
   {
-    return text + " need at least " + std::to_string((needed + 1048575) / 1048576) + " MB";
+    return text + " need at least " + mb(needed) + " MB)";
   }
-  return text + ": an allocation failed";
+  return text + ": an allocation failed)";
 }
 
 std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* windowDepth)
@@ -247,6 +258,8 @@ const char* const VoxelizerCounters[] = { "angle_millidegrees",
   "spans_hidden",
   "gaps_bridged",
   "peak_temporary_bytes",
+  "memory_budget_bytes",
+  "memory_budget_automatic",
   "budget_exceeded" };
 
 /// What is splatted: the particles (all, or those boundary-cell culling keeps, in its order)
@@ -892,6 +905,10 @@ bool voxelizeFluid(const FluidParticles& particles,
   }
   const int W = rays.width(), H = rays.height();
   out.reset(W, H, std::clamp(params.maxSpans, 1, FluidSpans::MaxSpans));
+  const std::size_t budget =
+    params.memoryBudget > 0 ? params.memoryBudget : automaticMemoryBudget();
+  stats.addCounter("memory_budget_bytes", static_cast<std::int64_t>(budget));
+  stats.addCounter("memory_budget_automatic", params.memoryBudget > 0 ? 0 : 1);
   if (particles.size() == 0 || W <= 0 || H <= 0)
   {
     return true;
@@ -921,7 +938,7 @@ bool voxelizeFluid(const FluidParticles& particles,
   const int size = chooseTileSize(list,
     static_cast<std::size_t>(words) * sizeof(std::uint64_t),
     footprintBytes,
-    params.memoryBudget,
+    budget,
     threads,
     W,
     H,

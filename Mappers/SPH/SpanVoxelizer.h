@@ -62,7 +62,7 @@ struct VoxelizerParameters
   double angleResolutionDeg = 14.0; // alpha of section 4.2
   int maxLayers = 16384;
   int maxSpans = 7;                                  // S, at most FluidSpans::MaxSpans
-  std::size_t memoryBudget = std::size_t(512) << 20; // bytes of temporary memory
+  std::size_t memoryBudget = 0;                      // bytes of temporary memory; 0: automatic
   double gapThreshold = 0.0;                         // g, world units
   /// Optional: per pixel (width x height, row 0 at the bottom) the depth zeta where the
   /// pixel's ray ends at opaque geometry (+inf or any value beyond the far plane: none).
@@ -77,9 +77,16 @@ struct VoxelizerParameters
 /// what is drawn (width x height, row 0 at the bottom; 1 where nothing is: +inf).
 std::vector<float> stopDepthsFromWindowDepth(const ViewRays& rays, const float* windowDepth);
 
-/// What a voxelization that exceeded its budget needed, from its counters: "the tile lists of
-/// N particles in view and a grid of L layers per thread need at least X MB" (or "... : an
-/// allocation failed" when the need is not known).
+/// The budget that VoxelizerParameters::memoryBudget 0 stands for, taken when a frame starts:
+/// half the memory the process can still take (availableMemoryBytes), and at least the
+/// 512 MB that was the fixed default (also when no limit can be read). The voxelizer takes
+/// only what the chosen tiles need, so a large budget costs nothing where a small one fits.
+std::size_t automaticMemoryBudget();
+
+/// Why a voxelization that exceeded its budget drew nothing, from its counters: "The memory
+/// budget of B MB [(automatic: ...)] cannot hold this view's voxelization (the tile lists of
+/// N particles in view and a grid of L layers per thread need at least X MB)" (or "...: an
+/// allocation failed)" when the need is not known).
 std::string describeBudgetShortfall(const RenderStatistics& stats);
 
 /// Voxelizes `particles` for `rays` into `out` (sized to the view; no spans where no
@@ -91,6 +98,7 @@ std::string describeBudgetShortfall(const RenderStatistics& stats);
 /// layers reach), words_per_column, tiles, tile_width, tile_height (the tiles' count and
 /// size), splat_pixels, stopped_spans, set_bit_ops,
 /// spans_found, spans_stored, spans_hidden, gaps_bridged, peak_temporary_bytes,
+/// memory_budget_bytes (the budget in effect), memory_budget_automatic (1: memoryBudget was 0),
 /// budget_exceeded. Effects: shell_splat, gap_bridging.
 bool voxelizeFluid(const FluidParticles& particles,
   const ViewRays& rays,

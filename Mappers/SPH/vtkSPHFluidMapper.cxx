@@ -255,10 +255,8 @@ void vtkSPHFluidMapper::WarnAboutMemoryBudget(const vtkRayMapperView& view,
   if (Impl->WarnedBudget != key)
   {
     Impl->WarnedBudget = key;
-    vtkWarningMacro(<< "The memory budget of " << this->MemoryBudget
-                    << " MB cannot hold this view's voxelization ("
-                    << raymappers::describeBudgetShortfall(stats)
-                    << "): nothing drawn. Raise MemoryBudget or lower MaximumLayers.");
+    vtkWarningMacro(<< raymappers::describeBudgetShortfall(stats)
+                    << ": nothing drawn. Raise MemoryBudget or lower MaximumLayers.");
   }
 }
 

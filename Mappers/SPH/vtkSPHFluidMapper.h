@@ -124,8 +124,10 @@ public:
 
   ///@{
   /** Voxelization: angle resolution in degrees (14), at most this many depth layers
-   * (16384), spans kept per pixel (7, at most 63), temporary memory in MB (512), gap
-   * threshold in LengthUnit (0: no gap bridging). */
+   * (16384), spans kept per pixel (7, at most 63), temporary memory in MB (0: automatic,
+   * half the memory the process can still take when the frame starts, at least 512 MB; the
+   * voxelizer takes only what its tiles need within it), gap threshold in LengthUnit (0: no
+   * gap bridging). */
   vtkRayMapperSetClampMacro(AngleResolution, double, 0.01, 89.0);
   vtkGetMacro(AngleResolution, double);
   vtkRayMapperSetClampMacro(MaximumLayers, int, 1, 1 << 20);
@@ -280,7 +282,7 @@ protected:
   double AngleResolution = 14.0;
   int MaximumLayers = 16384;
   int MaximumSpans = 7;
-  double MemoryBudget = 512.0;
+  double MemoryBudget = 0.0;
   double GapThreshold = 0.0;
   bool BoundaryCulling = true;
   double CellSize = 0.0;

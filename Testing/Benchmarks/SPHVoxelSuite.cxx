@@ -32,7 +32,7 @@
 //                          AbsorptionColor (4, 1.5, 0.8) per m, Density 1, Color (0.55, 0.75,
 //                          0.95), Ambient 0.25, Diffuse 0.75, Specular 0.3, SpecularPower 40
 //                          (as TestSPHFluidMapper), AngleResolution 14, MaximumLayers 16384,
-//                          MaximumSpans 7, MemoryBudget 512, SmoothingRadius dx,
+//                          MaximumSpans 7, MemoryBudget 0 (automatic), SmoothingRadius dx,
 //                          SmoothingIterations 20, no ambient occlusion
 //   sph-voxel-translucent  the same with RefractiveIndex 1 (translucency only): the stage
 //                          table's "render translucent"
@@ -50,7 +50,7 @@
 //                          paper's distance-dependent filter, cut at N
 //   sph-voxel-reference    the references: AngleResolution 2 degrees with MaximumLayers
 //                          262144 (2 degrees reached in the close view up to 540 rows; at
-//                          1024 rows about 2.6), MaximumSpans 16, MemoryBudget 2048; one
+//                          1024 rows about 2.6), MaximumSpans 16, MemoryBudget automatic; one
 //                          without smoothing (for the angle sweep and the contour route) and
 //                          one with SmoothingRadius dx and 1000 iterations (the filter's own
 //                          limit, 255: converged) for the rows that smooth. Measured (one
@@ -183,7 +183,7 @@ struct Fluid
   double angle = 14;
   int layers = 16384;
   int spans = 7;
-  double budget = 512;
+  double budget = 0; // MB; 0: the mappers' automatic budget
   double gap = 0;
   double smoothRadius = 0;
   int smoothIterations = 20;
@@ -207,7 +207,7 @@ struct Fluid
     {
       s << ";culling=off";
     }
-    if (budget != 512)
+    if (budget != 0)
     {
       s << ";budget=" << budget;
     }
@@ -721,8 +721,8 @@ void PrintStageTable(const std::vector<Stage>& stages)
   }
   const auto most = std::max_element(stages.begin(), stages.end(),
     [](const Stage& a, const Stage& b) { return a.memMb < b.memMb; });
-  std::printf("peak temporary memory: at most %.1f MB (%s), budget %.0f MB\n", most->memMb,
-    most->dataset.c_str(), Fluid().budget);
+  std::printf("peak temporary memory: at most %.1f MB (%s), budget automatic\n", most->memMb,
+    most->dataset.c_str());
 }
 } // namespace
 
@@ -826,7 +826,6 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
     reference.angle = 2;
     reference.layers = 1 << 18;
     reference.spans = 16;
-    reference.budget = 2048;
     Fluid smoothReference = reference;
     smoothReference.smoothRadius = fd.dx;
     smoothReference.smoothIterations = 1000;

@@ -314,6 +314,8 @@ void Voxelizer()
       { "CameraViewAngle", [&](double x) { v->SetCameraViewAngle(x); }, 30, nan, 0, "" },
       { "Radius", [&](double x) { v->SetRadius(x); }, 0.6, -1, 0,
         "Radius -1 is outside [0, 1e+15]: clamped to 0", 0, "" }, // 0: automatic, kept
+      { "MemoryBudget", [&](double x) { v->SetMemoryBudget(x); }, 512, -1, 0,
+        "MemoryBudget -1 is outside [0, 1e+06]: clamped to 0", 0, "" }, // 0: automatic
       { "AngleResolution", [&](double x) { v->SetAngleResolution(x); }, 14, 0, 0.01,
         "AngleResolution 0 is outside [0.01, 89]" },
       { "MaximumSpans", [&](double x) { v->SetMaximumSpans(static_cast<int>(x)); }, 7, 100, 63,

@@ -365,7 +365,11 @@ TEST(SPHVoxelizer, TilesShrinkToRespectTheMemoryBudgetWithTheSameSpans)
   EXPECT_EQ(stats.counter("tiles"), (W / 16) * (H / 16));
   const std::int64_t full = stats.counter("peak_temporary_bytes");
   EXPECT_GE(full, 16 * 16 * 16384 / 8); // at least one thread's grid
-  EXPECT_LE(full, static_cast<std::int64_t>(vp.memoryBudget));
+  // The default budget is automatic, at least 512 MB, and the voxelizer takes only its need.
+  EXPECT_EQ(vp.memoryBudget, 0u);
+  EXPECT_EQ(stats.counter("memory_budget_automatic"), 1);
+  EXPECT_GE(stats.counter("memory_budget_bytes"), std::int64_t(512) << 20);
+  EXPECT_LE(full, stats.counter("memory_budget_bytes"));
   // A third of that budget: smaller tiles, the same spans.
   vp.memoryBudget = static_cast<std::size_t>(full / 3);
   stats.clear();
@@ -373,6 +377,8 @@ TEST(SPHVoxelizer, TilesShrinkToRespectTheMemoryBudgetWithTheSameSpans)
   EXPECT_LT(stats.counter("tile_width"), size);
   EXPECT_GT(stats.counter("tiles"), (W / 16) * (H / 16));
   EXPECT_LE(stats.counter("peak_temporary_bytes"), static_cast<std::int64_t>(vp.memoryBudget));
+  EXPECT_EQ(stats.counter("memory_budget_bytes"), static_cast<std::int64_t>(vp.memoryBudget));
+  EXPECT_EQ(stats.counter("memory_budget_automatic"), 0);
   EXPECT_EQ(tiled.count, whole.count);
   EXPECT_EQ(tiled.depth, whole.depth);
   // Below one column's bits the voxelization refuses instead of exceeding the budget.
