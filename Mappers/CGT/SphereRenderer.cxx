@@ -130,6 +130,7 @@ struct SphereFrame
   bool translucent;             // front-to-back compositing (see the header)
   double opacity;               // every sphere's opacity factor
   const float* opaqueDepth;     // window depth per pixel where translucent rays stop, or null
+  const RegionBox& region;      // the primary rays' box (SphereScene)
 
   double opacityOf(std::uint32_t id) const
   {
@@ -315,6 +316,37 @@ int makePrimaryPacket(
   return rays;
 }
 
+// The primary rays cut to [entry, exit) of the region box (SphereScene): the exit is left
+// out (the float below it), so that two boxes sharing a face never both see a hit on it.
+// A ray that misses the box gets an empty interval (tnear > tfar: not traceable, NoHit).
+void clipToRegion(const RegionBox& region, const Vec3d& origin, RayPacket& packet)
+{
+  if (!region.bounded())
+  {
+    return;
+  }
+  for (int k = 0; k < packet.side * packet.side; ++k)
+  {
+    Ray& r = packet.rays[k];
+    if (!packet.valid[k])
+    {
+      continue;
+    }
+    double t0 = r.tnear, t1 = r.tfar;
+    if (!region.clip(Vec3d(r.org), Vec3d(r.dir), origin, t0, t1))
+    {
+      r.tnear = 1.f;
+      r.tfar = 0.f;
+      continue;
+    }
+    r.tnear = static_cast<float>(t0);
+    if (t1 < r.tfar)
+    {
+      r.tfar = std::nextafter(static_cast<float>(t1), 0.f);
+    }
+  }
+}
+
 // A primary ray's hit: the ray, the sphere, the accelerator's distance and the pixel.
 struct PrimaryHit
 {
@@ -456,9 +488,10 @@ void renderTranslucentPacket(const SphereFrame& f,
     if (drawn[k])
     {
       stopAtOpaque(f, idx[k], packet.rays[k]);
-      rc[k].tStart = packet.rays[k].tnear;
+      rc[k].tStart = packet.rays[k].tnear; // the whole ray's start, before the region's cut
     }
   }
+  clipToRegion(f.region, f.spheres.origin, packet);
   for (bool any = true; any; ++counts.queries)
   {
     f.accel.intersect(packet, result, counts.traversal);
@@ -507,6 +540,7 @@ void renderTile(const SphereFrame& f, const Tile& tile, SphereCounts& counts)
         renderTranslucentPacket(f, bx, by, packet, result, secondary, counts);
         continue;
       }
+      clipToRegion(f.region, f.spheres.origin, packet);
       f.accel.intersect(packet, result, counts.traversal);
       for (int k = 0; k < side * side; ++k)
       {
@@ -655,6 +689,7 @@ void renderSpheres(const SphereScene& scene,
   stats.setEffect("soft_shadows", shadowSide > 0);
   const bool translucent = drawsTranslucent(scene.spheres, params);
   stats.setEffect("translucency", translucent);
+  stats.setEffect("region_clip", scene.region.bounded());
   const char* const counterNames[] = { "rays",
     "packets",
     "hits",
@@ -702,7 +737,8 @@ void renderSpheres(const SphereScene& scene,
     {},
     translucent,
     std::clamp(params.opacity, 0.0, 1.0),
-    view.opaqueDepth() };
+    view.opaqueDepth(),
+    scene.region };
   if (shadowSide > 0)
   {
     Light l;
@@ -764,6 +800,7 @@ void pickTile(const SphereScene& scene, const RayCamera& camera, int side, const
     {
       counts.rays += makePrimaryPacket(camera, side, tile, bx, by, packet);
       ++counts.packets;
+      clipToRegion(scene.region, scene.spheres.origin, packet);
       scene.accel.intersect(packet, result, counts.traversal);
       for (int k = 0; k < side * side; ++k)
       {

@@ -22,6 +22,7 @@
 #include "Mappers/Common/Frame.h"
 #include "Mappers/Common/Lighting.h"
 #include "Mappers/Common/RayCamera.h"
+#include "Mappers/Common/RegionBox.h"
 #include "Mappers/Common/RenderStatistics.h"
 #include "Mappers/Common/View.h"
 #include "Mappers/CGT/SphereAccelerator.h"
@@ -75,11 +76,20 @@ struct AoBasis
 AoBasis aoBasis(const Vec3d& n, std::uint32_t pixel);
 Vec3d aoDirectionIn(const AoBasis& basis, int k, int count);
 
-/// What the spheres' renderer draws: the spheres and an accelerator built over them.
+/// What the spheres' renderer draws: the spheres and an accelerator built over them, seen
+/// by the primary rays only inside `region` (distributed rendering, RegionBox.h; all of
+/// space by default). A process whose box holds its spheres and the neighbours' spheres
+/// reaching into it draws every surface point inside its box and nothing else: each ray's
+/// interval is cut to [entry, exit) of the box (a ray starting inside a sphere cut by a face
+/// sees its far surface, hidden in the composite by the near one the neighbour draws), so
+/// the boxes' images, depth composited or blended in visibility order, are the one box's.
+/// A translucent sphere counts in the box holding its first surface along the whole ray.
+/// Shadow and occlusion rays are not cut (they see the spheres the process has).
 struct SphereScene
 {
   const SphereSet& spheres;
   const SphereAccelerator& accel;
+  RegionBox region = {};
 };
 
 /// Early termination of translucent compositing: a ray stops once its accumulated alpha A
@@ -147,7 +157,8 @@ inline bool drawsTranslucent(const SphereSet& spheres, const SphereRenderParamet
 /// TranslucentTerminationAlpha).
 /// Effects: shading, specular, range_culling, ambient_occlusion, ao_progressive (directions
 /// split over frames), ao_local_queries (AO rays answered from the grid's cells around the
-/// hit, SphereOcclusion.h), soft_shadows, translucency. A translucent render stops its rays
+/// hit, SphereOcclusion.h), soft_shadows, translucency, region_clip (the primary rays cut
+/// to the scene's region). A translucent render stops its rays
 /// at the view's opaque depth; an opaque one writes depth and leaves the depth test to the
 /// caller.
 void renderSpheres(const SphereScene& scene,

@@ -444,10 +444,12 @@ void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)
     return;
   }
   const int packetSide = accelerator == &Impl->Grid ? this->PacketSize : 4;
+  const raymappers::SphereScene scene{ Impl->Spheres, *accelerator,
+    vtkRayMapperRenderHelpers::RegionFromBounds(this->RegionBounds) };
   if (vtkHardwareSelector* selector = vtkRayMapperSelectionPass::Of(ren))
   {
     // A hardware selection pass: the ids of the spheres in front instead of colours.
-    raymappers::pickSpheres({ Impl->Spheres, *accelerator },
+    raymappers::pickSpheres(scene,
       Impl->Core.KernelView(ren, view, 1.0, Impl->Spheres.origin, false, stats), packetSide,
       this->TileSize, Impl->Picks, stats);
     this->PresentSelection(ren, selector, stats);
@@ -467,7 +469,7 @@ void vtkCGTSphereMapper::RenderFrame(vtkRenderer* ren, vtkActor* actor)
   // Translucent spheres stop at the opaque depth and are blended over what is drawn.
   const bool translucent = raymappers::drawsTranslucent(Impl->Spheres, params);
   // 4. Trace, 5. show.
-  raymappers::renderSpheres({ Impl->Spheres, *accelerator },
+  raymappers::renderSpheres(scene,
     Impl->Core.KernelView(ren, view, 1.0, Impl->Spheres.origin, translucent, stats), params,
     Impl->Core.Target(), stats);
   Impl->Core.Present(ren, view,
@@ -839,4 +841,7 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
      << "\n";
   os << indent << "OpacityArrayComponent: " << this->OpacityArrayComponent << "\n";
   os << indent << "ScalarOpacityFunction: " << this->ScalarOpacityFunction << "\n";
+  os << indent << "RegionBounds: (" << this->RegionBounds[0] << ", " << this->RegionBounds[1]
+     << ", " << this->RegionBounds[2] << ", " << this->RegionBounds[3] << ", "
+     << this->RegionBounds[4] << ", " << this->RegionBounds[5] << ")\n";
 }

@@ -330,6 +330,18 @@ public:
   vtkGetVector3Macro(SelectionColor, double);
   ///@}
 
+  ///@{
+  /**
+   * The box the primary rays see spheres in (xmin, xmax, ymin, ymax, zmin, zmax in model
+   * coordinates; default: all of space). Distributed rendering with a volume in the view
+   * sets it to the process's region of the partition (its spheres plus the neighbours' that
+   * reach in), so that the regions' images, blended in visibility order, are the
+   * one-process image (effect region_clip). Shadow and occlusion rays are not restricted.
+   */
+  vtkSetVector6Macro(RegionBounds, double);
+  vtkGetVector6Macro(RegionBounds, double);
+  ///@}
+
   /**
    * Statistics of the last render: phase times, counters, effects that ran.
    */
@@ -376,6 +388,8 @@ protected:
   char* PointIdArrayName = nullptr;
   char* ProcessIdArrayName = nullptr;
   double SelectionColor[3] = { 1.0, 0.0, 1.0 };
+  double RegionBounds[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
+    -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
 
 private:
   vtkCGTSphereMapper(const vtkCGTSphereMapper&) = delete;

@@ -152,7 +152,7 @@ int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey*
     vtkPVRenderView::SetGeometryBounds(inInfo, this, bounds, matrix);
 
     const Distribution distribution = this->GetDistribution();
-    if (distribution != Distribution::Local)
+    if (distribution != Distribution::Local && distribution != Distribution::Surfaces)
     {
       // Translucent: the images of the processes are blended in visibility order.
       outInfo->Set(vtkPVRenderView::NEED_ORDERED_COMPOSITING(), 1);
@@ -173,8 +173,8 @@ int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey*
   else if (request_type == vtkPVView::REQUEST_RENDER())
   {
     vtkDataObject* piece = vtkPVView::GetDeliveredPiece(inInfo, this);
-    if (parallelController() && (this->GetDistribution() == Distribution::Particles ||
-                                  this->GetDistribution() == Distribution::GatherToFirst))
+    if (parallelController() && this->GetDistribution() != Distribution::Local &&
+      this->GetDistribution() != Distribution::Cells)
     {
       piece = this->DistributedPiece(piece);
     }
@@ -199,11 +199,12 @@ vtkDataObject* vtkRayMapperPropRepresentation::DistributedPiece(vtkDataObject* d
   const std::vector<vtkBoundingBox> cuts =
     manager ? manager->GetCuts() : std::vector<vtkBoundingBox>();
   const int ranks = controller->GetNumberOfProcesses();
-  const bool particles = this->GetDistribution() == Distribution::Particles;
+  const bool particles = this->GetDistribution() == Distribution::Particles ||
+    this->GetDistribution() == Distribution::Surfaces;
   if (particles && static_cast<int>(cuts.size()) != ranks)
   {
-    // No partition this frame (e.g. the view renders without ordered compositing): the
-    // delivered piece as it is, unclipped.
+    // No partition (the view renders without ordered compositing, as with the spheres
+    // alone): the delivered piece as it is, unclipped.
     const double all[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
       -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
     this->SetRegion(all);

@@ -14,7 +14,13 @@
  * With several rendering processes (pvbatch or pvserver under mpirun, IceT compositing)
  * the subclass's GetDistribution() says how its data take part:
  * - Local: opaque geometry with depth; every process draws its own piece and IceT keeps
- *   the nearest fragment (the spheres).
+ *   the nearest fragment.
+ * - Surfaces: opaque particle glyphs (the spheres). Alone in the view, as Local. When the
+ *   view partitions space (a volume or other translucent data in the view: IceT then
+ *   blends the processes' images in the boxes' visibility order, without depth), as
+ *   Particles: every process receives the glyphs reaching into its box and draws only the
+ *   surface inside it, so that a glyph another process holds, or one cut by a box face,
+ *   lands in the right place of the blend.
  * - Particles: a particle volume. The view partitions space into one box per process
  *   (ParaView's kd-tree cuts, balanced on the particles); every process then receives the
  *   particles whose support (GetBoundsMargin(), the largest over all processes) reaches
@@ -137,6 +143,7 @@ protected:
   enum class Distribution
   {
     Local,
+    Surfaces,
     Particles,
     Cells,
     GatherToFirst
@@ -144,8 +151,9 @@ protected:
   virtual Distribution GetDistribution() { return Distribution::Local; }
 
   /**
-   * The box (xmin, xmax, ymin, ymax, zmin, zmax) this process renders in (Particles
-   * distribution); +-VTK_DOUBLE_MAX on unbounded sides, all of space with one process.
+   * The box (xmin, xmax, ymin, ymax, zmin, zmax) this process renders in (Particles and
+   * Surfaces distributions); +-VTK_DOUBLE_MAX on unbounded sides, all of space with one
+   * process or no partition.
    */
   virtual void SetRegion(const double bounds[6]) {}
 

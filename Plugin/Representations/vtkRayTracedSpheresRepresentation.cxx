@@ -123,6 +123,20 @@ vtkActor* vtkRayTracedSpheresRepresentation::GetActor()
 }
 
 //----------------------------------------------------------------------------
+vtkRayMapperPropRepresentation::Distribution vtkRayTracedSpheresRepresentation::GetDistribution()
+{
+  const bool translucent = this->Actor->GetProperty()->GetOpacity() < 1.0 ||
+    (this->OpacityByArray && !this->OpacityArrayName.empty());
+  return translucent ? Distribution::Particles : Distribution::Surfaces;
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::SetRegion(const double bounds[6])
+{
+  this->Mapper->SetRegionBounds(bounds);
+}
+
+//----------------------------------------------------------------------------
 void vtkRayTracedSpheresRepresentation::UpdateMapperParameters()
 {
   // Each rank traces shadow and occlusion rays against its own spheres only.

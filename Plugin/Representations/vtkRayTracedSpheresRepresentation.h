@@ -145,6 +145,15 @@ protected:
    */
   void UpdateSelectionHighlight();
 
+  /**
+   * With several rendering processes: opaque spheres are Surfaces (depth composited alone,
+   * drawn per region of the partition when a volume shares the view); translucent ones
+   * (Opacity below 1, or OpacityByArray with an array) are Particles, blended in
+   * visibility order like a volume (see vtkRayMapperPropRepresentation).
+   */
+  Distribution GetDistribution() override;
+  void SetRegion(const double bounds[6]) override;
+
   void UpdateMapperParameters() override;
   void PushRadius(double& radius, double& scale, const char* radiusArray) override;
   double GetAutomaticRadiusPerSpacing() override;

@@ -17,9 +17,9 @@ from paraview.simple import (
     ColorBy, CreateView, Delete, GetColorTransferFunction, GetOpacityTransferFunction,
     LoadPlugin, Render, SaveScreenshot, Show)
 
-SCENES = ('spheres', 'rbf', 'sph', 'zsweep', 'fluid')
+SCENES = ('spheres', 'rbf', 'sph', 'zsweep', 'fluid', 'mixed')
 REPRESENTATIONS = {'spheres': 'Ray-Traced Spheres', 'rbf': 'RBF Volume', 'sph': 'SPH Volume',
-                   'zsweep': 'Z-Sweep Volume', 'fluid': 'SPH Fluid'}
+                   'zsweep': 'Z-Sweep Volume', 'fluid': 'SPH Fluid', 'mixed': 'SPH Volume'}
 
 
 def particles(data_dir, fine):
@@ -36,6 +36,27 @@ def color(rep, view, array, lo, hi, opacity_points=None):
     lut.RescaleTransferFunction(lo, hi)
     if opacity_points:
         GetOpacityTransferFunction(array).Points = opacity_points
+
+
+def sph_volume(rep, view, opacity=(0.15, 0.6)):
+    rep.SPHKernel = 'Wendland C2'
+    rep.SPHSmoothingLengthArray = ['POINTS', 'h']
+    rep.SPHMassArray = ['POINTS', 'm']
+    rep.SPHDensityArray = ['POINTS', 'rho']
+    color(rep, view, 'vmag', 0.0, 2.8, [0.0, opacity[0], 0.5, 0.0, 2.8, opacity[1], 0.5, 0.0])
+    rep.ScalarOpacityUnitDistance = 0.05
+
+
+def opaque_spheres(source, view):
+    """Every 12th particle as an opaque sphere inside the volume, from the serial reader:
+    rank 0 holds them all, spread over every rank's region and across its faces."""
+    some = simple.MaskPoints(Input=source, OnRatio=12, MaximumNumberofPoints=10 ** 9,
+                             GenerateVertices=1, SingleVertexPerCell=1)
+    spheres = Show(some, view)
+    spheres.SetRepresentationType('Ray-Traced Spheres')
+    ColorBy(spheres, None)
+    spheres.AmbientColor = spheres.DiffuseColor = [0.9, 0.85, 0.2]
+    spheres.Radius = 0.04
 
 
 def dam_break_camera(view):
@@ -95,12 +116,11 @@ def main():
         rep.Kappa = 1.0
         rep.ScalarOpacityUnitDistance = 0.05
     elif scene == 'sph':
-        rep.SPHKernel = 'Wendland C2'
-        rep.SPHSmoothingLengthArray = ['POINTS', 'h']
-        rep.SPHMassArray = ['POINTS', 'm']
-        rep.SPHDensityArray = ['POINTS', 'rho']
-        color(rep, view, 'vmag', 0.0, 2.8, [0.0, 0.15, 0.5, 0.0, 2.8, 0.6, 0.5, 0.0])
-        rep.ScalarOpacityUnitDistance = 0.05
+        sph_volume(rep, view)
+    elif scene == 'mixed':
+        # A thinner volume, so that the spheres inside it show.
+        sph_volume(rep, view, (0.02, 0.1))
+        opaque_spheres(source, view)
     elif scene == 'zsweep':
         color(rep, view, 'Temp', 293.0, 913.0, [293.0, 0.0, 0.5, 0.0, 913.0, 0.6, 0.5, 0.0])
         rep.ScalarOpacityUnitDistance = 1.0

@@ -4,6 +4,7 @@
 //   C = sum_k a_k c_k prod_{j < k} (1 - a_j),   A = 1 - prod_k (1 - a_k),
 // on both accelerators.
 #include "CameraFixtures.h"
+#include "RegionFixtures.h"
 #include "Mappers/CGT/CoherentGridAccelerator.h"
 #include "Mappers/CGT/EmbreeSphereAccelerator.h"
 #include "Mappers/CGT/SphereRenderer.h"
@@ -81,12 +82,13 @@ struct Rendered
 };
 
 // The column rendered with global `opacity` through the grid or Embree, optionally
-// stopped at a window depth.
+// stopped at a window depth, its primary rays seeing only `region`.
 Rendered renderColumn(const std::vector<ColumnSphere>& column,
   double opacity,
   bool ownOpacities,
   bool grid,
-  const float* opaqueDepth = nullptr)
+  const float* opaqueDepth = nullptr,
+  const RegionBox& region = {})
 {
   SphereSet spheres = columnSet(column, ownOpacities);
   CoherentGridAccelerator gridAccel;
@@ -105,8 +107,8 @@ Rendered renderColumn(const std::vector<ColumnSphere>& column,
   params.opacity = opacity;
   params.packetSide = 4;
   Rendered out;
-  renderSpheres({ spheres, accel }, viewOf(columnCamera(), opaqueDepth), params, out.frame,
-    out.stats);
+  renderSpheres({ spheres, accel, region }, viewOf(columnCamera(), opaqueDepth), params,
+    out.frame, out.stats);
   return out;
 }
 
@@ -236,6 +238,47 @@ TEST_P(TranslucentSpheres, ZeroAndNaNOpacitiesDrawNothing)
     1e-6);
   const Rendered none = renderColumn(equalColumn(3), 0.0, false, GetParam());
   expectEveryPixel(none.frame, { 0, 0, 0, 0 }, 0);
+}
+
+TEST_P(TranslucentSpheres, RegionsCuttingThroughSpheresBlendToTheWholeImage)
+{
+  // Distributed rendering (SphereScene::region): three boxes of a kd-tree cut, each given
+  // every sphere, the plane z = -0.2 through the first sphere; each draws only surfaces
+  // inside it, their images blended front to back are the whole image, opaque or
+  // translucent, and each translucent layer is
+  // counted in one box only (the back box's rays start inside the first sphere and meet
+  // its far surface, which is not that sphere's first).
+  for (const double opacity : { 1.0, 0.3 })
+  {
+    const Rendered whole = renderColumn(equalColumn(3), opacity, false, GetParam());
+    Frame composite;
+    composite.resize(Pixels, Pixels);
+    double layers = 0;
+    for (const RegionBox& region : kdCutFrontToBack(0.03, -0.2))
+    {
+      const Rendered part =
+        renderColumn(equalColumn(3), opacity, false, GetParam(), nullptr, region);
+      EXPECT_TRUE(part.stats.effect("region_clip"));
+      for (std::size_t k = 0; k < part.frame.depth.size(); ++k)
+      {
+        // Every surface drawn lies in the box: z = 10 - (1 + 39 depth) for this camera.
+        const double z = 10.0 - (1.0 + 39.0 * part.frame.depth[k]);
+        if (part.frame.rgba[4 * k + 3] > 0.f)
+        {
+          ASSERT_TRUE(z >= region.lo[2] - 1e-4 && z <= region.hi[2] + 1e-4) << "z " << z;
+        }
+      }
+      blendBehind(composite, part.frame);
+      layers += part.stats.counter("translucent_layers");
+    }
+    EXPECT_FALSE(whole.stats.effect("region_clip"));
+    for (std::size_t i = 0; i < whole.frame.rgba.size(); ++i)
+    {
+      ASSERT_NEAR(composite.rgba[i], whole.frame.rgba[i], 1e-6) << "opacity " << opacity << " value " << i;
+    }
+    EXPECT_EQ(layers, whole.stats.counter("translucent_layers"));
+    EXPECT_EQ(whole.stats.counter("translucent_layers"), opacity < 1.0 ? 3 * Pixels * Pixels : 0);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Accelerators, TranslucentSpheres, ::testing::Values(true, false),
