@@ -388,14 +388,20 @@ void vtkCGTSphereMapper::RenderPiece(vtkRenderer* ren, vtkActor* actor)
 
 void vtkCGTSphereMapper::DrawDeferred(vtkObject* caller, unsigned long, void*)
 {
-  auto* ren = vtkRenderer::SafeDownCast(caller);
+  this->DrawDeferredSpheres(vtkRenderer::SafeDownCast(caller));
+}
+
+bool vtkCGTSphereMapper::DrawDeferredSpheres(vtkRenderer* ren)
+{
   vtkActor* actor = Impl->Pending;
-  Impl->Pending = nullptr;
-  if (ren && actor)
+  if (!ren || !actor || ren != Impl->Observed)
   {
-    Impl->Core.Execute(this, this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); },
-      [this] { this->ReleaseBuilds(); });
+    return false;
   }
+  Impl->Pending = nullptr;
+  Impl->Core.Execute(this, this->NumberOfThreads, [&] { this->RenderFrame(ren, actor); },
+    [this] { this->ReleaseBuilds(); });
+  return true;
 }
 
 raymappers::SphereAccelerator* vtkCGTSphereMapper::PrepareScene(vtkRenderer* ren,

@@ -47,7 +47,9 @@
  * renderer's render ends (its EndEvent), blended over everything it drew, opaque and
  * translucent: other translucent geometry shows behind the spheres wherever it is, and
  * 2D props of the same renderer (a scalar bar) are drawn over too; the rays stop at the
- * opaque geometry's depth, so the spheres are exact against opaque geometry.
+ * opaque geometry's depth, so the spheres are exact against opaque geometry. A renderer
+ * whose image is read before its render ends (a compositing pass: IceT under MPI) needs
+ * a vtkCGTSphereOverlayProp of this mapper in it, which draws them in its overlay step.
  * With Opacity 1 and no opacity array the opaque closest-hit path runs (effect
  * "translucency" off). A NaN opacity value hides its sphere (one warning per input change);
  * a missing or non-numeric opacity array, or a component beyond its components, gives one
@@ -329,6 +331,15 @@ public:
   void SetSelectionColor(const double rgb[3]) { this->SetSelectionColor(rgb[0], rgb[1], rgb[2]); }
   vtkGetVector3Macro(SelectionColor, double);
   ///@}
+
+  /**
+   * Draws now the translucent spheres of this render that wait for the end of the
+   * renderer's render (see above), and returns whether there were any. For renderers whose
+   * image is read before their render ends, as IceT's compositing pass does under MPI:
+   * vtkCGTSphereOverlayProp calls it in the renderer's overlay step. Nothing happens for
+   * another renderer or when nothing waits.
+   */
+  bool DrawDeferredSpheres(vtkRenderer* ren);
 
   ///@{
   /**

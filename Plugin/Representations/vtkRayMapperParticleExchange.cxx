@@ -1,5 +1,6 @@
 #include "vtkRayMapperParticleExchange.h"
 
+#include "vtkIdTypeArray.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkMultiProcessController.h"
 #include "vtkNew.h"
@@ -7,8 +8,13 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkRayMapperGatherPoints.h"
+#include "vtkUnsignedIntArray.h"
 
+#include <algorithm>
 #include <cmath>
+
+const char* const vtkRayMapperOriginIdsName = "vtkRayMapperOriginIds";
+const char* const vtkRayMapperOriginProcessesName = "vtkRayMapperOriginProcesses";
 
 namespace
 {
@@ -153,4 +159,66 @@ vtkSmartPointer<vtkPolyData> vtkRayMapperGatherParticlesToFirst(vtkPolyData* loc
     return vtkRayMapperGatherPoints(nullptr);
   }
   return concatenate(received);
+}
+
+//----------------------------------------------------------------------------
+vtkSmartPointer<vtkPolyData> vtkRayMapperTagOrigins(vtkPolyData* local, int rank)
+{
+  auto tagged = vtkSmartPointer<vtkPolyData>::New();
+  tagged->ShallowCopy(local);
+  const vtkIdType n = local->GetNumberOfPoints();
+  vtkNew<vtkIdTypeArray> ids;
+  ids->SetName(vtkRayMapperOriginIdsName);
+  ids->SetNumberOfValues(n);
+  vtkNew<vtkUnsignedIntArray> processes;
+  processes->SetName(vtkRayMapperOriginProcessesName);
+  processes->SetNumberOfValues(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    ids->SetValue(i, i);
+    processes->SetValue(i, static_cast<unsigned int>(rank));
+  }
+  tagged->GetPointData()->AddArray(ids);
+  tagged->GetPointData()->AddArray(processes);
+  return tagged;
+}
+
+//----------------------------------------------------------------------------
+vtkSmartPointer<vtkIdTypeArray> vtkRayMapperSelectedOfExchange(vtkIdTypeArray* own,
+  vtkDataSet* piece,
+  vtkMultiProcessController* controller)
+{
+  // Every process's selection, as (process, id) pairs flattened, sorted for the lookup.
+  vtkNew<vtkIdTypeArray> mine;
+  const vtkIdType count = own ? own->GetNumberOfValues() : 0;
+  mine->SetNumberOfValues(2 * count);
+  for (vtkIdType k = 0; k < count; ++k)
+  {
+    mine->SetValue(2 * k, controller->GetLocalProcessId());
+    mine->SetValue(2 * k + 1, own->GetValue(k));
+  }
+  vtkNew<vtkIdTypeArray> all;
+  controller->AllGatherV(mine, all);
+  std::vector<std::pair<vtkIdType, vtkIdType>> selected(all->GetNumberOfValues() / 2);
+  for (std::size_t k = 0; k < selected.size(); ++k)
+  {
+    selected[k] = { all->GetValue(2 * k), all->GetValue(2 * k + 1) };
+  }
+  std::sort(selected.begin(), selected.end());
+
+  auto out = vtkSmartPointer<vtkIdTypeArray>::New();
+  vtkPointData* pd = piece ? piece->GetPointData() : nullptr;
+  auto* ids = pd ? vtkIdTypeArray::SafeDownCast(pd->GetArray(vtkRayMapperOriginIdsName)) : nullptr;
+  auto* processes =
+    pd ? vtkUnsignedIntArray::SafeDownCast(pd->GetArray(vtkRayMapperOriginProcessesName)) : nullptr;
+  const vtkIdType n = ids && processes && !selected.empty() ? piece->GetNumberOfPoints() : 0;
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    const std::pair<vtkIdType, vtkIdType> origin(processes->GetValue(i), ids->GetValue(i));
+    if (std::binary_search(selected.begin(), selected.end(), origin))
+    {
+      out->InsertNextValue(i);
+    }
+  }
+  return out;
 }

@@ -11,8 +11,26 @@
 
 #include <vector>
 
+class vtkDataSet;
+class vtkIdTypeArray;
 class vtkMultiProcessController;
 class vtkPolyData;
+
+/// The point arrays that name, for each particle of an exchanged piece, its id in the piece
+/// of the process that sent it (vtkIdTypeArray) and that process (vtkUnsignedIntArray): what
+/// a hardware selection must report, and what the selection's highlight is matched against.
+extern const char* const vtkRayMapperOriginIdsName;
+extern const char* const vtkRayMapperOriginProcessesName;
+
+/// `local` (a shallow copy) with its particles' origins: ids 0..n-1 and process `rank`.
+vtkSmartPointer<vtkPolyData> vtkRayMapperTagOrigins(vtkPolyData* local, int rank);
+
+/// The ids, in the exchanged `piece` this process renders, of the particles that some
+/// process selected: every process's `own` selection (ids in its own piece, may be null) is
+/// shared with all, and matched against the piece's origin arrays. Collective.
+vtkSmartPointer<vtkIdTypeArray> vtkRayMapperSelectedOfExchange(vtkIdTypeArray* own,
+  vtkDataSet* piece,
+  vtkMultiProcessController* controller);
 
 /// The region process `rank` renders: its cut, with the faces that lie on the boundary of
 /// the union of all cuts moved to +-VTK_DOUBLE_MAX (particles reach beyond the cuts, which

@@ -173,6 +173,7 @@ int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey*
   else if (request_type == vtkPVView::REQUEST_RENDER())
   {
     vtkDataObject* piece = vtkPVView::GetDeliveredPiece(inInfo, this);
+    this->PieceExchanged = false;
     if (parallelController() && this->GetDistribution() != Distribution::Local &&
       this->GetDistribution() != Distribution::Cells)
     {
@@ -228,6 +229,11 @@ vtkDataObject* vtkRayMapperPropRepresentation::DistributedPiece(vtkDataObject* d
     vtkSmartPointer<vtkPolyData> local = vtkRayMapperGatherPoints(delivered);
     if (particles)
     {
+      if (this->Selectable)
+      {
+        // A selection names a particle by where it came from, not by where it is drawn.
+        local = vtkRayMapperTagOrigins(local, controller->GetLocalProcessId());
+      }
       long long ghosts = 0;
       this->ExchangedPiece =
         vtkRayMapperDistributeParticles(local, cuts, globalMargin, controller, ghosts);
@@ -251,6 +257,7 @@ vtkDataObject* vtkRayMapperPropRepresentation::DistributedPiece(vtkDataObject* d
     this->ExchangedCutsTime = cutsTime;
     this->ExchangedMargin = globalMargin;
   }
+  this->PieceExchanged = true;
   if (particles)
   {
     double region[6];

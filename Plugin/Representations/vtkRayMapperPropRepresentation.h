@@ -172,6 +172,9 @@ protected:
   bool Selectable = false;
   // Whether the last delivered piece has points: the prop is shown only then.
   bool HasPiece = false;
+  // Whether the last piece came from an exchange between processes (the same on all of
+  // them); a Selectable one carries its particles' origins (vtkRayMapperTagOrigins).
+  bool PieceExchanged = false;
 
 private:
   /// Adds the prop to the renderer of `view` (and to its hardware selection when the prop is

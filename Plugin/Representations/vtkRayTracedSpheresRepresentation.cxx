@@ -7,15 +7,20 @@
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkPVLODActor.h"
+#include "vtkPVRenderView.h"
 #include "vtkPVView.h"
+#include "vtkRenderer.h"
 #include "vtkPointData.h"
+#include "vtkPolyData.h"
 #include "vtkCGTSphereMapper.h"
+#include "vtkCGTSphereOverlayProp.h"
 #include "vtkMultiProcessController.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkProperty.h"
 #include "vtkRayMapperForward.h"
 #include "vtkRayMapperGatherPoints.h"
+#include "vtkRayMapperParticleExchange.h"
 #include "vtkRayMapperSetGet.h"
 #include "vtkRayMapperStatistics.h"
 #include "vtkScalarsToColors.h"
@@ -29,6 +34,8 @@ vtkRayTracedSpheresRepresentation::vtkRayTracedSpheresRepresentation()
   this->Statistics = this->Mapper->GetStatistics();
   this->Actor = vtkSmartPointer<vtkActor>::New();
   this->Actor->SetMapper(this->Mapper);
+  this->Overlay = vtkSmartPointer<vtkCGTSphereOverlayProp>::New();
+  this->Overlay->SetMapper(this->Mapper);
   this->SetProp(this->Actor, true);
   this->SetParticleMapper(this->Mapper);
   this->WarnOnlyWhenShown(this->Mapper);
@@ -36,6 +43,10 @@ vtkRayTracedSpheresRepresentation::vtkRayTracedSpheresRepresentation()
   // mapper pick the active scalars of the data on its own.
   this->Mapper->SetScalarVisibility(0);
   this->Mapper->SetColorMode(VTK_COLOR_MODE_MAP_SCALARS);
+  // A piece exchanged between processes names where its spheres came from (absent
+  // otherwise: the piece's own ids and process).
+  this->Mapper->SetPointIdArrayName(vtkRayMapperOriginIdsName);
+  this->Mapper->SetProcessIdArrayName(vtkRayMapperOriginProcessesName);
   this->UpdateRadiusParameters();
 }
 
@@ -98,14 +109,22 @@ void vtkRayTracedSpheresRepresentation::UpdateSelectionHighlight()
     {
       continue;
     }
+    // The colour on every process: with an exchanged piece, spheres another process
+    // selected may be drawn here.
+    this->Mapper->SetSelectionColor(geometry->GetActor()->GetProperty()->GetColor());
     auto* points = vtkDataSet::SafeDownCast(extract->GetOutputDataObject(0));
     selected = points ? vtkIdTypeArray::SafeDownCast(
                           points->GetPointData()->GetArray("vtkOriginalPointIds"))
                       : nullptr;
-    if (selected)
-    {
-      this->Mapper->SetSelectionColor(geometry->GetActor()->GetProperty()->GetColor());
-    }
+  }
+  if (this->PieceExchanged)
+  {
+    // The spheres drawn here came from several processes, each of which selected among its
+    // own: every selection is shared and matched to the drawn spheres' origins.
+    this->Mapper->SetSelectedPoints(vtkRayMapperSelectedOfExchange(selected,
+      this->Mapper->GetInput(),
+      vtkMultiProcessController::GetGlobalController()));
+    return;
   }
   this->Mapper->SetSelectedPoints(selected);
 }
@@ -128,6 +147,30 @@ vtkRayMapperPropRepresentation::Distribution vtkRayTracedSpheresRepresentation::
   const bool translucent = this->Actor->GetProperty()->GetOpacity() < 1.0 ||
     (this->OpacityByArray && !this->OpacityArrayName.empty());
   return translucent ? Distribution::Particles : Distribution::Surfaces;
+}
+
+//----------------------------------------------------------------------------
+bool vtkRayTracedSpheresRepresentation::AddToView(vtkView* view)
+{
+  if (!this->Superclass::AddToView(view))
+  {
+    return false;
+  }
+  if (auto* rview = vtkPVRenderView::SafeDownCast(view))
+  {
+    rview->GetRenderer()->AddViewProp(this->Overlay);
+  }
+  return true;
+}
+
+//----------------------------------------------------------------------------
+bool vtkRayTracedSpheresRepresentation::RemoveFromView(vtkView* view)
+{
+  if (auto* rview = vtkPVRenderView::SafeDownCast(view))
+  {
+    rview->GetRenderer()->RemoveViewProp(this->Overlay);
+  }
+  return this->Superclass::RemoveFromView(view);
 }
 
 //----------------------------------------------------------------------------

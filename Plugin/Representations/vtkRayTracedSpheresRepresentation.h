@@ -42,6 +42,7 @@
 
 class vtkActor;
 class vtkCGTSphereMapper;
+class vtkCGTSphereOverlayProp;
 class vtkDataSet;
 class vtkPiecewiseFunction;
 class vtkPolyData;
@@ -141,7 +142,10 @@ protected:
    * points (vtkPVExtractSelection of this representation's input) as points, which the
    * spheres around them hide. So the mapper colours the spheres of those points
    * (vtkOriginalPointIds of this process's extraction) in that representation's colour
-   * (ParaView's SelectionColor); no visible selection representation: no highlight.
+   * (ParaView's SelectionColor); no visible selection representation: no highlight. With a
+   * piece exchanged between processes (see vtkRayMapperPropRepresentation), the processes
+   * share their selections and each colours the spheres whose origin was selected:
+   * collective then.
    */
   void UpdateSelectionHighlight();
 
@@ -152,6 +156,12 @@ protected:
    * visibility order like a volume (see vtkRayMapperPropRepresentation).
    */
   Distribution GetDistribution() override;
+  /**
+   * The actor and the vtkCGTSphereOverlayProp that draws its translucent spheres before a
+   * compositing pass reads the image.
+   */
+  bool AddToView(vtkView* view) override;
+  bool RemoveFromView(vtkView* view) override;
   void SetRegion(const double bounds[6]) override;
 
   void UpdateMapperParameters() override;
@@ -165,6 +175,8 @@ protected:
 
   vtkSmartPointer<vtkActor> Actor;
   vtkSmartPointer<vtkCGTSphereMapper> Mapper;
+  // Draws translucent spheres inside the render, where IceT's compositing sees them.
+  vtkSmartPointer<vtkCGTSphereOverlayProp> Overlay;
   std::string RangeArrayNames[4];
   double RangeBounds[4][2] = { { 0, 1 }, { 0, 1 }, { 0, 1 }, { 0, 1 } };
   void SetRangeBounds(int slot, double minimum, double maximum);

@@ -25,6 +25,12 @@ every sphere was drawn over the volume of the ranks in front of its own (2 ranks
 max 150; ghosts without the clip: rmse 1.3, max 93; the clip without ghosts, a sphere cut
 by a face losing its part in the other box: max 122). Up to 3 levels where a thin volume
 lies over a sphere (the 8-bit rounding of two or three images blended).
+The translucent scene's spheres (Opacity 0.4) blend like a volume: each rank draws the
+layers in its box, in the renderer's overlay step (vtkCGTSphereOverlayProp), where IceT
+reads the image; drawn at the renderer's end instead, only rank 0's spheres appeared,
+over the composite (2 ranks: rmse 39.2, max 189). One pixel of 120,000 differs by 4 on 2
+and 3 ranks; the same clip blended in one process without IceT stays within 1.5 levels
+at every pixel, for cuts around the same face.
 
 usage: pvpython TestDistributedRendering.py --launcher RAYMAPPERS_ENV --plugin PLUGIN
          --data-dir DATA --representation NAME --ranks N --output-dir DIR
@@ -39,7 +45,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from raymappers_testing import check, failures, pixels  # noqa: E402
 
 # (rmse, 99.9th percentile, maximum) of |N ranks - 1 rank| per channel, 0..255.
-TOLERANCES = {'spheres': (0.1, 1, 2), 'rbf': (0.5, 3, 8), 'sph': (0.4, 2, 2),
+TOLERANCES = {'spheres': (0.1, 1, 2), 'translucent': (0.2, 1, 4), 'rbf': (0.5, 3, 8), 'sph': (0.4, 2, 2),
               'zsweep': (0.8, 4, 8), 'fluid': (0.0, 0, 0), 'mixed': (0.4, 2, 3)}
 
 

@@ -20,7 +20,9 @@ selection compared as the set of the extracted points' coordinates:
 - a volume in front of the spheres: ParaView's own Volume of an unstructured grid selects
   nothing and hides the spheres from the selection (its projected tetrahedra draw colours in
   every selection pass); an SPH Volume there does the same (vtkRayMapperCore::
-  PresentSelectionFootprint), and hides nothing when moved aside.
+  PresentSelectionFootprint), and hides nothing when moved aside or behind the spheres
+  (with several ranks, the spheres then exchanged between them: the rectangle's selection
+  and highlight are still exact).
 With --server PVSERVER [--ranks N --launcher ENV] the same checks run in a client-server
 session (on N MPI ranks the lattices are redistributed among the ranks first, each rank
 draws its part, and the selection must name each point's process and its id there).
@@ -270,6 +272,21 @@ def run_checks(where, ranks):
     got = selected_points(source)
     check(got == expected, '%s: the SPH Volume moved aside hides nothing (got %d spheres)'
           % (where, len(got)))
+    # With a volume in the view and several ranks, each rank draws (and selects) the spheres
+    # reaching into its box of the volume's partition, its own and the other ranks': moved
+    # aside, the boxes leave all spheres to one rank; behind the spheres, a box face cuts
+    # through the lattice and its spheres. Either way the selection and its highlight name
+    # the spheres as the ranks that hold them do.
+    check_rectangle(source, coords, view, where + ', the SPH Volume aside')
+    volume.Position = [0, 0, -7]
+    Render(view)
+    ClearSelection(source)
+    SelectSurfacePoints(Rectangle=[0, 0, SIZE[0] - 1, SIZE[1] - 1], View=view)
+    got = selected_points(source)
+    check(got == expected, '%s: the SPH Volume behind the spheres hides nothing (got %d '
+          'spheres, %d missing, %d extra)' % (where, len(got), len(expected - got),
+                                              len(got - expected)))
+    check_rectangle(source, coords, view, where + ', the SPH Volume behind')
     planes += [grid_volume, grid, wavelet]
     ClearSelection(source)
     for proxy in [volume_source, source] + planes:

@@ -17,8 +17,9 @@ from paraview.simple import (
     ColorBy, CreateView, Delete, GetColorTransferFunction, GetOpacityTransferFunction,
     LoadPlugin, Render, SaveScreenshot, Show)
 
-SCENES = ('spheres', 'rbf', 'sph', 'zsweep', 'fluid', 'mixed')
-REPRESENTATIONS = {'spheres': 'Ray-Traced Spheres', 'rbf': 'RBF Volume', 'sph': 'SPH Volume',
+SCENES = ('spheres', 'translucent', 'rbf', 'sph', 'zsweep', 'fluid', 'mixed')
+REPRESENTATIONS = {'spheres': 'Ray-Traced Spheres', 'translucent': 'Ray-Traced Spheres',
+                   'rbf': 'RBF Volume', 'sph': 'SPH Volume',
                    'zsweep': 'Z-Sweep Volume', 'fluid': 'SPH Fluid', 'mixed': 'SPH Volume'}
 
 
@@ -107,6 +108,12 @@ def main():
         # give the one-rank spacing (before, the minimum of the ranks' own estimates gave a
         # radius a few percent off and rmse 12 of 255 against one rank).
         rep.Radius = 0.0
+    elif scene == 'translucent':
+        # Translucent spheres blend in the ranks' visibility order, each rank drawing the
+        # surfaces in its box.
+        color(rep, view, 'p', 0.0, 2500.0)
+        rep.Radius = 0.03
+        rep.Opacity = 0.4
     elif scene == 'rbf':
         color(rep, view, 'vmag', 0.0, 2.5, [0.0, 0.0, 0.5, 0.0, 2.5, 0.8, 0.5, 0.0])
         rep.RBFRadius = 0.02
