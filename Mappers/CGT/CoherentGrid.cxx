@@ -191,16 +191,14 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   }
   CellSize = static_cast<float>(h);
   InvCellSize = 1.f / CellSize;
-  // Counting sort of the spheres by the cell of their centre, in parallel: cell ids, then a
-  // histogram with atomic increments, an exclusive prefix sum, and a scatter through atomic
-  // per-cell cursors. The scatter leaves the spheres of one cell in arbitrary order, so each
-  // cell's few entries (about 1 / lambda) are sorted by input index afterwards: the result
-  // is the stable order, the same for any number of threads.
+  // Counting sort of the spheres by the cell of their centre, in parallel and stable (the
+  // same order for any number of threads; see placeInCells).
   // The build's temporaries are freed when it ends: between builds the grid holds only its
   // offsets and macrocells (reusing them across time steps would save about a millisecond
   // per million spheres and cost 36 bytes per sphere of resident memory).
-  // (each sphere's cell is freed before the permutation, which holds one array twice)
-  const std::vector<std::uint32_t> perm = placeInCells(countPerCell(spheres));
+  // (the sort's (sphere, cell) pairs are freed before the permutation, which holds one
+  // array twice)
+  const std::vector<std::uint32_t> perm = placeInCells(spheres);
   permute(spheres, perm);
   buildMacrocells(spheres);
   nestCrowdedCells(spheres, params);
@@ -372,67 +370,106 @@ void CoherentGrid::sortIntoSubcells(SphereSet& spheres, const NestedCell& n)
   gatherRange(spheres, begin, from);
 }
 
-std::vector<std::uint32_t> CoherentGrid::countPerCell(const SphereSet& spheres)
+std::vector<std::uint32_t> CoherentGrid::placeInCells(const SphereSet& spheres)
 {
-  const std::size_t n = NumSpheres;
-  const std::int64_t cells = cellCount(Dims);
-  std::vector<std::uint32_t> cellOfSphere(n);
-  CellStart.assign(static_cast<std::size_t>(cells) + 1, 0);
-  std::uint32_t* counts = CellStart.data() + 1;
-  const float inv = InvCellSize;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
-    [&](const tbb::blocked_range<std::size_t>& range)
+  // A stable counting sort by cell in two passes, neither with atomics nor with random
+  // access to a cell-sized array: first into slabs of whole z layers (each a contiguous
+  // range of cells), then each slab on its own into its cells. A one-pass scatter touches a
+  // random cell counter and a random slot per sphere, which at 10^7 cells is two cache
+  // misses per sphere (measured: 0.6 s of a 1.2 s build of 10M spheres).
+  CellSlabs slabs;
+  slabs.depth = (Dims[2] + MaxSlabs - 1) / MaxSlabs;
+  slabs.count = (Dims[2] + slabs.depth - 1) / slabs.depth;
+  const std::vector<CellOfSphere> bySlab = sortIntoSlabs(spheres, slabs);
+  CellStart.assign(static_cast<std::size_t>(cellCount(Dims)) + 1, 0u);
+  std::vector<std::uint32_t> perm(NumSpheres);
+  tbb::parallel_for(tbb::blocked_range<int>(0, slabs.count, 1),
+    [&](const tbb::blocked_range<int>& range)
     {
-      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      for (int s = range.begin(); s != range.end(); ++s)
       {
-        // The centres are finite and inside [Lower, Lower + Dims * h]; the clamp catches
-        // the upper faces and rounding.
-        const Vec3f& p = spheres.centers[i];
-        const int ci = std::min(static_cast<int>((p.x - Lower.x) * inv), Dims[0] - 1);
-        const int cj = std::min(static_cast<int>((p.y - Lower.y) * inv), Dims[1] - 1);
-        const int ck = std::min(static_cast<int>((p.z - Lower.z) * inv), Dims[2] - 1);
-        const auto id =
-          static_cast<std::uint32_t>(cellIndex(std::max(ci, 0), std::max(cj, 0), std::max(ck, 0)));
-        cellOfSphere[i] = id;
-        __atomic_fetch_add(&counts[id], 1u, __ATOMIC_RELAXED);
-      }
-    });
-  for (std::int64_t c = 0; c < cells; ++c)
-  {
-    CellStart[static_cast<std::size_t>(c) + 1] += CellStart[static_cast<std::size_t>(c)];
-  }
-  return cellOfSphere;
-}
-
-std::vector<std::uint32_t> CoherentGrid::placeInCells(
-  const std::vector<std::uint32_t>& cellOfSphere) const
-{
-  const std::size_t n = cellOfSphere.size();
-  std::vector<std::uint32_t> perm(n);
-  std::vector<std::uint32_t> cursor(CellStart.begin(), CellStart.end() - 1);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
-    [&](const tbb::blocked_range<std::size_t>& range)
-    {
-      for (std::size_t i = range.begin(); i != range.end(); ++i)
-      {
-        const std::uint32_t slot =
-          __atomic_fetch_add(&cursor[cellOfSphere[i]], 1u, __ATOMIC_RELAXED);
-        perm[slot] = static_cast<std::uint32_t>(i);
-      }
-    });
-  tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, cellCount(Dims), 65536),
-    [&](const tbb::blocked_range<std::int64_t>& range)
-    {
-      for (std::int64_t c = range.begin(); c != range.end(); ++c)
-      {
-        const auto first = perm.begin() + cellBegin(c), last = perm.begin() + cellEnd(c);
-        if (last - first > 1)
-        {
-          std::sort(first, last);
-        }
+        sortSlab(bySlab, slabs, s, perm);
       }
     });
   return perm;
+}
+
+std::vector<CoherentGrid::CellOfSphere> CoherentGrid::sortIntoSlabs(const SphereSet& spheres,
+  CellSlabs& slabs) const
+{
+  // Fixed chunks of the input (the same for any number of threads), a histogram of slabs
+  // per chunk, their exclusive prefix sum in (slab, chunk) order, and a scatter of each
+  // chunk into its own offsets: the spheres of a slab stay in input order.
+  const std::size_t n = NumSpheres;
+  const std::size_t chunkSize = std::max<std::size_t>(65536, (n + 255) / 256);
+  const std::size_t chunks = (n + chunkSize - 1) / chunkSize;
+  const std::size_t cellsPerSlab = static_cast<std::size_t>(Dims[0]) * Dims[1] * slabs.depth;
+  auto slabOf = [&](std::uint32_t cell) { return static_cast<std::size_t>(cell / cellsPerSlab); };
+  std::vector<std::uint32_t> offsets(chunks * slabs.count, 0u);
+  auto eachChunk = [&](auto&& body)
+  {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1),
+      [&](const tbb::blocked_range<std::size_t>& range)
+      {
+        for (std::size_t t = range.begin(); t != range.end(); ++t)
+        {
+          std::uint32_t* own = offsets.data() + t * slabs.count;
+          for (std::size_t i = t * chunkSize; i < std::min(n, (t + 1) * chunkSize); ++i)
+          {
+            body(own, static_cast<std::uint32_t>(i), cellOfCentre(spheres.centers[i]));
+          }
+        }
+      });
+  };
+  eachChunk([&](std::uint32_t* own, std::uint32_t, std::uint32_t cell) { ++own[slabOf(cell)]; });
+  slabs.start.assign(static_cast<std::size_t>(slabs.count) + 1, 0u);
+  std::uint32_t total = 0;
+  for (int s = 0; s < slabs.count; ++s)
+  {
+    slabs.start[s] = total;
+    for (std::size_t t = 0; t < chunks; ++t)
+    {
+      const std::uint32_t count = offsets[t * slabs.count + s];
+      offsets[t * slabs.count + s] = total;
+      total += count;
+    }
+  }
+  slabs.start[slabs.count] = total;
+  std::vector<CellOfSphere> bySlab(n);
+  eachChunk([&](std::uint32_t* own, std::uint32_t i, std::uint32_t cell)
+    { bySlab[own[slabOf(cell)]++] = { i, cell }; });
+  return bySlab;
+}
+
+void CoherentGrid::sortSlab(const std::vector<CellOfSphere>& bySlab,
+  const CellSlabs& slabs,
+  int s,
+  std::vector<std::uint32_t>& perm)
+{
+  // The slab's cells [first, last) are its own: counts in CellStart[c + 1], turned into the
+  // cells' first slots from the slab's start, each advanced past its spheres by the scatter
+  // (in input order), so that CellStart[c + 1] ends as cell c's end.
+  const std::size_t cellsPerSlab = static_cast<std::size_t>(Dims[0]) * Dims[1] * slabs.depth;
+  const std::size_t first = static_cast<std::size_t>(s) * cellsPerSlab;
+  const std::size_t last = std::min(first + cellsPerSlab, static_cast<std::size_t>(cellCount(Dims)));
+  const CellOfSphere* begin = bySlab.data() + slabs.start[s];
+  const CellOfSphere* end = bySlab.data() + slabs.start[s + 1];
+  std::uint32_t* next = CellStart.data() + 1;
+  for (const CellOfSphere* e = begin; e != end; ++e)
+  {
+    ++next[e->cell];
+  }
+  std::uint32_t run = slabs.start[s];
+  for (std::size_t c = first; c < last; ++c)
+  {
+    const std::uint32_t count = next[c];
+    next[c] = run;
+    run += count;
+  }
+  for (const CellOfSphere* e = begin; e != end; ++e)
+  {
+    perm[next[e->cell]++] = e->sphere;
+  }
 }
 
 void CoherentGrid::buildMacrocells(const SphereSet& spheres)

@@ -17,6 +17,7 @@
 
 #include "Mappers/CGT/SphereSet.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <utility>
@@ -108,11 +109,35 @@ public:
   }
 
 private:
-  // The phases of build() (section 4.2) after the cell size: the counting (each sphere's
-  // cell, the cells' offsets by a histogram and its prefix sum), the placement (the
-  // permutation into cell order) and the macrocells with their attribute extrema.
-  std::vector<std::uint32_t> countPerCell(const SphereSet& spheres);
-  std::vector<std::uint32_t> placeInCells(const std::vector<std::uint32_t>& cellOfSphere) const;
+  // The phases of build() (section 4.2) after the cell size: the placement (the cells'
+  // offsets and the permutation into cell order, by a counting sort into slabs of z layers,
+  // then of each slab into its cells) and the macrocells with their attribute extrema.
+  struct CellOfSphere
+  {
+    std::uint32_t sphere, cell;
+  };
+  struct CellSlabs
+  {
+    int depth = 1, count = 1;        // z layers per slab, slabs
+    std::vector<std::uint32_t> start; // the spheres of slab s: [start[s], start[s + 1])
+  };
+  static constexpr int MaxSlabs = 4096;
+  // The cell of a centre (finite, inside [Lower, Lower + Dims * h]; the clamp catches the
+  // upper faces and rounding).
+  std::uint32_t cellOfCentre(const Vec3f& p) const
+  {
+    const int ci = std::min(static_cast<int>((p.x - Lower.x) * InvCellSize), Dims[0] - 1);
+    const int cj = std::min(static_cast<int>((p.y - Lower.y) * InvCellSize), Dims[1] - 1);
+    const int ck = std::min(static_cast<int>((p.z - Lower.z) * InvCellSize), Dims[2] - 1);
+    return static_cast<std::uint32_t>(
+      cellIndex(std::max(ci, 0), std::max(cj, 0), std::max(ck, 0)));
+  }
+  std::vector<std::uint32_t> placeInCells(const SphereSet& spheres);
+  std::vector<CellOfSphere> sortIntoSlabs(const SphereSet& spheres, CellSlabs& slabs) const;
+  void sortSlab(const std::vector<CellOfSphere>& bySlab,
+    const CellSlabs& slabs,
+    int s,
+    std::vector<std::uint32_t>& perm);
   void buildMacrocells(const SphereSet& spheres);
   // The nested grids of the crowded cells, after the placement: each one's spheres are
   // ordered by subcell (a stable counting sort inside the cell's range).

@@ -245,6 +245,40 @@ TEST(CoherentGrid, ParallelBuildKeepsInputOrderInsideCells)
   EXPECT_EQ(grid.cellEnd(cells - 1), p.size());
 }
 
+// More z layers than the placement's slabs (4096): a slab holds several layers, and the
+// spheres of a line along z still land in their own cells, in input order.
+TEST(CoherentGrid, SlabsOfSeveralLayersPlaceEverySphere)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Vec3d> p(60000);
+  for (auto& q : p)
+  {
+    q = { 1e-4 * u(rng), 1e-4 * u(rng), 100.0 * u(rng) };
+  }
+  SphereSet s = makeSet(p, std::vector<double>(p.size(), 1e-3), {});
+  CoherentGrid grid;
+  grid.build(s, CoherentGridParameters());
+  const auto& d = grid.dims();
+  ASSERT_GT(d[2], 2 * 4096);
+  std::size_t total = 0;
+  for (int k = 0; k < d[2]; ++k)
+  {
+    const auto c = grid.cellIndex(0, 0, k);
+    ASSERT_EQ(grid.cellBegin(c), total) << "layer " << k;
+    for (auto id = grid.cellBegin(c); id < grid.cellEnd(c); ++id, ++total)
+    {
+      ASSERT_EQ(grid.cellOf(s.centers[id])[2], k);
+      ASSERT_EQ(s.centers[id].z, Vec3f(p[s.sourceIds[id]]).z);
+      if (id + 1 < grid.cellEnd(c))
+      {
+        ASSERT_LT(s.sourceIds[id], s.sourceIds[id + 1]);
+      }
+    }
+  }
+  EXPECT_EQ(total, p.size());
+}
+
 TEST(CoherentGrid, MatchesBruteForceForEveryPacketSize)
 {
   const auto p = randomPoints(800, 6, 5);
