@@ -217,6 +217,37 @@ const NestedCell* CoherentGrid::nestedCell(std::size_t macro, std::int64_t cell)
   return it != Nested.end() && it->cell == cell ? &*it : nullptr;
 }
 
+std::uint64_t CoherentGrid::spheresInLeavesAbove(std::uint32_t limit) const
+{
+  std::uint64_t crowded = 0;
+  // Only a macrocell holding more than `limit` spheres can hold such a leaf.
+  for (std::size_t macro = 0; macro < MacroCount.size(); ++macro)
+  {
+    if (MacroCount[macro] <= limit)
+    {
+      continue;
+    }
+    forEachCell(macro,
+      [&](std::int64_t c)
+      {
+        const std::uint32_t count = cellEnd(c) - cellBegin(c);
+        const NestedCell* n = count > limit ? nestedCell(macro, c) : nullptr;
+        if (n == nullptr)
+        {
+          crowded += count > limit ? count : 0;
+          return;
+        }
+        const std::uint32_t* start = NestedStart.data() + n->offsets;
+        for (std::size_t s = 0; s < static_cast<std::size_t>(n->m) * n->m * n->m; ++s)
+        {
+          const std::uint32_t inSubcell = start[s + 1] - start[s];
+          crowded += inSubcell > limit ? inSubcell : 0;
+        }
+      });
+  }
+  return crowded;
+}
+
 namespace
 {
 // The subcells per side of a crowded cell of side h with `count` spheres: about lambda
@@ -299,31 +330,26 @@ std::vector<NestedCell> CoherentGrid::crowdedCells(const SphereSet& spheres,
     {
       continue;
     }
-    const int mi = static_cast<int>(macro % MacroDims[0]);
-    const int mj = static_cast<int>((macro / MacroDims[0]) % MacroDims[1]);
-    const int mk = static_cast<int>(macro / MacroDims[0] / MacroDims[1]);
-    for (int k = mk * MacroSize; k < std::min(Dims[2], (mk + 1) * MacroSize); ++k)
-      for (int j = mj * MacroSize; j < std::min(Dims[1], (mj + 1) * MacroSize); ++j)
-        for (int i = mi * MacroSize; i < std::min(Dims[0], (mi + 1) * MacroSize); ++i)
+    forEachCell(macro,
+      [&](std::int64_t c)
+      {
+        const std::uint32_t count = cellEnd(c) - cellBegin(c);
+        if (count <= threshold)
         {
-          const std::int64_t c = cellIndex(i, j, k);
-          const std::uint32_t count = cellEnd(c) - cellBegin(c);
-          if (count <= threshold)
-          {
-            continue;
-          }
-          float rMax = 0.f;
-          for (std::uint32_t id = cellBegin(c); id < cellEnd(c); ++id)
-          {
-            rMax = std::max(rMax, spheres.radii[id]);
-          }
-          const int m = nestedSide(count, lambda, CellSize, rMax);
-          if (m >= 2)
-          {
-            crowded.push_back({ c, m, rMax, 0 });
-            MacroNested[macro] = 1;
-          }
+          return;
         }
+        float rMax = 0.f;
+        for (std::uint32_t id = cellBegin(c); id < cellEnd(c); ++id)
+        {
+          rMax = std::max(rMax, spheres.radii[id]);
+        }
+        const int m = nestedSide(count, lambda, CellSize, rMax);
+        if (m >= 2)
+        {
+          crowded.push_back({ c, m, rMax, 0 });
+          MacroNested[macro] = 1;
+        }
+      });
   }
   std::sort(crowded.begin(),
     crowded.end(),

@@ -96,6 +96,12 @@ public:
   }
   std::size_t nestedCellCount() const { return Nested.size(); }
 
+  /// The spheres of the leaves (cells without a nested grid, and subcells) that hold more
+  /// than `limit` spheres: every ray reaching such a leaf tests them all, so their share of
+  /// the set measures how far this grid failed to separate the data (spheres of one point,
+  /// or crowded far closer than their radius, where no subcell may be smaller than r / 2).
+  std::uint64_t spheresInLeavesAbove(std::uint32_t limit) const;
+
   /// Cell of a point (origin-relative), clamped to the grid.
   std::array<int, 3> cellOf(const Vec3f& p) const;
 
@@ -139,6 +145,20 @@ private:
     int s,
     std::vector<std::uint32_t>& perm);
   void buildMacrocells(const SphereSet& spheres);
+  // Calls f(c) for the index c of every cell of macrocell `macro`.
+  template<typename F>
+  void forEachCell(std::size_t macro, F&& f) const
+  {
+    const int mi = static_cast<int>(macro % MacroDims[0]);
+    const int mj = static_cast<int>((macro / MacroDims[0]) % MacroDims[1]);
+    const int mk = static_cast<int>(macro / MacroDims[0] / MacroDims[1]);
+    for (int k = mk * MacroSize; k < std::min(Dims[2], (mk + 1) * MacroSize); ++k)
+      for (int j = mj * MacroSize; j < std::min(Dims[1], (mj + 1) * MacroSize); ++j)
+        for (int i = mi * MacroSize; i < std::min(Dims[0], (mi + 1) * MacroSize); ++i)
+        {
+          f(cellIndex(i, j, k));
+        }
+  }
   // The nested grids of the crowded cells, after the placement: each one's spheres are
   // ordered by subcell (a stable counting sort inside the cell's range).
   void nestCrowdedCells(SphereSet& spheres, const CoherentGridParameters& params);

@@ -66,6 +66,10 @@ struct vtkCGTSphereMapper::Internals
     SpheresStamp;
   vtkMTimeType BuiltColorTime = 0;
   vtkRayMapperStamp<int, double, int, int> AcceleratorStamp;
+  // Which accelerator the last build made (the automatic choice may reject the grid), and
+  // the grid's spheres in crowded leaves that decided it (-1: no grid built).
+  bool UsesGrid = true;
+  std::int64_t CrowdedSpheres = -1;
   // The opacities: the latest MTime of the input, the mapper and the opacity function they
   // were set at (0: to be set, after a rebuild of the spheres).
   vtkMTimeType OpacityTime = 0;
@@ -726,37 +730,44 @@ bool vtkCGTSphereMapper::HasTranslucentPolygonalGeometry()
   return this->FindOpacityArray(this->GetInput(), false) != nullptr;
 }
 
+namespace
+{
+// The automatic choice (VTK_CGT_ACCELERATOR_AUTOMATIC) keeps the grid unless more than
+// CrowdedShare of the spheres lie in leaves of more than CrowdedLeaf spheres: a ray through
+// such a leaf tests every sphere of it, where a BVH splits them down to a few (spheres of one
+// point, or packed far closer than their radius, which no cell may be smaller than half of).
+constexpr std::uint32_t CrowdedLeaf = 1024;
+constexpr double CrowdedShare = 0.01;
+}
+
 bool vtkCGTSphereMapper::UpdateAccelerator(raymappers::RenderStatistics& stats)
 {
-  // The accelerator depends on the sphere set and its own parameters.
-  const bool grid = this->Accelerator == VTK_CGT_ACCELERATOR_GRID;
-  // The grid's parameters matter only to the grid, the build quality only to Embree.
+  // The accelerator depends on the sphere set and its own parameters: the grid's matter
+  // unless Embree is forced, Embree's build quality unless the grid is.
+  const int kind = this->Accelerator;
+  const bool mayGrid = kind != VTK_CGT_ACCELERATOR_EMBREE;
   if (Impl->AcceleratorStamp.Changed(this, nullptr,
-        { this->Accelerator, grid ? this->Lambda : 0.0, grid ? this->MacrocellSize : 0,
-          grid ? 0 : this->EmbreeBuildQuality }))
+        { kind, mayGrid ? this->Lambda : 0.0, mayGrid ? this->MacrocellSize : 0,
+          kind != VTK_CGT_ACCELERATOR_GRID ? this->EmbreeBuildQuality : 0 }))
   {
-    raymappers::ScopedPhase phase(stats, grid ? "grid_build" : "bvh_build");
-    if (grid)
+    Impl->Grid = raymappers::CoherentGridAccelerator();
+    Impl->Embree.clear();
+    Impl->CrowdedSpheres = -1;
+    Impl->UsesGrid = mayGrid && this->BuildGrid(stats);
+    if (!Impl->UsesGrid)
     {
-      raymappers::CoherentGridParameters params;
-      params.lambda = this->Lambda;
-      params.macrocellSize = this->MacrocellSize;
-      Impl->Grid.build(Impl->Spheres, params);
-    }
-    else
-    {
-      const auto quality =
-        this->EmbreeBuildQuality == 0
-          ? raymappers::EmbreeSphereAccelerator::Quality::Low
-          : (this->EmbreeBuildQuality == 2 ? raymappers::EmbreeSphereAccelerator::Quality::High
-                                           : raymappers::EmbreeSphereAccelerator::Quality::Medium);
-      Impl->Embree.build(Impl->Spheres, quality);
+      this->BuildEmbree(stats);
     }
     Impl->Core.CountBuild();
   }
   Impl->Core.AddBuildCounters(stats);
   stats.addCounter("spheres", static_cast<std::int64_t>(Impl->Spheres.size()));
-  if (grid)
+  stats.addCounter("accelerator_embree", Impl->UsesGrid ? 0 : 1);
+  if (Impl->CrowdedSpheres >= 0)
+  {
+    stats.addCounter("grid_crowded_spheres", Impl->CrowdedSpheres);
+  }
+  if (Impl->UsesGrid)
   {
     const auto& d = Impl->Grid.grid().dims();
     stats.addCounter("grid_cells", static_cast<std::int64_t>(d[0]) * d[1] * d[2]);
@@ -768,7 +779,36 @@ bool vtkCGTSphereMapper::UpdateAccelerator(raymappers::RenderStatistics& stats)
     stats.addCounter("simd_lanes",
       path == raymappers::SimdPath::Avx512 ? 16 : (path == raymappers::SimdPath::Avx2 ? 8 : 1));
   }
-  return grid;
+  return Impl->UsesGrid;
+}
+
+bool vtkCGTSphereMapper::BuildGrid(raymappers::RenderStatistics& stats)
+{
+  raymappers::ScopedPhase phase(stats, "grid_build");
+  raymappers::CoherentGridParameters params;
+  params.lambda = this->Lambda;
+  params.macrocellSize = this->MacrocellSize;
+  Impl->Grid.build(Impl->Spheres, params);
+  Impl->CrowdedSpheres =
+    static_cast<std::int64_t>(Impl->Grid.grid().spheresInLeavesAbove(CrowdedLeaf));
+  if (this->Accelerator == VTK_CGT_ACCELERATOR_GRID ||
+    static_cast<double>(Impl->CrowdedSpheres) <=
+      CrowdedShare * static_cast<double>(Impl->Spheres.size()))
+  {
+    return true;
+  }
+  Impl->Grid = raymappers::CoherentGridAccelerator(); // rejected: its memory goes back
+  return false;
+}
+
+void vtkCGTSphereMapper::BuildEmbree(raymappers::RenderStatistics& stats)
+{
+  raymappers::ScopedPhase phase(stats, "bvh_build");
+  const auto quality = this->EmbreeBuildQuality == 0
+    ? raymappers::EmbreeSphereAccelerator::Quality::Low
+    : (this->EmbreeBuildQuality == 2 ? raymappers::EmbreeSphereAccelerator::Quality::High
+                                     : raymappers::EmbreeSphereAccelerator::Quality::Medium);
+  Impl->Embree.build(Impl->Spheres, quality);
 }
 
 void vtkCGTSphereMapper::GatherShading(vtkRenderer* ren,
@@ -827,7 +867,10 @@ void vtkCGTSphereMapper::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ProcessIdArrayName: "
      << (this->ProcessIdArrayName ? this->ProcessIdArrayName : "(none)") << "\n";
   os << indent << "Accelerator: "
-     << (this->Accelerator == VTK_CGT_ACCELERATOR_GRID ? "coherent grid" : "Embree") << "\n";
+     << (this->Accelerator == VTK_CGT_ACCELERATOR_GRID
+            ? "coherent grid"
+            : (this->Accelerator == VTK_CGT_ACCELERATOR_EMBREE ? "Embree" : "automatic"))
+     << " (last build: " << (Impl->UsesGrid ? "coherent grid" : "Embree") << ")\n";
   os << indent << "PacketSize: " << this->PacketSize << "\n";
   os << indent << "Lambda: " << this->Lambda << "\n";
   os << indent << "MacrocellSize: " << this->MacrocellSize << "\n";

@@ -88,6 +88,7 @@ struct SphereShading;
 
 #define VTK_CGT_ACCELERATOR_GRID 0
 #define VTK_CGT_ACCELERATOR_EMBREE 1
+#define VTK_CGT_ACCELERATOR_AUTOMATIC 2
 
 #define VTK_CGT_SIMD_AUTO 0
 #define VTK_CGT_SIMD_PORTABLE 1
@@ -170,10 +171,16 @@ public:
 
   ///@{
   /**
-   * The accelerator: VTK_CGT_ACCELERATOR_GRID (default) or VTK_CGT_ACCELERATOR_EMBREE.
+   * The accelerator: VTK_CGT_ACCELERATOR_AUTOMATIC (default: the coherent grid, unless its
+   * occupancy shows it failed to separate the spheres, more than 1% of them in leaves of more
+   * than 1024, where Embree's BVH is built instead; counters "accelerator_embree" and
+   * "grid_crowded_spheres" say which ran and why), VTK_CGT_ACCELERATOR_GRID (always the grid)
+   * or VTK_CGT_ACCELERATOR_EMBREE (always Embree). All give the same picture.
    */
-  vtkRayMapperSetClampMacro(Accelerator, int, VTK_CGT_ACCELERATOR_GRID, VTK_CGT_ACCELERATOR_EMBREE);
+  vtkRayMapperSetClampMacro(
+    Accelerator, int, VTK_CGT_ACCELERATOR_GRID, VTK_CGT_ACCELERATOR_AUTOMATIC);
   vtkGetMacro(Accelerator, int);
+  void SetAcceleratorToAutomatic() { this->SetAccelerator(VTK_CGT_ACCELERATOR_AUTOMATIC); }
   void SetAcceleratorToCoherentGrid() { this->SetAccelerator(VTK_CGT_ACCELERATOR_GRID); }
   void SetAcceleratorToEmbree() { this->SetAccelerator(VTK_CGT_ACCELERATOR_EMBREE); }
   ///@}
@@ -377,7 +384,7 @@ protected:
   char* ScaleArray = nullptr;
   double ScaleFactor = 1.0;
   int TileSize = 32;
-  int Accelerator = VTK_CGT_ACCELERATOR_GRID;
+  int Accelerator = VTK_CGT_ACCELERATOR_AUTOMATIC;
   int PacketSize = 8;
   double Lambda = 1.0;
   int MacrocellSize = 6;
@@ -420,6 +427,10 @@ private:
   vtkDataArray* FindOpacityArray(vtkPolyData* input, bool warn);
   void UpdateOpacities(vtkPolyData* input, raymappers::RenderStatistics& stats);
   bool UpdateAccelerator(raymappers::RenderStatistics& stats);
+  // The builds of UpdateAccelerator: the grid (false when the automatic choice rejects it
+  // for its crowded leaves), Embree's BVH.
+  bool BuildGrid(raymappers::RenderStatistics& stats);
+  void BuildEmbree(raymappers::RenderStatistics& stats);
   void GatherShading(vtkRenderer* ren,
     vtkActor* actor,
     const vtkRayMapperRenderHelpers::ModelTransform& model,

@@ -179,10 +179,14 @@ std::vector<Row> RunSpheres(const Options& opt)
     {
       vtkRayMapperStatistics* st = ours->GetStatistics();
       std::ostringstream s;
-      s << "last build: spheres " << st->GetPhaseTime("spheres") << " ms, "
-        << (st->GetPhaseTime("grid_build") > 0 ? "grid " : "bvh ")
-        << st->GetPhaseTime("grid_build") + st->GetPhaseTime("bvh_build") << " ms; trace "
-        << st->GetPhaseTime("trace") << " ms";
+      s << "last build: spheres " << st->GetPhaseTime("spheres") << " ms, grid "
+        << st->GetPhaseTime("grid_build") << " ms, bvh " << st->GetPhaseTime("bvh_build")
+        << " ms; traced " << (st->GetCounter("accelerator_embree") ? "embree" : "grid")
+        << " in " << st->GetPhaseTime("trace") << " ms";
+      if (st->GetCounter("grid_crowded_spheres") > 0)
+      {
+        s << "; grid spheres in leaves > 1024: " << st->GetCounter("grid_crowded_spheres");
+      }
       // The work per primary ray: cells visited and ray-sphere tests (the grid counts both).
       if (const double rays = st->GetCounter("rays"))
       {

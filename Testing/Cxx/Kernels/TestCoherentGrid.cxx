@@ -571,6 +571,52 @@ TEST(CoherentGridHardCases, SingleFarOutlier)
   EXPECT_GT(expectBruteForce(s, cam, renderGrid(s, cam, 8).frame, "outlier"), 64 * 64 / 10);
 }
 
+// The occupancy statistic behind the mapper's automatic choice of accelerator: the spheres
+// of leaves (cells without a nested grid, and subcells) holding more than a limit, checked
+// against counts known from the construction.
+TEST(CoherentGridHardCases, CrowdedLeavesCountTheSpheresNoCellSeparates)
+{
+  auto crowded = [](SphereSet& s, std::uint32_t limit)
+  {
+    CoherentGrid grid;
+    grid.build(s, CoherentGridParameters());
+    return grid.spheresInLeavesAbove(limit);
+  };
+  // 1500 spheres in one point and 800 in another: only the first leaf is above 1024, and
+  // "above" is strict.
+  std::vector<Vec3d> p(1500, Vec3d{ 0.1, 0.2, 0.3 });
+  p.insert(p.end(), 800, Vec3d{ 0.9, -0.4, 0.3 });
+  SphereSet points = makeSet(p, std::vector<double>(p.size(), 0.05), {});
+  EXPECT_EQ(crowded(points, 1024), 1500u);
+  EXPECT_EQ(crowded(points, 1499), 1500u);
+  EXPECT_EQ(crowded(points, 1500), 0u);
+  EXPECT_EQ(crowded(points, 799), 2300u);
+  // A dense cluster of small spheres in a wide domain: its top-level cells (side about 0.1)
+  // hold hundreds each, but their nested grids separate them (a count of cells rather than
+  // leaves finds them). One level only: a cluster ten times smaller than a cell would stay
+  // in a few subcells.
+  std::vector<Vec3d> q = cube(2000, { 0, 0, 0 }, 2.0, 43);
+  const std::vector<Vec3d> dense = cube(5000, { 0.3, 0.3, 0.3 }, 0.1, 47);
+  q.insert(q.end(), dense.begin(), dense.end());
+  std::vector<double> r(2000, 0.01);
+  r.resize(q.size(), 1e-4);
+  SphereSet separable = makeSet(q, r, {});
+  EXPECT_EQ(crowded(separable, 1024), 0u);
+  // The same cluster a thousand times smaller than its spheres' radius: no subcell may be
+  // smaller than half a radius, so one leaf keeps the whole cluster.
+  const std::vector<Vec3d> tight = cube(3000, { 0.3, 0.3, 0.3 }, 2e-6, 53);
+  q.resize(2000);
+  q.insert(q.end(), tight.begin(), tight.end());
+  r.assign(2000, 0.01);
+  r.resize(q.size(), 1e-3);
+  SphereSet inseparable = makeSet(q, r, {});
+  EXPECT_EQ(crowded(inseparable, 1024), 3000u);
+  // Uniform spheres: no leaf comes near the limit.
+  const std::vector<Vec3d> u = randomPoints(20000, 1.0, 59);
+  SphereSet uniform = makeSet(u, std::vector<double>(u.size(), 0.01), {});
+  EXPECT_EQ(crowded(uniform, 64), 0u);
+}
+
 TEST(CoherentGridHardCases, NestedCellWithANearerSphereBehindItsFrontLayer)
 {
   // A crowded cell (a closed sheet of small spheres inside a sparse frame of eight) is nested;

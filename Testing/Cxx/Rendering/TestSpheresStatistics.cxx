@@ -10,6 +10,63 @@
 #include "vtkLookupTable.h"
 #include "vtkProperty.h"
 
+namespace
+{
+// The automatic accelerator (the default): the grid where its leaves separate the spheres,
+// Embree's BVH where more than 1% of them crowd leaves of more than 1024 (here 1500 of 1564
+// spheres in one point, shells of radii 0.1 to 0.5 around it), the same picture either way.
+int TestAutomaticAccelerator()
+{
+  vtkNew<vtkCGTSphereMapper> mapper;
+  RM_CHECK(mapper->GetAccelerator() == VTK_CGT_ACCELERATOR_AUTOMATIC);
+  auto lattice = rmtest::MakeLattice(4);
+  mapper->SetInputData(lattice);
+  mapper->SetRadiusArrayName("radius");
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  vtkNew<vtkRenderer> ren;
+  ren->AddActor(actor);
+  vtkNew<vtkRenderWindow> win;
+  win->SetSize(128, 96);
+  win->AddRenderer(ren);
+  ren->ResetCamera();
+  win->Render();
+  vtkRayMapperStatistics* s = mapper->GetStatistics();
+  RM_CHECK(s->GetCounter("accelerator_embree") == 0 && s->GetCounter("grid_cells") > 0);
+  RM_CHECK(s->GetCounter("grid_crowded_spheres") == 0);
+
+  std::vector<std::array<double, 3>> centers(1500, { 0.2, -0.1, 0.3 });
+  std::vector<double> radii(1500);
+  for (std::size_t i = 0; i < radii.size(); ++i)
+  {
+    radii[i] = 0.1 + 0.4 * static_cast<double>(i) / 1499.0; // no two alike: no ties
+  }
+  for (vtkIdType i = 0; i < lattice->GetNumberOfPoints(); ++i)
+  {
+    std::array<double, 3> p;
+    lattice->GetPoint(i, p.data());
+    centers.push_back({ 2 * p[0], 2 * p[1], 2 * p[2] });
+    radii.push_back(0.15);
+  }
+  mapper->SetInputData(rmtest::MakeSpheres(centers, radii));
+  ren->ResetCamera();
+  win->Render();
+  RM_CHECK(s->GetCounter("accelerator_embree") == 1);
+  RM_CHECK(s->GetCounter("grid_crowded_spheres") == 1500 && s->GetCounter("grid_cells") == 0);
+  RM_CHECK(s->GetPhaseTime("grid_build") > 0 && s->GetPhaseTime("bvh_build") > 0);
+  const auto automatic = rmtest::ReadRGB(win);
+  mapper->SetAcceleratorToCoherentGrid();
+  win->Render();
+  RM_CHECK(s->GetCounter("accelerator_embree") == 0 && s->GetCounter("grid_crowded_spheres") == 1500);
+  RM_CHECK(rmtest::ReadRGB(win) == automatic);
+  mapper->SetAcceleratorToEmbree();
+  win->Render();
+  RM_CHECK(s->GetCounter("accelerator_embree") == 1 && s->GetPhaseTime("grid_build") == 0);
+  RM_CHECK(rmtest::ReadRGB(win) == automatic);
+  return EXIT_SUCCESS;
+}
+}
+
 int TestSpheresStatistics(int, char*[])
 {
   auto lattice = rmtest::MakeLattice(4);
@@ -111,5 +168,5 @@ int TestSpheresStatistics(int, char*[])
   win->Render();
   RM_CHECK(s->GetCounter("builds") == 8);
   std::printf("%s", s->GetSummary());
-  return EXIT_SUCCESS;
+  return TestAutomaticAccelerator();
 }
