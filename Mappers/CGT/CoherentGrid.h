@@ -73,6 +73,14 @@ public:
     return (static_cast<std::size_t>(mk) * MacroDims[1] + mj) * MacroDims[0] + mi;
   }
   bool macrocellEmpty(std::size_t m) const { return MacroCount[m] == 0; }
+  /// Whether cell (a, b, c) of macrocell m (its own coordinates, 0..M-1) holds spheres: one
+  /// bit per cell beside the macrocell, so the traversal of a sparse macrocell reads neither
+  /// the offsets of its empty cells nor their cache lines.
+  bool cellOccupied(std::size_t m, int a, int b, int c) const
+  {
+    const std::size_t bit = (static_cast<std::size_t>(c) * MacroSize + b) * MacroSize + a;
+    return (MacroOccupied[m * OccupiedWords + bit / 64] >> (bit % 64)) & 1u;
+  }
   /// The largest radius of the macrocell's spheres (0 when empty): its own sphere-center
   /// shift, smaller than the grid's r_max where small spheres crowd (mixed radii).
   float macrocellMaxRadius(std::size_t m) const { return MacroMaxRadius[m]; }
@@ -110,7 +118,8 @@ public:
   {
     return CellStart.size() * sizeof(std::uint32_t) + MacroCount.size() * sizeof(std::uint32_t) +
            (MacroMaxRadius.size() + MacroMin.size() + MacroMax.size()) * sizeof(float) +
-           MacroNested.size() + Nested.size() * sizeof(NestedCell) +
+           MacroNested.size() + MacroOccupied.size() * sizeof(std::uint64_t) +
+           Nested.size() * sizeof(NestedCell) +
            NestedStart.size() * sizeof(std::uint32_t);
   }
 
@@ -182,6 +191,8 @@ private:
   std::vector<std::uint8_t> MacroNested; // whether a macrocell has nested cells
   std::vector<NestedCell> Nested;        // sorted by cell
   std::vector<std::uint32_t> NestedStart;
+  std::size_t OccupiedWords = 0; // 64-bit words of cell bits per macrocell
+  std::vector<std::uint64_t> MacroOccupied;
 };
 
 } // namespace raymappers

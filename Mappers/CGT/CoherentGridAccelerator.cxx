@@ -208,6 +208,7 @@ inline void loadRayLanes(const RayPacket& packet, const Lane* L, int active, Ray
     R.tNear[i] = r.tnear;
     R.tBest[i] = r.tfar;
     R.prim[i] = NoHit;
+    R.tieFrom[i] = packet.ordered ? packet.tieFrom[L[i].id] : 0;
   }
   R.pad(active);
 }
@@ -336,6 +337,7 @@ inline bool macrocellsEmpty(const CoherentGrid& grid,
 // sphere-center shift's slope factors and the direction along K, and the active rays.
 struct PacketWalk
 {
+  bool ordered; // RayPacket::ordered
   const SphereSet& spheres;
   const RangeFilter& filter;
   bool ranged;
@@ -379,8 +381,15 @@ void testSpheres(const PacketWalk& w, std::uint32_t begin, std::uint32_t end)
       continue;
     }
     counters.sphereTests += w.active;
-    Lanes::intersect(
-      w.R, RayLanes::padded(w.active), center.x, center.y, center.z, radius * radius, id);
+    const int padded = RayLanes::padded(w.active);
+    if (w.ordered)
+    {
+      Lanes::template intersect<true>(w.R, padded, center.x, center.y, center.z, radius * radius, id);
+    }
+    else
+    {
+      Lanes::template intersect<false>(w.R, padded, center.x, center.y, center.z, radius * radius, id);
+    }
   }
 }
 
@@ -460,8 +469,8 @@ void visitNested(const CoherentGrid& grid, const PacketWalk& w, const NestedCell
 // 4.2): an empty macrocell is skipped, and so is one whose attribute extrema miss the
 // parameter ranges (section 4.3); in the others, the cells within the reach of the
 // macrocell's own largest radius are visited (with mixed radii, a crowd of small spheres is
-// not searched as widely as the largest sphere needs), and the spheres of every non-empty
-// one are tested.
+// not searched as widely as the largest sphere needs), and the spheres of every occupied one
+// (by the macrocell's cell bits, before any offset is read) are tested.
 template<typename Lanes>
 void visitSlice(const CoherentGrid& grid, const PacketWalk& w, int s, const CellRect& rect)
 {
@@ -496,12 +505,12 @@ void visitSlice(const CoherentGrid& grid, const PacketWalk& w, int s, const Cell
           c[ax.K] = s;
           c[ax.U] = u;
           c[ax.V] = v;
-          const std::int64_t cell = grid.cellIndex(c[0], c[1], c[2]);
-          const std::uint32_t begin = grid.cellBegin(cell), end = grid.cellEnd(cell);
-          if (begin == end)
+          if (!grid.cellOccupied(macro, c[0] - mc[0] * M, c[1] - mc[1] * M, c[2] - mc[2] * M))
           {
             continue;
           }
+          const std::int64_t cell = grid.cellIndex(c[0], c[1], c[2]);
+          const std::uint32_t begin = grid.cellBegin(cell), end = grid.cellEnd(cell);
           if (const NestedCell* nested = grid.nestedCell(macro, cell))
           {
             visitNested<Lanes>(grid, w, *nested, c);
@@ -560,6 +569,7 @@ inline int retireRays(Lane* L,
     R.tNear[kept] = R.tNear[i];
     R.tBest[kept] = R.tBest[i];
     R.prim[kept] = R.prim[i];
+    R.tieFrom[kept] = R.tieFrom[i];
     ++kept;
   }
   R.pad(kept);
@@ -711,9 +721,8 @@ void CoherentGridAccelerator::traverse(const RayPacket& packet,
     {
       occupiedLayer = layer;
       const std::int64_t testsBefore = counters.sphereTests;
-      const PacketWalk walk{
-        spheres, Filter, ranged, frustum, ax, extents, slope, ascending, L, R, active, counters
-      };
+      const PacketWalk walk{ packet.ordered, spheres, Filter, ranged, frustum, ax, extents, slope,
+        ascending, L, R, active, counters };
       visitSlice<Lanes>(
         Grid, walk, s, reachableCells(sliceBounds(extents, s, s), rG, slope, ax, dims));
       if (counters.sphereTests != testsBefore)

@@ -89,20 +89,29 @@ namespace
 // The ray of lanes left out: finite, and the empty interval [1, 0].
 const Ray EmptyRay{ Vec3f(0.f, 0.f, 0.f), Vec3f(0.f, 0.f, 1.f), 1.f, 0.f };
 
-// The intersection context with what the range filter needs; Embree hands the context back
-// to the filter callback.
-struct RangeContext
+// The intersection context with what the filter needs; Embree hands the context back to the
+// filter callback.
+struct FilterContext
 {
   RTCIntersectContext context;
-  const RangeFilter* filter;
+  const RangeFilter* filter; // null: no parameter ranges
   const SphereSet* spheres;
   std::int64_t rejected;
+  // Ordered packets (RayPacket::ordered): the 16 rays' tnear and tieFrom, and the best hit
+  // accepted so far in (t, index) order (Embree offers hits with tnear <= t <= tfar, ties at
+  // the best one's t included, and makes an accepted hit's t the ray's new tfar).
+  bool ordered;
+  float tnear[16];
+  std::uint32_t tieFrom[16];
+  float bestT[16];
+  std::uint32_t bestPrim[16];
 };
 
-// Rejects candidate hits on spheres outside the parameter ranges.
-void rangeFilterCallback(const RTCFilterFunctionNArguments* args)
+// Rejects candidate hits on spheres outside the parameter ranges and, for ordered packets,
+// those not after (tnear, tieFrom - 1) or not before the best hit in (t, index) order.
+void filterCallback(const RTCFilterFunctionNArguments* args)
 {
-  auto* ctx = reinterpret_cast<RangeContext*>(args->context);
+  auto* ctx = reinterpret_cast<FilterContext*>(args->context);
   for (unsigned i = 0; i < args->N; ++i)
   {
     if (args->valid[i] != -1)
@@ -110,10 +119,28 @@ void rangeFilterCallback(const RTCFilterFunctionNArguments* args)
       continue;
     }
     const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
-    if (!ctx->filter->passes(ctx->spheres->attributesOf(prim)))
+    if (ctx->filter && !ctx->filter->passes(ctx->spheres->attributesOf(prim)))
     {
       args->valid[i] = 0;
       ++ctx->rejected;
+      continue;
+    }
+    if (!ctx->ordered)
+    {
+      continue;
+    }
+    const unsigned k = RTCRayN_id(args->ray, args->N, i);
+    const float t = RTCRayN_tfar(args->ray, args->N, i); // the candidate's distance
+    const bool after = t > ctx->tnear[k] || prim >= ctx->tieFrom[k];
+    const bool before = t < ctx->bestT[k] || (t == ctx->bestT[k] && prim < ctx->bestPrim[k]);
+    if (after && before)
+    {
+      ctx->bestT[k] = t;
+      ctx->bestPrim[k] = prim;
+    }
+    else
+    {
+      args->valid[i] = 0;
     }
   }
 }
@@ -123,17 +150,18 @@ void EmbreeSphereAccelerator::intersect(const RayPacket& packet,
   PacketHits& hits,
   TraversalCounters& counters) const
 {
-  RangeContext ranges;
-  rtcInitIntersectContext(&ranges.context);
-  ranges.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  ranges.filter = &Filter;
-  ranges.spheres = Spheres;
-  ranges.rejected = 0;
-  if (Filter.count > 0 && Spheres && Filter.count <= Spheres->numAttributes)
+  FilterContext filter;
+  rtcInitIntersectContext(&filter.context);
+  filter.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  const bool ranged = Filter.count > 0 && Spheres && Filter.count <= Spheres->numAttributes;
+  filter.filter = ranged ? &Filter : nullptr;
+  filter.spheres = Spheres;
+  filter.rejected = 0;
+  filter.ordered = packet.ordered;
+  if (ranged || packet.ordered)
   {
-    ranges.context.filter = &rangeFilterCallback;
+    filter.context.filter = &filterCallback;
   }
-  RTCIntersectContext& context = ranges.context;
   const int n = packet.side * packet.side;
   alignas(64) RTCRayHit16 rh;
   alignas(64) int valid[16];
@@ -141,9 +169,16 @@ void EmbreeSphereAccelerator::intersect(const RayPacket& packet,
   {
     if (toEmbreePacket(packet, base, rh, valid))
     {
-      rtcIntersect16(valid, Scene, &context, &rh);
-      counters.rangeCulled += ranges.rejected;
-      ranges.rejected = 0;
+      for (int k = 0; k < 16 && packet.ordered; ++k)
+      {
+        filter.tnear[k] = rh.ray.tnear[k];
+        filter.bestT[k] = rh.ray.tfar[k];
+        filter.tieFrom[k] = base + k < n ? packet.tieFrom[base + k] : 0;
+        filter.bestPrim[k] = NoHit;
+      }
+      rtcIntersect16(valid, Scene, &filter.context, &rh);
+      counters.rangeCulled += filter.rejected;
+      filter.rejected = 0;
     }
     for (int k = 0; k < 16 && base + k < n; ++k)
     {

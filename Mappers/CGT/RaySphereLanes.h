@@ -10,6 +10,11 @@
 // its precision far from the sphere, unlike b^2 - |f|^2 + r^2). A ray starting inside the
 // sphere (near root before tNear) takes the far root.
 //
+// Ordered (RayPacket::ordered): the hits in the total order of (t, index), so that a
+// translucent ray's queries from each hit on (tNear = t, tieFrom = index + 1) meet coincident
+// spheres too, one by one: a hit counts when t > tNear or (t == tNear and index >= tieFrom),
+// and beats the best when t < tBest or (t == tBest and index < prim).
+//
 // Three paths with the same arithmetic: a portable loop (vectorized by the compiler if it
 // can), AVX2 + FMA (8 lanes) and AVX-512 (16 lanes), chosen at run time from the CPU.
 #ifndef RayMappers_RaySphereLanes_h
@@ -37,6 +42,7 @@ struct RayLanes : RayLaneArrays<MaxPacketRays>
   alignas(64) float tNear[MaxPacketRays];
   alignas(64) float tBest[MaxPacketRays];
   alignas(64) std::uint32_t prim[MaxPacketRays];
+  alignas(64) std::uint32_t tieFrom[MaxPacketRays]; // read by the ordered tests only
 
   /// Lanes [count, padded(count)) become padding.
   static int padded(int count) { return paddedLaneCount(count); }
@@ -48,12 +54,14 @@ struct RayLanes : RayLaneArrays<MaxPacketRays>
       tNear[i] = std::numeric_limits<float>::infinity();
       tBest[i] = 0.f;
       prim[i] = NoHit;
+      tieFrom[i] = 0;
     }
   }
 };
 
 struct PortableLanes
 {
+  template<bool Ordered>
   static void
   intersect(RayLanes& L, int padded, float cx, float cy, float cz, float r2, std::uint32_t id)
   {
@@ -67,7 +75,11 @@ struct PortableLanes
       const float root = std::sqrt(std::max(disc, 0.f));
       const float near = -b - root;
       const float t = near < L.tNear[i] ? -b + root : near;
-      const bool hit = disc >= 0.f && t >= L.tNear[i] && t < L.tBest[i];
+      const bool after = Ordered ? t > L.tNear[i] || (t == L.tNear[i] && id >= L.tieFrom[i])
+                                 : t >= L.tNear[i];
+      const bool before = Ordered ? t < L.tBest[i] || (t == L.tBest[i] && id < L.prim[i])
+                                  : t < L.tBest[i];
+      const bool hit = disc >= 0.f && after && before;
       L.tBest[i] = hit ? t : L.tBest[i];
       L.prim[i] = hit ? id : L.prim[i];
     }
@@ -77,6 +89,15 @@ struct PortableLanes
 #ifdef RAYMAPPERS_X86_SIMD
 struct Avx2Lanes
 {
+  // a > b on unsigned 32-bit lanes: the signed comparison with both sign bits flipped.
+  __attribute__((target("avx2"))) static __m256 greaterUnsigned(__m256i a, __m256i b)
+  {
+    const __m256i sign = _mm256_set1_epi32(static_cast<int>(0x80000000u));
+    return _mm256_castsi256_ps(
+      _mm256_cmpgt_epi32(_mm256_xor_si256(a, sign), _mm256_xor_si256(b, sign)));
+  }
+
+  template<bool Ordered>
   __attribute__((target("avx2,fma"))) static void
   intersect(RayLanes& L, int padded, float cx, float cy, float cz, float r2, std::uint32_t id)
   {
@@ -100,14 +121,24 @@ struct Avx2Lanes
       const __m256 nearT = _mm256_sub_ps(nb, root), farT = _mm256_add_ps(nb, root);
       const __m256 tNear = _mm256_load_ps(L.tNear + i), tBest = _mm256_load_ps(L.tBest + i);
       const __m256 t = _mm256_blendv_ps(nearT, farT, _mm256_cmp_ps(nearT, tNear, _CMP_LT_OQ));
-      const __m256 hit = _mm256_and_ps(_mm256_cmp_ps(disc, zero, _CMP_GE_OQ),
-        _mm256_and_ps(_mm256_cmp_ps(t, tNear, _CMP_GE_OQ), _mm256_cmp_ps(t, tBest, _CMP_LT_OQ)));
+      const __m256i prim = _mm256_load_si256(reinterpret_cast<const __m256i*>(L.prim + i));
+      __m256 after = _mm256_cmp_ps(t, tNear, _CMP_GE_OQ);
+      __m256 before = _mm256_cmp_ps(t, tBest, _CMP_LT_OQ);
+      if constexpr (Ordered)
+      {
+        const __m256i from = _mm256_load_si256(reinterpret_cast<const __m256i*>(L.tieFrom + i));
+        const __m256 tied = _mm256_cmp_ps(t, tNear, _CMP_EQ_OQ);
+        after = _mm256_andnot_ps(_mm256_and_ps(tied, greaterUnsigned(from, vid)), after);
+        before = _mm256_or_ps(before,
+          _mm256_and_ps(_mm256_cmp_ps(t, tBest, _CMP_EQ_OQ), greaterUnsigned(prim, vid)));
+      }
+      const __m256 hit =
+        _mm256_and_ps(_mm256_cmp_ps(disc, zero, _CMP_GE_OQ), _mm256_and_ps(after, before));
       if (_mm256_movemask_ps(hit) == 0)
       {
         continue;
       }
       _mm256_store_ps(L.tBest + i, _mm256_blendv_ps(tBest, t, hit));
-      const __m256i prim = _mm256_load_si256(reinterpret_cast<const __m256i*>(L.prim + i));
       _mm256_store_si256(reinterpret_cast<__m256i*>(L.prim + i),
         _mm256_castps_si256(
           _mm256_blendv_ps(_mm256_castsi256_ps(prim), _mm256_castsi256_ps(vid), hit)));
@@ -121,6 +152,7 @@ struct Avx2Lanes
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 struct Avx512Lanes
 {
+  template<bool Ordered>
   __attribute__((target("avx512f"))) static void
   intersect(RayLanes& L, int padded, float cx, float cy, float cz, float r2, std::uint32_t id)
   {
@@ -150,8 +182,18 @@ struct Avx512Lanes
       const __m512 tNear = _mm512_load_ps(L.tNear + i), tBest = _mm512_load_ps(L.tBest + i);
       const __m512 t =
         _mm512_mask_blend_ps(_mm512_cmp_ps_mask(nearT, tNear, _CMP_LT_OQ), nearT, farT);
-      const __mmask16 hit = _mm512_mask_cmp_ps_mask(
-        _mm512_mask_cmp_ps_mask(real, t, tNear, _CMP_GE_OQ), t, tBest, _CMP_LT_OQ);
+      __mmask16 after = _mm512_cmp_ps_mask(t, tNear, _CMP_GE_OQ);
+      __mmask16 before = _mm512_cmp_ps_mask(t, tBest, _CMP_LT_OQ);
+      if constexpr (Ordered)
+      {
+        const __m512i from = _mm512_load_si512(L.tieFrom + i);
+        const __m512i prim = _mm512_load_si512(L.prim + i);
+        after &= ~(_mm512_cmp_ps_mask(t, tNear, _CMP_EQ_OQ) &
+          _mm512_cmp_epu32_mask(vid, from, _MM_CMPINT_LT));
+        before |= _mm512_cmp_ps_mask(t, tBest, _CMP_EQ_OQ) &
+          _mm512_cmp_epu32_mask(vid, prim, _MM_CMPINT_LT);
+      }
+      const __mmask16 hit = real & after & before;
       _mm512_mask_store_ps(L.tBest + i, hit, t);
       _mm512_mask_store_epi32(L.prim + i, hit, vid);
     }

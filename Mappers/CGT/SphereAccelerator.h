@@ -25,7 +25,13 @@ struct RayPacket
   // of the block are coplanar, so the corner rays bound a frustum. False for other rays
   // (ambient occlusion), which get no frustum culling.
   bool pixelBlock = true;
+  // True when the hits must come in the total order of (t, sphere index), so that queries
+  // from each hit on meet every sphere along a ray once, coincident ones too (translucency):
+  // a hit at t == tnear then counts only on spheres of index >= tieFrom[lane], and of hits
+  // at one t the lowest index wins. False: the closest hit, ties broken as found.
+  bool ordered = false;
   Ray rays[MaxPacketRays];
+  std::uint32_t tieFrom[MaxPacketRays]; // read only when ordered
 };
 
 struct PacketHits
@@ -68,8 +74,9 @@ public:
   /// Parameter ranges for the following renders (count 0: none); never rebuilds.
   void setRangeFilter(const RangeFilter& filter) { Filter = filter; }
   const RangeFilter& rangeFilter() const { return Filter; }
-  /// Closest hit per valid lane with t in [tnear, tfar]; NoHit for the other lanes and for
-  /// rays that are not traceable (isTraceable).
+  /// Closest hit per valid lane with t in [tnear, tfar] (the first in (t, index) order when
+  /// the packet is ordered); NoHit for the other lanes and for rays that are not traceable
+  /// (isTraceable).
   virtual void intersect(const RayPacket& packet,
     PacketHits& hits,
     TraversalCounters& counters) const = 0;

@@ -95,7 +95,7 @@ void occludedOnGrid(const CoherentGrid& grid,
             continue;
           }
           counters.sphereTests += count;
-          Lanes::intersect(R, padded, center.x, center.y, center.z, r * r, id);
+          Lanes::template intersect<false>(R, padded, center.x, center.y, center.z, r * r, id);
           blocked = countHits(R, count);
           if (blocked == count)
           {

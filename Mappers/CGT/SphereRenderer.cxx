@@ -467,8 +467,10 @@ void stopAtOpaque(const SphereFrame& f, std::size_t idx, Ray& ray)
 }
 
 // The translucent packet of the pixel block at (bx, by), made by makePrimaryPacket: traced
-// again from just past every lane's last hit until each lane has nothing left before its
-// end or reached TranslucentTerminationAlpha; then every pixel gets its composite.
+// again from every lane's last hit on, in (t, sphere index) order (an ordered packet: from
+// t with indices above the last one's, so that coincident spheres, whose float hits tie,
+// are each composited), until each lane has nothing left before its end or reached
+// TranslucentTerminationAlpha; then every pixel gets its composite.
 void renderTranslucentPacket(const SphereFrame& f,
   int bx,
   int by,
@@ -485,6 +487,7 @@ void renderTranslucentPacket(const SphereFrame& f,
   {
     drawn[k] = packet.valid[k];
     idx[k] = drawn[k] ? f.frame.index(bx + k % f.side, by + k / f.side) : 0;
+    packet.tieFrom[k] = 0;
     if (drawn[k])
     {
       stopAtOpaque(f, idx[k], packet.rays[k]);
@@ -504,7 +507,8 @@ void renderTranslucentPacket(const SphereFrame& f,
         continue;
       }
       addLayer(f, { packet.rays[k], result.prim[k], result.t[k], idx[k] }, rc[k], secondary, counts);
-      packet.rays[k].tnear = std::nextafter(result.t[k], std::numeric_limits<float>::infinity());
+      packet.rays[k].tnear = result.t[k];
+      packet.tieFrom[k] = result.prim[k] + 1;
       packet.valid[k] = rc[k].alpha < TranslucentTerminationAlpha;
       counts.terminated += packet.valid[k] ? 0 : 1;
       any = any || packet.valid[k];
@@ -528,6 +532,7 @@ void renderTile(const SphereFrame& f, const Tile& tile, SphereCounts& counts)
   SecondaryPackets secondary(f);
   RayPacket packet;
   packet.side = side;
+  packet.ordered = f.translucent;
   PacketHits result;
   for (int by = tile.y0; by < tile.y1; by += side)
   {

@@ -3,6 +3,7 @@
 #include "CameraFixtures.h"
 #include "Mappers/CGT/CoherentGridAccelerator.h"
 #include "Mappers/CGT/EmbreeSphereAccelerator.h"
+#include "Mappers/CGT/RaySphereLanes.h"
 #include "Mappers/CGT/SphereRenderer.h"
 #include "SphereReference.h"
 
@@ -341,6 +342,68 @@ TEST(CoherentGrid, Avx2PathMatchesBruteForce)
 TEST(CoherentGrid, Avx512PathMatchesBruteForce)
 {
   expectSimdPathMatchesBruteForce(SimdPath::Avx512);
+}
+
+// The ordered test (RayPacket::ordered) on 16 equal rays down the axis of coincident spheres
+// of indices 7, 3, 9, met in that order: of the tie at t the lowest index wins, and from
+// (t, tieFrom = 4) on the next one is 7, then 9, then none (a near root at tNear keeps it).
+template<typename Lanes>
+void expectOrderedTies()
+{
+  RayLanes L;
+  for (int i = 0; i < 16; ++i)
+  {
+    L.ox[i] = L.oy[i] = 0.f;
+    L.oz[i] = 10.f;
+    L.dx[i] = L.dy[i] = 0.f;
+    L.dz[i] = -1.f;
+    L.tNear[i] = 0.f;
+    L.tieFrom[i] = 0;
+  }
+  auto query = [&](std::uint32_t from, float tNear)
+  {
+    for (int i = 0; i < 16; ++i)
+    {
+      L.tNear[i] = tNear;
+      L.tieFrom[i] = from;
+      L.tBest[i] = 100.f;
+      L.prim[i] = NoHit;
+    }
+    for (const std::uint32_t id : { 7u, 3u, 9u })
+    {
+      Lanes::template intersect<true>(L, 16, 0.f, 0.f, 0.f, 0.16f, id);
+    }
+    for (int i = 1; i < 16; ++i)
+    {
+      EXPECT_EQ(L.prim[i], L.prim[0]);
+      EXPECT_EQ(L.tBest[i], L.tBest[0]);
+    }
+    return L.prim[0];
+  };
+  EXPECT_EQ(query(0, 0.f), 3u);
+  const float t = L.tBest[0];
+  EXPECT_FLOAT_EQ(t, 9.6f);
+  EXPECT_EQ(query(4, t), 7u);
+  EXPECT_EQ(query(8, t), 9u);
+  EXPECT_EQ(query(10, t), NoHit);
+  // Just past the near roots: the far roots' tie, again to the lowest index.
+  EXPECT_EQ(query(0, std::nextafter(t, 1e30f)), 3u);
+  EXPECT_FLOAT_EQ(L.tBest[0], 10.4f);
+}
+
+TEST(RaySphereLanes, OrderedTiesGoToTheLowestIndexOnEveryPath)
+{
+  expectOrderedTies<PortableLanes>();
+#ifdef RAYMAPPERS_X86_SIMD
+  if (resolveSimdPath(SimdPath::Avx2) == SimdPath::Avx2)
+  {
+    expectOrderedTies<Avx2Lanes>();
+  }
+  if (resolveSimdPath(SimdPath::Avx512) == SimdPath::Avx512)
+  {
+    expectOrderedTies<Avx512Lanes>();
+  }
+#endif
 }
 
 TEST(CoherentGrid, SameImageAsEmbree)
@@ -1354,7 +1417,7 @@ std::array<int, 3> pixelColour(const Frame& f, std::size_t p)
 // Coincident: the front sphere wins: with one centre the picture is the largest sphere's
 // alone (for identical spheres any of them: its colour is one of the set's). In the box,
 // the union's front against the brute force over all spheres, on every 8th pixel. Every
-// crowd makes one cell: the cell is never smaller than half the largest radius, or each
+// crowd makes one cell: the cell is never smaller than the largest radius, or each
 // packet would walk the whole grid of cells much smaller than the spheres. (10 million
 // spheres take seconds per frame, each packet testing every sphere: measured, not run
 // here.)
@@ -1438,10 +1501,10 @@ TEST(CoherentGridHardCases, ManySpheresInOneCell)
 }
 
 // Overlapping spheres (radius 0.1, centres 0.037 apart) whose cells stop at the floor of
-// half the largest radius, so r_max spans two cells, seen along the box's diagonal: the
-// rays' slopes in U and V are near 1, and the sphere-center method must grow each packet's
-// cell range by r_max sqrt(1 + slope^2), 2.8 cells (a sphere whose centre is 2 to 2.8 cells
-// off a ray in the centre's slice is hit by it). Every pixel exact outside the float band,
+// the largest radius, so r_max spans one cell, seen along the box's diagonal: the rays'
+// slopes in U and V are near 1, and the sphere-center method must grow each packet's cell
+// range by r_max sqrt(1 + slope^2), 1.4 cells (a sphere whose centre is 1 to 1.4 cells off
+// a ray in the centre's slice is hit by it). Every pixel exact outside the float band,
 // for every accelerator and packet size.
 TEST(CoherentGridHardCases, CrowdedSpheresSeenAlongTheDiagonal)
 {
@@ -1459,7 +1522,7 @@ TEST(CoherentGridHardCases, CrowdedSpheresSeenAlongTheDiagonal)
   CoherentGridParameters params;
   params.lambda = 1.0; // cells of side 0.0368 by lambda, so the floor decides
   grid.build(s, params);
-  EXPECT_FLOAT_EQ(grid.cellSize(), 0.05f); // at the floor: r_max spans two cells
+  EXPECT_FLOAT_EQ(grid.cellSize(), 0.1f); // at the floor: r_max spans one cell
   const std::vector<ReferenceHit> ref = exactHits(s, cam);
   std::vector<double> margin;
   for (const ReferenceHit& h : ref)

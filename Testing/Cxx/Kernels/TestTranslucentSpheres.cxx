@@ -178,6 +178,29 @@ TEST_P(TranslucentSpheres, OverlappingSpheresCountOnceEach)
   EXPECT_EQ(r.stats.counter("translucent_layers"), Pixels * Pixels * 2);
 }
 
+TEST_P(TranslucentSpheres, CoincidentSpheresAreEachComposited)
+{
+  // Duplicated points (a mesh's nodes on block seams): three equal spheres in one place,
+  // two more in another and a sixth 1.2e-7 in front of those, closer than a float ulp of
+  // the rays' distance (9.5e-7 at 11.5), so their hits tie in float. Every one is a layer:
+  // queries from just past a tied hit would composite one sphere of each tie.
+  const std::vector<ColumnSphere> column = { { 0, 0.4, 200, 100, 50, 0.3 },
+    { -1.5, 0.45, 50, 100, 200, 0.5 }, { 0, 0.4, 200, 100, 50, 0.5 },
+    { -1.5 + 1.2e-7, 0.45, 50, 100, 200, 0.4 }, { 0, 0.4, 200, 100, 50, 0.2 },
+    { -1.5, 0.45, 50, 100, 200, 0.25 } };
+  const Rendered r = renderColumn(column, 1.0, true, GetParam());
+  // Within each place one colour, so the composite does not depend on the order of a tie.
+  expectEveryPixel(r.frame, columnComposite(column, 1.0, true), 1e-6);
+  EXPECT_EQ(r.stats.counter("translucent_layers"), Pixels * Pixels * 6);
+  // 40 in one place: the accelerator meets them in no particular order (Embree's leaves), and
+  // of a tie the lowest index must come first, or the ones below it would be skipped.
+  const Rendered forty = renderColumn(std::vector<ColumnSphere>(40, column[0]), 0.05, false, GetParam());
+  const double alpha = 1.0 - std::pow(0.95, 40);
+  expectEveryPixel(forty.frame, { alpha * 200 / 255.0, alpha * 100 / 255.0, alpha * 50 / 255.0, alpha },
+    1e-6);
+  EXPECT_EQ(forty.stats.counter("translucent_layers"), Pixels * Pixels * 40);
+}
+
 TEST_P(TranslucentSpheres, EarlyTerminationStaysWithinItsBound)
 {
   // 40 spheres of opacity 1/2: the ray stops after k layers, 2^-k <= 1/512 (k = 9), and the
