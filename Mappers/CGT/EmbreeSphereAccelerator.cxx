@@ -1,6 +1,7 @@
 #include "Mappers/CGT/EmbreeSphereAccelerator.h"
 #include "Mappers/Common/EmbreeErrors.h"
 
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -188,6 +189,46 @@ void EmbreeSphereAccelerator::intersect(const RayPacket& packet,
       hits.t[lane] = hit ? rh.ray.tfar[k] : 0.f;
     }
   }
+}
+
+int EmbreeSphereAccelerator::occluded(const RayPacket& packet,
+  bool* blocked,
+  TraversalCounters& counters) const
+{
+  FilterContext ranges;
+  rtcInitIntersectContext(&ranges.context);
+  ranges.context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  const bool ranged = Filter.count > 0 && Spheres && Filter.count <= Spheres->numAttributes;
+  ranges.filter = ranged ? &Filter : nullptr;
+  ranges.spheres = Spheres;
+  ranges.rejected = 0;
+  ranges.ordered = false; // any hit
+  if (ranged)
+  {
+    ranges.context.filter = &filterCallback;
+  }
+  const int n = packet.side * packet.side;
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[16];
+  int count = 0;
+  for (int base = 0; base < n; base += 16)
+  {
+    const bool any = toEmbreePacket(packet, base, rh, valid);
+    if (any)
+    {
+      // rtcOccluded16 sets tfar to -inf on the lanes that meet something.
+      rtcOccluded16(valid, Scene, &ranges.context, &rh.ray);
+      counters.rangeCulled += ranges.rejected;
+      ranges.rejected = 0;
+    }
+    for (int k = 0; k < 16 && base + k < n; ++k)
+    {
+      const bool hit = any && valid[k] && rh.ray.tfar[k] == -std::numeric_limits<float>::infinity();
+      blocked[base + k] = hit;
+      count += hit ? 1 : 0;
+    }
+  }
+  return count;
 }
 
 bool EmbreeSphereAccelerator::toEmbreePacket(const RayPacket& packet,

@@ -39,6 +39,10 @@ public:
     PacketHits& hits,
     TraversalCounters& counters) const override;
 
+  /// Any-hit queries (ambient occlusion): chunks of 16 rays through rtcOccluded16, with
+  /// the context flagged incoherent.
+  int occluded(const RayPacket& packet, bool* blocked, TraversalCounters& counters) const override;
+
   /// Lanes [base, base + 16) of the packet as Embree's packet of 16 rays: valid[k] is -1 for
   /// the packet's valid lanes whose rays are traceable (isTraceable), and every other lane
   /// holds an empty ray (tnear > tfar). Returns whether any lane is to be traced.

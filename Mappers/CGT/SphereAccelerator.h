@@ -80,6 +80,21 @@ public:
   virtual void intersect(const RayPacket& packet,
     PacketHits& hits,
     TraversalCounters& counters) const = 0;
+  /// Whether each valid lane meets any sphere with t in [tnear, tfar] (occlusion: not the
+  /// closest one), the same answer as intersect's hit or miss; blocked[lane] for every lane
+  /// (false for invalid ones). Returns how many are blocked. By default, from intersect.
+  virtual int occluded(const RayPacket& packet, bool* blocked, TraversalCounters& counters) const
+  {
+    PacketHits hits;
+    this->intersect(packet, hits, counters);
+    int n = 0;
+    for (int lane = 0; lane < packet.side * packet.side; ++lane)
+    {
+      blocked[lane] = packet.valid[lane] && hits.prim[lane] != NoHit;
+      n += blocked[lane] ? 1 : 0;
+    }
+    return n;
+  }
 
 protected:
   RangeFilter Filter;

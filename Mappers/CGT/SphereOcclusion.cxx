@@ -116,15 +116,7 @@ int SphereOcclusion::occluded(const RayPacket& packet,
   count = std::clamp(count, 0, packet.side * packet.side);
   if (!Grid)
   {
-    PacketHits hits;
-    Accel.intersect(packet, hits, counters);
-    int n = 0;
-    for (int a = 0; a < count; ++a)
-    {
-      blocked[a] = hits.prim[a] != NoHit;
-      n += blocked[a] ? 1 : 0;
-    }
-    return n;
+    return Accel.occluded(packet, blocked, counters);
   }
   if (count == 0 || Grid->empty())
   {

@@ -7,7 +7,7 @@
 // tested against all rays in SIMD lanes with the grid's own ray-sphere test
 // (RaySphereLanes.h), so a ray is blocked exactly when the grid's traversal finds it a hit;
 // the query stops at the first sphere after which every ray is blocked. Other accelerators
-// answer through their closest-hit query.
+// answer through their any-hit query (SphereAccelerator::occluded; Embree: rtcOccluded16).
 #ifndef RayMappers_SphereOcclusion_h
 #define RayMappers_SphereOcclusion_h
 
@@ -32,7 +32,7 @@ public:
     bool* blocked,
     TraversalCounters& counters) const;
 
-  /// Whether queries run on the grid's cells (false: the accelerator's intersect).
+  /// Whether queries run on the grid's cells (false: the accelerator's occluded).
   bool local() const { return Grid != nullptr; }
 
 private:

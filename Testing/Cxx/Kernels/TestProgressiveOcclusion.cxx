@@ -376,3 +376,46 @@ TEST(AoDirection, ABasisForAHitGivesTheSameBitsAsTheDirectFormula)
     }
   }
 }
+
+TEST(SphereOcclusion, EmbreeAnyHitQueriesAnswerAsItsClosestHits)
+{
+  // rtcOccluded16 against rtcIntersect16 on random short rays among the spheres, packets of
+  // 16 and 64 rays (several chunks of 16).
+  const OccludedScene s(1);
+  const SphereOcclusion occlusion(s.spheres, s.bvh);
+  ASSERT_FALSE(occlusion.local());
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<float> u(-3.f, 3.f), len(0.05f, 2.f);
+  int blockedRays = 0, rays = 0;
+  for (int q = 0; q < 400; ++q)
+  {
+    RayPacket packet;
+    packet.side = q % 2 ? 8 : 4;
+    packet.pixelBlock = false;
+    const Vec3f o(u(rng), u(rng), u(rng));
+    const float tfar = len(rng);
+    const int count = 1 + q % (packet.side * packet.side);
+    for (int a = 0; a < packet.side * packet.side; ++a)
+    {
+      packet.valid[a] = a < count;
+      packet.rays[a] = Ray{ o, normalize(Vec3f(u(rng), u(rng), u(rng))), 0.f, tfar };
+    }
+    PacketHits hits;
+    TraversalCounters counters;
+    s.bvh.intersect(packet, hits, counters);
+    bool blocked[MaxPacketRays];
+    const int n = occlusion.occluded(packet, count, blocked, counters);
+    int expected = 0;
+    for (int a = 0; a < packet.side * packet.side; ++a)
+    {
+      const bool hit = a < count && hits.prim[a] != NoHit;
+      EXPECT_EQ(blocked[a], hit) << q << " lane " << a;
+      expected += hit ? 1 : 0;
+    }
+    EXPECT_EQ(n, expected);
+    blockedRays += expected;
+    rays += count;
+  }
+  EXPECT_GT(blockedRays, rays / 10);
+  EXPECT_LT(blockedRays, rays);
+}
