@@ -4,14 +4,15 @@
 //
 // Translucent spheres (a global opacity below 1 or per-sphere opacities; not in Gribble et
 // al., whose glyphs are opaque) are composited exactly along each ray, front to back: the
-// packet is traced again from just past each hit (t_near = the next float after it), so the
-// surfaces come in increasing t, and sphere i, met at its first surface, adds
+// packet is traced again from each hit on as an ordered packet (RayPacket::ordered: t_near =
+// the hit's t, and at that t only spheres of higher index), so the surfaces come in the
+// order of (t, sphere index), and sphere i, met at its first surface, adds
 //   C += (1 - A) a_i c_i,   A += (1 - A) a_i        (premultiplied "over", Porter-Duff)
 // to the pixel. Each sphere counts once per ray, at its first surface at or after the ray's
 // start: its front surface, or its back surface when the ray starts inside it (the near plane
 // cuts it, as the opaque path shows it); a hit on a sphere's back surface after its front is
-// skipped. Two spheres whose surfaces the ray meets at the same float distance count once (the
-// second is passed over with the first). A ray stops when A >= TranslucentTerminationAlpha,
+// skipped. Spheres whose surfaces the ray meets at the same float distance (coincident points,
+// e.g. a mesh's duplicated nodes) each count, in index order. A ray stops when A >= TranslucentTerminationAlpha,
 // at the opaque depth of the view, or when nothing is left. Shadow and ambient-occlusion rays
 // treat every sphere as opaque (any sphere in the way blocks), whatever its opacity.
 // With no opacity below 1 and no per-sphere opacities the opaque closest-hit path runs, one
