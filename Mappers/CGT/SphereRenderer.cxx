@@ -76,7 +76,10 @@ Vec3d shadowTarget(const SphereShading& shading, int a, int b, std::uint32_t pix
 AoBasis aoBasis(const Vec3d& n, std::uint32_t pixel)
 {
   AoBasis basis;
-  pixelShift(pixel, basis.shift0, basis.shift1);
+  double shift1 = 0;
+  pixelShift(pixel, basis.shift0, shift1);
+  basis.cosShift1 = std::cos(2.0 * M_PI * shift1);
+  basis.sinShift1 = std::sin(2.0 * M_PI * shift1);
   const Vec3d a = std::fabs(n.x) > 0.9 ? Vec3d(0, 1, 0) : Vec3d(1, 0, 0);
   basis.t = normalize(cross(a, n));
   basis.b = cross(n, basis.t);
@@ -84,7 +87,7 @@ AoBasis aoBasis(const Vec3d& n, std::uint32_t pixel)
   return basis;
 }
 
-Vec3d aoDirectionIn(const AoBasis& basis, int k, int count)
+AoSample aoSample(int k, int count)
 {
   std::uint32_t bits = static_cast<std::uint32_t>(k);
   bits = (bits << 16) | (bits >> 16);
@@ -92,19 +95,25 @@ Vec3d aoDirectionIn(const AoBasis& basis, int k, int count)
   bits = ((bits & 0x33333333u) << 2) | ((bits & 0xCCCCCCCCu) >> 2);
   bits = ((bits & 0x0F0F0F0Fu) << 4) | ((bits & 0xF0F0F0F0u) >> 4);
   bits = ((bits & 0x00FF00FFu) << 8) | ((bits & 0xFF00FF00u) >> 8);
-  double u = (k + 0.5) / count + basis.shift0;
-  double v = bits * (1.0 / 4294967296.0) + basis.shift1;
+  const double phi = 2.0 * M_PI * (bits * (1.0 / 4294967296.0));
+  return { (k + 0.5) / count, std::cos(phi), std::sin(phi) };
+}
+
+Vec3d aoDirectionIn(const AoBasis& basis, const AoSample& sample)
+{
+  double u = sample.u + basis.shift0;
   u -= std::floor(u);
-  v -= std::floor(v);
-  // Cosine-weighted: radius sqrt(u) on the unit disc lifted to the hemisphere.
-  const double r = std::sqrt(u), phi = 2.0 * M_PI * v;
-  return normalize(
-    basis.t * (r * std::cos(phi)) + basis.b * (r * std::sin(phi)) + basis.n * std::sqrt(1.0 - u));
+  // The angle 2 pi (v + s1) by its sum; cosine-weighted: radius sqrt(u) on the unit disc
+  // lifted to the hemisphere.
+  const double c = sample.cosV * basis.cosShift1 - sample.sinV * basis.sinShift1;
+  const double s = sample.sinV * basis.cosShift1 + sample.cosV * basis.sinShift1;
+  const double r = std::sqrt(u);
+  return normalize(basis.t * (r * c) + basis.b * (r * s) + basis.n * std::sqrt(1.0 - u));
 }
 
 Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel)
 {
-  return aoDirectionIn(aoBasis(n, pixel), k, count);
+  return aoDirectionIn(aoBasis(n, pixel), aoSample(k, count));
 }
 
 namespace
@@ -124,6 +133,7 @@ struct SphereFrame
   int aoSamples;                // ambient-occlusion directions per hit, N (0: none)
   int aoSide;                   // the ambient-occlusion packet's side
   int aoBegin, aoEnd;           // this frame's directions [k0, k1) of the N
+  const AoSample* aoPattern;    // aoSample(k, N) for k in [0, N)
   std::uint16_t* aoUnoccluded;  // U per pixel (AoAccumulation), or null: one shot
   const SphereOcclusion& occlusion;
   std::vector<Light> areaLight; // the area light's centre as the direct light (shadows)
@@ -197,7 +207,6 @@ SurfacePoint shadeHit(const SphereFrame& f, const Ray& ray, std::uint32_t id, fl
 struct SecondaryPackets
 {
   RayPacket shadow, ao;
-  PacketHits shadowHits, aoHits;
 
   explicit SecondaryPackets(const SphereFrame& f)
   {
@@ -210,14 +219,13 @@ struct SecondaryPackets
 
 // The secondary rays of a hit in one packet: rays rayOf(a, start) for a < count in its first
 // lanes, the rest invalid, all leaving from just above the surface so that they cannot hit
-// their own sphere; returns how many of them meet a sphere.
+// their own sphere; returns how many of them meet a sphere (the accelerator's any-hit query).
 template<typename RayOf>
 int countBlocked(const SphereFrame& f,
   const SurfacePoint& sp,
   int count,
   const RayOf& rayOf,
   RayPacket& packet,
-  PacketHits& hits,
   SphereCounts& counts)
 {
   const Vec3d start = sp.pRel + sp.n * (1e-4 * sp.r);
@@ -229,13 +237,8 @@ int countBlocked(const SphereFrame& f,
       packet.rays[a] = rayOf(a, start);
     }
   }
-  f.accel.intersect(packet, hits, counts.traversal);
-  int blocked = 0;
-  for (int a = 0; a < count; ++a)
-  {
-    blocked += hits.prim[a] != NoHit ? 1 : 0;
-  }
-  return blocked;
+  bool blocked[MaxPacketRays];
+  return f.accel.occluded(packet, blocked, counts.traversal);
 }
 
 // Soft shadows (section 4.3): a packet of shadow rays to the area light's stratified
@@ -255,7 +258,7 @@ double lightVisibility(const SphereFrame& f,
     return Ray{ Vec3f(start), Vec3f(toLight * (1.0 / dist)), 0.f, static_cast<float>(dist) };
   };
   const int blocked =
-    countBlocked(f, sp, count, shadowRay, secondary.shadow, secondary.shadowHits, counts);
+    countBlocked(f, sp, count, shadowRay, secondary.shadow, counts);
   counts.shadowRays += count;
   return 1.0 - static_cast<double>(blocked) / count;
 }
@@ -281,7 +284,7 @@ double unoccluded(const SphereFrame& f,
     packet.valid[a] = a < count;
     if (a < count)
     {
-      packet.rays[a] = Ray{ start, Vec3f(aoDirectionIn(basis, k0 + a, f.aoSamples)), 0.f, radius };
+      packet.rays[a] = Ray{ start, Vec3f(aoDirectionIn(basis, f.aoPattern[k0 + a])), 0.f, radius };
     }
   }
   bool blocked[MaxPacketRays];
@@ -725,6 +728,11 @@ void renderSpheres(const SphereScene& scene,
   }
   const AoFrameRange aoRange = startAoFrame(scene, view, params, ao ? aoSamples : 0, translucent);
   stats.setEffect("ao_progressive", aoRange.unoccluded != nullptr);
+  std::vector<AoSample> aoPattern(ao ? aoSamples : 0);
+  for (int k = 0; k < static_cast<int>(aoPattern.size()); ++k)
+  {
+    aoPattern[k] = aoSample(k, aoSamples);
+  }
   SphereFrame f{ scene.spheres,
     accel,
     view.camera(),
@@ -737,6 +745,7 @@ void renderSpheres(const SphereScene& scene,
     aoSamples <= 16 ? 4 : (aoSamples <= 64 ? 8 : MaxPacketSide),
     aoRange.begin,
     aoRange.end,
+    aoPattern.data(),
     aoRange.unoccluded,
     occlusion,
     {},

@@ -61,21 +61,34 @@ struct SphereShading
 Vec3d shadowTarget(const SphereShading& shading, int a, int b, std::uint32_t pixel);
 
 /// The k-th of `count` ambient-occlusion directions at a hit with unit normal n: a
-/// cosine-weighted hemisphere sample (Hammersley point (k + 1/2)/count, radical inverse of
-/// k), rotated by a per-pixel shift so neighbouring pixels do not share a pattern. The
-/// occlusion of a hit is the fraction of these rays that meet a sphere within the radius.
+/// cosine-weighted hemisphere sample (Hammersley point (u, v) = ((k + 1/2)/count, radical
+/// inverse of k)), toroidally shifted per pixel (Cranley-Patterson, u + s0 and v + s1 mod 1)
+/// so neighbouring pixels do not share a pattern:
+///   d = normalize(t sqrt(u) cos(2 pi v) + b sqrt(u) sin(2 pi v) + n sqrt(1 - u))
+/// in the tangent frame (t, b, n). The occlusion of a hit is the fraction of these rays that
+/// meet a sphere within the radius.
 Vec3d aoDirection(const Vec3d& n, int k, int count, std::uint32_t pixel);
 
-/// What the directions of one hit share: the pixel's shift and the tangent frame (t, b, n)
-/// of its normal. aoDirection(n, k, count, pixel) is aoDirectionIn(aoBasis(n, pixel), k,
-/// count), the same arithmetic: a hit's rays compute the basis once.
+/// What the directions of one frame share, per k: the Hammersley point's u and the cosine
+/// and sine of 2 pi v (one table for all hits). The pixel's shift s1 enters by the angle
+/// sum, cos(2 pi (v + s1)) = cos(2 pi v) cos(2 pi s1) - sin(2 pi v) sin(2 pi s1), so a hit
+/// computes one sine and cosine, not one per ray.
+struct AoSample
+{
+  double u, cosV, sinV;
+};
+AoSample aoSample(int k, int count);
+
+/// What the directions of one hit share: the pixel's shift (s0, and the cosine and sine of
+/// 2 pi s1) and the tangent frame (t, b, n) of its normal. aoDirection(n, k, count, pixel)
+/// is aoDirectionIn(aoBasis(n, pixel), aoSample(k, count)).
 struct AoBasis
 {
-  double shift0, shift1;
+  double shift0, cosShift1, sinShift1;
   Vec3d t, b, n;
 };
 AoBasis aoBasis(const Vec3d& n, std::uint32_t pixel);
-Vec3d aoDirectionIn(const AoBasis& basis, int k, int count);
+Vec3d aoDirectionIn(const AoBasis& basis, const AoSample& sample);
 
 /// What the spheres' renderer draws: the spheres and an accelerator built over them, seen
 /// by the primary rays only inside `region` (distributed rendering, RegionBox.h; all of

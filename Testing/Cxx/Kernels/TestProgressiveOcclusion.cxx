@@ -332,10 +332,13 @@ TEST(SphereOcclusion, GridQueriesAnswerAsTheGridTraversal)
   EXPECT_LT(blockedRays, rays);
 }
 
-TEST(AoDirection, ABasisForAHitGivesTheSameBitsAsTheDirectFormula)
+TEST(AoDirection, TheTableAndTheAngleSumGiveTheDirectFormulasDirections)
 {
-  // The directions as one formula per ray (radical inverse, shift, tangent frame, lift), the
-  // form the renderer had before the basis was hoisted out of the loop over a hit's rays.
+  // The directions as one formula per ray (radical inverse, shift, tangent frame, lift, one
+  // sine and cosine per ray), the form the renderer had before the frame's table of
+  // Hammersley points and the per-pixel angle sum: the same unit vectors to rounding (1e-14),
+  // and the float directions the rays carry the same in all but a few of the 2000 x 9
+  // (measured here: none differs).
   const auto direct = [](const Vec3d& n, int k, int count, std::uint32_t pixel)
   {
     std::uint32_t h = pixel * 0x9E3779B1u;
@@ -360,6 +363,7 @@ TEST(AoDirection, ABasisForAHitGivesTheSameBitsAsTheDirectFormula)
   };
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
+  int directions = 0, floatsDiffer = 0;
   for (int q = 0; q < 2000; ++q)
   {
     const Vec3d n = normalize(Vec3d(u(rng), u(rng), u(rng)));
@@ -369,12 +373,16 @@ TEST(AoDirection, ABasisForAHitGivesTheSameBitsAsTheDirectFormula)
     for (int k = 0; k < count; k += 1 + count / 8)
     {
       const Vec3d d = direct(n, k, count, pixel);
-      const Vec3d e = aoDirectionIn(basis, k, count);
-      ASSERT_TRUE(d.x == e.x && d.y == e.y && d.z == e.z) << q << " k " << k;
+      const Vec3d e = aoDirectionIn(basis, aoSample(k, count));
+      ASSERT_LT(length(d - e), 1e-14) << q << " k " << k;
       const Vec3d g = aoDirection(n, k, count, pixel);
-      ASSERT_TRUE(d.x == g.x && d.y == g.y && d.z == g.z) << q << " k " << k;
+      ASSERT_TRUE(e.x == g.x && e.y == g.y && e.z == g.z) << q << " k " << k;
+      const Vec3f df(d), ef(e);
+      ++directions;
+      floatsDiffer += df.x == ef.x && df.y == ef.y && df.z == ef.z ? 0 : 1;
     }
   }
+  EXPECT_LE(floatsDiffer, directions / 1000) << "of " << directions;
 }
 
 TEST(SphereOcclusion, EmbreeAnyHitQueriesAnswerAsItsClosestHits)
