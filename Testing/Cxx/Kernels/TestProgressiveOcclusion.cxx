@@ -332,6 +332,72 @@ TEST(SphereOcclusion, GridQueriesAnswerAsTheGridTraversal)
   EXPECT_LT(blockedRays, rays);
 }
 
+TEST(SphereOcclusion, AmbientOcclusionPacketsAnswerAsTheGridTraversal)
+{
+  // Ambient-occlusion packets (aoDirection, 1 to 16 rays) from just above random points of
+  // the surfaces of 6000 random spheres of three radii: blocked exactly when the grid's
+  // closest-hit traversal finds a hit, and the query visits no cell outside the box
+  // o +- (T + r_max).
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Vec3d> p(6000);
+  for (auto& q : p)
+  {
+    q = Vec3d(u(rng), u(rng), u(rng)) * 2.0;
+  }
+  SphereSet spheres;
+  buildSphereSet(
+    p.size(),
+    Vec3d(0.5, -0.25, 0.125),
+    [&](std::size_t i) { return p[i]; },
+    [](std::size_t i) { return 0.1 + 0.02 * (i % 3); },
+    [](std::size_t) { return packRGBA8(200, 200, 200, 255); },
+    spheres);
+  CoherentGridAccelerator accel;
+  accel.build(spheres, CoherentGridParameters{});
+  const SphereOcclusion occlusion(spheres, accel);
+  const CoherentGrid& grid = accel.grid();
+  int blockedRays = 0, rays = 0;
+  std::int64_t visited = 0, inBoxes = 0;
+  for (int q = 0; q < 600; ++q)
+  {
+    const std::size_t id = rng() % spheres.size();
+    const Vec3d n = normalize(Vec3d(u(rng), u(rng), u(rng)));
+    const double r = spheres.radii[id];
+    const Vec3f o(Vec3d(spheres.centers[id]) + n * (r * (1 + 1e-4)));
+    const float T = 0.5f;
+    RayPacket packet;
+    packet.side = 4;
+    packet.pixelBlock = false;
+    const int count = 1 + q % 16;
+    for (int a = 0; a < 16; ++a)
+    {
+      packet.valid[a] = a < count;
+      packet.rays[a] = Ray{ o, Vec3f(aoDirection(n, a, 16, static_cast<std::uint32_t>(q))), 0.f, T };
+    }
+    PacketHits hits;
+    TraversalCounters counters;
+    accel.intersect(packet, hits, counters);
+    TraversalCounters queried;
+    bool blocked[MaxPacketRays];
+    occlusion.occluded(packet, count, blocked, queried);
+    for (int a = 0; a < count; ++a)
+    {
+      EXPECT_EQ(blocked[a], hits.prim[a] != NoHit) << q << " lane " << a;
+      blockedRays += hits.prim[a] != NoHit ? 1 : 0;
+    }
+    rays += count;
+    visited += queried.cells;
+    const float reach = T + grid.maxRadius();
+    const auto lo = grid.cellOf(o - Vec3f(reach, reach, reach));
+    const auto hi = grid.cellOf(o + Vec3f(reach, reach, reach));
+    inBoxes += std::int64_t(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
+  }
+  EXPECT_GT(blockedRays, rays / 10);
+  EXPECT_LT(blockedRays, rays);
+  EXPECT_LE(visited, inBoxes);
+}
+
 TEST(AoDirection, TheTableAndTheAngleSumGiveTheDirectFormulasDirections)
 {
   // The directions as one formula per ray (radical inverse, shift, tangent frame, lift, one
