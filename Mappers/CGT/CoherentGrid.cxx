@@ -119,15 +119,16 @@ std::int64_t cellCount(const std::array<int, 3>& dims)
 }
 
 // Gathers values (width per sphere) into the order perm, sphere i taking input sphere
-// perm[i]'s, through a new array that replaces the old one (freed).
+// perm[i]'s: into a buffer of huge pages, copied back, so that `values` keeps its memory
+// (faulted in once, reused by every later build of the same size).
 template<typename T>
-void gather(std::vector<T>& values, const std::vector<std::uint32_t>& perm, std::size_t width)
+void gather(std::vector<T>& values, const LargeBuffer<std::uint32_t>& perm, std::size_t width)
 {
   if (values.empty())
   {
     return;
   }
-  std::vector<T> sorted(values.size());
+  LargeBuffer<T> sorted(values.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, perm.size(), 4096),
     [&](const tbb::blocked_range<std::size_t>& range)
     {
@@ -140,12 +141,14 @@ void gather(std::vector<T>& values, const std::vector<std::uint32_t>& perm, std:
         }
       }
     });
-  values.swap(sorted);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, values.size(), 65536),
+    [&](const tbb::blocked_range<std::size_t>& range)
+    { std::copy(sorted.data() + range.begin(), sorted.data() + range.end(), values.data() + range.begin()); });
 }
 
 // Permutes the spheres into cell order, sphere i becoming input sphere perm[i], one array at
 // a time: the build's peak holds one array twice, not the whole set.
-void permute(SphereSet& spheres, const std::vector<std::uint32_t>& perm)
+void permute(SphereSet& spheres, const LargeBuffer<std::uint32_t>& perm)
 {
   gather(spheres.centers, perm, 1);
   gather(spheres.radii, perm, 1);
@@ -203,7 +206,7 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   // per million spheres and cost 36 bytes per sphere of resident memory).
   // (the sort's (sphere, cell) pairs are freed before the permutation, which holds one
   // array twice)
-  const std::vector<std::uint32_t> perm = placeInCells(spheres);
+  const LargeBuffer<std::uint32_t> perm = placeInCells(spheres);
   permute(spheres, perm);
   buildMacrocells(spheres);
   nestCrowdedCells(spheres, params);
@@ -402,7 +405,7 @@ void CoherentGrid::sortIntoSubcells(SphereSet& spheres, const NestedCell& n)
   gatherRange(spheres, begin, from);
 }
 
-std::vector<std::uint32_t> CoherentGrid::placeInCells(const SphereSet& spheres)
+LargeBuffer<std::uint32_t> CoherentGrid::placeInCells(const SphereSet& spheres)
 {
   // A stable counting sort by cell in two passes, neither with atomics nor with random
   // access to a cell-sized array: first into slabs of whole z layers (each a contiguous
@@ -412,9 +415,9 @@ std::vector<std::uint32_t> CoherentGrid::placeInCells(const SphereSet& spheres)
   CellSlabs slabs;
   slabs.depth = (Dims[2] + MaxSlabs - 1) / MaxSlabs;
   slabs.count = (Dims[2] + slabs.depth - 1) / slabs.depth;
-  const std::vector<CellOfSphere> bySlab = sortIntoSlabs(spheres, slabs);
+  const LargeBuffer<CellOfSphere> bySlab = sortIntoSlabs(spheres, slabs);
   CellStart.assign(static_cast<std::size_t>(cellCount(Dims)) + 1, 0u);
-  std::vector<std::uint32_t> perm(NumSpheres);
+  LargeBuffer<std::uint32_t> perm(NumSpheres);
   tbb::parallel_for(tbb::blocked_range<int>(0, slabs.count, 1),
     [&](const tbb::blocked_range<int>& range)
     {
@@ -426,7 +429,7 @@ std::vector<std::uint32_t> CoherentGrid::placeInCells(const SphereSet& spheres)
   return perm;
 }
 
-std::vector<CoherentGrid::CellOfSphere> CoherentGrid::sortIntoSlabs(const SphereSet& spheres,
+LargeBuffer<CoherentGrid::CellOfSphere> CoherentGrid::sortIntoSlabs(const SphereSet& spheres,
   CellSlabs& slabs) const
 {
   // Fixed chunks of the input (the same for any number of threads), a histogram of slabs
@@ -467,16 +470,16 @@ std::vector<CoherentGrid::CellOfSphere> CoherentGrid::sortIntoSlabs(const Sphere
     }
   }
   slabs.start[slabs.count] = total;
-  std::vector<CellOfSphere> bySlab(n);
+  LargeBuffer<CellOfSphere> bySlab(n);
   eachChunk([&](std::uint32_t* own, std::uint32_t i, std::uint32_t cell)
     { bySlab[own[slabOf(cell)]++] = { i, cell }; });
   return bySlab;
 }
 
-void CoherentGrid::sortSlab(const std::vector<CellOfSphere>& bySlab,
+void CoherentGrid::sortSlab(const LargeBuffer<CellOfSphere>& bySlab,
   const CellSlabs& slabs,
   int s,
-  std::vector<std::uint32_t>& perm)
+  LargeBuffer<std::uint32_t>& perm)
 {
   // The slab's cells [first, last) are its own: counts in CellStart[c + 1], turned into the
   // cells' first slots from the slab's start, each advanced past its spheres by the scatter

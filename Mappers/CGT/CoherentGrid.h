@@ -16,6 +16,7 @@
 #define RayMappers_CoherentGrid_h
 
 #include "Mappers/CGT/SphereSet.h"
+#include "Mappers/Common/LargeBuffer.h"
 
 #include <algorithm>
 #include <array>
@@ -147,12 +148,12 @@ private:
     return static_cast<std::uint32_t>(
       cellIndex(std::max(ci, 0), std::max(cj, 0), std::max(ck, 0)));
   }
-  std::vector<std::uint32_t> placeInCells(const SphereSet& spheres);
-  std::vector<CellOfSphere> sortIntoSlabs(const SphereSet& spheres, CellSlabs& slabs) const;
-  void sortSlab(const std::vector<CellOfSphere>& bySlab,
+  LargeBuffer<std::uint32_t> placeInCells(const SphereSet& spheres);
+  LargeBuffer<CellOfSphere> sortIntoSlabs(const SphereSet& spheres, CellSlabs& slabs) const;
+  void sortSlab(const LargeBuffer<CellOfSphere>& bySlab,
     const CellSlabs& slabs,
     int s,
-    std::vector<std::uint32_t>& perm);
+    LargeBuffer<std::uint32_t>& perm);
   void buildMacrocells(const SphereSet& spheres);
   // Calls f(c) for the index c of every cell of macrocell `macro`.
   template<typename F>
