@@ -1,4 +1,5 @@
 #include "Mappers/CGT/CoherentGrid.h"
+#include "Mappers/Common/PermuteInPlace.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -118,44 +119,16 @@ std::int64_t cellCount(const std::array<int, 3>& dims)
   return static_cast<std::int64_t>(dims[0]) * dims[1] * static_cast<std::int64_t>(dims[2]);
 }
 
-// Gathers values (width per sphere) into the order perm, sphere i taking input sphere
-// perm[i]'s: into a buffer of huge pages, copied back, so that `values` keeps its memory
-// (faulted in once, reused by every later build of the same size).
-template<typename T>
-void gather(std::vector<T>& values, const LargeBuffer<std::uint32_t>& perm, std::size_t width)
-{
-  if (values.empty())
-  {
-    return;
-  }
-  LargeBuffer<T> sorted(values.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, perm.size(), 4096),
-    [&](const tbb::blocked_range<std::size_t>& range)
-    {
-      for (std::size_t i = range.begin(); i != range.end(); ++i)
-      {
-        const std::size_t from = perm[i];
-        for (std::size_t w = 0; w < width; ++w)
-        {
-          sorted[i * width + w] = values[from * width + w];
-        }
-      }
-    });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, values.size(), 65536),
-    [&](const tbb::blocked_range<std::size_t>& range)
-    { std::copy(sorted.data() + range.begin(), sorted.data() + range.end(), values.data() + range.begin()); });
-}
-
 // Permutes the spheres into cell order, sphere i becoming input sphere perm[i], one array at
 // a time: the build's peak holds one array twice, not the whole set.
 void permute(SphereSet& spheres, const LargeBuffer<std::uint32_t>& perm)
 {
-  gather(spheres.centers, perm, 1);
-  gather(spheres.radii, perm, 1);
-  gather(spheres.colors, perm, 1);
-  gather(spheres.sourceIds, perm, 1);
-  gather(spheres.opacities, perm, 1);
-  gather(spheres.attributes, perm, static_cast<std::size_t>(spheres.numAttributes));
+  permuteInPlace(spheres.centers, perm.data());
+  permuteInPlace(spheres.radii, perm.data());
+  permuteInPlace(spheres.colors, perm.data());
+  permuteInPlace(spheres.sourceIds, perm.data());
+  permuteInPlace(spheres.opacities, perm.data());
+  permuteInPlace(spheres.attributes, perm.data(), static_cast<std::size_t>(spheres.numAttributes));
 }
 
 // Widens the extrema mn, mx of the macrocell by the attributes of spheres [begin, end) (NaN

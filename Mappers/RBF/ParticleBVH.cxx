@@ -1,5 +1,6 @@
 #include "Mappers/RBF/ParticleBVH.h"
 #include "Mappers/Common/EmbreeErrors.h"
+#include "Mappers/Common/PermuteInPlace.h"
 
 #include <embree3/rtcore.h>
 
@@ -93,10 +94,10 @@ struct EmbreeBuild
 };
 
 // The primitives of the build (section 5.1): each particle's box x_i +- r_i.
-std::vector<RTCBuildPrimitive> particleBoxes(const RBFParticles& particles)
+LargeBuffer<RTCBuildPrimitive> particleBoxes(const RBFParticles& particles)
 {
   const std::size_t n = particles.size();
-  std::vector<RTCBuildPrimitive> prims(n);
+  LargeBuffer<RTCBuildPrimitive> prims(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16384),
     [&](const tbb::blocked_range<std::size_t>& range)
     {
@@ -122,7 +123,7 @@ std::vector<RTCBuildPrimitive> particleBoxes(const RBFParticles& particles)
 // leaf. The nodes live in `bvh` until it is released.
 const TempNode* buildSAH(RTCDevice device,
   RTCBVH bvh,
-  std::vector<RTCBuildPrimitive>& prims,
+  LargeBuffer<RTCBuildPrimitive>& prims,
   int leafSize)
 {
   RTCBuildArguments args = rtcDefaultBuildArguments();
@@ -193,30 +194,14 @@ std::vector<std::uint32_t> flatten(const TempNode* root,
   return order;
 }
 
-// Permutes one array into leaf order: element i becomes element order[i].
-template <typename T>
-void permute(std::vector<T>& values, const std::vector<std::uint32_t>& order)
-{
-  std::vector<T> sorted(values.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, values.size(), 16384),
-    [&](const tbb::blocked_range<std::size_t>& range)
-    {
-      for (std::size_t i = range.begin(); i != range.end(); ++i)
-      {
-        sorted[i] = values[order[i]];
-      }
-    });
-  values.swap(sorted);
-}
-
 // Permutes the particles into leaf order, an array at a time (the peak holds one array
 // twice, not the whole set).
 void permute(RBFParticles& particles, const std::vector<std::uint32_t>& order)
 {
-  permute(particles.centers, order);
-  permute(particles.radii, order);
-  permute(particles.values, order);
-  permute(particles.fields, order);
+  permuteInPlace(particles.centers, order.data());
+  permuteInPlace(particles.radii, order.data());
+  permuteInPlace(particles.values, order.data());
+  permuteInPlace(particles.fields, order.data());
 }
 
 // Each node's box of the centres below it and their largest radius, bottom-up: children
@@ -278,10 +263,10 @@ void ParticleBVH::build(RBFParticles& particles, int leafSize)
     ThrowOnEmbreeError(nullptr, "rtcNewDevice");
     throw std::runtime_error("Embree: rtcNewDevice failed");
   }
-  std::vector<RTCBuildPrimitive> prims = particleBoxes(particles);
+  LargeBuffer<RTCBuildPrimitive> prims = particleBoxes(particles);
   embree.bvh = rtcNewBVH(embree.device);
   const TempNode* root = buildSAH(embree.device, embree.bvh, prims, leafSize);
-  std::vector<RTCBuildPrimitive>().swap(prims); // (the leaves hold copies of their ids)
+  prims = LargeBuffer<RTCBuildPrimitive>(); // freed: the leaves hold copies of their ids
   const std::vector<std::uint32_t> order = flatten(root, n, leafSize, Nodes, Depth);
   embree.release();
   permute(particles, order);
