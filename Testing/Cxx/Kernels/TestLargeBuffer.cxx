@@ -1,0 +1,63 @@
+// LargeBuffer (Mappers/Common/LargeBuffer.h) and PermuteInPlace: the buffer's array starts at
+// a 2 MB boundary (only aligned 2 MB ranges can be huge pages), holds what is written to it,
+// moves without copying; the permutation gives element i element order[i]'s values and keeps
+// the vector's memory.
+#include "Mappers/Common/LargeBuffer.h"
+#include "Mappers/Common/PermuteInPlace.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <numeric>
+#include <random>
+#include <vector>
+
+using namespace raymappers;
+
+TEST(LargeBuffer, HoldsItsValuesOnAHugePageBoundaryAndMoves)
+{
+  LargeBuffer<std::uint32_t> empty;
+  EXPECT_EQ(empty.size(), 0u);
+  EXPECT_EQ(LargeBuffer<float>(0).data(), nullptr);
+  const std::size_t n = 3000001;
+  LargeBuffer<std::uint32_t> b(n);
+  ASSERT_EQ(b.size(), n);
+#if defined(__linux__)
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(b.data()) % (std::uintptr_t(2) << 20), 0u);
+#endif
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    b[i] = static_cast<std::uint32_t>(i * 2654435761u);
+  }
+  const std::uint32_t* at = b.data();
+  LargeBuffer<std::uint32_t> moved(std::move(b));
+  EXPECT_EQ(moved.data(), at);
+  EXPECT_EQ(b.size(), 0u);
+  for (std::size_t i = 0; i < n; i += 997)
+  {
+    ASSERT_EQ(moved[i], static_cast<std::uint32_t>(i * 2654435761u)) << i;
+  }
+  moved = LargeBuffer<std::uint32_t>();
+  EXPECT_EQ(moved.size(), 0u);
+}
+
+TEST(PermuteInPlace, ElementIBecomesElementOrderIAndTheVectorKeepsItsMemory)
+{
+  const std::size_t n = 200003;
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::shuffle(order.begin(), order.end(), std::mt19937(4));
+  std::vector<float> pairs(2 * n);
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+  {
+    pairs[i] = static_cast<float>(i);
+  }
+  const float* memory = pairs.data();
+  permuteInPlace(pairs, order.data(), 2);
+  EXPECT_EQ(pairs.data(), memory);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    ASSERT_EQ(pairs[2 * i], static_cast<float>(2 * order[i])) << i;
+    ASSERT_EQ(pairs[2 * i + 1], static_cast<float>(2 * order[i] + 1)) << i;
+  }
+}
