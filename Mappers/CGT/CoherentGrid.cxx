@@ -174,11 +174,11 @@ void CoherentGrid::build(SphereSet& spheres, const CoherentGridParameters& param
   InvCellSize = 1.f / CellSize;
   // Counting sort of the spheres by the cell of their centre, in parallel and stable (the
   // same order for any number of threads; see placeInCells).
-  // The build's temporaries are freed when it ends: between builds the grid holds only its
-  // offsets and macrocells (reusing them across time steps would save about a millisecond
-  // per million spheres and cost 36 bytes per sphere of resident memory).
-  // (the sort's (sphere, cell) pairs are freed before the permutation, which holds one
-  // array twice)
+  // The build's temporaries (sort pairs, permutation, one gathered array at a time) are
+  // LargeBuffers, mapped on huge pages and freed when the build ends: between builds the grid
+  // holds only its offsets and macrocells, and the SphereSet keeps its own memory (the
+  // permutation copies back into it). The sort's (sphere, cell) pairs are freed before the
+  // permutation, which holds one array twice.
   const LargeBuffer<std::uint32_t> perm = placeInCells(spheres);
   permute(spheres, perm);
   buildMacrocells(spheres);
