@@ -17,10 +17,12 @@ from paraview.simple import (
     ColorBy, CreateView, Delete, GetColorTransferFunction, GetOpacityTransferFunction,
     LoadPlugin, Render, SaveScreenshot, Show)
 
-SCENES = ('spheres', 'translucent', 'rbf', 'sph', 'zsweep', 'fluid', 'mixed')
+SCENES = ('spheres', 'translucent', 'rbf', 'sph', 'zsweep', 'fluid', 'mixed', 'mixed-rbf',
+          'mixed-zsweep')
 REPRESENTATIONS = {'spheres': 'Ray-Traced Spheres', 'translucent': 'Ray-Traced Spheres',
                    'rbf': 'RBF Volume', 'sph': 'SPH Volume',
-                   'zsweep': 'Z-Sweep Volume', 'fluid': 'SPH Fluid', 'mixed': 'SPH Volume'}
+                   'zsweep': 'Z-Sweep Volume', 'fluid': 'SPH Fluid', 'mixed': 'SPH Volume',
+                   'mixed-rbf': 'RBF Volume', 'mixed-zsweep': 'Z-Sweep Volume'}
 
 
 def particles(data_dir, fine):
@@ -48,16 +50,31 @@ def sph_volume(rep, view, opacity=(0.15, 0.6)):
     rep.ScalarOpacityUnitDistance = 0.05
 
 
-def opaque_spheres(source, view):
-    """Every 12th particle as an opaque sphere inside the volume, from the serial reader:
+def rbf_volume(rep, view, opacity=0.8):
+    color(rep, view, 'vmag', 0.0, 2.5, [0.0, 0.0, 0.5, 0.0, 2.5, opacity, 0.5, 0.0])
+    rep.RBFRadius = 0.02
+    # The paper's kappa: the automatic one is an estimate on each decomposition's
+    # particles (the same on every rank, vtkRBFVolumeRepresentation::PushKappa, but not
+    # bit for bit the one rank's), and this scene checks the compositing exactly.
+    rep.Kappa = 1.0
+    rep.ScalarOpacityUnitDistance = 0.05
+
+
+def zsweep_volume(rep, view, opacity=0.6):
+    color(rep, view, 'Temp', 293.0, 913.0, [293.0, 0.0, 0.5, 0.0, 913.0, opacity, 0.5, 0.0])
+    rep.ScalarOpacityUnitDistance = 1.0
+
+
+def opaque_spheres(source, view, ratio=12, radius=0.04):
+    """Every ratio-th point as an opaque sphere inside the volume, from the serial reader:
     rank 0 holds them all, spread over every rank's region and across its faces."""
-    some = simple.MaskPoints(Input=source, OnRatio=12, MaximumNumberofPoints=10 ** 9,
+    some = simple.MaskPoints(Input=source, OnRatio=ratio, MaximumNumberofPoints=10 ** 9,
                              GenerateVertices=1, SingleVertexPerCell=1)
     spheres = Show(some, view)
     spheres.SetRepresentationType('Ray-Traced Spheres')
-    ColorBy(spheres, None)
+    spheres.ColorArrayName = ['POINTS', '']
     spheres.AmbientColor = spheres.DiffuseColor = [0.9, 0.85, 0.2]
-    spheres.Radius = 0.04
+    spheres.Radius = radius
 
 
 def dam_break_camera(view):
@@ -82,7 +99,7 @@ def main():
 
     LoadPlugin(args.plugin, remote=False, ns=globals())
     scene = args.representation
-    if scene == 'zsweep':
+    if scene in ('zsweep', 'mixed-zsweep'):
         reader = simple.ExodusIIReader(FileName=[args.data_dir + '/disk_out_ref.ex2'])
         reader.PointVariables = ['Temp']
         # One grid: ParaView 5.11 redistributing the reader's multiblock on 3 ranks keeps
@@ -115,13 +132,10 @@ def main():
         rep.Radius = 0.03
         rep.Opacity = 0.4
     elif scene == 'rbf':
-        color(rep, view, 'vmag', 0.0, 2.5, [0.0, 0.0, 0.5, 0.0, 2.5, 0.8, 0.5, 0.0])
-        rep.RBFRadius = 0.02
-        # The paper's kappa: the automatic one is an estimate on each decomposition's
-        # particles (the same on every rank, vtkRBFVolumeRepresentation::PushKappa, but not
-        # bit for bit the one rank's), and this scene checks the compositing exactly.
-        rep.Kappa = 1.0
-        rep.ScalarOpacityUnitDistance = 0.05
+        rbf_volume(rep, view)
+    elif scene == 'mixed-rbf':
+        rbf_volume(rep, view, 0.3)
+        opaque_spheres(source, view)
     elif scene == 'sph':
         sph_volume(rep, view)
     elif scene == 'mixed':
@@ -129,8 +143,11 @@ def main():
         sph_volume(rep, view, (0.02, 0.1))
         opaque_spheres(source, view)
     elif scene == 'zsweep':
-        color(rep, view, 'Temp', 293.0, 913.0, [293.0, 0.0, 0.5, 0.0, 913.0, 0.6, 0.5, 0.0])
-        rep.ScalarOpacityUnitDistance = 1.0
+        zsweep_volume(rep, view)
+    elif scene == 'mixed-zsweep':
+        # Every 40th mesh point (213 of 8,499) as a sphere of 0.2 (the disk is 11.5 wide).
+        zsweep_volume(rep, view)
+        opaque_spheres(source, view, 40, 0.2)
     else:
         rep.ColorArrayName = ['POINTS', '']
         rep.SPHFluidRadiusArray = ['POINTS', 'h']
@@ -138,7 +155,7 @@ def main():
         rep.SPHFluidAbsorptionColor = [4.0, 1.5, 0.8]
 
     Render(view)
-    if scene == 'zsweep':
+    if scene in ('zsweep', 'mixed-zsweep'):
         view.ResetCamera(False)
         view.GetActiveCamera().Azimuth(30)
         view.GetActiveCamera().Elevation(20)
