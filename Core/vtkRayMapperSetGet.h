@@ -153,8 +153,13 @@ bool AcceptVector(vtkObject* self, const char* name, T (&value)[N], T min, T max
 ///   AutoAdjustSampleDistances (default on): interactive renders choose the distance from the
 ///     last frame's time against the budget, within [MinimumImageSampleDistance,
 ///     MaximumImageSampleDistance]; still renders use MinimumImageSampleDistance (default 1);
-///   FrameBudget (seconds, default 0: 1 / the render window's DesiredUpdateRate).
-/// The mapper declares the members (and the default of MaximumImageSampleDistance).
+///   FrameBudget (seconds, default 0: 1 / the render window's DesiredUpdateRate);
+///   GetLastFrame / SetLastFrame: {time in seconds, sample distance} of the last frame, which
+///     the next interactive render scales from. Processes drawing parts of one view set it
+///     to the slowest one's before each render (ParaView's representations do), so that
+///     all of them draw at one distance and the composited image has no seams between them.
+/// The mapper declares the members (and the default of MaximumImageSampleDistance) and
+/// defines GetLastFrame / SetLastFrame (vtkRayMapperCore's).
 #define vtkRayMapperSampleDistanceMacro()                                                         \
   vtkRayMapperSetClampMacro(ImageSampleDistance, double, 1.0, 16.0);                               \
   vtkGetMacro(ImageSampleDistance, double);                                                        \
@@ -166,7 +171,9 @@ bool AcceptVector(vtkObject* self, const char* name, T (&value)[N], T min, T max
   vtkRayMapperSetClampMacro(MaximumImageSampleDistance, double, 1.0, 16.0);                        \
   vtkGetMacro(MaximumImageSampleDistance, double);                                                 \
   vtkRayMapperSetClampMacro(FrameBudget, double, 0.0, VTK_DOUBLE_MAX);                             \
-  vtkGetMacro(FrameBudget, double)
+  vtkGetMacro(FrameBudget, double);                                                                \
+  void GetLastFrame(double frame[2]);                                                              \
+  void SetLastFrame(const double frame[2])
 
 /// NumberOfThreads of a RayMappers mapper (0 to 4096): its kernels and builds run in its own
 /// TBB task arena of that many threads; 0 (default): all the cores, or under MPI the ranks'

@@ -234,6 +234,19 @@ public:
     const vtkRayMapperSampleDistances& distances,
     raymappers::RenderStatistics& stats);
 
+  /// The last frame the next interactive render scales from: {its time in seconds, its
+  /// sample distance} (the t_last and d_last of BeginFrame; {0, 1} before any frame).
+  void GetLastFrame(double frame[2]) const
+  {
+    frame[0] = this->LastSeconds;
+    frame[1] = this->LastDistance;
+  }
+  void SetLastFrame(const double frame[2])
+  {
+    this->LastSeconds = frame[0];
+    this->LastDistance = frame[1];
+  }
+
   /// The number of rays along a side of `full` pixels at sample distance d (at least 1).
   static int SampledSize(int full, double d);
 

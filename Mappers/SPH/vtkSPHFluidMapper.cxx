@@ -318,6 +318,16 @@ void vtkSPHFluidMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPointS
   this->Core->Present(ren, view, mode, true, stats);
 }
 
+void vtkSPHFluidMapper::GetLastFrame(double frame[2])
+{
+  this->Core->GetLastFrame(frame);
+}
+
+void vtkSPHFluidMapper::SetLastFrame(const double frame[2])
+{
+  this->Core->SetLastFrame(frame);
+}
+
 void vtkSPHFluidMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

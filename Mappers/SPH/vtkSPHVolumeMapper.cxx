@@ -248,6 +248,16 @@ void vtkSPHVolumeMapper::RenderVolume(vtkRenderer* ren, vtkVolume* vol, vtkPoint
   this->Core->Present(ren, view, vtkRayMapperFrameDrawer::Mode::BlendPremultiplied, false, stats);
 }
 
+void vtkSPHVolumeMapper::GetLastFrame(double frame[2])
+{
+  this->Core->GetLastFrame(frame);
+}
+
+void vtkSPHVolumeMapper::SetLastFrame(const double frame[2])
+{
+  this->Core->SetLastFrame(frame);
+}
+
 void vtkSPHVolumeMapper::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

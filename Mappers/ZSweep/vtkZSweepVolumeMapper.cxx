@@ -329,6 +329,16 @@ vtkRayMapperStatistics* vtkZSweepVolumeMapper::GetStatistics()
   return Impl->Core.GetStatistics();
 }
 
+void vtkZSweepVolumeMapper::GetLastFrame(double frame[2])
+{
+  Impl->Core.GetLastFrame(frame);
+}
+
+void vtkZSweepVolumeMapper::SetLastFrame(const double frame[2])
+{
+  Impl->Core.SetLastFrame(frame);
+}
+
 double* vtkZSweepVolumeMapper::GetBounds()
 {
   vtkUnstructuredGridBase* input = this->GetInput();

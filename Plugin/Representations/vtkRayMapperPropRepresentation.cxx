@@ -180,6 +180,7 @@ int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey*
       piece = this->DistributedPiece(piece);
     }
     this->SetDeliveredPiece(piece);
+    this->ShareLastFrame();
     // Nothing to draw here (the client of a remote render, a rank with an empty piece):
     // the prop stays out of the frame and of the renderer's bounds (a vtkVolume would
     // report [-1, 1]^3 for an empty mapper and move ParaView's Reset Camera).
@@ -188,6 +189,20 @@ int vtkRayMapperPropRepresentation::ProcessViewRequest(vtkInformationRequestKey*
     this->Prop->SetVisibility(this->GetVisibility() && this->HasPiece);
   }
   return 1;
+}
+
+void vtkRayMapperPropRepresentation::ShareLastFrame()
+{
+  double frame[2];
+  vtkMultiProcessController* controller = parallelController();
+  if (controller && this->GetLastFrame(frame))
+  {
+    // The composited image waits for the slowest process: its time (and its distance,
+    // the same on all after the first shared frame; {0, 1} where nothing was drawn yet).
+    double slowest[2];
+    controller->AllReduce(frame, slowest, 2, vtkCommunicator::MAX_OP);
+    this->SetLastFrame(slowest);
+  }
 }
 
 vtkDataObject* vtkRayMapperPropRepresentation::DistributedPiece(vtkDataObject* delivered)

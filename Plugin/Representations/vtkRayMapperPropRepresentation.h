@@ -151,6 +151,15 @@ protected:
   virtual Distribution GetDistribution() { return Distribution::Local; }
 
   /**
+   * The last frame of the mapper's time-critical loop, {seconds, sample distance}
+   * (vtkRayMapperSampleDistanceMacro): false for a mapper without one. With several
+   * rendering processes, each render first gives all of them the slowest one's, so that
+   * they draw an interactive frame at one sample distance (no seams between their parts).
+   */
+  virtual bool GetLastFrame(double vtkNotUsed(frame)[2]) { return false; }
+  virtual void SetLastFrame(const double vtkNotUsed(frame)[2]) {}
+
+  /**
    * The box (xmin, xmax, ymin, ymax, zmin, zmax) this process renders in (Particles and
    * Surfaces distributions); +-VTK_DOUBLE_MAX on unbounded sides, all of space with one
    * process or no partition.
@@ -180,6 +189,10 @@ private:
   /// Adds the prop to the renderer of `view` (and to its hardware selection when the prop is
   /// selectable), or removes it; false when `view` is no render view or there is no prop.
   bool PlaceProp(vtkView* view, bool add);
+
+  /// With several rendering processes: every one's mapper gets the slowest one's last
+  /// frame (GetLastFrame). Collective.
+  void ShareLastFrame();
 
   /// The piece to render in parallel runs: the delivered particles with their ghosts
   /// (Particles) or all particles on the first process (GatherToFirst). Collective.

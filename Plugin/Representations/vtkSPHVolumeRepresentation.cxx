@@ -160,3 +160,14 @@ void vtkSPHVolumeRepresentation::SelectVolumeArray(int, int, int, int, const cha
   this->Mapper->SetVolumeArrayName(arrayOrNull(name));
   this->Modified();
 }
+
+bool vtkSPHVolumeRepresentation::GetLastFrame(double frame[2])
+{
+  this->Mapper->GetLastFrame(frame);
+  return true;
+}
+
+void vtkSPHVolumeRepresentation::SetLastFrame(const double frame[2])
+{
+  this->Mapper->SetLastFrame(frame);
+}

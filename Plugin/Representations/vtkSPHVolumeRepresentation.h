@@ -78,6 +78,8 @@ protected:
   /// With several processes: also gives the mapper the smallest support of all of them
   /// (vtkSPHVolumeMapper::SetSmallestSupport), so that they all sample the same depths.
   void SetDeliveredPiece(vtkDataObject* piece) override;
+  bool GetLastFrame(double frame[2]) override;
+  void SetLastFrame(const double frame[2]) override;
   void SetValueArray(const char* name) override;
 
   vtkSmartPointer<vtkSPHVolumeMapper> Mapper;

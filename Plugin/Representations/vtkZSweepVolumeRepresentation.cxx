@@ -171,3 +171,14 @@ vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetSubsampling, int, Set
 vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetFrameBudget, double, SetFrameBudget)
 vtkRayMapperForwardMacro(vtkZSweepVolumeRepresentation, SetNumberOfThreads, int, SetNumberOfThreads)
 // clang-format on
+
+bool vtkZSweepVolumeRepresentation::GetLastFrame(double frame[2])
+{
+  this->Mapper->GetLastFrame(frame);
+  return true;
+}
+
+void vtkZSweepVolumeRepresentation::SetLastFrame(const double frame[2])
+{
+  this->Mapper->SetLastFrame(frame);
+}

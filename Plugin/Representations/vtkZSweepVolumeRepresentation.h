@@ -71,6 +71,8 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   vtkDataSet* GetProcessedData() override;
   void SetDeliveredPiece(vtkDataObject* piece) override;
+  bool GetLastFrame(double frame[2]) override;
+  void SetLastFrame(const double frame[2]) override;
   Distribution GetDistribution() override { return Distribution::Cells; }
 
   /**
