@@ -224,13 +224,17 @@ vtkDataObject* vtkRayMapperPropRepresentation::DistributedPiece(vtkDataObject* d
     const double all[6] = { -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX, -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX,
       -VTK_DOUBLE_MAX, VTK_DOUBLE_MAX };
     this->SetRegion(all);
+    this->GlobalBoundsMargin = -1.0;
     return delivered;
   }
 
-  // The ghosts reach as far as the largest support of any process's particles.
-  double margin = particles ? this->GetBoundsMargin() : 0.0;
-  double globalMargin = margin;
-  controller->AllReduce(&margin, &globalMargin, 1, vtkCommunicator::MAX_OP);
+  // The ghosts reach as far as the largest ghost margin of any process's particles.
+  const double margins[2] = { particles ? this->GetBoundsMargin() : 0.0,
+    particles ? this->GetGhostMargin() : 0.0 };
+  double largest[2];
+  controller->AllReduce(margins, largest, 2, vtkCommunicator::MAX_OP);
+  this->GlobalBoundsMargin = largest[0];
+  const double globalMargin = largest[1];
 
   // Exchange again only if something changed on some process (a collective decision).
   const vtkMTimeType cutsTime = manager ? manager->GetCutsMTime().GetMTime() : 0;

@@ -23,7 +23,7 @@
  *   lands in the right place of the blend.
  * - Particles: a particle volume. The view partitions space into one box per process
  *   (ParaView's kd-tree cuts, balanced on the particles); every process then receives the
- *   particles whose support (GetBoundsMargin(), the largest over all processes) reaches
+ *   particles whose support (GetGhostMargin(), the largest over all processes) reaches
  *   into its box, its own and the neighbours' ghosts, and renders only inside its box
  *   (SetRegion), so that the boxes' images, blended front to back in visibility order
  *   (ordered compositing), are the one-process image.
@@ -130,6 +130,19 @@ protected:
    * How far the rendered geometry reaches beyond the processed data's points (default 0).
    */
   virtual double GetBoundsMargin() { return 0.0; }
+
+  /**
+   * How far beyond its box a process needs the others' particles (Particles and Surfaces
+   * distributions; default GetBoundsMargin(): those whose geometry reaches in; more for
+   * rays that leave the box, VTK_DOUBLE_MAX for all of them).
+   */
+  virtual double GetGhostMargin() { return this->GetBoundsMargin(); }
+
+  /**
+   * The largest GetBoundsMargin() of all processes, set by the last exchange between them
+   * (the particles' largest reach over the whole data); -1 without one.
+   */
+  double GlobalBoundsMargin = -1.0;
 
   /**
    * The piece the view delivered to this process for rendering; null when nothing was

@@ -57,7 +57,7 @@ vtkRayTracedSpheresRepresentation::~vtkRayTracedSpheresRepresentation() = defaul
 void vtkRayTracedSpheresRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "WarnedLocalShadows: " << this->WarnedLocalShadows << "\n";
+  os << indent << "AmbientOcclusionRadius: " << this->AmbientOcclusionRadius << "\n";
 }
 
 //----------------------------------------------------------------------------
@@ -146,7 +146,40 @@ vtkRayMapperPropRepresentation::Distribution vtkRayTracedSpheresRepresentation::
 {
   const bool translucent = this->Actor->GetProperty()->GetOpacity() < 1.0 ||
     (this->OpacityByArray && !this->OpacityArrayName.empty());
-  return translucent ? Distribution::Particles : Distribution::Surfaces;
+  const bool secondaryRays =
+    this->Mapper->GetShadowRays() > 0 || this->Mapper->GetAmbientOcclusionSamples() > 0;
+  return translucent || secondaryRays ? Distribution::Particles : Distribution::Surfaces;
+}
+
+//----------------------------------------------------------------------------
+double vtkRayTracedSpheresRepresentation::GetGhostMargin()
+{
+  const double largestRadius = this->GetBoundsMargin();
+  if (this->Mapper->GetShadowRays() > 0)
+  {
+    return VTK_DOUBLE_MAX;
+  }
+  if (this->Mapper->GetAmbientOcclusionSamples() > 0)
+  {
+    // A ray of length R from a point in the box meets spheres whose centre lies within
+    // R + r of it.
+    return largestRadius +
+      (this->AmbientOcclusionRadius > 0 ? this->AmbientOcclusionRadius : 2.0 * largestRadius);
+  }
+  return largestRadius;
+}
+
+//----------------------------------------------------------------------------
+void vtkRayTracedSpheresRepresentation::DistributionMayHaveChanged(Distribution before)
+{
+  if (this->GetDistribution() != before)
+  {
+    this->MarkModified();
+  }
+  else
+  {
+    this->Modified();
+  }
 }
 
 //----------------------------------------------------------------------------
@@ -182,17 +215,12 @@ void vtkRayTracedSpheresRepresentation::SetRegion(const double bounds[6])
 //----------------------------------------------------------------------------
 void vtkRayTracedSpheresRepresentation::UpdateMapperParameters()
 {
-  // Each rank traces shadow and occlusion rays against its own spheres only.
-  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
-  if (!this->WarnedLocalShadows && controller && controller->GetNumberOfProcesses() > 1 &&
-    controller->GetLocalProcessId() == 0 &&
-    (this->Mapper->GetShadowRays() > 0 || this->Mapper->GetAmbientOcclusionSamples() > 0))
-  {
-    vtkWarningMacro(<< "with " << controller->GetNumberOfProcesses()
-                    << " rendering processes, soft shadows and ambient occlusion see only the "
-                       "spheres of each process's own piece");
-    this->WarnedLocalShadows = true;
-  }
+  // The automatic occlusion radius of exchanged spheres is the one of all processes' (each
+  // process's own largest radius would differ where the radii do).
+  const bool global = this->PieceExchanged && this->GlobalBoundsMargin > 0;
+  this->Mapper->SetAmbientOcclusionRadius(this->AmbientOcclusionRadius > 0 || !global
+      ? this->AmbientOcclusionRadius
+      : 2.0 * this->GlobalBoundsMargin);
   this->UpdateColoringParameters();
 }
 
@@ -251,10 +279,29 @@ vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetPacketSize, int, 
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetNumberOfThreads, int, SetNumberOfThreads)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetLambda, double, SetLambda)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetMacrocellSize, int, SetMacrocellSize)
-vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetAmbientOcclusionSamples, int, SetAmbientOcclusionSamples)
-vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetAmbientOcclusionRadius, double, SetAmbientOcclusionRadius)
+void vtkRayTracedSpheresRepresentation::SetAmbientOcclusionSamples(int samples)
+{
+  const Distribution before = this->GetDistribution();
+  this->Mapper->SetAmbientOcclusionSamples(samples);
+  this->DistributionMayHaveChanged(before);
+}
+
+void vtkRayTracedSpheresRepresentation::SetAmbientOcclusionRadius(double radius)
+{
+  // The mapper checks the value; the representation keeps what it accepted.
+  this->Mapper->SetAmbientOcclusionRadius(radius);
+  this->AmbientOcclusionRadius = this->Mapper->GetAmbientOcclusionRadius();
+  this->Modified();
+}
+
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetAmbientOcclusionSamplesPerFrame, int, SetAmbientOcclusionSamplesPerFrame)
-vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetShadowRays, int, SetShadowRays)
+void vtkRayTracedSpheresRepresentation::SetShadowRays(int side)
+{
+  const Distribution before = this->GetDistribution();
+  this->Mapper->SetShadowRays(side);
+  this->DistributionMayHaveChanged(before);
+}
+
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetAutomaticShadowLight, bool, SetAutomaticShadowLight)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetShadowLightSize, double, SetShadowLightSize)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetShadowLightIntensity, double, SetShadowLightIntensity)
@@ -334,7 +381,9 @@ void vtkRayTracedSpheresRepresentation::SetOpacity(double val)
     return;
   }
   // Below 1 the actor is translucent (vtkActor) and the mapper composites the spheres.
+  const Distribution before = this->GetDistribution();
   this->Actor->GetProperty()->SetOpacity(val);
+  this->DistributionMayHaveChanged(before);
 }
 
 void vtkRayTracedSpheresRepresentation::SetOpacityByArray(bool byArray)
@@ -357,10 +406,11 @@ void vtkRayTracedSpheresRepresentation::SelectOpacityArrayComponent(int componen
 
 void vtkRayTracedSpheresRepresentation::UpdateOpacityArray()
 {
+  const Distribution before = this->GetDistribution();
   const bool used = this->OpacityByArray && !this->OpacityArrayName.empty();
   this->Mapper->SetOpacityArray(used ? this->OpacityArrayName.c_str() : nullptr);
   this->Mapper->SetOpacityArrayComponent(used ? this->OpacityArrayComponent : 0);
-  this->Modified();
+  this->DistributionMayHaveChanged(before);
 }
 
 void vtkRayTracedSpheresRepresentation::SetOpacityTransferFunction(vtkPiecewiseFunction* function)

@@ -152,10 +152,22 @@ protected:
   /**
    * With several rendering processes: opaque spheres are Surfaces (depth composited alone,
    * drawn per region of the partition when a volume shares the view); translucent ones
-   * (Opacity below 1, or OpacityByArray with an array) are Particles, blended in
-   * visibility order like a volume (see vtkRayMapperPropRepresentation).
+   * (Opacity below 1, or OpacityByArray with an array) and those with soft shadows or
+   * ambient occlusion are Particles, blended in visibility order like a volume (see
+   * vtkRayMapperPropRepresentation): each process draws its box, and its secondary rays see
+   * the ghosts GetGhostMargin() brings.
    */
   Distribution GetDistribution() override;
+  /**
+   * The ghosts a process needs: the spheres reaching into its box (the largest radius r);
+   * with ambient occlusion also those an occlusion ray from its box can meet (r + the
+   * occlusion radius, 2 r when automatic); with soft shadows all spheres (a shadow ray may
+   * cross the whole data: every process then holds every sphere).
+   */
+  double GetGhostMargin() override;
+  /** MarkModified when a property change moves the spheres to another Distribution (the
+   * view then partitions again), Modified otherwise. */
+  void DistributionMayHaveChanged(Distribution before);
   /**
    * The actor and the vtkCGTSphereOverlayProp that draws its translucent spheres before a
    * compositing pass reads the image.
@@ -186,7 +198,9 @@ protected:
   int OpacityArrayComponent = 0;
   void UpdateOpacityArray();
   void UpdateRange(int slot);
-  bool WarnedLocalShadows = false;
+  // The panel's AmbientOcclusionRadius (0: automatic, twice the largest radius of all the
+  // processes' spheres when they exchange them).
+  double AmbientOcclusionRadius = 0.0;
 
 private:
   vtkRayTracedSpheresRepresentation(const vtkRayTracedSpheresRepresentation&) = delete;

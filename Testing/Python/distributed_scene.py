@@ -17,9 +17,10 @@ from paraview.simple import (
     ColorBy, CreateView, Delete, GetColorTransferFunction, GetOpacityTransferFunction,
     LoadPlugin, Render, SaveScreenshot, Show)
 
-SCENES = ('spheres', 'translucent', 'rbf', 'sph', 'zsweep', 'fluid', 'mixed', 'mixed-rbf',
-          'mixed-zsweep')
+SCENES = ('spheres', 'translucent', 'occlusion', 'shadows', 'rbf', 'sph', 'zsweep', 'fluid',
+          'mixed', 'mixed-rbf', 'mixed-zsweep')
 REPRESENTATIONS = {'spheres': 'Ray-Traced Spheres', 'translucent': 'Ray-Traced Spheres',
+                   'occlusion': 'Ray-Traced Spheres', 'shadows': 'Ray-Traced Spheres',
                    'rbf': 'RBF Volume', 'sph': 'SPH Volume',
                    'zsweep': 'Z-Sweep Volume', 'fluid': 'SPH Fluid', 'mixed': 'SPH Volume',
                    'mixed-rbf': 'RBF Volume', 'mixed-zsweep': 'Z-Sweep Volume'}
@@ -131,6 +132,21 @@ def main():
         color(rep, view, 'p', 0.0, 2500.0)
         rep.Radius = 0.03
         rep.Opacity = 0.4
+    elif scene == 'occlusion':
+        # Occlusion rays from a rank's box reach the spheres of its neighbours' boxes.
+        color(rep, view, 'p', 0.0, 2500.0)
+        rep.Radius = 0.025
+        rep.AmbientOcclusionSamples = 16
+        rep.AmbientOcclusionRadius = 0.1
+    elif scene == 'shadows':
+        # Shadow rays cross the whole data: the light's side of another rank's box.
+        color(rep, view, 'p', 0.0, 2500.0)
+        rep.Radius = 0.025
+        rep.ShadowRays = 2
+        # A light above and in front, so that the spheres in view cast shadows on each other.
+        rep.AutomaticShadowLight = 0
+        rep.ShadowLightPosition = [0.6, -1.5, 2.5]
+        rep.ShadowLightSize = 0.2
     elif scene == 'rbf':
         rbf_volume(rep, view)
     elif scene == 'mixed-rbf':
