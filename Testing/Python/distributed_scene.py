@@ -133,11 +133,15 @@ def main():
         rep.Radius = 0.03
         rep.Opacity = 0.4
     elif scene == 'occlusion':
-        # Occlusion rays from a rank's box reach the spheres of its neighbours' boxes.
+        # Occlusion rays from a rank's box reach the spheres of its neighbours' boxes. Radii
+        # by the density (0.0247 to 0.0255), the automatic occlusion radius: twice the
+        # largest radius of all the ranks' spheres.
         color(rep, view, 'p', 0.0, 2500.0)
-        rep.Radius = 0.025
+        rep.UseRadiusArray = 1
+        rep.RadiusArray = ['POINTS', 'rho']
+        rep.RadiusScale = 2.5e-5
         rep.AmbientOcclusionSamples = 16
-        rep.AmbientOcclusionRadius = 0.1
+        rep.AmbientOcclusionRadius = 0.0
     elif scene == 'shadows':
         # Shadow rays cross the whole data: the light's side of another rank's box.
         color(rep, view, 'p', 0.0, 2500.0)
