@@ -170,19 +170,6 @@ double vtkRayTracedSpheresRepresentation::GetGhostMargin()
 }
 
 //----------------------------------------------------------------------------
-void vtkRayTracedSpheresRepresentation::DistributionMayHaveChanged(Distribution before)
-{
-  if (this->GetDistribution() != before)
-  {
-    this->MarkModified();
-  }
-  else
-  {
-    this->Modified();
-  }
-}
-
-//----------------------------------------------------------------------------
 bool vtkRayTracedSpheresRepresentation::AddToView(vtkView* view)
 {
   if (!this->Superclass::AddToView(view))
@@ -279,13 +266,7 @@ vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetPacketSize, int, 
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetNumberOfThreads, int, SetNumberOfThreads)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetLambda, double, SetLambda)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetMacrocellSize, int, SetMacrocellSize)
-void vtkRayTracedSpheresRepresentation::SetAmbientOcclusionSamples(int samples)
-{
-  const Distribution before = this->GetDistribution();
-  this->Mapper->SetAmbientOcclusionSamples(samples);
-  this->DistributionMayHaveChanged(before);
-}
-
+vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetAmbientOcclusionSamples, int, SetAmbientOcclusionSamples)
 void vtkRayTracedSpheresRepresentation::SetAmbientOcclusionRadius(double radius)
 {
   // The mapper checks the value; the representation keeps what it accepted.
@@ -295,13 +276,7 @@ void vtkRayTracedSpheresRepresentation::SetAmbientOcclusionRadius(double radius)
 }
 
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetAmbientOcclusionSamplesPerFrame, int, SetAmbientOcclusionSamplesPerFrame)
-void vtkRayTracedSpheresRepresentation::SetShadowRays(int side)
-{
-  const Distribution before = this->GetDistribution();
-  this->Mapper->SetShadowRays(side);
-  this->DistributionMayHaveChanged(before);
-}
-
+vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetShadowRays, int, SetShadowRays)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetAutomaticShadowLight, bool, SetAutomaticShadowLight)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetShadowLightSize, double, SetShadowLightSize)
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetShadowLightIntensity, double, SetShadowLightIntensity)
@@ -381,9 +356,7 @@ void vtkRayTracedSpheresRepresentation::SetOpacity(double val)
     return;
   }
   // Below 1 the actor is translucent (vtkActor) and the mapper composites the spheres.
-  const Distribution before = this->GetDistribution();
   this->Actor->GetProperty()->SetOpacity(val);
-  this->DistributionMayHaveChanged(before);
 }
 
 void vtkRayTracedSpheresRepresentation::SetOpacityByArray(bool byArray)
@@ -406,11 +379,10 @@ void vtkRayTracedSpheresRepresentation::SelectOpacityArrayComponent(int componen
 
 void vtkRayTracedSpheresRepresentation::UpdateOpacityArray()
 {
-  const Distribution before = this->GetDistribution();
   const bool used = this->OpacityByArray && !this->OpacityArrayName.empty();
   this->Mapper->SetOpacityArray(used ? this->OpacityArrayName.c_str() : nullptr);
   this->Mapper->SetOpacityArrayComponent(used ? this->OpacityArrayComponent : 0);
-  this->DistributionMayHaveChanged(before);
+  this->Modified();
 }
 
 void vtkRayTracedSpheresRepresentation::SetOpacityTransferFunction(vtkPiecewiseFunction* function)

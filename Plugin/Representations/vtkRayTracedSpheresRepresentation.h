@@ -165,9 +165,6 @@ protected:
    * cross the whole data: every process then holds every sphere).
    */
   double GetGhostMargin() override;
-  /** MarkModified when a property change moves the spheres to another Distribution (the
-   * view then partitions again), Modified otherwise. */
-  void DistributionMayHaveChanged(Distribution before);
   /**
    * The actor and the vtkCGTSphereOverlayProp that draws its translucent spheres before a
    * compositing pass reads the image.
