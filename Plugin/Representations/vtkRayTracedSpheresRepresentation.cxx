@@ -1,5 +1,8 @@
 #include "vtkRayTracedSpheresRepresentation.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "vtkActor.h"
 #include "vtkAlgorithmOutput.h"
 #include "vtkDataSet.h"
@@ -269,9 +272,14 @@ vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetMacrocellSize, in
 vtkRayMapperForwardMacro(vtkRayTracedSpheresRepresentation, SetAmbientOcclusionSamples, int, SetAmbientOcclusionSamples)
 void vtkRayTracedSpheresRepresentation::SetAmbientOcclusionRadius(double radius)
 {
-  // The mapper checks the value; the representation keeps what it accepted.
+  // The mapper checks the value (a NaN is refused with a warning, the rest clamped); the
+  // representation keeps the same (not the mapper's value, which may be the automatic
+  // radius of all processes that UpdateMapperParameters set).
   this->Mapper->SetAmbientOcclusionRadius(radius);
-  this->AmbientOcclusionRadius = this->Mapper->GetAmbientOcclusionRadius();
+  if (!std::isnan(radius))
+  {
+    this->AmbientOcclusionRadius = std::clamp(radius, 0.0, VTK_RAYMAPPER_LENGTH_MAX);
+  }
   this->Modified();
 }
 
