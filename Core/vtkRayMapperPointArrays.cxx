@@ -162,8 +162,19 @@ std::array<double, 3> MedianCenter(vtkPoints* points)
 {
   const TupleReader reader(points->GetData());
   const auto n = static_cast<std::size_t>(points->GetNumberOfPoints());
-  const std::size_t stride = std::max<std::size_t>(1, n / 65536);
+  // An even sample of at most MedianSample points (all of a smaller set): its median is
+  // within about 1 / sqrt(MedianSample) of the points' spread from theirs, close enough for
+  // an origin, and costs a fraction of a millisecond where all 80,000 points of a packing
+  // cost 3 ms. Another origin rounds the spheres' float coordinates otherwise, which flips
+  // a grazing pixel here and there: a sample of 4,096 moved one pixel of the 2-rank
+  // distributed spheres scene (9,360 points) by 93 levels against the 1-rank image.
+  constexpr std::size_t MedianSample = 16384;
+  const std::size_t stride = std::max<std::size_t>(1, (n + MedianSample - 1) / MedianSample);
   std::vector<double> axis[3];
+  for (auto& a : axis)
+  {
+    a.reserve(std::min(n, MedianSample));
+  }
   for (std::size_t i = 0; i < n; i += stride)
   {
     const double p[3] = { reader.get(i, 0), reader.get(i, 1), reader.get(i, 2) };

@@ -62,7 +62,7 @@ RAYMAPPERSCORE_EXPORT vtkDataArray* FindScaleArray(vtkObject* self,
 /// (0, 0, 0) when there is none.
 RAYMAPPERSCORE_EXPORT std::array<double, 3> FiniteCenter(vtkPoints* points);
 
-/// The per-axis median of the finite points (of an even sample of at most 65,536 of them):
+/// The per-axis median of the finite points (of an even sample of at most 16,384 of them):
 /// an origin for float coordinates that stays with the bulk of the data when a few points
 /// lie far away (a single far outlier moves the bounds' centre off the data, and every
 /// coordinate near the data then loses the outlier's distance in float precision);

@@ -123,12 +123,14 @@ std::int64_t cellCount(const std::array<int, 3>& dims)
 // a time: the build's peak holds one array twice, not the whole set.
 void permute(SphereSet& spheres, const LargeBuffer<std::uint32_t>& perm)
 {
-  permuteInPlace(spheres.centers, perm.data());
-  permuteInPlace(spheres.radii, perm.data());
-  permuteInPlace(spheres.colors, perm.data());
-  permuteInPlace(spheres.sourceIds, perm.data());
-  permuteInPlace(spheres.opacities, perm.data());
-  permuteInPlace(spheres.attributes, perm.data(), static_cast<std::size_t>(spheres.numAttributes));
+  PermuteScratch scratch;
+  permuteInPlace(spheres.centers, perm.data(), scratch);
+  permuteInPlace(spheres.radii, perm.data(), scratch);
+  permuteInPlace(spheres.colors, perm.data(), scratch);
+  permuteInPlace(spheres.sourceIds, perm.data(), scratch);
+  permuteInPlace(spheres.opacities, perm.data(), scratch);
+  permuteInPlace(
+    spheres.attributes, perm.data(), scratch, static_cast<std::size_t>(spheres.numAttributes));
 }
 
 // Widens the extrema mn, mx of the macrocell by the attributes of spheres [begin, end) (NaN
@@ -381,13 +383,19 @@ void CoherentGrid::sortIntoSubcells(SphereSet& spheres, const NestedCell& n)
 LargeBuffer<std::uint32_t> CoherentGrid::placeInCells(const SphereSet& spheres)
 {
   // A stable counting sort by cell in two passes, neither with atomics nor with random
-  // access to a cell-sized array: first into slabs of whole z layers (each a contiguous
-  // range of cells), then each slab on its own into its cells. A one-pass scatter touches a
-  // random cell counter and a random slot per sphere, which at 10^7 cells is two cache
-  // misses per sphere (measured: 0.6 s of a 1.2 s build of 10M spheres).
+  // access to a cell-sized array: first into slabs, then each slab on its own into its
+  // cells. A one-pass scatter touches a random cell counter and a random slot per sphere,
+  // which at 10^7 cells is two cache misses per sphere (measured: 0.6 s of a 1.2 s build of
+  // 10M spheres). A slab is a run of whole x rows of cells (rows j + Dims[1] k, each a
+  // contiguous range of cells), about TargetSlabs of them: enough tasks for the threads
+  // also when the grid is one z layer thick (slabs of whole z layers left the sort of the
+  // flat 317,284-atom crack to one thread, 7.5 ms), and few enough output streams for the
+  // scatter into slabs.
+  const std::size_t rows = static_cast<std::size_t>(Dims[1]) * static_cast<std::size_t>(Dims[2]);
+  const std::size_t rowsPerSlab = (rows + TargetSlabs - 1) / TargetSlabs;
   CellSlabs slabs;
-  slabs.depth = (Dims[2] + MaxSlabs - 1) / MaxSlabs;
-  slabs.count = (Dims[2] + slabs.depth - 1) / slabs.depth;
+  slabs.cells = rowsPerSlab * static_cast<std::size_t>(Dims[0]);
+  slabs.count = static_cast<int>((rows + rowsPerSlab - 1) / rowsPerSlab);
   const LargeBuffer<CellOfSphere> bySlab = sortIntoSlabs(spheres, slabs);
   CellStart.assign(static_cast<std::size_t>(cellCount(Dims)) + 1, 0u);
   LargeBuffer<std::uint32_t> perm(NumSpheres);
@@ -411,7 +419,7 @@ LargeBuffer<CoherentGrid::CellOfSphere> CoherentGrid::sortIntoSlabs(const Sphere
   const std::size_t n = NumSpheres;
   const std::size_t chunkSize = std::max<std::size_t>(65536, (n + 255) / 256);
   const std::size_t chunks = (n + chunkSize - 1) / chunkSize;
-  const std::size_t cellsPerSlab = static_cast<std::size_t>(Dims[0]) * Dims[1] * slabs.depth;
+  const std::size_t cellsPerSlab = slabs.cells;
   auto slabOf = [&](std::uint32_t cell) { return static_cast<std::size_t>(cell / cellsPerSlab); };
   std::vector<std::uint32_t> offsets(chunks * slabs.count, 0u);
   auto eachChunk = [&](auto&& body)
@@ -457,9 +465,8 @@ void CoherentGrid::sortSlab(const LargeBuffer<CellOfSphere>& bySlab,
   // The slab's cells [first, last) are its own: counts in CellStart[c + 1], turned into the
   // cells' first slots from the slab's start, each advanced past its spheres by the scatter
   // (in input order), so that CellStart[c + 1] ends as cell c's end.
-  const std::size_t cellsPerSlab = static_cast<std::size_t>(Dims[0]) * Dims[1] * slabs.depth;
-  const std::size_t first = static_cast<std::size_t>(s) * cellsPerSlab;
-  const std::size_t last = std::min(first + cellsPerSlab, static_cast<std::size_t>(cellCount(Dims)));
+  const std::size_t first = static_cast<std::size_t>(s) * slabs.cells;
+  const std::size_t last = std::min(first + slabs.cells, static_cast<std::size_t>(cellCount(Dims)));
   const CellOfSphere* begin = bySlab.data() + slabs.start[s];
   const CellOfSphere* end = bySlab.data() + slabs.start[s + 1];
   std::uint32_t* next = CellStart.data() + 1;
@@ -495,42 +502,66 @@ void CoherentGrid::buildMacrocells(const SphereSet& spheres)
   MacroMax.assign(macros * NumAttributes, -std::numeric_limits<float>::max());
   OccupiedWords = (static_cast<std::size_t>(MacroSize) * MacroSize * MacroSize + 63) / 64;
   MacroOccupied.assign(macros * OccupiedWords, 0);
-  // One task per slab of macrocells along z: each macrocell is written by one task only.
-  tbb::parallel_for(tbb::blocked_range<int>(0, MacroDims[2], 1),
-    [&](const tbb::blocked_range<int>& slabs)
+  // One task per row of macrocells along x (macrocell rows mj + MacroDims[1] mk): each
+  // macrocell is written by one task only, and a grid one macrocell thick (a flat crystal)
+  // still has many rows. Within a macrocell, each x row of its cells is one contiguous run of
+  // cells and of spheres.
+  tbb::parallel_for(tbb::blocked_range<int>(0, MacroDims[1] * MacroDims[2], 1),
+    [&](const tbb::blocked_range<int>& macroRows)
     {
-      for (int k = slabs.begin() * MacroSize; k < std::min(Dims[2], slabs.end() * MacroSize); ++k)
+      for (int row = macroRows.begin(); row != macroRows.end(); ++row)
       {
-        for (int j = 0; j < Dims[1]; ++j)
+        const int mj = row % MacroDims[1], mk = row / MacroDims[1];
+        for (int k = mk * MacroSize; k < std::min(Dims[2], (mk + 1) * MacroSize); ++k)
         {
-          for (int i = 0; i < Dims[0]; ++i)
+          for (int j = mj * MacroSize; j < std::min(Dims[1], (mj + 1) * MacroSize); ++j)
           {
-            const std::int64_t c = cellIndex(i, j, k);
-            const std::uint32_t count = cellEnd(c) - cellBegin(c);
-            if (count == 0)
+            const int bitRow = ((k - mk * MacroSize) * MacroSize + (j - mj * MacroSize)) * MacroSize;
+            for (int mi = 0; mi < MacroDims[0]; ++mi)
             {
-              continue;
+              const int i = mi * MacroSize;
+              addRunToMacrocell(spheres,
+                macrocellIndex(mi, mj, mk),
+                cellIndex(i, j, k),
+                std::min(MacroSize, Dims[0] - i),
+                bitRow);
             }
-            const std::size_t m = macrocellIndex(i / MacroSize, j / MacroSize, k / MacroSize);
-            MacroCount[m] += count;
-            const std::size_t bit =
-              (static_cast<std::size_t>(k % MacroSize) * MacroSize + j % MacroSize) * MacroSize +
-              i % MacroSize;
-            MacroOccupied[m * OccupiedWords + bit / 64] |= std::uint64_t(1) << (bit % 64);
-            for (std::uint32_t id = cellBegin(c); id < cellEnd(c); ++id)
-            {
-              MacroMaxRadius[m] = std::max(MacroMaxRadius[m], spheres.radii[id]);
-            }
-            addExtrema(spheres,
-              cellBegin(c),
-              cellEnd(c),
-              NumAttributes,
-              MacroMin.data() + m * NumAttributes,
-              MacroMax.data() + m * NumAttributes);
           }
         }
       }
     });
+}
+
+void CoherentGrid::addRunToMacrocell(const SphereSet& spheres,
+  std::size_t m,
+  std::int64_t first,
+  int cells,
+  int bitRow)
+{
+  const std::uint32_t begin = cellBegin(first), end = cellEnd(first + cells - 1);
+  if (begin == end)
+  {
+    return;
+  }
+  MacroCount[m] += end - begin;
+  for (int t = 0; t < cells; ++t)
+  {
+    if (cellEnd(first + t) != cellBegin(first + t))
+    {
+      const int bit = bitRow + t;
+      MacroOccupied[m * OccupiedWords + bit / 64] |= std::uint64_t(1) << (bit % 64);
+    }
+  }
+  for (std::uint32_t id = begin; id < end; ++id)
+  {
+    MacroMaxRadius[m] = std::max(MacroMaxRadius[m], spheres.radii[id]);
+  }
+  addExtrema(spheres,
+    begin,
+    end,
+    NumAttributes,
+    MacroMin.data() + m * NumAttributes,
+    MacroMax.data() + m * NumAttributes);
 }
 
 } // namespace raymappers

@@ -126,18 +126,20 @@ public:
 
 private:
   // The phases of build() (section 4.2) after the cell size: the placement (the cells'
-  // offsets and the permutation into cell order, by a counting sort into slabs of z layers,
-  // then of each slab into its cells) and the macrocells with their attribute extrema.
+  // offsets and the permutation into cell order, by a counting sort into slabs of whole rows
+  // of cells, then of each slab into its cells) and the macrocells with their attribute
+  // extrema.
   struct CellOfSphere
   {
     std::uint32_t sphere, cell;
   };
   struct CellSlabs
   {
-    int depth = 1, count = 1;        // z layers per slab, slabs
+    std::size_t cells = 1;            // cells per slab (whole x rows)
+    int count = 1;                    // slabs
     std::vector<std::uint32_t> start; // the spheres of slab s: [start[s], start[s + 1])
   };
-  static constexpr int MaxSlabs = 4096;
+  static constexpr int TargetSlabs = 256;
   // The cell of a centre (finite, inside [Lower, Lower + Dims * h]; the clamp catches the
   // upper faces and rounding).
   std::uint32_t cellOfCentre(const Vec3f& p) const
@@ -155,6 +157,14 @@ private:
     int s,
     LargeBuffer<std::uint32_t>& perm);
   void buildMacrocells(const SphereSet& spheres);
+  // Adds the spheres of `cells` cells from cell `first` on, one x row of macrocell m whose
+  // occupancy bits start at bitRow, to the macrocell: count, occupancy bits, largest radius,
+  // attribute extrema.
+  void addRunToMacrocell(const SphereSet& spheres,
+    std::size_t m,
+    std::int64_t first,
+    int cells,
+    int bitRow);
   // Calls f(c) for the index c of every cell of macrocell `macro`.
   template<typename F>
   void forEachCell(std::size_t macro, F&& f) const

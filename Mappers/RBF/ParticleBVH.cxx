@@ -198,10 +198,11 @@ std::vector<std::uint32_t> flatten(const TempNode* root,
 // twice, not the whole set).
 void permute(RBFParticles& particles, const std::vector<std::uint32_t>& order)
 {
-  permuteInPlace(particles.centers, order.data());
-  permuteInPlace(particles.radii, order.data());
-  permuteInPlace(particles.values, order.data());
-  permuteInPlace(particles.fields, order.data());
+  PermuteScratch scratch;
+  permuteInPlace(particles.centers, order.data(), scratch);
+  permuteInPlace(particles.radii, order.data(), scratch);
+  permuteInPlace(particles.values, order.data(), scratch);
+  permuteInPlace(particles.fields, order.data(), scratch);
 }
 
 // Each node's box of the centres below it and their largest radius, bottom-up: children

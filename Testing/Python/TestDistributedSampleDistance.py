@@ -11,8 +11,8 @@ Runs this file under `mpirun -np N pvbatch --symmetric` (every rank runs the sce
 prints its own mapper's counters), then checks:
 - every rank reports each render;
 - in each interactive render all ranks have the same image_sample_distance_percent, and the
-  budget binds (some distance above 1, none at the maximum, so that equal distances are not
-  merely the clamp's);
+  budget binds (some distance above 1, none at the maximum after the first, so that equal
+  distances are not merely the clamp's);
 - the still render after them is exact (distance 1) on every rank.
 With ShareLastFrame removed, 2 ranks fail: SPH Volume in all four interactive renders
 (2.12 / 2.13, 1.56 / 1.35, ...), Z-Sweep in the last two (1.10 / 1.07); in a run without
@@ -117,7 +117,10 @@ def main(args):
         seen = [r['interactive'][i] for r in ranks]
         check(len(set(seen)) == 1, 'interactive render %d: one distance on all ranks (%s)'
               % (i + 1, seen))
-        check(all(d is not None and d < maximum for d in seen),
+        # The first one follows a still frame, which may take more than the budget times the
+        # maximum squared (SPH on 2 ranks here: 400 on some days); the later ones follow
+        # interactive frames.
+        check(i == 0 or all(d is not None and d < maximum for d in seen),
               'interactive render %d: below the maximum %d (%s)' % (i + 1, maximum, seen))
     check(any(d > 100 for r in ranks for d in r['interactive']),
           'the budget binds: some interactive distance above 1')

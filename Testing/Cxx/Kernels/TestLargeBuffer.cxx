@@ -1,6 +1,6 @@
 // LargeBuffer (Mappers/Common/LargeBuffer.h) and PermuteInPlace: the buffer's array starts at
-// a 2 MB boundary (only aligned 2 MB ranges can be huge pages), holds what is written to it,
-// moves without copying; the permutation gives element i element order[i]'s values and keeps
+// a 2 MB boundary (only aligned 2 MB ranges can be huge pages) or, below 8 MB, at a 64-byte
+// one, holds what is written to it, moves without copying; the permutation gives element i element order[i]'s values and keeps
 // the vector's memory.
 #include "Mappers/Common/LargeBuffer.h"
 #include "Mappers/Common/PermuteInPlace.h"
@@ -41,23 +41,53 @@ TEST(LargeBuffer, HoldsItsValuesOnAHugePageBoundaryAndMoves)
   EXPECT_EQ(moved.size(), 0u);
 }
 
+TEST(LargeBuffer, SmallArraysComeFromTheHeapAlignedTo64BytesAndMoveBetweenKinds)
+{
+  // Below 8 MB the array is not mapped (no 2 MB page fits in its mapping): it is 64-byte
+  // aligned heap memory, and a small and a mapped buffer swap by moving.
+  LargeBuffer<float> small(1001);
+  ASSERT_EQ(small.size(), 1001u);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(small.data()) % 64, 0u);
+  for (std::size_t i = 0; i < small.size(); ++i)
+  {
+    small[i] = 0.5f * static_cast<float>(i);
+  }
+  LargeBuffer<float> large(3000001);
+  const float* smallAt = small.data();
+  large = std::move(small); // swaps: `small` now holds the mapped array and frees it
+  EXPECT_EQ(large.data(), smallAt);
+  EXPECT_EQ(large[1000], 500.f);
+  EXPECT_EQ(small.size(), 3000001u);
+  small = LargeBuffer<float>();
+  EXPECT_EQ(small.size(), 0u);
+}
+
 TEST(PermuteInPlace, ElementIBecomesElementOrderIAndTheVectorKeepsItsMemory)
 {
+  // Two arrays through one scratch, the second wider (the scratch grows) and of another
+  // type: each element i takes element order[i]'s values.
   const std::size_t n = 200003;
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
   std::shuffle(order.begin(), order.end(), std::mt19937(4));
-  std::vector<float> pairs(2 * n);
-  for (std::size_t i = 0; i < pairs.size(); ++i)
+  std::vector<std::uint32_t> ids(n);
+  std::iota(ids.begin(), ids.end(), 0u);
+  std::vector<float> triples(3 * n);
+  for (std::size_t i = 0; i < triples.size(); ++i)
   {
-    pairs[i] = static_cast<float>(i);
+    triples[i] = static_cast<float>(i);
   }
-  const float* memory = pairs.data();
-  permuteInPlace(pairs, order.data(), 2);
-  EXPECT_EQ(pairs.data(), memory);
+  const float* memory = triples.data();
+  PermuteScratch scratch;
+  permuteInPlace(ids, order.data(), scratch);
+  permuteInPlace(triples, order.data(), scratch, 3);
+  EXPECT_EQ(triples.data(), memory);
   for (std::size_t i = 0; i < n; ++i)
   {
-    ASSERT_EQ(pairs[2 * i], static_cast<float>(2 * order[i])) << i;
-    ASSERT_EQ(pairs[2 * i + 1], static_cast<float>(2 * order[i] + 1)) << i;
+    ASSERT_EQ(ids[i], order[i]) << i;
+    for (std::size_t w = 0; w < 3; ++w)
+    {
+      ASSERT_EQ(triples[3 * i + w], static_cast<float>(3 * order[i] + w)) << i;
+    }
   }
 }
