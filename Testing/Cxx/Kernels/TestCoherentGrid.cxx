@@ -246,8 +246,9 @@ TEST(CoherentGrid, ParallelBuildKeepsInputOrderInsideCells)
   EXPECT_EQ(grid.cellEnd(cells - 1), p.size());
 }
 
-// More z layers than the placement's slabs (4096): a slab holds several layers, and the
-// spheres of a line along z still land in their own cells, in input order.
+// Far more z layers than the placement's slabs (about 256 runs of x rows): a slab holds
+// many layers, and the spheres of a line along z still land in their own cells, in input
+// order.
 TEST(CoherentGrid, SlabsOfSeveralLayersPlaceEverySphere)
 {
   std::mt19937 rng(11);
@@ -621,6 +622,49 @@ TEST(CoherentGridHardCases, ClusterOfAMillionthOfTheDomain)
     perspectiveCamera(centre + Vec3d(2e-6, 1e-6, 1e-5), centre, s.origin, 64, 64, 2e-6, 5);
   EXPECT_GT(
     expectBruteForce(s, close, renderGrid(s, close, 8).frame, "cluster, close"), 64 * 64 / 10);
+}
+
+TEST(CoherentGridHardCases, FlatLayerOneCellThick)
+{
+  // 20,000 spheres in the plane z = 0 (a 2D crystal, as the LAMMPS crack): the grid is one
+  // cell thick, so the placement's slabs and the macrocells split it along y only. Every
+  // sphere in its cell, input order inside cells, and the image of the grid against the
+  // brute force, seen at an angle.
+  std::mt19937 rng(43);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Vec3d> p(20000);
+  for (auto& q : p)
+  {
+    q = { 3.0 * u(rng), 2.0 * u(rng), 0.0 };
+  }
+  SphereSet s = makeSet(p, std::vector<double>(p.size(), 0.008), {});
+  CoherentGrid grid;
+  grid.build(s, CoherentGridParameters());
+  const auto& d = grid.dims();
+  ASSERT_EQ(d[2], 1);
+  ASSERT_GT(d[1], 64);
+  std::size_t total = 0;
+  for (int j = 0; j < d[1]; ++j)
+    for (int i = 0; i < d[0]; ++i)
+    {
+      const auto c = grid.cellIndex(i, j, 0);
+      ASSERT_EQ(grid.cellBegin(c), total) << "cell " << i << ", " << j;
+      for (auto id = grid.cellBegin(c); id < grid.cellEnd(c); ++id, ++total)
+      {
+        const auto cell = grid.cellOf(s.centers[id]);
+        ASSERT_EQ(cell[0], i);
+        ASSERT_EQ(cell[1], j);
+        ASSERT_EQ(s.centers[id].x, Vec3f(p[s.sourceIds[id]]).x);
+        if (id + 1 < grid.cellEnd(c))
+        {
+          ASSERT_LT(s.sourceIds[id], s.sourceIds[id + 1]);
+        }
+      }
+    }
+  EXPECT_EQ(total, p.size());
+  SphereSet t = makeSet(p, std::vector<double>(p.size(), 0.008), {});
+  const RayCamera cam = perspectiveCamera({ 2.2, -1.0, 1.6 }, { 1.5, 1.0, 0 }, t.origin, 64, 64);
+  EXPECT_GT(expectBruteForce(t, cam, renderGrid(t, cam, 8).frame, "flat layer"), 64 * 64 / 10);
 }
 
 TEST(CoherentGridHardCases, SingleFarOutlier)
