@@ -6,11 +6,6 @@
 // value-initializes them). Page faults dominate such builds on virtual machines: the CGT grid
 // of a 10-million-sphere Plummer set built in 1350 ms with its temporaries in std::vector and
 // in 467 ms with them here (raymappers-bench on this project's 2-core virtual machine).
-// An array below SmallBytes (8 MB) comes from operator new instead: no 2 MB page fits inside
-// its mapping, so a mapping of its own would fault every 4 KB page anew on every build,
-// where the heap hands the next build of the same size memory that is already faulted in
-// (the CGT build of the 317,284-atom crack, medians of 9 builds in three alternating rounds:
-// 6.0 / 8.7 / 6.8 ms against 19.0 / 7.3 / 17.6 with every array mapped).
 // A failed mapping throws std::bad_alloc, as operator new does.
 #ifndef RayMappers_LargeBuffer_h
 #define RayMappers_LargeBuffer_h
@@ -55,8 +50,6 @@ public:
 
 private:
   static constexpr std::size_t HugePage = std::size_t(2) << 20;
-  static constexpr std::size_t SmallBytes = std::size_t(8) << 20;
-  static constexpr std::align_val_t Alignment{ alignof(T) < 64 ? 64 : alignof(T) };
 
   void allocate(std::size_t n)
   {
@@ -66,22 +59,9 @@ private:
       return;
     }
 #if defined(__linux__)
-    if (n * sizeof(T) >= SmallBytes)
-    {
-      mapHugePages(n * sizeof(T));
-      return;
-    }
-#endif
-    Base = ::operator new(n * sizeof(T), Alignment);
-    Data = static_cast<T*>(Base);
-  }
-
-#if defined(__linux__)
-  void mapHugePages(std::size_t bytes)
-  {
     // Mapped one huge page larger, the array starting at a 2 MB boundary: only whole aligned
     // 2 MB ranges can be huge pages.
-    Mapped = bytes + HugePage;
+    Mapped = n * sizeof(T) + HugePage;
     void* p = mmap(nullptr, Mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (p == MAP_FAILED)
     {
@@ -94,8 +74,11 @@ private:
     const std::uintptr_t aligned = (at + HugePage - 1) & ~(HugePage - 1);
     madvise(reinterpret_cast<void*>(aligned), Mapped - (aligned - at), MADV_HUGEPAGE);
     Data = reinterpret_cast<T*>(aligned);
-  }
+#else
+    Base = ::operator new(n * sizeof(T), std::align_val_t(alignof(T) < 64 ? 64 : alignof(T)));
+    Data = static_cast<T*>(Base);
 #endif
+  }
 
   void release()
   {
@@ -104,19 +87,13 @@ private:
       return;
     }
 #if defined(__linux__)
-    if (Mapped != 0)
-    {
-      munmap(Base, Mapped);
-    }
-    else
+    munmap(Base, Mapped);
+#else
+    ::operator delete(Base, std::align_val_t(alignof(T) < 64 ? 64 : alignof(T)));
 #endif
-    {
-      ::operator delete(Base, Alignment);
-    }
     Base = nullptr;
     Data = nullptr;
     Size = 0;
-    Mapped = 0;
   }
 
   void swap(LargeBuffer& o) noexcept

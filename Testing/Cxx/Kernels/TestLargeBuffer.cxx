@@ -1,6 +1,6 @@
 // LargeBuffer (Mappers/Common/LargeBuffer.h) and PermuteInPlace: the buffer's array starts at
-// a 2 MB boundary (only aligned 2 MB ranges can be huge pages) or, below 8 MB, at a 64-byte
-// one, holds what is written to it, moves without copying; the permutation gives element i element order[i]'s values and keeps
+// a 2 MB boundary (only aligned 2 MB ranges can be huge pages), holds what is written to it,
+// moves without copying; the permutation gives element i element order[i]'s values and keeps
 // the vector's memory.
 #include "Mappers/Common/LargeBuffer.h"
 #include "Mappers/Common/PermuteInPlace.h"
@@ -39,27 +39,6 @@ TEST(LargeBuffer, HoldsItsValuesOnAHugePageBoundaryAndMoves)
   }
   moved = LargeBuffer<std::uint32_t>();
   EXPECT_EQ(moved.size(), 0u);
-}
-
-TEST(LargeBuffer, SmallArraysComeFromTheHeapAlignedTo64BytesAndMoveBetweenKinds)
-{
-  // Below 8 MB the array is not mapped (no 2 MB page fits in its mapping): it is 64-byte
-  // aligned heap memory, and a small and a mapped buffer swap by moving.
-  LargeBuffer<float> small(1001);
-  ASSERT_EQ(small.size(), 1001u);
-  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(small.data()) % 64, 0u);
-  for (std::size_t i = 0; i < small.size(); ++i)
-  {
-    small[i] = 0.5f * static_cast<float>(i);
-  }
-  LargeBuffer<float> large(3000001);
-  const float* smallAt = small.data();
-  large = std::move(small); // swaps: `small` now holds the mapped array and frees it
-  EXPECT_EQ(large.data(), smallAt);
-  EXPECT_EQ(large[1000], 500.f);
-  EXPECT_EQ(small.size(), 3000001u);
-  small = LargeBuffer<float>();
-  EXPECT_EQ(small.size(), 0u);
 }
 
 TEST(PermuteInPlace, ElementIBecomesElementOrderIAndTheVectorKeepsItsMemory)
