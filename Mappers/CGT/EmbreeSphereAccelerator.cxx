@@ -1,21 +1,14 @@
 #include "Mappers/CGT/EmbreeSphereAccelerator.h"
-#include "Mappers/Common/EmbreeErrors.h"
+#include "Mappers/Common/EmbreeDevice.h"
 
 #include <limits>
-#include <stdexcept>
-#include <string>
 
 namespace raymappers
 {
 
 EmbreeSphereAccelerator::EmbreeSphereAccelerator(const char* deviceConfig)
 {
-  Device = rtcNewDevice(deviceConfig);
-  if (!Device)
-  {
-    ThrowOnEmbreeError(nullptr, "rtcNewDevice");
-    throw std::runtime_error("Embree: rtcNewDevice failed");
-  }
+  Device = NewEmbreeDevice(deviceConfig);
 }
 
 EmbreeSphereAccelerator::~EmbreeSphereAccelerator()

@@ -1,5 +1,5 @@
 #include "Mappers/RBF/ParticleBVH.h"
-#include "Mappers/Common/EmbreeErrors.h"
+#include "Mappers/Common/EmbreeDevice.h"
 #include "Mappers/Common/PermuteInPlace.h"
 
 #include <embree3/rtcore.h>
@@ -258,12 +258,7 @@ void ParticleBVH::build(RBFParticles& particles, int leafSize)
   }
   leafSize = std::clamp(leafSize, 1, 64);
   EmbreeBuild embree;
-  embree.device = rtcNewDevice(nullptr);
-  if (!embree.device)
-  {
-    ThrowOnEmbreeError(nullptr, "rtcNewDevice");
-    throw std::runtime_error("Embree: rtcNewDevice failed");
-  }
+  embree.device = NewEmbreeDevice(nullptr);
   LargeBuffer<RTCBuildPrimitive> prims = particleBoxes(particles);
   embree.bvh = rtcNewBVH(embree.device);
   const TempNode* root = buildSAH(embree.device, embree.bvh, prims, leafSize);
