@@ -24,6 +24,7 @@ usage: pvpython TestDistributedSampleDistance.py --launcher RAYMAPPERS_ENV --plu
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -104,8 +105,9 @@ def main(args):
     sys.stderr.write(done.stderr[-4000:])
     check(done.returncode == 0, 'pvbatch on %d ranks exits cleanly (%d)'
           % (args.ranks, done.returncode))
-    ranks = [json.loads(line.split(' ', 1)[1]) for line in done.stdout.splitlines()
-             if line.startswith('DISTANCES ')]
+    # mpirun forwards the ranks' output as it comes: one rank's line may run on into
+    # another's (seen on 3 ranks: two objects on one line), so each object is found alone.
+    ranks = [json.loads(m) for m in re.findall(r'DISTANCES (\{[^{}]*\})', done.stdout)]
     for r in sorted(ranks, key=lambda r: r['rank']):
         print('rank %d: %s' % (r['rank'], r))
     check(sorted(r['rank'] for r in ranks) == list(range(args.ranks)),
