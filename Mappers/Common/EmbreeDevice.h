@@ -5,7 +5,8 @@
 // group) the cache's reallocation throws with every thread's use counter left blocked
 // (SharedLazyTessellationCache::realloc, kernels/subdiv/tessellation_cache.cpp), so that the
 // next reallocation, that of any later rtcReleaseDevice, spins forever waiting for them.
-// TestRayMapperOutOfMemory hung so in rtcReleaseDevice in 2 of 10 runs.
+// Seen as TestRayMapperOutOfMemory hanging in rtcReleaseDevice (2 of 10 runs, with a build
+// whose small temporaries came from the heap); TestEmbreeDevice.cxx provokes it every time.
 #ifndef RayMappers_EmbreeDevice_h
 #define RayMappers_EmbreeDevice_h
 

@@ -14,8 +14,10 @@ prints its own mapper's counters), then checks:
   budget binds (some distance above 1, none at the maximum after the first, so that equal
   distances are not merely the clamp's);
 - the still render after them is exact (distance 1) on every rank.
-With ShareLastFrame removed, 2 ranks fail: SPH Volume in all four interactive renders
-(2.12 / 2.13, 1.56 / 1.35, ...), Z-Sweep in the last two (1.10 / 1.07); in a run without
+With ShareLastFrame removed, 2 ranks fail (2026-12-07): Z-Sweep in all four interactive
+renders (2.29 / 2.23, 1.48 / 1.33, ...), SPH Volume in renders 2-4 (2.58 / 2.87, ...; its
+first one sat at the clamp, 4.00, on both ranks); earlier runs had SPH failing all four
+(2.12 / 2.13, ...) and Z-Sweep the last two (1.10 / 1.07); in a run without
 the test's budget, of disk_out_ref unbalanced, 1.86 / 2.03 and 1.16 / 1.30.
 
 usage: pvpython TestDistributedSampleDistance.py --launcher RAYMAPPERS_ENV --plugin PLUGIN
