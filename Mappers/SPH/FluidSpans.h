@@ -6,7 +6,9 @@
 // fluid thickness along the ray stays exact (section 3.1):
 //   thickness = sum_k (exit_k - entry_k) - hiddenEmpty      (in zeta; times |B| in world).
 //
-// Depth values: per pixel 2S slots, entry k at 2k, exit k at 2k + 1. Each has four surface
+// Depth values: pixel p's 2 count[p] slots lie together from first[p], entry k at 2k, exit
+// k at 2k + 1, the pixels in row order (compressed: a column takes memory only for the spans
+// it stores, so that a march across the columns reads a few cache lines). Each has four surface
 // links (section 3.3, one byte each, packed into one word in the order +x, -x, +y, -y):
 // a slot index in that neighbour's column, or OwnColumn | slot for a link within its own
 // column (an entry to its own exit at a boundary, an inner entry to the preceding exit or
@@ -38,9 +40,10 @@ struct FluidSpans
   std::vector<std::uint8_t> count;    // spans stored per pixel (<= S)
   std::vector<std::uint32_t> found;   // spans in the column (>= count)
   std::vector<float> hiddenEmpty;     // zeta length of empty space inside the last stored span
-  std::vector<float> depth;           // 2S slots per pixel
-  std::vector<std::uint32_t> links;   // 2S slots per pixel, 4 link bytes each
-  std::vector<std::uint32_t> normals; // 2S slots per pixel, octahedron-encoded
+  std::vector<std::size_t> first;     // per pixel: its first slot
+  std::vector<float> depth;           // 2 count[p] slots per pixel
+  std::vector<std::uint32_t> links;   // per slot, 4 link bytes
+  std::vector<std::uint32_t> normals; // per slot, octahedron-encoded
 
   void reset(int w, int h, int spans)
   {
@@ -51,7 +54,8 @@ struct FluidSpans
     count.assign(n, 0);
     found.assign(n, 0);
     hiddenEmpty.assign(n, 0.f);
-    depth.assign(n * 2 * spans, 0.f);
+    first.assign(n, 0);
+    depth.clear();
     links.clear();
     normals.clear();
   }
@@ -62,7 +66,7 @@ struct FluidSpans
   }
   std::size_t slot(std::size_t pixelIndex, int s) const
   {
-    return pixelIndex * 2 * static_cast<std::size_t>(maxSpans) + static_cast<std::size_t>(s);
+    return first[pixelIndex] + static_cast<std::size_t>(s);
   }
   float entry(std::size_t p, int k) const { return depth[slot(p, 2 * k)]; }
   float exit(std::size_t p, int k) const { return depth[slot(p, 2 * k + 1)]; }
@@ -78,7 +82,8 @@ struct FluidSpans
   }
   std::size_t bytes() const
   {
-    return count.size() + found.size() * 4 + hiddenEmpty.size() * 4 + depth.size() * 4 +
+    return count.size() + found.size() * 4 + hiddenEmpty.size() * 4 +
+           first.size() * sizeof(std::size_t) + depth.size() * 4 +
            links.size() * 4 + normals.size() * 4;
   }
 };

@@ -22,6 +22,7 @@
 #include <limits>
 #include <memory>
 #include <new>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -440,8 +441,9 @@ struct TileVoxelizer
   void splatParticle(std::size_t k, TallyCounters& t) const;
   void splatBox(std::size_t k, TallyCounters& t) const;
   void splat(const TileLists& tl, std::size_t tile, TallyCounters& t) const;
-  void compressColumn(int px, int j, FluidSpans& out, TallyCounters& t) const;
-  void compress(FluidSpans& out, TallyCounters& t) const;
+  void compressColumn(int px, int j, FluidSpans& out, std::vector<float>& staged,
+    TallyCounters& t) const;
+  void compress(FluidSpans& out, std::vector<float>& staged, TallyCounters& t) const;
 };
 
 /// Tiles of at most MaxTileSize pixels a side.
@@ -672,15 +674,18 @@ void TileVoxelizer::splat(const TileLists& tl, std::size_t tile, TallyCounters& 
 /// by word, become spans [d_s, d_e], an exit beyond the stop depth moved back to it; a run
 /// joins the span before it when the gap between them is shorter than g in world space (gap
 /// bridging, sections 3.2, 4.4); beyond S spans the last stored span extends over the rest and
-/// keeps the empty space inside it (hiddenEmpty). The column is cleared for the next tile.
-void TileVoxelizer::compressColumn(int px, int j, FluidSpans& out, TallyCounters& t) const
+/// keeps the empty space inside it (hiddenEmpty). The spans' depths are appended to the
+/// tile's `staged` ones (gatherSpans puts them in place). The column is cleared for the next
+/// tile.
+void TileVoxelizer::compressColumn(int px, int j, FluidSpans& out, std::vector<float>& staged,
+  TallyCounters& t) const
 {
   const int L = layers.count, S = out.maxSpans;
   std::uint64_t* column =
     columnOf(grid, static_cast<std::size_t>(j - y0) * (x1 - x0) + (px - x0), words);
   const std::size_t p = out.pixel(px, j);
   const float rayLength = static_cast<float>(length(rays.direction(px + 0.5, j + 0.5)));
-  float* d = out.depth.data() + out.slot(p, 0);
+  float d[2 * FluidSpans::MaxSpans];
   int stored = 0;
   std::uint32_t found = 0;
   float hidden = 0.f;
@@ -719,6 +724,7 @@ void TileVoxelizer::compressColumn(int px, int j, FluidSpans& out, TallyCounters
     }
     s = nextBit(column, words, e, true);
   }
+  staged.insert(staged.end(), d, d + 2 * stored);
   out.count[p] = static_cast<std::uint8_t>(stored);
   out.found[p] = found;
   out.hiddenEmpty[p] = hidden;
@@ -729,8 +735,8 @@ void TileVoxelizer::compressColumn(int px, int j, FluidSpans& out, TallyCounters
 }
 
 /// The tile's compression: the columns a splat wrote (the others have no span: out.reset
-/// cleared them).
-void TileVoxelizer::compress(FluidSpans& out, TallyCounters& t) const
+/// cleared them), row by row, their depths staged in that order.
+void TileVoxelizer::compress(FluidSpans& out, std::vector<float>& staged, TallyCounters& t) const
 {
   for (int j = y0; j < y1; ++j)
   {
@@ -739,7 +745,7 @@ void TileVoxelizer::compress(FluidSpans& out, TallyCounters& t) const
       std::uint8_t& written = touched[static_cast<std::size_t>(j - y0) * (x1 - x0) + (px - x0)];
       if (written)
       {
-        compressColumn(px, j, out, t);
+        compressColumn(px, j, out, staged, t);
         written = 0;
       }
     }
@@ -816,9 +822,58 @@ struct ThreadGrid
   double splatMs = 0, compressMs = 0;
 };
 
+/// The tiles' staged depths put in place (FluidSpans: pixel p's slots from first[p], the
+/// pixels in row order): each row's slot count, their running sum, then the rows' first slots
+/// and each tile's depths copied in the order its compression staged them.
+void gatherSpans(const TileLists& tl, const std::vector<std::vector<float>>& staged, FluidSpans& out)
+{
+  const int W = out.width, H = out.height;
+  std::vector<std::size_t> rowStart(static_cast<std::size_t>(H) + 1, 0);
+  tbb::parallel_for(0, H,
+    [&](int j)
+    {
+      std::size_t slots = 0;
+      for (int i = 0; i < W; ++i)
+      {
+        slots += 2u * out.count[out.pixel(i, j)];
+      }
+      rowStart[j + 1] = slots;
+    });
+  std::partial_sum(rowStart.begin(), rowStart.end(), rowStart.begin());
+  out.depth.resize(rowStart[H]);
+  tbb::parallel_for(0, H,
+    [&](int j)
+    {
+      std::size_t next = rowStart[j];
+      for (int i = 0; i < W; ++i)
+      {
+        const std::size_t p = out.pixel(i, j);
+        out.first[p] = next;
+        next += 2u * out.count[p];
+      }
+    });
+  tbb::parallel_for(std::size_t(0), tl.tiles(),
+    [&](std::size_t tile)
+    {
+      const float* from = staged[tile].data();
+      const int x0 = static_cast<int>(tile % tl.tilesX) * tl.size;
+      const int y0 = static_cast<int>(tile / tl.tilesX) * tl.size;
+      for (int j = y0; j < std::min(H, y0 + tl.size); ++j)
+      {
+        for (int i = x0; i < std::min(W, x0 + tl.size); ++i)
+        {
+          const std::size_t p = out.pixel(i, j);
+          std::copy(from, from + 2 * out.count[p], out.depth.begin() + out.first[p]);
+          from += 2 * out.count[p];
+        }
+      }
+    });
+}
+
 /// The tiles in parallel (section 3.1), each splatted into its thread's grid, then its columns
-/// compressed into spans. Splat and compression alternate per tile: the phases "splat" and
-/// "compress" share the loop's time in proportion to the threads' time in each.
+/// compressed into spans (staged per tile, then gathered in place). Splat and compression
+/// alternate per tile: the phases "splat" and "compress" share the loop's time in proportion
+/// to the threads' time in each; the gathering is compression's.
 void voxelizeTiles(const TileVoxelizer& prototype,
   const TileLists& tl,
   int H,
@@ -838,6 +893,7 @@ void voxelizeTiles(const TileVoxelizer& prototype,
   using Clock = std::chrono::steady_clock;
   const auto ms = [](Clock::time_point a, Clock::time_point b)
   { return std::chrono::duration<double, std::milli>(b - a).count(); };
+  std::vector<std::vector<float>> staged(tl.tiles());
   const Clock::time_point start = Clock::now();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tl.tiles(), 1),
     [&](const tbb::blocked_range<std::size_t>& r)
@@ -860,12 +916,15 @@ void voxelizeTiles(const TileVoxelizer& prototype,
         const Clock::time_point t0 = Clock::now();
         tv.splat(tl, tile, t);
         const Clock::time_point t1 = Clock::now();
-        tv.compress(out, t);
+        tv.compress(out, staged[tile], t);
         g.splatMs += ms(t0, t1);
         g.compressMs += ms(t1, Clock::now());
       }
     });
-  const double wall = ms(start, Clock::now());
+  const Clock::time_point tilesDone = Clock::now();
+  gatherSpans(tl, staged, out);
+  const double gatherMs = ms(tilesDone, Clock::now());
+  const double wall = ms(start, tilesDone);
   double splatMs = 0, compressMs = 0;
   for (const ThreadGrid& g : grids)
   {
@@ -874,7 +933,7 @@ void voxelizeTiles(const TileVoxelizer& prototype,
   }
   const double busy = splatMs + compressMs;
   stats.addPhase("splat", busy > 0 ? wall * splatMs / busy : wall);
-  stats.addPhase("compress", busy > 0 ? wall * compressMs / busy : 0.0);
+  stats.addPhase("compress", (busy > 0 ? wall * compressMs / busy : 0.0) + gatherMs);
 }
 
 /// The budget cannot hold the tiles' lists and grids: an empty voxelization. `neededBytes`:

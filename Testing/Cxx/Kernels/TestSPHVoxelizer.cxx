@@ -631,12 +631,13 @@ TEST(SPHVoxelizer, SurfaceConnectionLinksOverlappingSpansAndBubbleWalls)
   s.reset(3, 1, 7);
   const auto put = [&](int i, std::vector<std::pair<float, float>> v)
   {
-    const std::size_t p = s.pixel(i, 0);
+    const std::size_t p = s.pixel(i, 0); // (called in pixel order: appended)
     s.count[p] = static_cast<std::uint8_t>(v.size());
-    for (std::size_t k = 0; k < v.size(); ++k)
+    s.first[p] = s.depth.size();
+    for (const auto& span : v)
     {
-      s.depth[s.slot(p, 2 * int(k))] = v[k].first;
-      s.depth[s.slot(p, 2 * int(k) + 1)] = v[k].second;
+      s.depth.push_back(span.first);
+      s.depth.push_back(span.second);
     }
   };
   put(0, { { 1, 2 }, { 3, 4 } });
