@@ -905,6 +905,7 @@ bool renderFluid(const FluidScene& scene,
   smoothSurfaces(
     spans, neighbourhoods, rays, params.smoothingRadius, params.smoothingIterations, stats);
   computeNormals(spans, neighbourhoods, rays, stats);
+  stats.addCounter("spans_bytes", static_cast<std::int64_t>(spans.bytes()));
   // (In parentheses: this variant's own, not also the entry point found by argument lookup.)
   (renderFluidSpans)(spans, rays, particles.origin, params, frame, stats);
   return true;

@@ -114,7 +114,8 @@ struct FluidScene
 
 /// The whole frame along the view's depth rays: voxelizeFluid, connectSurfaces,
 /// findNeighbourhoods, smoothSurfaces, computeNormals and renderFluidSpans, with their
-/// phases and counters (and particles_skipped from the input). The view's opaque depth, when
+/// phases and counters (and particles_skipped from the input, spans_bytes the memory of the
+/// spans with their links and normals). The view's opaque depth, when
 /// it has one, ends the fluid there (VoxelizerParameters::stopDepth). Returns false when the
 /// voxelization does not fit the memory budget (the frame is then empty).
 bool renderFluid(const FluidScene& scene,

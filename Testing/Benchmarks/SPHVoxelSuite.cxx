@@ -1132,7 +1132,8 @@ std::vector<Row> RunSPHVoxel(const Options& opt, const std::vector<std::string>&
                   << ", filter " << e.phaseMs[3] << ", normals " << e.phaseMs[4] << ", render "
                   << (refract ? e.phaseMs[7] : e.phaseMs[6]) << "), " << e.layers
                   << " layers (angle " << e.angleDeg << "), " << e.tiles << " tiles, peak "
-                  << r.row.memMb << " MB; work: " << st->GetCounter("splat_pixels")
+                  << r.row.memMb << " MB, spans " << st->GetCounter("spans_bytes") / 1048576.0
+                  << " MB; work: " << st->GetCounter("splat_pixels")
                   << " splat pixels, " << st->GetCounter("boxes_in_view") << " boxes on "
                   << st->GetCounter("box_pixels") << " pixels, " << st->GetCounter("set_bit_ops")
                   << " bit-set ops, "

@@ -232,6 +232,8 @@ TEST(SPHVoxelizer, OneSphereSpansMatchTheAnalyticIntersectionWithinOneLayer)
     }
     EXPECT_GT(hits, 300) << persp;
     EXPECT_EQ(stats.counter("spans_found"), hits);
+    // Compressed: only the stored spans take slots (not MaximumSpans per pixel).
+    EXPECT_EQ(spans.depth.size(), 2u * hits);
     EXPECT_FALSE(stats.effect("gap_bridging"));
     EXPECT_FALSE(stats.effect("shell_splat"));
   }
