@@ -6,7 +6,12 @@
 // value-initializes them). Page faults dominate such builds on virtual machines: the CGT grid
 // of a 10-million-sphere Plummer set built in 1350 ms with its temporaries in std::vector and
 // in 467 ms with them here (raymappers-bench on this project's 2-core virtual machine).
-// A failed mapping throws std::bad_alloc, as operator new does.
+// An array smaller than a huge page is mapped as it is, in 4 KB pages (marked, its first
+// touch would fault in and clear a whole 2 MB page). One below 128 KB (glibc's own
+// threshold for mapping) comes from the heap: unmapping an array in a process whose other
+// threads ran on other cores flushes their TLBs by interrupts, and the builds of small sets
+// (the 1,102-atom protein 2LYZ) spent most of their time so. A failed mapping throws
+// std::bad_alloc, as operator new does.
 #ifndef RayMappers_LargeBuffer_h
 #define RayMappers_LargeBuffer_h
 
@@ -50,7 +55,8 @@ public:
 
 private:
   static constexpr std::size_t HugePage = std::size_t(2) << 20;
-
+  static constexpr std::size_t HeapBytes = std::size_t(128) << 10;
+  static constexpr std::align_val_t Alignment{ alignof(T) < 64 ? 64 : alignof(T) };
   void allocate(std::size_t n)
   {
     Size = n;
@@ -58,10 +64,24 @@ private:
     {
       return;
     }
+    const std::size_t bytes = n * sizeof(T);
 #if defined(__linux__)
+    if (bytes >= HeapBytes)
+    {
+      map(bytes);
+      return;
+    }
+#endif
+    Base = ::operator new(bytes, Alignment);
+    Data = static_cast<T*>(Base);
+  }
+#if defined(__linux__)
+  void map(std::size_t bytes)
+  {
     // Mapped one huge page larger, the array starting at a 2 MB boundary: only whole aligned
     // 2 MB ranges can be huge pages.
-    Mapped = n * sizeof(T) + HugePage;
+    const bool huge = bytes >= HugePage;
+    Mapped = bytes + (huge ? HugePage : 0);
     void* p = mmap(nullptr, Mapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (p == MAP_FAILED)
     {
@@ -70,32 +90,37 @@ private:
       throw std::bad_alloc();
     }
     Base = p;
-    const auto at = reinterpret_cast<std::uintptr_t>(p);
-    const std::uintptr_t aligned = (at + HugePage - 1) & ~(HugePage - 1);
-    madvise(reinterpret_cast<void*>(aligned), Mapped - (aligned - at), MADV_HUGEPAGE);
-    Data = reinterpret_cast<T*>(aligned);
-#else
-    Base = ::operator new(n * sizeof(T), std::align_val_t(alignof(T) < 64 ? 64 : alignof(T)));
-    Data = static_cast<T*>(Base);
-#endif
+    Data = static_cast<T*>(p);
+    if (huge)
+    {
+      const auto at = reinterpret_cast<std::uintptr_t>(p);
+      const std::uintptr_t aligned = (at + HugePage - 1) & ~(HugePage - 1);
+      madvise(reinterpret_cast<void*>(aligned), Mapped - (aligned - at), MADV_HUGEPAGE);
+      Data = reinterpret_cast<T*>(aligned);
+    }
   }
-
+#endif
   void release()
   {
     if (!Base)
     {
       return;
     }
+    if (Mapped > 0)
+    {
 #if defined(__linux__)
-    munmap(Base, Mapped);
-#else
-    ::operator delete(Base, std::align_val_t(alignof(T) < 64 ? 64 : alignof(T)));
+      munmap(Base, Mapped);
 #endif
+    }
+    else
+    {
+      ::operator delete(Base, Alignment);
+    }
     Base = nullptr;
     Data = nullptr;
     Size = 0;
+    Mapped = 0;
   }
-
   void swap(LargeBuffer& o) noexcept
   {
     std::swap(Base, o.Base);

@@ -29,7 +29,7 @@ public:
   template<typename T>
   T* get(std::size_t n)
   {
-    static_assert(alignof(T) <= 64, "the scratch is aligned to 64 bytes (2 MB on Linux)");
+    static_assert(alignof(T) <= 64, "the scratch is aligned to 64 bytes (a page on Linux)");
     if (Bytes.size() < n * sizeof(T))
     {
       Bytes = LargeBuffer<std::byte>(n * sizeof(T));
