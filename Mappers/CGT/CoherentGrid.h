@@ -140,6 +140,10 @@ private:
     std::vector<std::uint32_t> start; // the spheres of slab s: [start[s], start[s + 1])
   };
   static constexpr int TargetSlabs = 256;
+  // A small set gets fewer tasks: slabs of at least about SpheresPerSlab spheres, macrocell
+  // rows of about SpheresPerMacroTask per task (a second task wakes a worker: 20-40 us).
+  static constexpr std::size_t SpheresPerSlab = 1024;
+  static constexpr std::size_t SpheresPerMacroTask = 4096;
   // The cell of a centre (finite, inside [Lower, Lower + Dims * h]; the clamp catches the
   // upper faces and rounding).
   std::uint32_t cellOfCentre(const Vec3f& p) const
