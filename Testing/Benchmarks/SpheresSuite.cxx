@@ -44,15 +44,16 @@ const char* const SphereImposterShader =
   "diffuseColor *= nz;\n";
 
 /// The sphere datasets: uniformly dense ones, the LAMMPS melt (1,000,188 atoms), a LAMMPS
-/// crack (a flat slab), 2LYZ and a LIGGGHTS packing (radii that vary), and clustered ones, an
-/// NFW dark-matter halo (galpy) and a Plummer star cluster, each of 1,000,000 particles whose
-/// density spans orders of magnitude from the core to the outskirts.
+/// crack (a flat slab), 2LYZ and two LIGGGHTS packings (radii 1 : 2.5 and 1 : 10), and
+/// clustered ones, an NFW dark-matter halo (galpy) and a Plummer star cluster, each of
+/// 1,000,000 particles whose density spans orders of magnitude from the core to the outskirts.
 std::vector<std::string> DefaultSphereData(const Options& opt)
 {
   std::vector<std::string> files;
   for (const auto& [name, script] : { std::pair{ "lammps_melt_1M.vtk", "lammps_melt.sh" },
          std::pair{ "lammps_crack.vtk", "lammps_crack.sh" },
          std::pair{ "liggghts_packing.vtk", "liggghts_packing.sh" },
+         std::pair{ "liggghts_packing_wide.vtk", "liggghts_packing_wide.sh" },
          std::pair{ "galpy_halo_1M.vtk", "galpy_halo.sh" },
          std::pair{ "plummer_1M.vtk", "plummer_sphere.sh" } })
   {
