@@ -32,7 +32,8 @@ SCALE_POWER = {"h": 1, "m": 3}  # divided by K to this power; the rest copied
 
 
 def read_vtk(path):
-    """(points float32 (n, 3), {name: float32 array}) of a legacy binary polydata file."""
+    """(points float32 (n, 3), {name: float32 array}) of a legacy binary polydata file (int
+    arrays, such as LIGGGHTS's type and id, read as float32)."""
     with open(path, "rb") as f:
         data = f.read()
     pos = 0
@@ -62,10 +63,11 @@ def read_vtk(path):
             pos += 4 * int(text.split()[2])
         elif text.startswith("SCALARS"):
             name, kind = text.split()[1:3]
-            if kind != "float":
-                raise ValueError(f"{path}: array {name} is {kind}, not float")
+            if kind not in ("float", "int"):
+                raise ValueError(f"{path}: array {name} is {kind}, not float or int")
             line()  # LOOKUP_TABLE default
-            arrays[name] = np.frombuffer(data, ">f4", n, pos)
+            values = np.frombuffer(data, ">f4" if kind == "float" else ">i4", n, pos)
+            arrays[name] = values if kind == "float" else values.astype(np.float32)
             pos += 4 * n
     return points, arrays
 
