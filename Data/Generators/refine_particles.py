@@ -72,6 +72,37 @@ def read_vtk(path):
     return points, arrays
 
 
+def read_arrays(parser, path, names):
+    """read_vtk of `path` keeping only the comma-separated arrays `names` (a parser error
+    names the missing ones)."""
+    points, arrays = read_vtk(path)
+    wanted = [a for a in names.split(",") if a]
+    missing = [a for a in wanted if a not in arrays]
+    if missing:
+        parser.error(f"{path} has no array {', '.join(missing)}; it has {', '.join(arrays)}")
+    return points, {a: arrays[a] for a in wanted}
+
+
+def write_output(output, points, arrays, title, script, argv, facts, start):
+    """Write `output` (through a .part file, so that an interrupted run leaves no file the
+    cache would accept) and its provenance: the script, its command, the lines `facts`,
+    the particle count, date and wall time since `start`."""
+    n = len(points)
+    part = output + ".part"
+    write_vtk(part, points, arrays, title)
+    os.replace(part, output)
+    seconds = time.time() - start
+    with open(output + ".provenance.txt", "w") as f:
+        f.write(f"file: {os.path.basename(output)}\n"
+                f"generator: Data/Generators/{script}\n"
+                f"command: {script} {' '.join(argv)}\n"
+                + "".join(line + "\n" for line in facts) +
+                f"particles: {n}\n"
+                f"date: {time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}\n"
+                f"wall time: {seconds:.0f} s\n")
+    print(f"wrote {output} ({n} particles, {seconds:.0f} s)")
+
+
 def refine(points, arrays, k, dx):
     """The K^3-fold refined points and arrays (particle i's lattice at rows k^3 i ...)."""
     n = len(points)
@@ -106,35 +137,20 @@ def main(argv):
     if args.k < 1:
         parser.error("K must be at least 1")
     start = time.time()
-    points, arrays = read_vtk(args.input)
-    wanted = [a for a in args.arrays.split(",") if a]
-    missing = [a for a in wanted if a not in arrays]
-    if missing:
-        parser.error(f"{args.input} has no array {', '.join(missing)}; it has {', '.join(arrays)}")
-    arrays = {a: arrays[a] for a in wanted}
+    points, arrays = read_arrays(parser, args.input, args.arrays)
     dx = args.dx
     if dx is None:
         if "h" not in arrays:
             parser.error("--dx is needed when the file has no h array")
         dx = float(np.median(arrays["h"])) / 1.3
     out_points, out_arrays = refine(points, arrays, args.k, dx)
-    n = len(out_points)
-    part = args.output + ".part"
-    write_vtk(part, out_points, out_arrays,
-              f"{os.path.basename(args.input)} refined {args.k}^3: {n} particles, dx {dx / args.k:g}")
-    os.replace(part, args.output)
-    seconds = time.time() - start
-    with open(args.output + ".provenance.txt", "w") as f:
-        f.write(f"file: {os.path.basename(args.output)}\n"
-                f"generator: Data/Generators/refine_particles.py\n"
-                f"command: refine_particles.py {' '.join(argv)}\n"
-                f"input: {args.input} ({len(points)} particles, dx {dx:g})\n"
-                f"refinement: {args.k}^3 lattice per particle, h / {args.k}, m / {args.k ** 3}, "
-                f"other arrays copied: {', '.join(wanted)}\n"
-                f"particles: {n}\n"
-                f"date: {time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}\n"
-                f"wall time: {seconds:.0f} s\n")
-    print(f"wrote {args.output} ({n} particles, {seconds:.0f} s)")
+    write_output(args.output, out_points, out_arrays,
+                 f"{os.path.basename(args.input)} refined {args.k}^3: {len(out_points)} particles, "
+                 f"dx {dx / args.k:g}",
+                 "refine_particles.py", argv,
+                 [f"input: {args.input} ({len(points)} particles, dx {dx:g})",
+                  f"refinement: {args.k}^3 lattice per particle, h / {args.k}, m / {args.k ** 3}, "
+                  f"other arrays copied: {', '.join(arrays)}"], start)
     return 0
 
 

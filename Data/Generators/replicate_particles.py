@@ -22,8 +22,7 @@ import time
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from pysph_to_vtk import write_vtk  # noqa: E402
-from refine_particles import read_vtk  # noqa: E402
+from refine_particles import read_arrays, write_output  # noqa: E402
 
 
 def replicate(points, arrays, counts, period):
@@ -56,35 +55,19 @@ def main(argv):
     if min(args.counts) < 1:
         parser.error("NX, NY and NZ must be at least 1")
     start = time.time()
-    points, arrays = read_vtk(args.input)
-    wanted = [a for a in args.arrays.split(",") if a]
-    missing = [a for a in wanted if a not in arrays]
-    if missing:
-        parser.error(f"{args.input} has no array {', '.join(missing)}; it has {', '.join(arrays)}")
-    arrays = {a: arrays[a] for a in wanted}
+    points, arrays = read_arrays(parser, args.input, args.arrays)
     gap = args.gap
     if gap is None:
         gap = float(arrays["radius"].max()) if "radius" in arrays else 0.0
     period = points.max(axis=0).astype(np.float64) - points.min(axis=0) + gap
     out_points, out_arrays = replicate(points, arrays, args.counts, period)
-    n = len(out_points)
-    part = args.output + ".part"
     counts = "x".join(str(c) for c in args.counts)
-    write_vtk(part, out_points, out_arrays,
-              f"{os.path.basename(args.input)} replicated {counts}: {n} particles")
-    os.replace(part, args.output)
-    seconds = time.time() - start
-    with open(args.output + ".provenance.txt", "w") as f:
-        f.write(f"file: {os.path.basename(args.output)}\n"
-                f"generator: Data/Generators/replicate_particles.py\n"
-                f"command: replicate_particles.py {' '.join(argv)}\n"
-                f"input: {args.input} ({len(points)} particles)\n"
-                f"copies: {counts}, period {' '.join(f'{p:g}' for p in period)} (gap {gap:g})\n"
-                f"arrays: {', '.join(wanted)}\n"
-                f"particles: {n}\n"
-                f"date: {time.strftime('%Y-%m-%dT%H:%M:%SZ', time.gmtime())}\n"
-                f"wall time: {seconds:.0f} s\n")
-    print(f"wrote {args.output} ({n} particles, {seconds:.0f} s)")
+    write_output(args.output, out_points, out_arrays,
+                 f"{os.path.basename(args.input)} replicated {counts}: {len(out_points)} particles",
+                 "replicate_particles.py", argv,
+                 [f"input: {args.input} ({len(points)} particles)",
+                  f"copies: {counts}, period {' '.join(f'{p:g}' for p in period)} (gap {gap:g})",
+                  f"arrays: {', '.join(arrays)}"], start)
     return 0
 
 

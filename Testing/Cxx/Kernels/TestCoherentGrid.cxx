@@ -166,6 +166,18 @@ RayCamera perspectiveCamera(const Vec3d& eye,
     multiply(perspective(40, double(w) / h, n, f), lookAt(eye, at, { 0, 1, 0 })), w, h, origin);
 }
 
+std::vector<double> randomRadii(std::size_t n, double lo, double hi, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(lo, hi);
+  std::vector<double> r(n);
+  for (auto& x : r)
+  {
+    x = u(rng);
+  }
+  return r;
+}
+
 std::vector<Vec3d> randomPoints(int n, double extent, unsigned seed)
 {
   std::mt19937 rng(seed);
@@ -284,13 +296,7 @@ TEST(CoherentGrid, SlabsOfSeveralLayersPlaceEverySphere)
 TEST(CoherentGrid, MatchesBruteForceForEveryPacketSize)
 {
   const auto p = randomPoints(800, 6, 5);
-  std::vector<double> r(p.size());
-  std::mt19937 rng(9);
-  std::uniform_real_distribution<double> ur(0.1, 0.7);
-  for (auto& x : r)
-  {
-    x = ur(rng);
-  }
+  const std::vector<double> r = randomRadii(p.size(), 0.1, 0.7, 9);
   for (int packet : { 1, 2, 4, 8, 16 })
   {
     SphereSet s = makeSet(p, r, { 0.3, -0.2, 0.1 });
@@ -415,14 +421,7 @@ TEST(RaySphereLanes, OrderedTiesGoToTheLowestIndexOnEveryPath)
 TEST(CoherentGrid, PacketsWithoutACommonAxisMatchBruteForce)
 {
   const auto p = randomPoints(3000, 10, 77);
-  std::vector<double> r(p.size());
-  std::mt19937 rng(31);
-  std::uniform_real_distribution<double> ur(0.05, 0.5);
-  for (auto& x : r)
-  {
-    x = ur(rng);
-  }
-  SphereSet s = makeSet(p, r, {});
+  SphereSet s = makeSet(p, randomRadii(p.size(), 0.05, 0.5, 31), {});
   CoherentGridAccelerator grid;
   grid.build(s, CoherentGridParameters());
   int compared = 0, hit = 0;
