@@ -6,7 +6,8 @@
 // the array, not per render). Arrays whose components are all equal, such as vtkPDBReader's
 // 3-component "radius", read the same with any component and give no warning.
 //
-// Header-only, in the private module RayMappers::Core.
+// Header-only, in the private module RayMappers::Core (its arrays are read through that
+// module's vtkRayMapperPointArrays::TupleReader).
 #ifndef vtkRayMapperScalarArray_h
 #define vtkRayMapperScalarArray_h
 
