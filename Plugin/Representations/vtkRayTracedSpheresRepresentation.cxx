@@ -5,6 +5,7 @@
 
 #include "vtkActor.h"
 #include "vtkAlgorithmOutput.h"
+#include "vtkCommunicator.h"
 #include "vtkDataSet.h"
 #include "vtkGeometryRepresentation.h"
 #include "vtkIdTypeArray.h"
@@ -123,12 +124,25 @@ void vtkRayTracedSpheresRepresentation::UpdateSelectionHighlight()
   if (this->PieceExchanged)
   {
     // The spheres drawn here came from several processes, each of which selected among its
-    // own: every selection is shared and matched to the drawn spheres' origins.
-    this->Mapper->SetSelectedPoints(vtkRayMapperSelectedOfExchange(selected,
-      this->Mapper->GetInput(),
-      vtkMultiProcessController::GetGlobalController()));
+    // own: every selection is shared and matched to the drawn spheres' origins. That
+    // exchange (all selections gathered, every drawn sphere looked up) is redone only when
+    // some process's selection or piece changed, which one integer's reduction tells all.
+    vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+    vtkDataSet* piece = this->Mapper->GetInput();
+    const ExchangeInputs inputs{ selected, selected ? selected->GetMTime() : 0, piece,
+      piece ? piece->GetMTime() : 0 };
+    int changed = inputs != this->ExchangedFrom || !this->ExchangedSelection ? 1 : 0;
+    int anyChanged = changed;
+    controller->AllReduce(&changed, &anyChanged, 1, vtkCommunicator::MAX_OP);
+    if (anyChanged)
+    {
+      this->ExchangedSelection = vtkRayMapperSelectedOfExchange(selected, piece, controller);
+      this->ExchangedFrom = inputs;
+    }
+    this->Mapper->SetSelectedPoints(this->ExchangedSelection);
     return;
   }
+  this->ExchangedSelection = nullptr;
   this->Mapper->SetSelectedPoints(selected);
 }
 

@@ -44,6 +44,7 @@ class vtkActor;
 class vtkCGTSphereMapper;
 class vtkCGTSphereOverlayProp;
 class vtkDataSet;
+class vtkIdTypeArray;
 class vtkPiecewiseFunction;
 class vtkPolyData;
 class vtkScalarsToColors;
@@ -198,6 +199,22 @@ protected:
   // The panel's AmbientOcclusionRadius (0: automatic, twice the largest radius of all the
   // processes' spheres when they exchange them).
   double AmbientOcclusionRadius = 0.0;
+  // With a piece exchanged: the highlighted spheres of the last exchange of the selections,
+  // and what it was made from (this process's selection and drawn piece, each with its
+  // MTime); a render where no process's inputs changed reuses it.
+  vtkSmartPointer<vtkIdTypeArray> ExchangedSelection;
+  struct ExchangeInputs
+  {
+    const void* selected = nullptr;
+    vtkMTimeType selectedTime = 0;
+    const void* piece = nullptr;
+    vtkMTimeType pieceTime = 0;
+    bool operator!=(const ExchangeInputs& o) const
+    {
+      return selected != o.selected || selectedTime != o.selectedTime || piece != o.piece ||
+        pieceTime != o.pieceTime;
+    }
+  } ExchangedFrom;
 
 private:
   vtkRayTracedSpheresRepresentation(const vtkRayTracedSpheresRepresentation&) = delete;

@@ -9,7 +9,10 @@
 // vtkProjectedTetrahedraMapper, on the OpenGL driver), all on the same tetrahedra and view.
 // The error columns compare with an independent brute-force reference (Testing/Cxx/Kernels/
 // UnstructuredReference.h: every tetrahedron a ray meets clipped in double precision, each
-// segment integrated numerically), rendered over the same white background.
+// segment integrated numerically), rendered over the same white background; the native rows
+// of a grid of hexahedra compare with the converged trilinear reference instead
+// (TrilinearReference.h: the hexahedra's own field inside their bilinear faces, rows
+// "reference, trilinear;rk4;step=...", whose coarser step's row shows its convergence).
 //
 // Data: the Blunt Fin and the Combustion Chamber (PLOT3D, density), disk_out_ref.ex2
 // (Temp) and a tetrahedralized wavelet (vtkRTAnalyticSource, extent +-20: 320,000
@@ -19,6 +22,7 @@
 // rendered by the point array --array NAME, else the reader's or active scalars, else the
 // first 1-component point array.
 // Three views each: far, side and close.
+#include "../Cxx/Kernels/TrilinearReference.h"
 #include "../Cxx/Kernels/UnstructuredReference.h"
 #include "BenchData.h"
 #include "BenchRun.h"
@@ -62,6 +66,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -321,32 +327,10 @@ vtkSmartPointer<vtkVolumeProperty> MakeProperty(const double range[2], double un
   return property;
 }
 
-// The brute-force reference image (RGB, 0..255, over white) of the tetrahedra for the
-// camera `view` sets, with rays from VTK's composite projection matrix.
-vtkSmartPointer<vtkImageData> ReferenceImage(const Options& opt,
-  vtkUnstructuredGrid* tetra,
-  vtkVolumeProperty* property,
-  const std::function<void(vtkCamera*)>& view,
-  double& ms)
+// The reference's transfer function: the property's colour and opacity at the union of
+// their nodes (both are linear between these in the bench's property).
+raymappers::test::RefTransferFunction ReferenceTransferFunction(vtkVolumeProperty* property)
 {
-  const double t0 = Now();
-  std::vector<raymappers::test::RefTetra> tets;
-  vtkDataArray* s = tetra->GetPointData()->GetScalars();
-  vtkNew<vtkIdList> ids;
-  double p[3];
-  for (vtkIdType c = 0; c < tetra->GetNumberOfCells(); ++c)
-  {
-    tetra->GetCellPoints(c, ids);
-    raymappers::test::RefTetra t;
-    for (int k = 0; k < 4; ++k)
-    {
-      tetra->GetPoint(ids->GetId(k), p);
-      t.p[static_cast<std::size_t>(k)] = raymappers::Vec3d(p[0], p[1], p[2]);
-      t.s[static_cast<std::size_t>(k)] = s->GetComponent(ids->GetId(k), 0);
-    }
-    tets.push_back(t);
-  }
-  const raymappers::test::ReferenceTetraGrid grid(tets);
   raymappers::test::RefTransferFunction tf;
   vtkColorTransferFunction* color = property->GetRGBTransferFunction(0);
   vtkPiecewiseFunction* opacity = property->GetScalarOpacity(0);
@@ -373,12 +357,22 @@ vtkSmartPointer<vtkImageData> ReferenceImage(const Options& opt,
     tf.alpha.push_back(opacity->GetValue(x));
   }
   tf.unitDistance = property->GetScalarOpacityUnitDistance(0);
+  return tf;
+}
 
+// An image (RGB, 0..255, over white) of trace(o, d) -> premultiplied RGBA for the camera
+// `view` sets around `grid`, with rays from VTK's composite projection matrix.
+template<typename TraceFn>
+vtkSmartPointer<vtkImageData> TraceImage(const Options& opt,
+  vtkUnstructuredGrid* grid,
+  const std::function<void(vtkCamera*)>& view,
+  TraceFn trace)
+{
   // The camera, as the harness sets it up (view, then the clipping range from the data).
   vtkNew<vtkRenderer> ren;
   vtkNew<vtkVolume> volume;
   vtkNew<vtkUnstructuredGridVolumeRayCastMapper> boundsOnly;
-  boundsOnly->SetInputData(tetra);
+  boundsOnly->SetInputData(grid);
   volume->SetMapper(boundsOnly);
   ren->AddVolume(volume);
   view(ren->GetActiveCamera());
@@ -402,9 +396,7 @@ vtkSmartPointer<vtkImageData> ReferenceImage(const Options& opt,
       inverse->MultiplyPoint(farP, b);
       const raymappers::Vec3d o(a[0] / a[3], a[1] / a[3], a[2] / a[3]);
       const raymappers::Vec3d e(b[0] / b[3], b[1] / b[3], b[2] / b[3]);
-      const raymappers::Vec3d d = raymappers::normalize(e - o);
-      grid.candidates(o, d, 0.0, candidates);
-      const auto rgba = raymappers::test::traceReference(tets, false, tf, o, d, 0.0, &candidates, 32);
+      const std::array<double, 4> rgba = trace(o, raymappers::normalize(e - o), candidates);
       unsigned char* px = out + 3 * (static_cast<std::size_t>(j) * opt.width + i);
       for (int c = 0; c < 3; ++c)
       {
@@ -413,8 +405,97 @@ vtkSmartPointer<vtkImageData> ReferenceImage(const Options& opt,
       }
     }
   });
+  return image;
+}
+
+// The brute-force reference image of the tetrahedra (UnstructuredReference.h).
+vtkSmartPointer<vtkImageData> ReferenceImage(const Options& opt,
+  vtkUnstructuredGrid* tetra,
+  vtkVolumeProperty* property,
+  const std::function<void(vtkCamera*)>& view,
+  double& ms)
+{
+  const double t0 = Now();
+  std::vector<raymappers::test::RefTetra> tets;
+  vtkDataArray* s = tetra->GetPointData()->GetScalars();
+  vtkNew<vtkIdList> ids;
+  double p[3];
+  for (vtkIdType c = 0; c < tetra->GetNumberOfCells(); ++c)
+  {
+    tetra->GetCellPoints(c, ids);
+    raymappers::test::RefTetra t;
+    for (int k = 0; k < 4; ++k)
+    {
+      tetra->GetPoint(ids->GetId(k), p);
+      t.p[static_cast<std::size_t>(k)] = raymappers::Vec3d(p[0], p[1], p[2]);
+      t.s[static_cast<std::size_t>(k)] = s->GetComponent(ids->GetId(k), 0);
+    }
+    tets.push_back(t);
+  }
+  const raymappers::test::ReferenceTetraGrid grid(tets);
+  const raymappers::test::RefTransferFunction tf = ReferenceTransferFunction(property);
+  auto image = TraceImage(opt, tetra, view,
+    [&](const raymappers::Vec3d& o, const raymappers::Vec3d& d, std::vector<std::size_t>& candidates) {
+      grid.candidates(o, d, 0.0, candidates);
+      return raymappers::test::traceReference(tets, false, tf, o, d, 0.0, &candidates, 32);
+    });
   ms = Now() - t0;
   return image;
+}
+
+// The converged reference of the hexahedra's own trilinear field inside their bilinear faces
+// (TrilinearReference.h), integrated with steps of at most `step` (null when some cell is not
+// a hexahedron); `failures` counts the points whose map could not be inverted.
+vtkSmartPointer<vtkImageData> TrilinearReferenceImage(const Options& opt,
+  vtkUnstructuredGrid* native,
+  vtkVolumeProperty* property,
+  const std::function<void(vtkCamera*)>& view,
+  double step,
+  double& ms,
+  long& failures)
+{
+  const double t0 = Now();
+  std::vector<raymappers::test::RefHexahedron> hexes;
+  vtkDataArray* s = native->GetPointData()->GetScalars();
+  vtkNew<vtkIdList> ids;
+  double p[3];
+  for (vtkIdType c = 0; c < native->GetNumberOfCells(); ++c)
+  {
+    if (native->GetCellType(c) != VTK_HEXAHEDRON)
+    {
+      return nullptr;
+    }
+    native->GetCellPoints(c, ids);
+    raymappers::test::RefHexahedron h;
+    for (int k = 0; k < 8; ++k)
+    {
+      native->GetPoint(ids->GetId(k), p);
+      h.p[static_cast<std::size_t>(k)] = raymappers::Vec3d(p[0], p[1], p[2]);
+      h.s[static_cast<std::size_t>(k)] = s->GetComponent(ids->GetId(k), 0);
+    }
+    hexes.push_back(h);
+  }
+  const raymappers::test::ReferenceTetraGrid grid(hexes);
+  const raymappers::test::RefTransferFunction tf = ReferenceTransferFunction(property);
+  std::atomic<long> failed{ 0 };
+  auto image = TraceImage(opt, native, view,
+    [&](const raymappers::Vec3d& o, const raymappers::Vec3d& d, std::vector<std::size_t>& candidates) {
+      grid.candidates(o, d, 0.0, candidates);
+      raymappers::test::TrilinearTraceCounts counts;
+      const auto rgba = raymappers::test::traceTrilinearReference(hexes, tf, o, d, 0.0, step, &counts, &candidates);
+      failed += counts.failures;
+      return rgba;
+    });
+  failures = failed;
+  ms = Now() - t0;
+  return image;
+}
+// Whether --only selects some native row (the trilinear reference is made only for them).
+bool NativeRowSelected(const Options& opt)
+{
+  return opt.only.empty() ||
+    std::any_of(opt.only.begin(), opt.only.end(),
+      [](const std::string& o) { return o.find("native") != std::string::npos; });
 }
 } // namespace
 
@@ -489,6 +570,38 @@ std::vector<Row> RunZSweep(const Options& opt)
           opt.width, opt.height, cells, 0, referenceMs, -1, -1, 0 };
         r.image = reference;
         Record(opt, r, rows);
+      }
+      // The native rows' reference: the hexahedra's trilinear field in their bilinear faces,
+      // at steps of diag / 2000, and once at twice that step to show it has converged (that
+      // row's error columns are its difference from the finer one).
+      vtkSmartPointer<vtkImageData> trilinear;
+      if (opt.references && g.native && NativeRowSelected(opt))
+      {
+        for (const double step : { 1.0 / 1000, 1.0 / 2000 })
+        {
+          long failures = 0;
+          Result r;
+          auto image = TrilinearReferenceImage(opt, g.native, property, camera, step * diag,
+            r.row.renderMs, failures);
+          if (!image)
+          {
+            break;
+          }
+          r.row = Row{ "zsweep", dataset, "reference",
+            "trilinear;rk4;step=diag/" + std::to_string(std::lround(1 / step)), opt.width,
+            opt.height, g.native->GetNumberOfCells(), 0, r.row.renderMs, -1, -1, 0 };
+          r.image = image;
+          if (trilinear)
+          {
+            Compare(trilinear, image, r.row.rmse, r.row.maxErr);
+          }
+          if (failures)
+          {
+            std::cout << "  trilinear reference: " << failures << " points not inverted\n";
+          }
+          Record(opt, r, rows);
+          trilinear = image;
+        }
       }
 
       vtkSmartPointer<vtkZSweepVolumeMapper> ours;
@@ -600,9 +713,12 @@ std::vector<Row> RunZSweep(const Options& opt)
         r.row.suite = "zsweep";
         r.row.dataset = dataset;
         r.row.items = native ? g.native->GetNumberOfCells() : cells;
-        if (reference)
+        // The native rows against the trilinear reference where there is one (all cells
+        // hexahedra), the others (and native cells of other types) against the tetrahedra's.
+        vtkImageData* against = native && trilinear ? trilinear.Get() : reference.Get();
+        if (against)
         {
-          Compare(r.image, reference, r.row.rmse, r.row.maxErr);
+          Compare(r.image, against, r.row.rmse, r.row.maxErr);
         }
         Record(opt, r, rows);
       }

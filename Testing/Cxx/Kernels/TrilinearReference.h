@@ -112,10 +112,15 @@ inline double trilinearScalar(const RefHexahedron& h, const Vec3d& u)
 }
 
 /// Solves x(u) = X by Newton's method from the given u (steps longer than 0.5 in the
-/// parametric space are shortened to 0.5: a start far off does not jump away). False when
-/// the Jacobian is singular or 50 iterations do not bring the step below 1e-14.
+/// parametric space are shortened to 0.5: a start far off does not jump away). Converged
+/// when a step is below 1e-14, or below 1e-9 and no shorter than the one before: far from
+/// the coordinates' origin (the Combustion Chamber at z = 23 to 36, cells 0.3 across) the
+/// rounding of x(u) - X alone moves u by more than 1e-14, and Newton's steps, which shrink
+/// quadratically until then, stall there. False when the Jacobian is singular or 50
+/// iterations do not converge.
 inline bool invertTrilinear(const RefHexahedron& h, const Vec3d& X, Vec3d& u)
 {
+  double previous = 1e300;
   for (int iteration = 0; iteration < 50; ++iteration)
   {
     Vec3d J[3];
@@ -134,10 +139,11 @@ inline bool invertTrilinear(const RefHexahedron& h, const Vec3d& X, Vec3d& u)
       delta = delta * (0.5 / size);
     }
     u = u - delta;
-    if (size < 1e-14)
+    if (size < 1e-14 || (size < 1e-9 && size >= previous))
     {
       return true;
     }
+    previous = size;
   }
   return false;
 }
@@ -231,21 +237,28 @@ inline void intersectBilinearPatch(const Vec3d& q00,
   }
 }
 
-/// Whether X lies inside the cell (the map inverted from the cell's centre).
-inline bool insideHexahedron(const RefHexahedron& h, const Vec3d& X)
+/// Whether X lies inside the cell (the map inverted from the cell's centre); an inversion
+/// that fails counts in `failures` (when given) and answers false.
+inline bool insideHexahedron(const RefHexahedron& h, const Vec3d& X, long* failures = nullptr)
 {
   Vec3d u(0.5, 0.5, 0.5);
   if (!invertTrilinear(h, X, u))
   {
+    if (failures)
+    {
+      ++*failures;
+    }
     return false;
   }
   return u.x >= 0 && u.x <= 1 && u.y >= 0 && u.y <= 1 && u.z >= 0 && u.z <= 1;
 }
 
-/// The intervals [t0, t1] of the ray o + t d inside the cell, in order.
+/// The intervals [t0, t1] of the ray o + t d inside the cell, in order (the midpoint tests'
+/// failed inversions counted in `failures`, when given).
 inline std::vector<std::array<double, 2>> hexahedronIntervals(const RefHexahedron& h,
   const Vec3d& o,
-  const Vec3d& d)
+  const Vec3d& d,
+  long* failures = nullptr)
 {
   std::vector<double> ts;
   for (const auto& f : HexFace)
@@ -256,7 +269,7 @@ inline std::vector<std::array<double, 2>> hexahedronIntervals(const RefHexahedro
   std::vector<std::array<double, 2>> out;
   for (std::size_t k = 0; k + 1 < ts.size(); ++k)
   {
-    if (ts[k + 1] > ts[k] && insideHexahedron(h, o + d * (0.5 * (ts[k] + ts[k + 1]))))
+    if (ts[k + 1] > ts[k] && insideHexahedron(h, o + d * (0.5 * (ts[k] + ts[k + 1])), failures))
     {
       if (!out.empty() && out.back()[1] == ts[k])
       {
@@ -395,21 +408,25 @@ inline void transport(TrilinearPath& path,
 } // namespace detail
 
 /// Premultiplied RGBA of the ray o + t d (|d| = 1), t >= tMin, through the cells (their
-/// interiors disjoint), integrated with steps of at most `step`.
+/// interiors disjoint), integrated with steps of at most `step`; only the cells of
+/// `candidates` when given (a superset of those the ray meets, as ReferenceTetraGrid finds).
 inline std::array<double, 4> traceTrilinearReference(const std::vector<RefHexahedron>& cells,
   const RefTransferFunction& tf,
   const Vec3d& o,
   const Vec3d& d,
   double tMin,
   double step,
-  TrilinearTraceCounts* counts = nullptr)
+  TrilinearTraceCounts* counts = nullptr,
+  const std::vector<std::size_t>* candidates = nullptr)
 {
   TrilinearTraceCounts local;
   TrilinearTraceCounts& c = counts ? *counts : local;
   std::vector<detail::TrilinearPath> paths;
-  for (const RefHexahedron& cell : cells)
+  const std::size_t n = candidates ? candidates->size() : cells.size();
+  for (std::size_t k = 0; k < n; ++k)
   {
-    for (const auto& interval : hexahedronIntervals(cell, o, d))
+    const RefHexahedron& cell = cells[candidates ? (*candidates)[k] : k];
+    for (const auto& interval : hexahedronIntervals(cell, o, d, &c.failures))
     {
       if (interval[1] > tMin)
       {

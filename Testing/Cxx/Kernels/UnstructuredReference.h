@@ -304,16 +304,19 @@ inline bool clipToPolyhedron(const RefPolyhedron& cell,
   return true;
 }
 
-/// The tetrahedra binned by bounding box into a uniform grid, walked along a ray (3D DDA)
-/// to collect the candidates the ray may cross.
+/// The cells (tetrahedra, or any cell type with its corners in `p`) binned by bounding box
+/// into a uniform grid, walked along a ray (3D DDA) to collect the candidates the ray may
+/// cross. A cell bounded by bilinear faces lies in its corners' box too (a bilinear patch is
+/// a convex combination of its corners).
 class ReferenceTetraGrid
 {
 public:
-  explicit ReferenceTetraGrid(const std::vector<RefTetra>& tets)
+  template<typename Item>
+  explicit ReferenceTetraGrid(const std::vector<Item>& tets)
   {
     Lo = Vec3d(1e300, 1e300, 1e300);
     Hi = Vec3d(-1e300, -1e300, -1e300);
-    for (const RefTetra& t : tets)
+    for (const Item& t : tets)
     {
       for (const Vec3d& p : t.p)
       {
@@ -327,7 +330,7 @@ public:
     Cell = Vec3d(std::max(size.x, 1e-300) / n, std::max(size.y, 1e-300) / n,
       std::max(size.z, 1e-300) / n);
     std::vector<std::size_t> count(static_cast<std::size_t>(n) * n * n + 1, 0);
-    auto each = [&](const RefTetra& t, auto&& fn) {
+    auto each = [&](const Item& t, auto&& fn) {
       Vec3d lo = t.p[0], hi = t.p[0];
       for (const Vec3d& p : t.p)
       {
@@ -340,7 +343,7 @@ public:
           for (int i = a[0]; i <= b[0]; ++i)
             fn(index(i, j, k));
     };
-    for (const RefTetra& t : tets)
+    for (const Item& t : tets)
     {
       each(t, [&](std::size_t c) { ++count[c + 1]; });
     }
@@ -356,7 +359,7 @@ public:
     }
   }
 
-  /// The tetrahedra whose boxes share a grid cell with the ray o + t d, t >= tMin.
+  /// The cells whose boxes share a grid cell with the ray o + t d, t >= tMin.
   void candidates(const Vec3d& o, const Vec3d& d, double tMin, std::vector<std::size_t>& out) const
   {
     out.clear();
