@@ -98,12 +98,23 @@ Vec3d clampToCell(ZSweepCellType type, const Vec3d& r)
   return c;
 }
 
-// The field at X, by Newton from r (updated when the inversion converges).
+// The field at X, by Newton from r clamped into the reference cell (r is updated when the
+// inversion converges), and once more from the cell's centre when that fails. Near a
+// pyramid's apex (t -> 1) the map's r and s columns shrink like 1 - t, so a start predicted
+// from neighbouring solutions can lie far outside the cell (r, s of -2 to -7 at t = 0.99),
+// where Newton's steps wander without converging; the clamped start is within the cell's
+// own coordinate range.
 double fieldAt(const IsoparametricCell& cell, const Vec3d& X, Vec3d& r, LinearizeCounts& counts)
 {
   ++counts.evaluations;
-  Vec3d next = r;
-  if (invertCellMap(cell, X, next))
+  Vec3d next = clampToCell(cell.type, r);
+  bool converged = invertCellMap(cell, X, next);
+  if (!converged)
+  {
+    next = referenceCentre(cell.type);
+    converged = invertCellMap(cell, X, next);
+  }
+  if (converged)
   {
     r = next;
   }

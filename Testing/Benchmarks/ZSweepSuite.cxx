@@ -10,9 +10,9 @@
 // The error columns compare with an independent brute-force reference (Testing/Cxx/Kernels/
 // UnstructuredReference.h: every tetrahedron a ray meets clipped in double precision, each
 // segment integrated numerically), rendered over the same white background; the native rows
-// of a grid of hexahedra compare with the converged trilinear reference instead
-// (TrilinearReference.h: the hexahedra's own field inside their bilinear faces, rows
-// "reference, trilinear;rk4;step=...", whose coarser step's row shows its convergence).
+// of a grid of hexahedra, wedges and pyramids compare with the converged reference of their
+// own fields inside their bilinear faces instead (TrilinearReference.h; rows "reference,
+// trilinear;rk4;step=...", whose coarser step's row shows its convergence).
 //
 // Data: the Blunt Fin and the Combustion Chamber (PLOT3D, density), disk_out_ref.ex2
 // (Temp) and a tetrahedralized wavelet (vtkRTAnalyticSource, extent +-20: 320,000
@@ -443,9 +443,9 @@ vtkSmartPointer<vtkImageData> ReferenceImage(const Options& opt,
   return image;
 }
 
-// The converged reference of the hexahedra's own trilinear field inside their bilinear faces
-// (TrilinearReference.h), integrated with steps of at most `step` (null when some cell is not
-// a hexahedron); `failures` counts the points whose map could not be inverted.
+// The converged reference of the hexahedra's, wedges' and pyramids' own fields inside their
+// bilinear faces (TrilinearReference.h), integrated with steps of at most `step` (null when
+// some cell is of another type); `failures` counts the points whose map was not inverted.
 vtkSmartPointer<vtkImageData> TrilinearReferenceImage(const Options& opt,
   vtkUnstructuredGrid* native,
   vtkVolumeProperty* property,
@@ -455,19 +455,28 @@ vtkSmartPointer<vtkImageData> TrilinearReferenceImage(const Options& opt,
   long& failures)
 {
   const double t0 = Now();
-  std::vector<raymappers::test::RefHexahedron> hexes;
+  std::vector<raymappers::test::RefCurvedCell> hexes;
   vtkDataArray* s = native->GetPointData()->GetScalars();
   vtkNew<vtkIdList> ids;
   double p[3];
   for (vtkIdType c = 0; c < native->GetNumberOfCells(); ++c)
   {
-    if (native->GetCellType(c) != VTK_HEXAHEDRON)
+    raymappers::test::RefCurvedCell h;
+    switch (native->GetCellType(c))
     {
-      return nullptr;
+      case VTK_HEXAHEDRON:
+        break;
+      case VTK_WEDGE:
+        h.shape = raymappers::test::RefShape::Wedge;
+        break;
+      case VTK_PYRAMID:
+        h.shape = raymappers::test::RefShape::Pyramid;
+        break;
+      default:
+        return nullptr;
     }
     native->GetCellPoints(c, ids);
-    raymappers::test::RefHexahedron h;
-    for (int k = 0; k < 8; ++k)
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
     {
       native->GetPoint(ids->GetId(k), p);
       h.p[static_cast<std::size_t>(k)] = raymappers::Vec3d(p[0], p[1], p[2]);
@@ -714,7 +723,7 @@ std::vector<Row> RunZSweep(const Options& opt)
         r.row.dataset = dataset;
         r.row.items = native ? g.native->GetNumberOfCells() : cells;
         // The native rows against the trilinear reference where there is one (all cells
-        // hexahedra), the others (and native cells of other types) against the tetrahedra's.
+        // hexahedra, wedges or pyramids), the others against the tetrahedra's.
         vtkImageData* against = native && trilinear ? trilinear.Get() : reference.Get();
         if (against)
         {

@@ -2,7 +2,11 @@
 // sharing no code with the ZSweep kernels (nor with UnstructuredReference.h's tetrahedra
 // beyond its transfer function): the hexahedron is the image of the unit cube under its
 // trilinear map, bounded by bilinear faces, and the scalar is the trilinear interpolant of
-// its corner values, evaluated along the ray by inverting the map point by point.
+// its corner values, evaluated along the ray by inverting the map point by point. Wedges
+// and pyramids likewise with their own maps (VTK's shape functions, below): a wedge is
+// (1 - u - v, u, v) x (1 - w, w) on u, v >= 0, u + v <= 1, w in [0, 1], bounded by two
+// triangles and three bilinear faces; a pyramid the base's bilinear weights times (1 - w)
+// and w for the apex on [0, 1]^3, bounded by its bilinear base and four triangles.
 //
 // The cell (VTK's vertex order; corner i at parametric (u_i, v_i, w_i) = HexCorner[i]):
 //   x(u, v, w) = sum_i N_i(u, v, w) p_i,   s(u, v, w) = sum_i N_i(u, v, w) s_i,
@@ -56,10 +60,21 @@ constexpr int HexCorner[8][3] = { { 0, 0, 0 }, { 1, 0, 0 }, { 1, 1, 0 }, { 0, 1,
 constexpr int HexFace[6][4] = { { 0, 4, 7, 3 }, { 1, 2, 6, 5 }, { 0, 1, 5, 4 }, { 3, 7, 6, 2 },
   { 0, 3, 2, 1 }, { 4, 5, 6, 7 } };
 
-struct RefHexahedron
+enum class RefShape
 {
-  std::array<Vec3d, 8> p; // corners, VTK order
-  std::array<double, 8> s; // point scalars
+  Hexahedron,
+  Wedge,
+  Pyramid
+};
+
+/// A wedge's bilinear faces, each in cyclic order (its triangles are 0, 1, 2 and 3, 4, 5).
+constexpr int WedgeQuad[3][4] = { { 0, 1, 4, 3 }, { 1, 2, 5, 4 }, { 2, 0, 3, 5 } };
+
+struct RefCurvedCell
+{
+  std::array<Vec3d, 8> p{};  // corners, VTK order (8, 6 or 5 of them)
+  std::array<double, 8> s{}; // point scalars
+  RefShape shape = RefShape::Hexahedron;
 };
 
 /// The trilinear weights N_i at (u, v, w) and their derivatives dN_i/du, dv, dw.
@@ -80,11 +95,70 @@ inline void trilinearWeights(const Vec3d& u, double N[8], double dN[8][3])
   }
 }
 
+/// The wedge's N_i = L_(i mod 3) (i < 3 ? 1 - w : w), L = (1 - u - v, u, v); the pyramid's
+/// N_i = B_i(u, v) (1 - w) (i < 4, B the bilinear weights of the base 0, 1, 2, 3 at (0, 0),
+/// (1, 0), (1, 1), (0, 1)), N_4 = w; the entries past the cell's corners are 0.
+inline void shapeWeights(RefShape shape, const Vec3d& u, double N[8], double dN[8][3])
+{
+  if (shape == RefShape::Hexahedron)
+  {
+    trilinearWeights(u, N, dN);
+    return;
+  }
+  for (int i = 0; i < 8; ++i)
+  {
+    N[i] = dN[i][0] = dN[i][1] = dN[i][2] = 0;
+  }
+  const double w = u.z;
+  if (shape == RefShape::Wedge)
+  {
+    const double L[3] = { 1 - u.x - u.y, u.x, u.y };
+    const double dL[3][2] = { { -1, -1 }, { 1, 0 }, { 0, 1 } };
+    for (int i = 0; i < 6; ++i)
+    {
+      const double f = i < 3 ? 1 - w : w, df = i < 3 ? -1 : 1;
+      N[i] = L[i % 3] * f;
+      dN[i][0] = dL[i % 3][0] * f;
+      dN[i][1] = dL[i % 3][1] * f;
+      dN[i][2] = L[i % 3] * df;
+    }
+    return;
+  }
+  for (int i = 0; i < 4; ++i)
+  {
+    const double fu = HexCorner[i][0] ? u.x : 1 - u.x, fv = HexCorner[i][1] ? u.y : 1 - u.y;
+    const double du = HexCorner[i][0] ? 1 : -1, dv = HexCorner[i][1] ? 1 : -1;
+    N[i] = fu * fv * (1 - w);
+    dN[i][0] = du * fv * (1 - w);
+    dN[i][1] = fu * dv * (1 - w);
+    dN[i][2] = -fu * fv;
+  }
+  N[4] = w;
+  dN[4][2] = 1;
+}
+
+/// The parametric centre (Newton's first start).
+inline Vec3d parametricCentre(const RefCurvedCell& h)
+{
+  return h.shape == RefShape::Wedge ? Vec3d(1.0 / 3, 1.0 / 3, 0.5) : Vec3d(0.5, 0.5, 0.5);
+}
+
+/// Whether u lies in the cell's parametric domain.
+inline bool inParametricDomain(const RefCurvedCell& h, const Vec3d& u)
+{
+  const bool w = u.z >= 0 && u.z <= 1;
+  if (h.shape == RefShape::Wedge)
+  {
+    return w && u.x >= 0 && u.y >= 0 && u.x + u.y <= 1;
+  }
+  return w && u.x >= 0 && u.x <= 1 && u.y >= 0 && u.y <= 1;
+}
+
 /// x(u) and the Jacobian's columns dx/du, dx/dv, dx/dw.
-inline Vec3d trilinearPoint(const RefHexahedron& h, const Vec3d& u, Vec3d J[3])
+inline Vec3d trilinearPoint(const RefCurvedCell& h, const Vec3d& u, Vec3d J[3])
 {
   double N[8], dN[8][3];
-  trilinearWeights(u, N, dN);
+  shapeWeights(h.shape, u, N, dN);
   Vec3d x;
   J[0] = J[1] = J[2] = Vec3d();
   for (int i = 0; i < 8; ++i)
@@ -98,11 +172,11 @@ inline Vec3d trilinearPoint(const RefHexahedron& h, const Vec3d& u, Vec3d J[3])
   return x;
 }
 
-/// s(u), the trilinear interpolant of the corner scalars.
-inline double trilinearScalar(const RefHexahedron& h, const Vec3d& u)
+/// s(u), the cell's interpolant of the corner scalars (trilinear in a hexahedron).
+inline double trilinearScalar(const RefCurvedCell& h, const Vec3d& u)
 {
   double N[8], dN[8][3];
-  trilinearWeights(u, N, dN);
+  shapeWeights(h.shape, u, N, dN);
   double s = 0;
   for (int i = 0; i < 8; ++i)
   {
@@ -118,7 +192,7 @@ inline double trilinearScalar(const RefHexahedron& h, const Vec3d& u)
 /// rounding of x(u) - X alone moves u by more than 1e-14, and Newton's steps, which shrink
 /// quadratically until then, stall there. False when the Jacobian is singular or 50
 /// iterations do not converge.
-inline bool invertTrilinear(const RefHexahedron& h, const Vec3d& X, Vec3d& u)
+inline bool invertTrilinear(const RefCurvedCell& h, const Vec3d& X, Vec3d& u)
 {
   double previous = 1e300;
   for (int iteration = 0; iteration < 50; ++iteration)
@@ -237,11 +311,38 @@ inline void intersectBilinearPatch(const Vec3d& q00,
   }
 }
 
+/// Appends the t of the crossing of the ray o + t d with the triangle a, b, c (a wedge's or
+/// a pyramid's flat faces), solving o + t d = a + beta (b - a) + gamma (c - a) by Cramer's
+/// rule; kept within 1e-10 of the triangle, like the patches' crossings.
+inline void intersectTriangle(const Vec3d& a,
+  const Vec3d& b,
+  const Vec3d& c,
+  const Vec3d& o,
+  const Vec3d& d,
+  std::vector<double>& out)
+{
+  const Vec3d e1 = b - a, e2 = c - a, r = o - a;
+  // [e1 e2 -d] (beta, gamma, t) = r.
+  const Vec3d md = d * -1.0;
+  const double det = dot(e1, cross(e2, md));
+  if (!(std::fabs(det) > 0))
+  {
+    return; // the ray is parallel to the triangle's plane
+  }
+  const double beta = dot(r, cross(e2, md)) / det, gamma = dot(e1, cross(r, md)) / det;
+  const double t = dot(e1, cross(e2, r)) / det;
+  const double tol = 1e-10;
+  if (beta >= -tol && gamma >= -tol && beta + gamma <= 1 + tol)
+  {
+    out.push_back(t);
+  }
+}
+
 /// Whether X lies inside the cell (the map inverted from the cell's centre); an inversion
 /// that fails counts in `failures` (when given) and answers false.
-inline bool insideHexahedron(const RefHexahedron& h, const Vec3d& X, long* failures = nullptr)
+inline bool insideCell(const RefCurvedCell& h, const Vec3d& X, long* failures = nullptr)
 {
-  Vec3d u(0.5, 0.5, 0.5);
+  Vec3d u = parametricCentre(h);
   if (!invertTrilinear(h, X, u))
   {
     if (failures)
@@ -250,26 +351,46 @@ inline bool insideHexahedron(const RefHexahedron& h, const Vec3d& X, long* failu
     }
     return false;
   }
-  return u.x >= 0 && u.x <= 1 && u.y >= 0 && u.y <= 1 && u.z >= 0 && u.z <= 1;
+  return inParametricDomain(h, u);
 }
 
 /// The intervals [t0, t1] of the ray o + t d inside the cell, in order (the midpoint tests'
 /// failed inversions counted in `failures`, when given).
-inline std::vector<std::array<double, 2>> hexahedronIntervals(const RefHexahedron& h,
+inline std::vector<std::array<double, 2>> cellIntervals(const RefCurvedCell& h,
   const Vec3d& o,
   const Vec3d& d,
   long* failures = nullptr)
 {
   std::vector<double> ts;
-  for (const auto& f : HexFace)
+  if (h.shape == RefShape::Hexahedron)
   {
-    intersectBilinearPatch(h.p[f[0]], h.p[f[1]], h.p[f[2]], h.p[f[3]], o, d, ts);
+    for (const auto& f : HexFace)
+    {
+      intersectBilinearPatch(h.p[f[0]], h.p[f[1]], h.p[f[2]], h.p[f[3]], o, d, ts);
+    }
+  }
+  else if (h.shape == RefShape::Wedge)
+  {
+    for (const auto& f : WedgeQuad)
+    {
+      intersectBilinearPatch(h.p[f[0]], h.p[f[1]], h.p[f[2]], h.p[f[3]], o, d, ts);
+    }
+    intersectTriangle(h.p[0], h.p[1], h.p[2], o, d, ts);
+    intersectTriangle(h.p[3], h.p[4], h.p[5], o, d, ts);
+  }
+  else
+  {
+    intersectBilinearPatch(h.p[0], h.p[1], h.p[2], h.p[3], o, d, ts);
+    for (int k = 0; k < 4; ++k)
+    {
+      intersectTriangle(h.p[k], h.p[(k + 1) % 4], h.p[4], o, d, ts);
+    }
   }
   std::sort(ts.begin(), ts.end());
   std::vector<std::array<double, 2>> out;
   for (std::size_t k = 0; k + 1 < ts.size(); ++k)
   {
-    if (ts[k + 1] > ts[k] && insideHexahedron(h, o + d * (0.5 * (ts[k] + ts[k + 1])), failures))
+    if (ts[k + 1] > ts[k] && insideCell(h, o + d * (0.5 * (ts[k] + ts[k + 1])), failures))
     {
       if (!out.empty() && out.back()[1] == ts[k])
       {
@@ -297,7 +418,7 @@ namespace detail
 // One interval of one cell along the ray, and the scalar along it by inversion.
 struct TrilinearPath
 {
-  const RefHexahedron* cell;
+  const RefCurvedCell* cell;
   double t0, t1;
   Vec3d o, d;
   Vec3d u{ 0.5, 0.5, 0.5 }; // the last inversion's solution (the next one's start)
@@ -410,7 +531,7 @@ inline void transport(TrilinearPath& path,
 /// Premultiplied RGBA of the ray o + t d (|d| = 1), t >= tMin, through the cells (their
 /// interiors disjoint), integrated with steps of at most `step`; only the cells of
 /// `candidates` when given (a superset of those the ray meets, as ReferenceTetraGrid finds).
-inline std::array<double, 4> traceTrilinearReference(const std::vector<RefHexahedron>& cells,
+inline std::array<double, 4> traceTrilinearReference(const std::vector<RefCurvedCell>& cells,
   const RefTransferFunction& tf,
   const Vec3d& o,
   const Vec3d& d,
@@ -425,8 +546,8 @@ inline std::array<double, 4> traceTrilinearReference(const std::vector<RefHexahe
   const std::size_t n = candidates ? candidates->size() : cells.size();
   for (std::size_t k = 0; k < n; ++k)
   {
-    const RefHexahedron& cell = cells[candidates ? (*candidates)[k] : k];
-    for (const auto& interval : hexahedronIntervals(cell, o, d, &c.failures))
+    const RefCurvedCell& cell = cells[candidates ? (*candidates)[k] : k];
+    for (const auto& interval : cellIntervals(cell, o, d, &c.failures))
     {
       if (interval[1] > tMin)
       {
@@ -440,10 +561,11 @@ inline std::array<double, 4> traceTrilinearReference(const std::vector<RefHexahe
   double light[4] = { 1, 0, 0, 0 };
   for (detail::TrilinearPath& path : paths)
   {
+    path.u = parametricCentre(*path.cell);
     std::vector<double> cuts = detail::nodeCrossings(path, tf, step, c);
     cuts.insert(cuts.begin(), path.t0);
     cuts.push_back(path.t1);
-    path.u = Vec3d(0.5, 0.5, 0.5);
+    path.u = parametricCentre(*path.cell);
     for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
     {
       detail::transport(path, tf, cuts[k], cuts[k + 1], step, light, c);
