@@ -14,9 +14,9 @@
 // Along the ray X(t) = o + t d the field is f(r(t)), r(t) solving x(r) = X(t): Newton's
 // method, r <- r - J^-1 (x(r) - X), J = dx/dr by Cramer's rule: at the segment's front from
 // the cell's centre, at its back from the tangent's prediction r(t0) + h dr/dt, at a midpoint
-// from the mean of its ends' solutions (2 or 3 iterations there), each start clamped into the
-// reference cell (and the centre tried once when Newton fails from it: near a pyramid's apex
-// a prediction can fall far outside the cell, where Newton wanders); it stops after a step below
+// from the mean of its ends' solutions (2 or 3 iterations there), in a pyramid each start
+// clamped into the reference cell (near its apex a prediction can fall far outside, where
+// Newton wanders), and the centre tried once when Newton fails; it stops after a step below
 // 1e-7, which quadratic convergence leaves about 1e-14 from the solution; steps are
 // shortened to 0.5 (a start far off does not jump away). The solution is clamped into the reference cell before f is evaluated: the
 // renderer's cell is bounded by the split faces, which leave the curved cell's image where
