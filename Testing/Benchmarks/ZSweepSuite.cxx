@@ -455,7 +455,7 @@ vtkSmartPointer<vtkImageData> TrilinearReferenceImage(const Options& opt,
   long& failures)
 {
   const double t0 = Now();
-  std::vector<raymappers::test::RefCurvedCell> hexes;
+  std::vector<raymappers::test::RefCurvedCell> cells;
   vtkDataArray* s = native->GetPointData()->GetScalars();
   vtkNew<vtkIdList> ids;
   double p[3];
@@ -482,16 +482,16 @@ vtkSmartPointer<vtkImageData> TrilinearReferenceImage(const Options& opt,
       h.p[static_cast<std::size_t>(k)] = raymappers::Vec3d(p[0], p[1], p[2]);
       h.s[static_cast<std::size_t>(k)] = s->GetComponent(ids->GetId(k), 0);
     }
-    hexes.push_back(h);
+    cells.push_back(h);
   }
-  const raymappers::test::ReferenceTetraGrid grid(hexes);
+  const raymappers::test::ReferenceTetraGrid grid(cells);
   const raymappers::test::RefTransferFunction tf = ReferenceTransferFunction(property);
   std::atomic<long> failed{ 0 };
   auto image = TraceImage(opt, native, view,
     [&](const raymappers::Vec3d& o, const raymappers::Vec3d& d, std::vector<std::size_t>& candidates) {
       grid.candidates(o, d, 0.0, candidates);
       raymappers::test::TrilinearTraceCounts counts;
-      const auto rgba = raymappers::test::traceTrilinearReference(hexes, tf, o, d, 0.0, step, &counts, &candidates);
+      const auto rgba = raymappers::test::traceTrilinearReference(cells, tf, o, d, 0.0, step, &counts, &candidates);
       failed += counts.failures;
       return rgba;
     });

@@ -62,6 +62,25 @@ struct Lattice
 
   int id(int i, int j, int k) const { return (k * (n + 1) + j) * (n + 1) + i; }
 
+  /// fn(i, j, k) for each kept cube, x fastest.
+  template<typename Fn>
+  void eachCube(Fn fn) const
+  {
+    for (int k = 0; k < n; ++k)
+    {
+      for (int j = 0; j < n; ++j)
+      {
+        for (int i = 0; i < n; ++i)
+        {
+          if (keep(i, j, k))
+          {
+            fn(i, j, k);
+          }
+        }
+      }
+    }
+  }
+
   std::vector<Vec3d> points() const
   {
     std::mt19937 rng(seed);
@@ -154,23 +173,12 @@ ZSweepGrid latticePoints(const Lattice& L, const std::function<double(const Vec3
 ZSweepGrid tetLattice(const Lattice& L, const std::function<double(const Vec3d&)>& field)
 {
   ZSweepGrid g = latticePoints(L, field);
-  for (int k = 0; k < L.n; ++k)
-  {
-    for (int j = 0; j < L.n; ++j)
+  L.eachCube([&](int i, int j, int k) {
+    for (const auto& t : freudenthal(L.hex(i, j, k)))
     {
-      for (int i = 0; i < L.n; ++i)
-      {
-        if (!L.keep(i, j, k))
-        {
-          continue;
-        }
-        for (const auto& t : freudenthal(L.hex(i, j, k)))
-        {
-          addCell(g, ZSweepCellType::Tetra, { t[0], t[1], t[2], t[3] });
-        }
-      }
+      addCell(g, ZSweepCellType::Tetra, { t[0], t[1], t[2], t[3] });
     }
-  }
+  });
   return g;
 }
 
@@ -337,6 +345,27 @@ double maxDifference(const Frame& a, const Frame& b)
   return worst;
 }
 
+// The cube of corners c (VTK's hexahedron order) as 2 wedges, cut along the plane through
+// corners 0, 2, 6, 4.
+void addWedgePair(ZSweepGrid& g, const std::array<int, 8>& c)
+{
+  addCell(g, ZSweepCellType::Wedge, { c[0], c[1], c[2], c[4], c[5], c[6] });
+  addCell(g, ZSweepCellType::Wedge, { c[0], c[2], c[3], c[4], c[6], c[7] });
+}
+
+// The cube of corners c as 6 pyramids, one on each face, their apex a new point there.
+void addPyramidsAround(ZSweepGrid& g, const std::array<int, 8>& c, const Vec3d& apexPoint)
+{
+  const int apex = static_cast<int>(g.points.size());
+  g.points.push_back(apexPoint);
+  const int faces[6][4] = { { 0, 3, 2, 1 }, { 4, 5, 6, 7 }, { 0, 1, 5, 4 }, { 1, 2, 6, 5 },
+    { 2, 3, 7, 6 }, { 3, 0, 4, 7 } };
+  for (const auto& f : faces)
+  {
+    addCell(g, ZSweepCellType::Pyramid, { c[f[0]], c[f[1]], c[f[2]], c[f[3]], apex });
+  }
+}
+
 // Hexahedra, wedges (a cube cut in 2), pyramids (a cube cut in 6 around its centre) and
 // tetrahedra in one grid of 3^3 cubes, with a linear point field (which every cell type
 // interpolates exactly).
@@ -349,43 +378,26 @@ ZSweepGrid mixedGrid()
   const auto linear = [](const Vec3d& p) { return 0.5 + 0.2 * p.x - 0.1 * p.y + 0.15 * p.z; };
   ZSweepGrid g;
   g.points = L.points();
-  for (int k = 0; k < L.n; ++k)
-  {
-    for (int j = 0; j < L.n; ++j)
+  L.eachCube([&](int i, int j, int k) {
+    const auto c = L.hex(i, j, k);
+    switch ((i + j + k) % 4)
     {
-      for (int i = 0; i < L.n; ++i)
-      {
-        const auto c = L.hex(i, j, k);
-        switch ((i + j + k) % 4)
+      case 0:
+        addCell(g, ZSweepCellType::Hexahedron, { c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7] });
+        break;
+      case 1:
+        addWedgePair(g, c);
+        break;
+      case 2:
+        addPyramidsAround(g, c, L.lo + Vec3d(i + 0.5, j + 0.5, k + 0.5) * L.h);
+        break;
+      default:
+        for (const auto& t : freudenthal(c))
         {
-          case 0:
-            addCell(g, ZSweepCellType::Hexahedron, { c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7] });
-            break;
-          case 1:
-            addCell(g, ZSweepCellType::Wedge, { c[0], c[1], c[2], c[4], c[5], c[6] });
-            addCell(g, ZSweepCellType::Wedge, { c[0], c[2], c[3], c[4], c[6], c[7] });
-            break;
-          case 2:
-          {
-            const int centre = static_cast<int>(g.points.size());
-            g.points.push_back(L.lo + Vec3d(i + 0.5, j + 0.5, k + 0.5) * L.h);
-            const int faces[6][4] = { { 0, 3, 2, 1 }, { 4, 5, 6, 7 }, { 0, 1, 5, 4 },
-              { 1, 2, 6, 5 }, { 2, 3, 7, 6 }, { 3, 0, 4, 7 } };
-            for (const auto& f : faces)
-            {
-              addCell(g, ZSweepCellType::Pyramid, { c[f[0]], c[f[1]], c[f[2]], c[f[3]], centre });
-            }
-            break;
-          }
-          default:
-            for (const auto& t : freudenthal(c))
-            {
-              addCell(g, ZSweepCellType::Tetra, { t[0], t[1], t[2], t[3] });
-            }
+          addCell(g, ZSweepCellType::Tetra, { t[0], t[1], t[2], t[3] });
         }
-      }
     }
-  }
+  });
   for (const Vec3d& p : g.points)
   {
     g.scalars.push_back(linear(p));
@@ -396,20 +408,10 @@ ZSweepGrid mixedGrid()
 ZSweepGrid hexLattice(const Lattice& L, const std::function<double(const Vec3d&)>& field)
 {
   ZSweepGrid g = latticePoints(L, field);
-  for (int k = 0; k < L.n; ++k)
-  {
-    for (int j = 0; j < L.n; ++j)
-    {
-      for (int i = 0; i < L.n; ++i)
-      {
-        if (L.keep(i, j, k))
-        {
-          const auto c = L.hex(i, j, k);
-          addCell(g, ZSweepCellType::Hexahedron, { c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7] });
-        }
-      }
-    }
-  }
+  L.eachCube([&](int i, int j, int k) {
+    const auto c = L.hex(i, j, k);
+    addCell(g, ZSweepCellType::Hexahedron, { c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7] });
+  });
   return g;
 }
 
@@ -2144,35 +2146,20 @@ ZSweepGrid warpedLatticeOf(ZSweepCellType type, double jitter = 0.3)
   L.jitter = jitter;
   ZSweepGrid g;
   g.points = L.points();
-  for (int k = 0; k < L.n; ++k)
-  {
-    for (int j = 0; j < L.n; ++j)
+  L.eachCube([&](int i, int j, int k) {
+    const auto c = L.hex(i, j, k);
+    if (type == ZSweepCellType::Wedge)
     {
-      for (int i = 0; i < L.n; ++i)
-      {
-        const auto c = L.hex(i, j, k);
-        if (type == ZSweepCellType::Wedge)
-        {
-          addCell(g, ZSweepCellType::Wedge, { c[0], c[1], c[2], c[4], c[5], c[6] });
-          addCell(g, ZSweepCellType::Wedge, { c[0], c[2], c[3], c[4], c[6], c[7] });
-          continue;
-        }
-        Vec3d centre;
-        for (const int v : c)
-        {
-          centre += g.points[static_cast<std::size_t>(v)] * 0.125;
-        }
-        const int apex = static_cast<int>(g.points.size());
-        g.points.push_back(centre);
-        const int faces[6][4] = { { 0, 3, 2, 1 }, { 4, 5, 6, 7 }, { 0, 1, 5, 4 },
-          { 1, 2, 6, 5 }, { 2, 3, 7, 6 }, { 3, 0, 4, 7 } };
-        for (const auto& f : faces)
-        {
-          addCell(g, ZSweepCellType::Pyramid, { c[f[0]], c[f[1]], c[f[2]], c[f[3]], apex });
-        }
-      }
+      addWedgePair(g, c);
+      return;
     }
-  }
+    Vec3d centre;
+    for (const int v : c)
+    {
+      centre += g.points[static_cast<std::size_t>(v)] * 0.125;
+    }
+    addPyramidsAround(g, c, centre);
+  });
   for (const Vec3d& p : g.points)
   {
     g.scalars.push_back(smoothField(p));
