@@ -408,6 +408,21 @@ vtkSmartPointer<vtkImageData> TraceImage(const Options& opt,
   return image;
 }
 
+// The corners (cell.p) and point scalars (cell.s) of the grid's cell c, in its point order.
+template<typename RefCell>
+void ReadCorners(vtkUnstructuredGrid* grid, vtkIdType c, vtkIdList* ids, RefCell& cell)
+{
+  vtkDataArray* s = grid->GetPointData()->GetScalars();
+  grid->GetCellPoints(c, ids);
+  for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+  {
+    double p[3];
+    grid->GetPoint(ids->GetId(k), p);
+    cell.p[static_cast<std::size_t>(k)] = raymappers::Vec3d(p[0], p[1], p[2]);
+    cell.s[static_cast<std::size_t>(k)] = s->GetComponent(ids->GetId(k), 0);
+  }
+}
+
 // The brute-force reference image of the tetrahedra (UnstructuredReference.h).
 vtkSmartPointer<vtkImageData> ReferenceImage(const Options& opt,
   vtkUnstructuredGrid* tetra,
@@ -416,21 +431,11 @@ vtkSmartPointer<vtkImageData> ReferenceImage(const Options& opt,
   double& ms)
 {
   const double t0 = Now();
-  std::vector<raymappers::test::RefTetra> tets;
-  vtkDataArray* s = tetra->GetPointData()->GetScalars();
+  std::vector<raymappers::test::RefTetra> tets(static_cast<std::size_t>(tetra->GetNumberOfCells()));
   vtkNew<vtkIdList> ids;
-  double p[3];
   for (vtkIdType c = 0; c < tetra->GetNumberOfCells(); ++c)
   {
-    tetra->GetCellPoints(c, ids);
-    raymappers::test::RefTetra t;
-    for (int k = 0; k < 4; ++k)
-    {
-      tetra->GetPoint(ids->GetId(k), p);
-      t.p[static_cast<std::size_t>(k)] = raymappers::Vec3d(p[0], p[1], p[2]);
-      t.s[static_cast<std::size_t>(k)] = s->GetComponent(ids->GetId(k), 0);
-    }
-    tets.push_back(t);
+    ReadCorners(tetra, c, ids, tets[static_cast<std::size_t>(c)]);
   }
   const raymappers::test::ReferenceTetraGrid grid(tets);
   const raymappers::test::RefTransferFunction tf = ReferenceTransferFunction(property);
@@ -456,9 +461,7 @@ vtkSmartPointer<vtkImageData> TrilinearReferenceImage(const Options& opt,
 {
   const double t0 = Now();
   std::vector<raymappers::test::RefCurvedCell> cells;
-  vtkDataArray* s = native->GetPointData()->GetScalars();
   vtkNew<vtkIdList> ids;
-  double p[3];
   for (vtkIdType c = 0; c < native->GetNumberOfCells(); ++c)
   {
     raymappers::test::RefCurvedCell h;
@@ -475,13 +478,7 @@ vtkSmartPointer<vtkImageData> TrilinearReferenceImage(const Options& opt,
       default:
         return nullptr;
     }
-    native->GetCellPoints(c, ids);
-    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
-    {
-      native->GetPoint(ids->GetId(k), p);
-      h.p[static_cast<std::size_t>(k)] = raymappers::Vec3d(p[0], p[1], p[2]);
-      h.s[static_cast<std::size_t>(k)] = s->GetComponent(ids->GetId(k), 0);
-    }
+    ReadCorners(native, c, ids, h);
     cells.push_back(h);
   }
   const raymappers::test::ReferenceTetraGrid grid(cells);

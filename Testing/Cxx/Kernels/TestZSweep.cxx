@@ -2032,7 +2032,7 @@ TEST(ZSweepTrilinearReference, InvertsTheMapAndFindsTheBilinearFaces)
   std::uniform_real_distribution<double> u01(0, 1);
   const auto at = [](const RefCurvedCell& h, const Vec3d& u) {
     Vec3d J[3];
-    return trilinearPoint(h, u, J);
+    return shapePoint(h, u, J);
   };
   for (const RefCurvedCell& h : cells)
   {
@@ -2041,7 +2041,7 @@ TEST(ZSweepTrilinearReference, InvertsTheMapAndFindsTheBilinearFaces)
     {
       const Vec3d u(u01(rng), u01(rng), u01(rng));
       Vec3d back(0.5, 0.5, 0.5);
-      ASSERT_TRUE(invertTrilinear(h, at(h, u), back));
+      ASSERT_TRUE(invertShapeMap(h, at(h, u), back));
       worst = std::max(worst, length(back - u));
     }
     EXPECT_LT(worst, 1e-12);
@@ -2086,7 +2086,7 @@ TEST(ZSweepTrilinearReference, InvertsTheMapAndFindsTheBilinearFaces)
         for (const double t : { iv[0], iv[1] })
         {
           Vec3d q(0.5, 0.5, 0.5);
-          ASSERT_TRUE(invertTrilinear(h, o + d * t, q));
+          ASSERT_TRUE(invertShapeMap(h, o + d * t, q));
           const double off = std::min({ q.x, 1 - q.x, q.y, 1 - q.y, q.z, 1 - q.z });
           offBoundary = std::max(offBoundary, std::fabs(off));
         }

@@ -155,7 +155,7 @@ inline bool inParametricDomain(const RefCurvedCell& h, const Vec3d& u)
 }
 
 /// x(u) and the Jacobian's columns dx/du, dx/dv, dx/dw.
-inline Vec3d trilinearPoint(const RefCurvedCell& h, const Vec3d& u, Vec3d J[3])
+inline Vec3d shapePoint(const RefCurvedCell& h, const Vec3d& u, Vec3d J[3])
 {
   double N[8], dN[8][3];
   shapeWeights(h.shape, u, N, dN);
@@ -173,7 +173,7 @@ inline Vec3d trilinearPoint(const RefCurvedCell& h, const Vec3d& u, Vec3d J[3])
 }
 
 /// s(u), the cell's interpolant of the corner scalars (trilinear in a hexahedron).
-inline double trilinearScalar(const RefCurvedCell& h, const Vec3d& u)
+inline double shapeScalar(const RefCurvedCell& h, const Vec3d& u)
 {
   double N[8], dN[8][3];
   shapeWeights(h.shape, u, N, dN);
@@ -192,13 +192,13 @@ inline double trilinearScalar(const RefCurvedCell& h, const Vec3d& u)
 /// rounding of x(u) - X alone moves u by more than 1e-14, and Newton's steps, which shrink
 /// quadratically until then, stall there. False when the Jacobian is singular or 50
 /// iterations do not converge.
-inline bool invertTrilinear(const RefCurvedCell& h, const Vec3d& X, Vec3d& u)
+inline bool invertShapeMap(const RefCurvedCell& h, const Vec3d& X, Vec3d& u)
 {
   double previous = 1e300;
   for (int iteration = 0; iteration < 50; ++iteration)
   {
     Vec3d J[3];
-    const Vec3d F = trilinearPoint(h, u, J) - X;
+    const Vec3d F = shapePoint(h, u, J) - X;
     // J delta = F by Cramer's rule.
     const double det = dot(J[0], cross(J[1], J[2]));
     if (!(std::fabs(det) > 0))
@@ -343,7 +343,7 @@ inline void intersectTriangle(const Vec3d& a,
 inline bool insideCell(const RefCurvedCell& h, const Vec3d& X, long* failures = nullptr)
 {
   Vec3d u = parametricCentre(h);
-  if (!invertTrilinear(h, X, u))
+  if (!invertShapeMap(h, X, u))
   {
     if (failures)
     {
@@ -427,7 +427,7 @@ struct TrilinearPath
   {
     ++counts.evaluations;
     Vec3d v = u;
-    if (invertTrilinear(*cell, o + d * t, v))
+    if (invertShapeMap(*cell, o + d * t, v))
     {
       u = v;
     }
@@ -435,7 +435,7 @@ struct TrilinearPath
     {
       ++counts.failures;
     }
-    return trilinearScalar(*cell, u);
+    return shapeScalar(*cell, u);
   }
 };
 
